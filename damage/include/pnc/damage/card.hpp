@@ -1,0 +1,55 @@
+#pragma once
+// pnc/damage/card.hpp: the material card, the one file format that carries a fitted NDM
+// from `pnc fit` to every solver (fe_material plugin, GIMP, deal.II). Format: docs/card.md.
+//
+// HDF5 layout (SI units; every constant dataset has attributes `units`, `std_error`,
+// `fitted`, `note`):
+//   /model              attrs: law="NDM (Nair 2010)", variant="pnc"|"pp", card_version=1,
+//                       decisions="docs/decisions.md D1-D12", voigt="11,22,33,23,13,12 ..."
+//   /constants/<name>   scalar (Pa for C*, A*, B*; 1 for alpha)
+//   /platelet_rotation  3x3, x_local = R x_global (dimensionless)
+//   /fit                attrs: data_source, data_hash, stress_definition, termination,
+//                       converged, iterations, initial_cost, final_cost, seconds, loss, ...
+//   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa)
+//   /fit/regression     rows: case, component, a (Pa), b (Pa), R^2; labels in
+//                       /fit/regression_labels (one "lin,dam" per line)
+//   /fit/solver_report  Ceres full report (text)
+//   /provenance         attrs: software, created (UTC), command
+#include "pnc/damage/fit.hpp"
+#include "pnc/damage/ndm.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+struct FitRecord {
+  bool present = false;
+  std::string data_source, data_hash, stress_definition, termination, message, loss;
+  bool converged = false;
+  int iterations = 0, residuals = 0, free_parameters = 0;
+  double initial_cost = 0, final_cost = 0, seconds = 0;
+  std::vector<ComponentFit> components;
+  std::vector<RegressionLine> regression;
+  std::string solver_report, warnings;
+};
+
+struct Card {
+  NdmParameters params;            ///< SI (Pa), alpha dimensionless
+  std::vector<double> std_error;   ///< per constant, SI; NaN if not fitted
+  std::vector<bool> fitted;        ///< per constant
+  std::vector<std::string> note;   ///< per constant
+  FitRecord fit;
+  std::string software, created, command;
+};
+
+/// A card straight from constants (no fit record): every constant marked as given.
+Card card_from_parameters(const NdmParameters& p, const std::string& note);
+/// A card from a fit.
+Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std::string& loss);
+/// Writes atomically (temporary file + rename): a failure leaves no partial card.
+void write_card(const std::string& path, Card card, const std::string& command);
+/// Reads and validates (pnc::damage::validate): errors name the file and the dataset.
+Card read_card(const std::string& path);
+
+} // namespace pnc::damage

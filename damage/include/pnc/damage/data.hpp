@@ -1,0 +1,45 @@
+#pragma once
+// pnc/damage/data.hpp: stress-strain curves of the deformation cases, in memory and on disk.
+//
+// In memory: SI units (stress in Pa), strain dimensionless with engineering shear.
+// On disk:
+//  * CSV  header `case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12` (extra columns
+//    `sd11..sd12` with the standard error of each stress are optional); strain
+//    dimensionless, shear as engineering gamma, stress in MPa; `case` 1..6 as in
+//    EQUATIONS.md section 2. Rows of one case must be in loading order.
+//  * HDF5 `cases.h5` (written by rve/ and by `pnc synth`): /case_<n>/strain (k x 6, 1),
+//    /case_<n>/stress (k x 6, Pa), optional /case_<n>/stress_stderr (k x 6, Pa); each
+//    dataset has a `units` attribute; the root has `stress_definition`.
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+using PathMatrix = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+
+struct CaseCurve {
+  int id = 0;
+  PathMatrix strain;        ///< dimensionless, engineering shear
+  PathMatrix stress;        ///< Pa
+  PathMatrix stress_stderr; ///< Pa; empty (0 rows) when unknown
+};
+
+struct StressStrainData {
+  std::string source;            ///< file it came from
+  std::string stress_definition; ///< e.g. "virial (no kinetic term)", "synthetic"
+  std::vector<CaseCurve> cases;  ///< sorted by id, at most one per id
+  const CaseCurve* find(int id) const;
+  std::size_t points() const;
+};
+
+/// Reads CSV or HDF5 by file extension (.csv, .h5/.hdf5). Errors name file, field, value.
+StressStrainData read_stress_strain(const std::string& path);
+StressStrainData read_stress_strain_csv(const std::string& path);
+StressStrainData read_stress_strain_h5(const std::string& path);
+/// Writers are atomic (temporary file + rename).
+void write_stress_strain_csv(const std::string& path, const StressStrainData& d);
+void write_stress_strain_h5(const std::string& path, const StressStrainData& d);
+
+} // namespace pnc::damage

@@ -1,0 +1,102 @@
+#pragma once
+// pnc/damage/fit.hpp: joint nonlinear least-squares fit of the NDM to stress-strain curves
+// of the deformation cases, with Ceres (the toolkit's improvement over the dissertation's
+// case-by-case linear regression, which is kept as a cross-check and as the initial guess).
+//
+// Units: data in Pa (pnc::damage::StressStrainData); the solve works in MPa; results
+// (FitReport::params, stderr) are in Pa again.
+//
+// Parameterisation (decision D10): the 3x3 normal block of C0 is C_n = L L^T with a lower
+// triangular L whose diagonal is bounded below, so C0 stays positive definite during the
+// solve (pp: C11 - C12 > 0 and C11 + 2 C12 > 0); shear stiffnesses are bounded below by a
+// positive number; A/B constants are free; alpha (optional) is bounded to [0.5, 1.5].
+// Every residual is evaluated by pnc::damage::integrate() along the case's strain path.
+#include "pnc/damage/data.hpp"
+#include "pnc/damage/ndm.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+struct FitOptions {
+  Model model = Model::pnc;
+  bool fit_alpha = false;        ///< fit alpha too (needs data past damage onset)
+  std::optional<double> alpha;   ///< alpha to use / start from; default: the dissertation's
+  std::string loss = "none";     ///< "none", "huber" or "cauchy"
+  double loss_scale = 1.0;       ///< robust-loss scale, in units of the residual (MPa or sd)
+  int max_iterations = 200;      ///< > 0
+  double function_tolerance = 1e-12; ///< in (0, 1)
+  /// Values for constants the data cannot determine (a missing shear case, damage never
+  /// reached). Default: the dissertation's constants (pnc::damage::dissertation_parameters).
+  std::optional<NdmParameters> prior;
+  std::string prior_source = "dissertation tables 6.6-6.11";
+
+  /// Throws pnc::InputError naming the option and the constraint it breaks.
+  void validate() const;
+};
+
+struct ComponentFit {
+  int case_id;
+  int component; ///< Voigt index 0..5
+  int points;
+  double r2;     ///< 1 - SS_res / SS_tot of the joint fit
+  double rms;    ///< root-mean-square residual, Pa
+};
+
+/// One line of the dissertation-style per-case linear regression
+/// sigma_i = a * eps_drive + b * D * eps_drive (Tables 6.6-6.11).
+struct RegressionLine {
+  int case_id;
+  int component;
+  std::string linear_label;  ///< C0 entry that a estimates, e.g. "C12"
+  std::string damage_label;  ///< C1 coefficient that b estimates, e.g. "A10", "2A1"
+  double a;                  ///< Pa
+  double b;                  ///< Pa; NaN when the data never reach damage onset
+  double r2;
+};
+
+struct FitReport {
+  NdmParameters params;               ///< fitted constants, Pa
+  std::vector<double> std_error;        ///< per constant, Pa (alpha: 1); NaN if held
+  std::vector<bool> fitted;           ///< false: held at the prior (see note)
+  std::vector<std::string> note;      ///< why a constant was held, per constant
+  std::vector<ComponentFit> components;
+  std::vector<RegressionLine> regression;
+  // how the solve ended
+  bool converged = false;
+  std::string termination;            ///< Ceres termination type
+  std::string message;                ///< Ceres message
+  std::string brief_report;           ///< Ceres BriefReport
+  std::string full_report;            ///< Ceres FullReport
+  int iterations = 0;
+  double initial_cost = 0, final_cost = 0; ///< Ceres cost (1/2 sum r^2), r in MPa or sd
+  double seconds = 0;
+  int residuals = 0;
+  int free_parameters = 0;
+  std::string warnings;               ///< e.g. singular covariance
+};
+
+/// Fit. Throws pnc::InputError for data the model cannot use (a missing extension case, a
+/// case the model does not have, too few points).
+FitReport fit_ndm(const StressStrainData& data, const FitOptions& options);
+
+/// The dissertation's per-case linear regressions alone (cross-check).
+std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model model,
+                                          double alpha);
+
+namespace detail {
+/// Flat parameter vector theta (MPa) <-> constants (MPa); see decision D10.
+std::vector<double> theta_from_constants(Model m, const std::vector<double>& k);
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& theta);
+/// G = d constants / d theta.
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& theta);
+/// Residuals (MPa or in units of the data sd) and their analytic Jacobian w.r.t. theta over
+/// all points of `data`, exactly as the Ceres cost functions compute them (for tests).
+void residuals_and_jacobian(const StressStrainData& data, Model m,
+                            const std::vector<double>& theta, Eigen::VectorXd& r,
+                            Eigen::MatrixXd* J);
+} // namespace detail
+
+} // namespace pnc::damage

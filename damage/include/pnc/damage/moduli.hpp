@@ -1,0 +1,38 @@
+#pragma once
+// pnc/damage/moduli.hpp: engineering moduli derived from the undamaged stiffness C0 and the
+// NDM strengths per deformation case (section 6.3.3, Tables 6.12-6.13).
+// Units: those of the constants (Pa for a card); strains dimensionless.
+#include "pnc/damage/ndm.hpp"
+
+#include <optional>
+
+namespace pnc::damage {
+
+struct DerivedModuli {
+  // By compliance inversion S = C0^-1 (the correct orthotropic moduli).
+  double E1, E2, E3;
+  double nu12, nu13, nu23, nu21, nu31, nu32; ///< nu_ij = -S_ji / S_ii
+  double G23, G13, G12;
+  /// Eq. 6.46 as printed: det(C_n) / (C22 C33 - C23^2). The dissertation calls it E2; it is
+  /// E1 by inversion (EQUATIONS.md section 4).
+  double E2_eq646_printed;
+  /// Eq. 6.47 (isotropic pure polymer): (C22^2 + C12 C22 - 2 C12^2) / (C22 + C12), with
+  /// C22 -> C11 of the card. Meaningful for the pp model; computed for both.
+  double E_eq647;
+};
+DerivedModuli derive_moduli(const NdmParameters& p);
+
+struct CaseStrength {
+  int case_id;
+  int component;                 ///< Voigt index of the stress reported
+  std::optional<double> peak;    ///< maximum stress along the case path, if there is one
+  double strain_at_peak = 0.0;   ///< imposed strain at the peak
+  double max_strain_searched;    ///< the path was followed up to this strain
+};
+/// Strength of the NDM in one deformation case: the maximum of the driven stress component
+/// along the monotonic case path, searched up to `max_strain` with `points` steps and then
+/// refined. No peak (monotonic stress) is reported as such, never invented.
+CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strain = 1.0,
+                           int points = 4000);
+
+} // namespace pnc::damage

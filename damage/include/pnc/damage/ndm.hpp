@@ -1,0 +1,147 @@
+#pragma once
+// pnc/damage/ndm.hpp: the nano-scale damage model (NDM) of Nair (2010), chapter 5 and
+// section 6.3, as one pure integration function in the spirit of the MGIS behaviour
+// interface. Every caller (the Ceres fit, the fe_material plugin, the GIMP solver, the
+// deal.II demo, the UMAT shim) goes through integrate(); there are no globals and no
+// "current point" members.
+//
+// Units: the kernel is unit-agnostic. Stresses come out in the units of the stiffness
+// constants (the material card stores Pa; the fit works in MPa). Strains are dimensionless.
+//
+// Conventions (docs/decisions.md, entries D1-D8):
+//  * Voigt order 1..6 = 11, 22, 33, 23, 13, 12; strain with ENGINEERING shear
+//    (gamma_23 = 2 eps_23 ...), stress plain. {sigma} = ([C0] + [C1(D)]) {eps}  (eq. 5.36).
+//  * C0 holds the physical orthotropic stiffnesses C0_ij in that engineering form
+//    (C0_44 = mu_23 ...). The c1..c9 constants of eq. 5.37 convert as in decision D1.
+//  * C1 (eqs. 5.58-5.66) in engineering form: normal block as printed, shear diagonal
+//    C1_44 = A22 D2, C1_55 = A26 D3, C1_66 = A24 D2 (the printed 2 A D acts on the
+//    tensorial shear strain, see D2). The pure polymer uses the isotropic reading (D3).
+//  * Damage D(lambda) = 1 + k (2 x^-13 - x^-7) for x = lambda/alpha > lambda_c, else 0, with
+//    k = 1/|2 lc^-13 - lc^-7| = 10.0142 (printed 10.015) so that D(lambda_c) = 0 (D4, D5).
+//  * Mode stretches from U = I + eps (small strain, D6) in the platelet frame (D7).
+//  * Damage is irreversible: kappa_k = max over history of lambda_k (D8).
+#include <Eigen/Dense>
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+using Voigt = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// Which law: the nanocomposite (three damage modes, A constants) or the pure polymer
+/// (one damage variable, B constants).
+enum class Model { pnc, pp };
+const char* model_name(Model m);
+/// Parses "pnc" or "pp"; throws pnc::InputError otherwise.
+Model parse_model(const std::string& name, const std::string& source = "<model>");
+
+/// Named constants of each model, in the order used by NdmParameters::k.
+/// pnc: C11 C22 C33 C12 C13 C23 C44 C55 C66  A1 A5 A9 A10 A11 A13 A15 A17 A18 A22 A24 A26 alpha
+/// pp : C11 C12 C44  B1 B2 B4 alpha   (isotropic reading: C22=C33=C11, C13=C23=C12,
+///                                     C55=C66=C44; see decisions.md D3)
+/// Stiffness-like constants are in stress units; alpha is dimensionless.
+const std::vector<std::string>& constant_names(Model m);
+/// Index of a constant by name, or -1.
+int constant_index(Model m, const std::string& name);
+
+constexpr int kMaxConstants = 22;
+
+struct NdmParameters {
+  Model model = Model::pnc;
+  std::array<double, kMaxConstants> k{}; ///< constants in the order of constant_names()
+  /// Rotation from the global (loading) frame to the platelet frame: x_local = R x_global
+  /// (section 7.2.3, eq. 7.2). Identity when the platelet lies along the global x1.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+
+  double& operator[](const std::string& name);
+  double operator[](const std::string& name) const;
+  std::size_t size() const { return constant_names(model).size(); }
+  double alpha() const { return k[size() - 1]; }
+};
+
+/// The undamaged stiffness [C0] (engineering Voigt) in the platelet frame.
+Matrix6 stiffness_c0(const NdmParameters& p);
+/// The damage part [C1(D)] in the platelet frame; D = {D1, D2, D3} (pp: D[0] only).
+Matrix6 stiffness_c1(const NdmParameters& p, const std::array<double, 3>& D);
+/// d[C1]/dD_k (constant matrices since C1 is linear in D).
+Matrix6 stiffness_c1_dD(const NdmParameters& p, int k);
+
+/// Orthotropic [C0] from the c1..c9 constants of eq. 5.37 (decision D1: C11 = 2c1, C12 = c4,
+/// C44 = c7 in engineering form).
+Matrix6 c0_from_c_constants(const std::array<double, 9>& c);
+/// Orthotropic [C0] from engineering constants (eqs. 5.39-5.47). Poisson ratios nu_ij are
+/// "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
+Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13,
+                            double nu23, double mu12, double mu13, double mu23);
+
+/// Damage function D(x) of eq. 5.80 for a (scaled) stretch x; D = 0 for x <= lambda_c.
+double damage_function(double x);
+/// dD/dx.
+double damage_function_derivative(double x);
+/// lambda_c = (26/7)^(1/6) = 1.24446 (eq. 5.79).
+double critical_stretch();
+
+/// The internal state: kappa_k = largest mode stretch reached so far (1 = virgin), and the
+/// damage variables derived from it (stored for output). pp uses index 0 only.
+struct NdmState {
+  std::array<double, 3> kappa{1.0, 1.0, 1.0};
+  std::array<double, 3> D{0.0, 0.0, 0.0};
+};
+/// Names of the state variables, in the flat order kappa1..3, D1..3 (pp: kappa, D).
+const std::vector<std::string>& state_names(Model m);
+std::size_t state_size(Model m);
+void state_to_array(Model m, const NdmState& s, double* out);
+NdmState state_from_array(Model m, const double* in);
+
+/// Mode stretches lambda_k of a small strain (engineering Voigt, platelet frame) and their
+/// derivatives d lambda_k / d eps (rows), following decisions D6/D7:
+///   pnc: lambda_k = min( lambda_max, 1 + e_kk + sqrt(sum_{j != k} e_kj^2) ), n_k = e_k
+///   pp : lambda_1 = lambda_max (largest eigenvalue of U = I + e, by eigen-decomposition).
+struct ModeStretch {
+  std::array<double, 3> lambda{1.0, 1.0, 1.0};
+  Eigen::Matrix<double, 3, 6> dlambda = Eigen::Matrix<double, 3, 6>::Zero();
+  double lambda_max = 1.0; ///< largest principal stretch of U = I + e
+};
+ModeStretch mode_stretches(Model m, const Voigt& eps_local, bool with_derivative);
+
+/// Voigt transformation of engineering strain from the global to the platelet frame:
+/// eps_local = T(R) eps_global. Stress transforms as sigma_global = T^T sigma_local.
+Matrix6 strain_rotation(const Eigen::Matrix3d& R);
+
+enum class Status { ok = 0, bad_input = 1 };
+
+/// A fixed error buffer (no allocation on the hot path), as in MGIS.
+struct ErrorBuffer {
+  char msg[256] = {0};
+  void set(const char* text);
+};
+
+/// Integrate the NDM over one strain increment (MGIS-style).
+///  p     : parameters (constants and platelet rotation)
+///  s0    : state at the start of the increment (read only)
+///  s1    : state at the end (written)
+///  eps0  : total strain at the start, deps its increment (global frame, engineering Voigt)
+///  sigma : Cauchy stress at the end (global frame, Voigt, units of the constants)
+///  K     : if not null, the consistent tangent d sigma / d eps at the end (global frame);
+///          includes the damage-growth term when a mode is loading.
+/// Returns Status::ok, or Status::bad_input (non-finite strain or parameter) with a message
+/// in err; s1 and sigma are then untouched.
+Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
+
+/// Drive the kernel along a strain path from a virgin state; returns stresses (rows) and,
+/// if states is not null, the state after each point. Used by the fit, the synthetic data
+/// generator and the tests: one code path for all.
+Eigen::Matrix<double, Eigen::Dynamic, 6>
+stress_path(const NdmParameters& p, const Eigen::Matrix<double, Eigen::Dynamic, 6>& strain,
+            std::vector<NdmState>* states = nullptr);
+
+/// Checks the parameters a user supplied: finite values, alpha > 0, C0 symmetric positive
+/// definite, R orthogonal. Throws pnc::InputError naming `source` and the constant.
+void validate(const NdmParameters& p, const std::string& source);
+
+} // namespace pnc::damage

@@ -1,0 +1,202 @@
+#include "pnc/damage/card.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/version.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace pnc::damage {
+
+namespace {
+constexpr int kCardVersion = 1;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+std::string units_of(const std::string& name) { return name == "alpha" ? "1" : "Pa"; }
+} // namespace
+
+Card card_from_parameters(const NdmParameters& p, const std::string& note) {
+  Card c;
+  c.params = p;
+  const std::size_t n = p.size();
+  c.std_error.assign(n, kNaN);
+  c.fitted.assign(n, false);
+  c.note.assign(n, note);
+  return c;
+}
+
+Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std::string& loss) {
+  Card c;
+  c.params = rep.params;
+  c.std_error = rep.std_error;
+  c.fitted = rep.fitted;
+  c.note = rep.note;
+  FitRecord& f = c.fit;
+  f.present = true;
+  f.data_source = data.source;
+  try {
+    f.data_hash = "fnv1a64:" + file_fnv1a64(data.source);
+  } catch (const std::exception&) {
+    f.data_hash = "unavailable";
+  }
+  f.stress_definition = data.stress_definition;
+  f.termination = rep.termination;
+  f.message = rep.message;
+  f.loss = loss;
+  f.converged = rep.converged;
+  f.iterations = rep.iterations;
+  f.residuals = rep.residuals;
+  f.free_parameters = rep.free_parameters;
+  f.initial_cost = rep.initial_cost;
+  f.final_cost = rep.final_cost;
+  f.seconds = rep.seconds;
+  f.components = rep.components;
+  f.regression = rep.regression;
+  f.solver_report = rep.full_report;
+  f.warnings = rep.warnings;
+  return c;
+}
+
+void write_card(const std::string& path, Card card, const std::string& command) {
+  validate(card.params, path);
+  AtomicOutput out(path);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    const auto& names = constant_names(card.params.model);
+    f.write_string("/model/law", "NDM (Nair 2010)");
+    f.set_attr("/model", "variant", model_name(card.params.model));
+    f.set_attr("/model", "card_version", static_cast<double>(kCardVersion));
+    f.set_attr("/model", "decisions", "docs/decisions.md D1-D12");
+    f.set_attr("/model", "voigt",
+               "11,22,33,23,13,12; engineering shear strain; sigma = (C0 + C1(D)) eps");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const std::string ds = "/constants/" + names[i];
+      f.write_scalar(ds, card.params.k[i]);
+      f.set_attr(ds, "units", units_of(names[i]));
+      f.set_attr(ds, "std_error", i < card.std_error.size() ? card.std_error[i] : kNaN);
+      f.set_attr(ds, "fitted", i < card.fitted.size() && card.fitted[i] ? "yes" : "no");
+      f.set_attr(ds, "note", i < card.note.size() ? card.note[i] : "");
+    }
+    h5::RowMatrix R = card.params.R;
+    f.write_matrix("/platelet_rotation", R);
+    f.set_attr("/platelet_rotation", "units", "1 (x_local = R x_global)");
+    if (card.fit.present) {
+      const FitRecord& r = card.fit;
+      f.write_string("/fit/solver_report", r.solver_report);
+      f.set_attr("/fit", "data_source", r.data_source);
+      f.set_attr("/fit", "data_hash", r.data_hash);
+      f.set_attr("/fit", "stress_definition", r.stress_definition);
+      f.set_attr("/fit", "termination", r.termination);
+      f.set_attr("/fit", "message", r.message);
+      f.set_attr("/fit", "loss", r.loss);
+      f.set_attr("/fit", "converged", r.converged ? "yes" : "no");
+      f.set_attr("/fit", "iterations", r.iterations);
+      f.set_attr("/fit", "residuals", r.residuals);
+      f.set_attr("/fit", "free_parameters", r.free_parameters);
+      f.set_attr("/fit", "initial_cost", r.initial_cost);
+      f.set_attr("/fit", "final_cost", r.final_cost);
+      f.set_attr("/fit", "seconds", r.seconds);
+      f.set_attr("/fit", "warnings", r.warnings);
+      h5::RowMatrix r2(static_cast<Eigen::Index>(r.components.size()), 5);
+      for (std::size_t i = 0; i < r.components.size(); ++i) {
+        const auto& c = r.components[i];
+        r2.row(static_cast<Eigen::Index>(i)) << c.case_id, c.component, c.points, c.r2, c.rms;
+      }
+      f.write_matrix("/fit/r2", r2);
+      f.set_attr("/fit/r2", "columns", "case, component (Voigt 0..5), points, R^2, rms (Pa)");
+      h5::RowMatrix reg(static_cast<Eigen::Index>(r.regression.size()), 5);
+      std::ostringstream labels;
+      for (std::size_t i = 0; i < r.regression.size(); ++i) {
+        const auto& l = r.regression[i];
+        reg.row(static_cast<Eigen::Index>(i)) << l.case_id, l.component, l.a, l.b, l.r2;
+        labels << l.linear_label << ',' << l.damage_label << '\n';
+      }
+      f.write_matrix("/fit/regression", reg);
+      f.set_attr("/fit/regression", "columns", "case, component, a (Pa), b (Pa), R^2");
+      f.write_string("/fit/regression_labels", labels.str());
+    }
+    f.set_attr("/", "software", version_string());
+    f.write_string("/provenance/software", version_string());
+    f.set_attr("/provenance", "created", utc_timestamp());
+    f.set_attr("/provenance", "command", command);
+  }
+  out.commit();
+}
+
+Card read_card(const std::string& path) {
+  h5::File f(path, h5::File::Mode::read);
+  if (!f.exists("/model")) fail(path, "/model", "", "not a pnc material card: group is missing");
+  const auto variant = f.attr_string("/model", "variant");
+  if (!variant) fail(path, "/model@variant", "", "required attribute is missing");
+  const auto version = f.attr_double("/model", "card_version");
+  if (!version || *version != kCardVersion)
+    fail(path, "/model@card_version", version ? std::to_string(*version) : "",
+         "this pnc reads card version " + std::to_string(kCardVersion));
+  Card c;
+  c.params.model = parse_model(*variant, path + ": field '/model@variant'");
+  const auto& names = constant_names(c.params.model);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string ds = "/constants/" + names[i];
+    c.params.k[i] = f.read_scalar(ds);
+    const auto units = f.attr_string(ds, "units");
+    if (units && *units != units_of(names[i]))
+      fail(path, ds + "@units", *units, "must be " + units_of(names[i]) + " (SI)");
+    c.std_error.push_back(f.attr_double(ds, "std_error").value_or(kNaN));
+    c.fitted.push_back(f.attr_string(ds, "fitted").value_or("no") == "yes");
+    c.note.push_back(f.attr_string(ds, "note").value_or(""));
+  }
+  if (f.exists("/platelet_rotation")) {
+    const auto R = f.read_matrix("/platelet_rotation");
+    if (R.rows() != 3 || R.cols() != 3)
+      fail(path, "/platelet_rotation", std::to_string(R.rows()) + "x" + std::to_string(R.cols()),
+           "must be a 3x3 matrix");
+    c.params.R = R;
+  }
+  validate(c.params, path);
+  if (f.exists("/fit")) {
+    FitRecord& r = c.fit;
+    r.present = true;
+    r.data_source = f.attr_string("/fit", "data_source").value_or("");
+    r.data_hash = f.attr_string("/fit", "data_hash").value_or("");
+    r.stress_definition = f.attr_string("/fit", "stress_definition").value_or("");
+    r.termination = f.attr_string("/fit", "termination").value_or("");
+    r.message = f.attr_string("/fit", "message").value_or("");
+    r.loss = f.attr_string("/fit", "loss").value_or("");
+    r.converged = f.attr_string("/fit", "converged").value_or("no") == "yes";
+    r.iterations = static_cast<int>(f.attr_double("/fit", "iterations").value_or(0));
+    r.residuals = static_cast<int>(f.attr_double("/fit", "residuals").value_or(0));
+    r.free_parameters = static_cast<int>(f.attr_double("/fit", "free_parameters").value_or(0));
+    r.initial_cost = f.attr_double("/fit", "initial_cost").value_or(kNaN);
+    r.final_cost = f.attr_double("/fit", "final_cost").value_or(kNaN);
+    r.seconds = f.attr_double("/fit", "seconds").value_or(kNaN);
+    r.warnings = f.attr_string("/fit", "warnings").value_or("");
+    if (f.exists("/fit/r2")) {
+      const auto m = f.read_matrix("/fit/r2");
+      for (Eigen::Index i = 0; i < m.rows(); ++i)
+        r.components.push_back({static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)),
+                                static_cast<int>(m(i, 2)), m(i, 3), m(i, 4)});
+    }
+    if (f.exists("/fit/regression")) {
+      const auto m = f.read_matrix("/fit/regression");
+      std::istringstream labels(f.exists("/fit/regression_labels") ? f.read_string("/fit/regression_labels") : "");
+      for (Eigen::Index i = 0; i < m.rows(); ++i) {
+        std::string line, lin, dam;
+        std::getline(labels, line);
+        const auto comma = line.find(',');
+        lin = line.substr(0, comma);
+        dam = comma == std::string::npos ? "" : line.substr(comma + 1);
+        r.regression.push_back({static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)), lin, dam,
+                                m(i, 2), m(i, 3), m(i, 4)});
+      }
+    }
+    if (f.exists("/fit/solver_report")) r.solver_report = f.read_string("/fit/solver_report");
+  }
+  c.software = f.attr_string("/", "software").value_or("");
+  c.created = f.attr_string("/provenance", "created").value_or("");
+  c.command = f.attr_string("/provenance", "command").value_or("");
+  return c;
+}
+
+} // namespace pnc::damage

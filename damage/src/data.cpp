@@ -1,0 +1,187 @@
+#include "pnc/damage/data.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/csv.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/damage/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace pnc::damage {
+
+namespace {
+const char* kStrainCols[6] = {"e11", "e22", "e33", "g23", "g13", "g12"};
+const char* kStressCols[6] = {"s11", "s22", "s33", "s23", "s13", "s12"};
+const char* kStderrCols[6] = {"sd11", "sd22", "sd33", "sd23", "sd13", "sd12"};
+constexpr double kMPa = 1e6;
+} // namespace
+
+const CaseCurve* StressStrainData::find(int id) const {
+  for (const auto& c : cases)
+    if (c.id == id) return &c;
+  return nullptr;
+}
+
+std::size_t StressStrainData::points() const {
+  std::size_t n = 0;
+  for (const auto& c : cases) n += static_cast<std::size_t>(c.strain.rows());
+  return n;
+}
+
+StressStrainData read_stress_strain(const std::string& path) {
+  auto ends_with = [&](const std::string& s) {
+    return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
+  };
+  if (ends_with(".csv")) return read_stress_strain_csv(path);
+  if (ends_with(".h5") || ends_with(".hdf5")) return read_stress_strain_h5(path);
+  fail(path, "", "", "unknown data format: use a .csv or .h5 file");
+}
+
+StressStrainData read_stress_strain_csv(const std::string& path) {
+  const CsvTable t = read_csv(path);
+  const std::size_t jc = t.column("case");
+  std::size_t js[6], je[6];
+  for (int i = 0; i < 6; ++i) {
+    je[i] = t.column(kStrainCols[i]);
+    js[i] = t.column(kStressCols[i]);
+  }
+  bool has_sd = true;
+  std::size_t jd[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < 6; ++i) {
+    auto it = std::find(t.header.begin(), t.header.end(), kStderrCols[i]);
+    if (it == t.header.end()) has_sd = false;
+    else jd[i] = static_cast<std::size_t>(it - t.header.begin());
+  }
+  std::map<int, std::vector<std::size_t>> rows_of;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const double c = t.rows[r][jc];
+    const std::string where = "case (line " + std::to_string(t.line_numbers[r]) + ")";
+    if (c != std::floor(c)) fail(path, where, std::to_string(c), "case must be an integer 1..6");
+    std::ostringstream v;
+    v << c;
+    deformation_case(static_cast<int>(c), path + ": field '" + where + "'");
+    rows_of[static_cast<int>(c)].push_back(r);
+    if (has_sd) {
+      for (int i = 0; i < 6; ++i)
+        if (t.rows[r][jd[i]] < 0)
+          fail(path, std::string(kStderrCols[i]) + " (line " +
+                         std::to_string(t.line_numbers[r]) + ")",
+               std::to_string(t.rows[r][jd[i]]), "a standard error must be >= 0");
+    }
+  }
+  if (rows_of.empty()) fail(path, "", "", "no data rows");
+  StressStrainData d;
+  d.source = path;
+  d.stress_definition = "as supplied (CSV)";
+  for (const auto& [id, rows] : rows_of) {
+    CaseCurve c;
+    c.id = id;
+    const auto n = static_cast<Eigen::Index>(rows.size());
+    c.strain.resize(n, 6);
+    c.stress.resize(n, 6);
+    if (has_sd) c.stress_stderr.resize(n, 6);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const auto& row = t.rows[rows[static_cast<std::size_t>(k)]];
+      for (int i = 0; i < 6; ++i) {
+        c.strain(k, i) = row[je[i]];
+        c.stress(k, i) = row[js[i]] * kMPa;
+        if (has_sd) c.stress_stderr(k, i) = row[jd[i]] * kMPa;
+      }
+    }
+    d.cases.push_back(std::move(c));
+  }
+  return d;
+}
+
+StressStrainData read_stress_strain_h5(const std::string& path) {
+  h5::File f(path, h5::File::Mode::read);
+  StressStrainData d;
+  d.source = path;
+  d.stress_definition = f.attr_string("/", "stress_definition").value_or("unknown");
+  for (const std::string& name : f.children("/")) {
+    if (name.rfind("case_", 0) != 0) continue;
+    const std::string idtxt = name.substr(5);
+    int id = 0;
+    try {
+      id = std::stoi(idtxt);
+    } catch (...) {
+      fail(path, "/" + name, idtxt, "group name must be case_<n> with n in 1..6");
+    }
+    deformation_case(id, path + ": field '/" + name + "'");
+    CaseCurve c;
+    c.id = id;
+    const std::string g = "/" + name;
+    const auto strain = f.read_matrix(g + "/strain");
+    const auto stress = f.read_matrix(g + "/stress");
+    if (strain.cols() != 6 || stress.cols() != 6 || strain.rows() != stress.rows())
+      fail(path, g, std::to_string(strain.rows()) + "x" + std::to_string(strain.cols()) + " / " +
+                        std::to_string(stress.rows()) + "x" + std::to_string(stress.cols()),
+           "strain and stress must both be k x 6 with the same k");
+    const auto su = f.attr_string(g + "/stress", "units").value_or("Pa");
+    const double scale = su == "Pa" ? 1.0 : su == "MPa" ? 1e6 : su == "GPa" ? 1e9 : -1.0;
+    if (scale < 0) fail(path, g + "/stress@units", su, "stress units must be Pa, MPa or GPa");
+    c.strain = strain;
+    c.stress = stress * scale;
+    if (f.exists(g + "/stress_stderr")) c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
+    if (!c.strain.allFinite() || !c.stress.allFinite())
+      fail(path, g, "", "strain and stress must be finite numbers");
+    d.cases.push_back(std::move(c));
+  }
+  if (d.cases.empty()) fail(path, "/case_<n>", "", "no case groups found");
+  std::sort(d.cases.begin(), d.cases.end(),
+            [](const CaseCurve& a, const CaseCurve& b) { return a.id < b.id; });
+  return d;
+}
+
+void write_stress_strain_csv(const std::string& path, const StressStrainData& d) {
+  std::ostringstream s;
+  s.precision(10);
+  s << "# pnc stress-strain data; strain dimensionless (engineering shear), stress in MPa\n";
+  s << "# source: " << d.stress_definition << "\n";
+  bool sd = !d.cases.empty();
+  for (const auto& c : d.cases) sd = sd && c.stress_stderr.rows() == c.stress.rows();
+  s << "case";
+  for (auto* n : kStrainCols) s << ',' << n;
+  for (auto* n : kStressCols) s << ',' << n;
+  if (sd)
+    for (auto* n : kStderrCols) s << ',' << n;
+  s << '\n';
+  for (const auto& c : d.cases) {
+    for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
+      s << c.id;
+      for (int i = 0; i < 6; ++i) s << ',' << c.strain(k, i);
+      for (int i = 0; i < 6; ++i) s << ',' << c.stress(k, i) / kMPa;
+      if (sd)
+        for (int i = 0; i < 6; ++i) s << ',' << c.stress_stderr(k, i) / kMPa;
+      s << '\n';
+    }
+  }
+  write_text_atomically(path, s.str());
+}
+
+void write_stress_strain_h5(const std::string& path, const StressStrainData& d) {
+  AtomicOutput out(path);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    f.set_attr("/", "stress_definition", d.stress_definition);
+    f.set_attr("/", "format", "pnc cases v1: /case_<n>/{strain,stress,stress_stderr}");
+    for (const auto& c : d.cases) {
+      const std::string g = "/case_" + std::to_string(c.id);
+      f.write_matrix(g + "/strain", c.strain);
+      f.set_attr(g + "/strain", "units", "1 (engineering shear)");
+      f.write_matrix(g + "/stress", c.stress);
+      f.set_attr(g + "/stress", "units", "Pa");
+      if (c.stress_stderr.rows() == c.stress.rows()) {
+        f.write_matrix(g + "/stress_stderr", c.stress_stderr);
+        f.set_attr(g + "/stress_stderr", "units", "Pa");
+      }
+    }
+  }
+  out.commit();
+}
+
+} // namespace pnc::damage

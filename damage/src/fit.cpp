@@ -1,0 +1,560 @@
+// Joint NDM fit with Ceres: see pnc/damage/fit.hpp and docs/decisions.md D10-D12.
+#include "pnc/damage/fit.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/damage/reference.hpp"
+
+#include <ceres/ceres.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace pnc::damage {
+
+namespace {
+constexpr double kMPa = 1e6;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Parameter blocks of theta (decision D10).
+std::vector<int> block_sizes(Model m) {
+  return m == Model::pnc ? std::vector<int>{6, 3, 12, 1} : std::vector<int>{2, 1, 3, 1};
+}
+int n_theta(Model m) { return static_cast<int>(constant_names(m).size()); }
+
+NdmParameters params_from_constants(Model m, const std::vector<double>& k) {
+  NdmParameters p;
+  p.model = m;
+  for (std::size_t i = 0; i < k.size(); ++i) p.k[i] = k[i];
+  return p;
+}
+
+// d sigma / d k for stiffness and damage constants is (C0(u_j) + C1(u_j, D)) eps, with u_j the
+// unit parameter set: C0 and C1 are linear in every constant but alpha (decision D11).
+struct UnitMatrices {
+  std::vector<Matrix6> c0;
+  std::vector<std::array<Matrix6, 3>> c1;
+};
+const UnitMatrices& unit_matrices(Model m) {
+  static std::map<Model, UnitMatrices> cache = [] {
+    std::map<Model, UnitMatrices> c;
+    for (Model mm : {Model::pnc, Model::pp}) {
+      UnitMatrices u;
+      const int n = n_theta(mm);
+      for (int j = 0; j < n; ++j) {
+        NdmParameters p;
+        p.model = mm;
+        p.k[static_cast<std::size_t>(j)] = 1.0;
+        u.c0.push_back(stiffness_c0(p));
+        u.c1.push_back({stiffness_c1_dD(p, 0), stiffness_c1_dD(p, 1), stiffness_c1_dD(p, 2)});
+      }
+      c[mm] = u;
+    }
+    return c;
+  }();
+  return cache.at(m);
+}
+
+struct PointTerm {
+  Model model;
+  int case_id;
+  std::vector<int> comps;
+  NdmState s0;
+  Voigt eps0, deps;
+  Voigt data;  // MPa
+  Voigt scale; // MPa
+};
+
+// Residuals of one point and d r / d constants (rows x n).
+void point_residual(const PointTerm& t, const std::vector<double>& k, double* r,
+                    Eigen::MatrixXd* dr_dk) {
+  const NdmParameters p = params_from_constants(t.model, k);
+  NdmState s1;
+  Voigt sigma;
+  ErrorBuffer err;
+  if (integrate(p, t.s0, s1, t.eps0, t.deps, sigma, nullptr, err) != Status::ok)
+    throw std::runtime_error(err.msg);
+  for (std::size_t c = 0; c < t.comps.size(); ++c) {
+    const int i = t.comps[c];
+    r[c] = (sigma[i] - t.data[i]) / t.scale[i];
+  }
+  if (!dr_dk) return;
+  const Voigt eps = t.eps0 + t.deps;
+  const UnitMatrices& u = unit_matrices(t.model);
+  const int n = n_theta(t.model);
+  const int nm = t.model == Model::pnc ? 3 : 1;
+  dr_dk->setZero(static_cast<Eigen::Index>(t.comps.size()), n);
+  for (int j = 0; j < n - 1; ++j) {
+    Matrix6 M = u.c0[static_cast<std::size_t>(j)];
+    for (int m = 0; m < nm; ++m)
+      if (s1.D[m] != 0.0) M += s1.D[m] * u.c1[static_cast<std::size_t>(j)][m];
+    const Voigt col = M * eps;
+    for (std::size_t c = 0; c < t.comps.size(); ++c)
+      (*dr_dk)(static_cast<Eigen::Index>(c), j) = col[t.comps[c]] / t.scale[t.comps[c]];
+  }
+  // alpha: D_m = D(kappa_m / alpha), kappa independent of every constant.
+  const double a = p.alpha();
+  Voigt dsig = Voigt::Zero();
+  for (int m = 0; m < nm; ++m) {
+    const double dD = damage_function_derivative(s1.kappa[m] / a) * (-s1.kappa[m] / (a * a));
+    if (dD != 0.0) dsig += dD * (stiffness_c1_dD(p, m) * eps);
+  }
+  for (std::size_t c = 0; c < t.comps.size(); ++c)
+    (*dr_dk)(static_cast<Eigen::Index>(c), n - 1) = dsig[t.comps[c]] / t.scale[t.comps[c]];
+}
+
+class PointCost final : public ceres::CostFunction {
+public:
+  explicit PointCost(const PointTerm* t) : t_(t) {
+    set_num_residuals(static_cast<int>(t->comps.size()));
+    for (int s : block_sizes(t->model)) mutable_parameter_block_sizes()->push_back(s);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const auto sizes = block_sizes(t_->model);
+    std::vector<double> theta;
+    for (std::size_t b = 0; b < sizes.size(); ++b)
+      theta.insert(theta.end(), parameters[b], parameters[b] + sizes[b]);
+    const std::vector<double> k = detail::constants_from_theta(t_->model, theta);
+    Eigen::MatrixXd drdk;
+    const bool want = jacobians != nullptr;
+    try {
+      point_residual(*t_, k, residuals, want ? &drdk : nullptr);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (!want) return true;
+    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta);
+    int col0 = 0;
+    for (std::size_t b = 0; b < sizes.size(); ++b) {
+      if (jacobians[b]) {
+        for (Eigen::Index r = 0; r < J.rows(); ++r)
+          for (int c = 0; c < sizes[b]; ++c)
+            jacobians[b][r * sizes[b] + c] = J(r, col0 + c);
+      }
+      col0 += sizes[b];
+    }
+    return true;
+  }
+
+private:
+  const PointTerm* t_;
+};
+
+std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double alpha_for_states) {
+  std::vector<PointTerm> terms;
+  NdmParameters pstate = dissertation_parameters(m);
+  pstate["alpha"] = alpha_for_states; // kappa does not depend on constants; D recomputed
+  for (const CaseCurve& c : data.cases) {
+    const DeformationCase& dc = deformation_case(c.id, data.source);
+    std::vector<NdmState> states;
+    stress_path(pstate, c.strain, &states);
+    // Weights: the data's standard errors where positive; else their median; else 1 MPa.
+    Voigt fallback = Voigt::Ones();
+    if (c.stress_stderr.rows() == c.stress.rows()) {
+      for (int i = 0; i < 6; ++i) {
+        std::vector<double> pos;
+        for (Eigen::Index k = 0; k < c.stress_stderr.rows(); ++k)
+          if (c.stress_stderr(k, i) > 0) pos.push_back(c.stress_stderr(k, i) / kMPa);
+        if (!pos.empty()) {
+          std::nth_element(pos.begin(), pos.begin() + static_cast<long>(pos.size() / 2), pos.end());
+          fallback[i] = pos[pos.size() / 2];
+        }
+      }
+    }
+    NdmState prev;
+    Voigt eprev = Voigt::Zero();
+    for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
+      PointTerm t;
+      t.model = m;
+      t.case_id = c.id;
+      t.comps = dc.active;
+      t.s0 = prev;
+      t.eps0 = eprev;
+      t.deps = c.strain.row(k).transpose() - eprev;
+      t.data = c.stress.row(k).transpose() / kMPa;
+      for (int i = 0; i < 6; ++i) {
+        const bool has = c.stress_stderr.rows() == c.stress.rows() && c.stress_stderr(k, i) > 0;
+        t.scale[i] = has ? c.stress_stderr(k, i) / kMPa : fallback[i];
+      }
+      terms.push_back(t);
+      prev = states[static_cast<std::size_t>(k)];
+      eprev = c.strain.row(k).transpose();
+    }
+  }
+  return terms;
+}
+
+void check_cases(const StressStrainData& data, Model m) {
+  const auto allowed = model_cases(m);
+  for (const auto& c : data.cases) {
+    if (std::find(allowed.begin(), allowed.end(), c.id) == allowed.end())
+      fail(data.source, "case", std::to_string(c.id),
+           std::string("the ") + model_name(m) + " model is characterised by cases " +
+               (m == Model::pnc ? "1-6" : "2 (extension x2) and 6 (shear 1-2)"));
+    if (c.strain.rows() < 3)
+      fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
+           "each case needs at least 3 points");
+  }
+  const std::vector<int> required = m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
+  for (int id : required)
+    if (!data.find(id))
+      fail(data.source, "case", std::to_string(id),
+           std::string("is required: the ") + model_name(m) +
+               " normal stiffness block cannot be determined without it");
+}
+
+struct LabelPair {
+  const char* lin;
+  const char* dam;
+};
+LabelPair regression_labels(Model m, int case_id, int comp) {
+  if (m == Model::pp) {
+    if (case_id == 2) {
+      static const LabelPair l[3] = {{"C12", "B2"}, {"C11", "2B1"}, {"C12", "B2"}};
+      return l[comp];
+    }
+    return {"C44", "B4"};
+  }
+  static const LabelPair ext[3][3] = {{{"C11", "2A1"}, {"C12", "A10"}, {"C13", "A13"}},
+                                      {{"C12", "A11"}, {"C22", "2A5"}, {"C23", "A17"}},
+                                      {{"C13", "A15"}, {"C23", "A18"}, {"C33", "2A9"}}};
+  if (case_id <= 3) return ext[case_id - 1][comp];
+  static const LabelPair sh[3] = {{"C44", "A22"}, {"C55", "A26"}, {"C66", "A24"}};
+  return sh[case_id - 4];
+}
+
+double r_squared(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat) {
+  const double mean = y.mean();
+  const double ss_tot = (y.array() - mean).square().sum();
+  const double ss_res = (y - yhat).squaredNorm();
+  return ss_tot > 0 ? 1.0 - ss_res / ss_tot : kNaN;
+}
+} // namespace
+
+// ------------------------------------------------------------------ options
+void FitOptions::validate() const {
+  const std::string src = "<fit options>";
+  if (loss != "none" && loss != "huber" && loss != "cauchy")
+    fail(src, "loss", loss, "must be one of none, huber, cauchy");
+  if (!(loss_scale > 0) || !std::isfinite(loss_scale))
+    fail(src, "loss_scale", std::to_string(loss_scale), "must be a finite number > 0");
+  if (max_iterations <= 0)
+    fail(src, "max_iterations", std::to_string(max_iterations), "must be > 0");
+  if (!(function_tolerance > 0 && function_tolerance < 1))
+    fail(src, "function_tolerance", std::to_string(function_tolerance), "must be in (0, 1)");
+  if (alpha && !(*alpha >= 0.5 && *alpha <= 1.5))
+    fail(src, "alpha", std::to_string(*alpha), "must be in [0.5, 1.5]");
+  if (prior && prior->model != model)
+    fail(src, "prior", model_name(prior->model),
+         std::string("prior card is for another model than ") + model_name(model));
+}
+
+// ------------------------------------------------------------------ theta map
+namespace detail {
+std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) {
+  std::vector<double> th(k);
+  if (m == Model::pp) {
+    th[0] = k[0] - k[1];     // u = C11 - C12
+    th[1] = k[0] + 2 * k[1]; // v = C11 + 2 C12
+    return th;
+  }
+  Eigen::Matrix3d Cn;
+  Cn << k[0], k[3], k[4], k[3], k[1], k[5], k[4], k[5], k[2];
+  Eigen::LLT<Eigen::Matrix3d> llt(Cn);
+  if (llt.info() != Eigen::Success) { // clip to the nearest positive definite matrix
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Cn);
+    Eigen::Vector3d ev = es.eigenvalues();
+    const double floor = 1e-3 * std::max(1.0, ev.maxCoeff());
+    for (int i = 0; i < 3; ++i) ev[i] = std::max(ev[i], floor);
+    Cn = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+    llt.compute(Cn);
+  }
+  const Eigen::Matrix3d L = llt.matrixL();
+  th[0] = L(0, 0); th[1] = L(1, 0); th[2] = L(1, 1);
+  th[3] = L(2, 0); th[4] = L(2, 1); th[5] = L(2, 2);
+  return th;
+}
+
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& th) {
+  std::vector<double> k(th);
+  if (m == Model::pp) {
+    k[0] = (2 * th[0] + th[1]) / 3;
+    k[1] = (th[1] - th[0]) / 3;
+    return k;
+  }
+  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
+  L(0, 0) = th[0]; L(1, 0) = th[1]; L(1, 1) = th[2];
+  L(2, 0) = th[3]; L(2, 1) = th[4]; L(2, 2) = th[5];
+  const Eigen::Matrix3d C = L * L.transpose();
+  k[0] = C(0, 0); k[1] = C(1, 1); k[2] = C(2, 2);
+  k[3] = C(0, 1); k[4] = C(0, 2); k[5] = C(1, 2);
+  return k;
+}
+
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
+  const int n = n_theta(m);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n);
+  if (m == Model::pp) {
+    G(0, 0) = 2.0 / 3; G(0, 1) = 1.0 / 3;
+    G(1, 0) = -1.0 / 3; G(1, 1) = 1.0 / 3;
+    return G;
+  }
+  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
+  L(0, 0) = th[0]; L(1, 0) = th[1]; L(1, 1) = th[2];
+  L(2, 0) = th[3]; L(2, 1) = th[4]; L(2, 2) = th[5];
+  static const int pos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
+  static const int ent[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}; // C11..C23
+  for (int q = 0; q < 6; ++q) {
+    Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+    E(pos[q][0], pos[q][1]) = 1.0;
+    const Eigen::Matrix3d dC = E * L.transpose() + L * E.transpose();
+    for (int c = 0; c < 6; ++c) G(c, q) = dC(ent[c][0], ent[c][1]);
+  }
+  return G;
+}
+
+void residuals_and_jacobian(const StressStrainData& data, Model m,
+                            const std::vector<double>& theta, Eigen::VectorXd& r,
+                            Eigen::MatrixXd* J) {
+  const std::vector<double> k = constants_from_theta(m, theta);
+  const auto terms = build_terms(data, m, k.back());
+  Eigen::Index rows = 0;
+  for (const auto& t : terms) rows += static_cast<Eigen::Index>(t.comps.size());
+  r.resize(rows);
+  if (J) J->resize(rows, n_theta(m));
+  const Eigen::MatrixXd G = dconstants_dtheta(m, theta);
+  Eigen::Index row = 0;
+  for (const auto& t : terms) {
+    Eigen::MatrixXd drdk;
+    point_residual(t, k, r.data() + row, J ? &drdk : nullptr);
+    const auto nr = static_cast<Eigen::Index>(t.comps.size());
+    if (J) J->middleRows(row, nr) = drdk * G;
+    row += nr;
+  }
+}
+} // namespace detail
+
+// ------------------------------------------------------------------ regression
+std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m, double alpha) {
+  std::vector<RegressionLine> out;
+  NdmParameters pstate = dissertation_parameters(m);
+  pstate["alpha"] = alpha;
+  for (const CaseCurve& c : data.cases) {
+    const DeformationCase& dc = deformation_case(c.id, data.source);
+    std::vector<NdmState> states;
+    stress_path(pstate, c.strain, &states);
+    const Eigen::Index n = c.strain.rows();
+    Eigen::VectorXd x = c.strain.col(dc.driven), Dx(n);
+    const int mode = m == Model::pnc ? dc.damage_mode : 0;
+    for (Eigen::Index i = 0; i < n; ++i) Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];
+    const bool damaged = Dx.cwiseAbs().maxCoeff() > 0;
+    for (int comp : dc.active) {
+      const Eigen::VectorXd y = c.stress.col(comp) / kMPa;
+      Eigen::MatrixXd X(n, damaged ? 2 : 1);
+      X.col(0) = x;
+      if (damaged) X.col(1) = Dx;
+      const Eigen::VectorXd coef = X.colPivHouseholderQr().solve(y);
+      const LabelPair lab = regression_labels(m, c.id, comp);
+      out.push_back({c.id, comp, lab.lin, lab.dam, coef[0] * kMPa,
+                     damaged ? coef[1] * kMPa : kNaN, r_squared(y, X * coef)});
+    }
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ the fit
+FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
+  opt.validate();
+  const Model m = opt.model;
+  check_cases(data, m);
+  const auto& names = constant_names(m);
+  const int n = n_theta(m);
+  const NdmParameters prior = opt.prior ? *opt.prior : dissertation_parameters(m);
+  const double alpha0 = opt.alpha ? *opt.alpha : prior.alpha();
+
+  FitReport rep;
+  rep.regression = regress_cases(data, m, alpha0);
+
+  // Initial constants (MPa): regression where it informs a constant, the prior elsewhere.
+  std::vector<double> k0(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) k0[static_cast<std::size_t>(j)] = prior.k[static_cast<std::size_t>(j)] / kMPa;
+  k0.back() = alpha0;
+  std::map<std::string, std::vector<double>> est;
+  for (const auto& l : rep.regression) {
+    est[l.linear_label].push_back(l.a / kMPa);
+    if (std::isfinite(l.b)) {
+      const bool twice = l.damage_label[0] == '2';
+      est[twice ? l.damage_label.substr(1) : l.damage_label].push_back((twice ? 0.5 : 1.0) * l.b / kMPa);
+    }
+  }
+  for (const auto& [name, v] : est) {
+    const int j = constant_index(m, name);
+    if (j < 0 || v.empty()) continue;
+    double s = 0;
+    for (double x : v) s += x;
+    k0[static_cast<std::size_t>(j)] = s / static_cast<double>(v.size());
+  }
+
+  // Which constants do the data inform? Structural zero columns of d r / d k are held.
+  std::vector<double> theta = detail::theta_from_constants(m, k0);
+  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
+  const auto terms = build_terms(data, m, alpha0);
+  Eigen::VectorXd colnorm = Eigen::VectorXd::Zero(n);
+  for (const auto& t : terms) {
+    Eigen::MatrixXd drdk;
+    std::vector<double> r(t.comps.size());
+    point_residual(t, k0, r.data(), &drdk);
+    colnorm += drdk.colwise().squaredNorm().transpose();
+  }
+  rep.fitted.assign(static_cast<std::size_t>(n), true);
+  rep.note.assign(static_cast<std::size_t>(n), "");
+  for (int j = 0; j < n; ++j) {
+    const auto js = static_cast<std::size_t>(j);
+    if (j == n - 1 && !opt.fit_alpha) {
+      rep.fitted[js] = false;
+      rep.note[js] = opt.alpha ? "fixed by option" : "fixed at the prior (" + opt.prior_source + ")";
+    } else if (colnorm[j] == 0.0) {
+      rep.fitted[js] = false;
+      rep.note[js] = std::string(names[js][0] == 'C' ? "no data for the case that determines it"
+                                                       : "the data never reach damage onset for its mode") +
+                     "; held at the prior (" + opt.prior_source + ")";
+    }
+  }
+
+  // Ceres problem.
+  const auto sizes = block_sizes(m);
+  std::vector<std::vector<double>> blocks;
+  {
+    int off = 0;
+    for (int s : sizes) {
+      blocks.emplace_back(theta.begin() + off, theta.begin() + off + s);
+      off += s;
+    }
+  }
+  ceres::Problem problem;
+  std::vector<double*> ptrs;
+  for (auto& b : blocks) ptrs.push_back(b.data());
+  for (const auto& t : terms) {
+    ceres::LossFunction* loss = nullptr;
+    if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
+    if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
+    problem.AddResidualBlock(new PointCost(&t), loss, ptrs);
+  }
+  // Held coordinates: every block other than the normal block maps 1:1 to constants.
+  int off = 0;
+  for (std::size_t b = 0; b < sizes.size(); ++b) {
+    std::vector<int> held;
+    for (int c = 0; c < sizes[b]; ++c)
+      if (!rep.fitted[static_cast<std::size_t>(off + c)]) held.push_back(c);
+    if (static_cast<int>(held.size()) == sizes[b]) problem.SetParameterBlockConstant(ptrs[b]);
+    else if (!held.empty()) problem.SetManifold(ptrs[b], new ceres::SubsetManifold(sizes[b], held));
+    off += sizes[b];
+  }
+  // Bounds (decision D10).
+  if (m == Model::pnc) {
+    for (int d : {0, 2, 5}) problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(ptrs[1], c, 1e-6);
+  } else {
+    for (int d : {0, 1}) problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    problem.SetParameterLowerBound(ptrs[1], 0, 1e-6);
+  }
+  if (opt.fit_alpha) {
+    problem.SetParameterLowerBound(ptrs[3], 0, 0.5);
+    problem.SetParameterUpperBound(ptrs[3], 0, 1.5);
+  }
+
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = opt.function_tolerance;
+  so.gradient_tolerance = 1e-14;
+  so.parameter_tolerance = 1e-12;
+  so.num_threads = 1;
+  ceres::Solver::Summary summary;
+  const auto t0 = std::chrono::steady_clock::now();
+  ceres::Solve(so, &problem, &summary);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rep.converged = summary.termination_type == ceres::CONVERGENCE;
+  rep.termination = ceres::TerminationTypeToString(summary.termination_type);
+  rep.message = summary.message;
+  rep.brief_report = summary.BriefReport();
+  rep.full_report = summary.FullReport();
+  rep.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  rep.initial_cost = summary.initial_cost;
+  rep.final_cost = summary.final_cost;
+  rep.residuals = summary.num_residuals;
+
+  theta.clear();
+  for (const auto& b : blocks) theta.insert(theta.end(), b.begin(), b.end());
+  const std::vector<double> kf = detail::constants_from_theta(m, theta);
+  rep.params = params_from_constants(m, kf);
+  for (int j = 0; j < n - 1; ++j) rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
+
+  // Standard errors: Cov(theta_free) = s^2 (J^T J)^-1, mapped to constants with G.
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  {
+    const auto terms_f = build_terms(data, m, kf.back());
+    Eigen::Index rows = 0;
+    for (const auto& t : terms_f) rows += static_cast<Eigen::Index>(t.comps.size());
+    r.resize(rows);
+    Eigen::MatrixXd Jk(rows, n);
+    Eigen::Index row = 0;
+    for (const auto& t : terms_f) {
+      Eigen::MatrixXd drdk;
+      point_residual(t, kf, r.data() + row, &drdk);
+      Jk.middleRows(row, drdk.rows()) = drdk;
+      row += drdk.rows();
+    }
+    J = Jk * detail::dconstants_dtheta(m, theta);
+  }
+  std::vector<int> free;
+  for (int j = 0; j < n; ++j)
+    if (rep.fitted[static_cast<std::size_t>(j)]) free.push_back(j);
+  rep.free_parameters = static_cast<int>(free.size());
+  rep.std_error.assign(static_cast<std::size_t>(n), kNaN);
+  const Eigen::Index dof = r.size() - static_cast<Eigen::Index>(free.size());
+  if (dof > 0) {
+    Eigen::MatrixXd Jf(J.rows(), static_cast<Eigen::Index>(free.size()));
+    for (std::size_t c = 0; c < free.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
+    const Eigen::MatrixXd JtJ = Jf.transpose() * Jf;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(JtJ);
+    const double emax = es.eigenvalues().maxCoeff(), emin = es.eigenvalues().minCoeff();
+    if (!(emin > emax * 1e-14)) {
+      rep.warnings += "covariance is singular (some constants are not determined by the data); "
+                      "standard errors not reported. ";
+    } else {
+      const double s2 = r.squaredNorm() / static_cast<double>(dof);
+      const Eigen::MatrixXd cov_theta = s2 * JtJ.inverse();
+      const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta);
+      Eigen::MatrixXd Gf(n, static_cast<Eigen::Index>(free.size()));
+      for (std::size_t c = 0; c < free.size(); ++c) Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
+      const Eigen::MatrixXd cov_k = Gf * cov_theta * Gf.transpose();
+      for (int j = 0; j < n; ++j) {
+        if (!rep.fitted[static_cast<std::size_t>(j)]) continue;
+        const double scale = j == n - 1 ? 1.0 : kMPa;
+        rep.std_error[static_cast<std::size_t>(j)] = std::sqrt(std::max(0.0, cov_k(j, j))) * scale;
+      }
+    }
+  } else {
+    rep.warnings += "no degrees of freedom left for standard errors. ";
+  }
+  if (!rep.converged) rep.warnings += "the solver did not report convergence: " + rep.message + " ";
+
+  // R^2 per case and component, through the kernel along each path.
+  for (const CaseCurve& c : data.cases) {
+    const auto model_stress = stress_path(rep.params, c.strain);
+    for (int comp : deformation_case(c.id).active) {
+      const Eigen::VectorXd y = c.stress.col(comp), yh = model_stress.col(comp);
+      rep.components.push_back({c.id, comp, static_cast<int>(y.size()), r_squared(y, yh),
+                                std::sqrt((y - yh).squaredNorm() / static_cast<double>(y.size()))});
+    }
+  }
+  return rep;
+}
+
+} // namespace pnc::damage

@@ -1,0 +1,71 @@
+#include "pnc/damage/reference.hpp"
+
+#include "pnc/core/error.hpp"
+
+namespace pnc::damage {
+
+NdmParameters dissertation_parameters(Model m) {
+  constexpr double GPa = 1e9;
+  NdmParameters p;
+  p.model = m;
+  if (m == Model::pnc) {
+    p["C11"] = 1.155 * GPa;
+    p["C22"] = 1.153 * GPa;
+    p["C33"] = 0.648 * GPa;
+    p["C12"] = 0.708 * GPa;
+    p["C13"] = 0.585 * GPa;
+    p["C23"] = 0.563 * GPa;
+    p["C44"] = 0.189 * GPa;
+    p["C55"] = 0.038851 * GPa;
+    p["C66"] = 0.189 * GPa; // not printed (case 6 not fitted): decision D9
+    p["A1"] = -0.99 / 2 * GPa;
+    p["A5"] = -0.979 / 2 * GPa;
+    p["A9"] = -0.528 / 2 * GPa;
+    p["A10"] = -0.60 * GPa;
+    p["A11"] = -0.548 * GPa;
+    p["A13"] = -0.47 * GPa;
+    p["A15"] = -0.588 * GPa;
+    p["A17"] = -0.435 * GPa;
+    p["A18"] = -0.504 * GPa;
+    p["A22"] = -0.337 * GPa;
+    p["A24"] = -0.337 * GPa; // not printed: decision D9
+    p["A26"] = 0.0;
+    p["alpha"] = 0.861;
+  } else {
+    p["C11"] = 0.559 * GPa;
+    p["C12"] = 0.447 * GPa;
+    p["C44"] = 0.109 * GPa;
+    p["B1"] = -0.304 * GPa;
+    p["B2"] = -0.405 / 2 * GPa;
+    p["B4"] = -0.757 * GPa;
+    p["alpha"] = 0.941;
+  }
+  return p;
+}
+
+const DeformationCase& deformation_case(int id, const std::string& source) {
+  static const DeformationCase cases[6] = {
+      {1, "extension x1 (x2, x3 held)", 0, {0, 1, 2}, 0},
+      {2, "extension x2 (x1, x3 held)", 1, {0, 1, 2}, 1},
+      {3, "extension x3 (x1, x2 held)", 2, {0, 1, 2}, 2},
+      {4, "simple shear 2-3", 3, {3}, 1},
+      {5, "simple shear 1-3", 4, {4}, 2},
+      {6, "simple shear 1-2", 5, {5}, 1},
+  };
+  if (id < 1 || id > 6)
+    fail(source, "case", std::to_string(id),
+         "deformation case must be 1..6 (1-3 extension x1..x3, 4-6 shear 2-3, 1-3, 1-2)");
+  return cases[id - 1];
+}
+
+Voigt case_strain(int id, double amount) {
+  Voigt e = Voigt::Zero();
+  e[deformation_case(id).driven] = amount;
+  return e;
+}
+
+std::vector<int> model_cases(Model m) {
+  return m == Model::pnc ? std::vector<int>{1, 2, 3, 4, 5, 6} : std::vector<int>{2, 6};
+}
+
+} // namespace pnc::damage
