@@ -69,3 +69,32 @@ std::vector<int> model_cases(Model m) {
 }
 
 } // namespace pnc::damage
+
+#include <limits>
+
+namespace pnc::damage {
+const std::vector<PrintedRegression>& printed_regression(Model m) {
+  constexpr double G = 1e9;
+  const double na = std::numeric_limits<double>::quiet_NaN();
+  static const std::vector<PrintedRegression> pnc = {
+      {1, 0, "C11", 1.155 * G, 0.989, "2A1", -0.99 * G, 0.999},
+      {1, 1, "C12", 0.763 * G, 0.993, "A10", -0.60 * G, 0.997},
+      {1, 2, "C13", 0.585 * G, 0.976, "A13", -0.47 * G, 0.999},
+      {2, 0, "C12", 0.708 * G, 0.979, "A11", -0.548 * G, 0.996},
+      {2, 1, "C22", 1.153 * G, 0.994, "2A5", -0.979 * G, 0.998},
+      {2, 2, "C23", 0.563 * G, 0.960, "A17", -0.435 * G, 0.998},
+      {3, 0, "C13", 0.733 * G, 0.973, "A15", -0.588 * G, 0.997},
+      {3, 1, "C23", 0.633 * G, 0.973, "A18", -0.504 * G, 0.995},
+      {3, 2, "C33", 0.648 * G, 0.993, "2A9", -0.528 * G, 0.994},
+      {4, 3, "C44", 0.189 * G, 0.941, "A22", -0.337 * G, 0.959},
+      {5, 4, "C55", 0.038851 * G, na, "A26", 0.0, na}};
+  // Tables 6.10-6.11 for the pure polymer, by the stress component each property was
+  // regressed from (sigma11 -> C12, 2B2; sigma22 -> C22, B1; sigma33 -> C23, B3).
+  static const std::vector<PrintedRegression> pp = {
+      {2, 0, "C12", 0.447 * G, 0.981, "2B2", -0.405 * G, 0.994},
+      {2, 1, "C22", 0.559 * G, 0.962, "B1", -0.304 * G, 0.994},
+      {2, 2, "C23", 0.498 * G, 0.92, "B3", -0.355 * G, 0.997},
+      {6, 5, "C66", 0.109 * G, 0.941, "B4", -0.757 * G, 0.96}};
+  return m == Model::pnc ? pnc : pp;
+}
+} // namespace pnc::damage

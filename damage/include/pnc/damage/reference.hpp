@@ -32,3 +32,18 @@ Voigt case_strain(int id, double amount);
 std::vector<int> model_cases(Model m);
 
 } // namespace pnc::damage
+
+namespace pnc::damage {
+/// The printed regression of Tables 6.6-6.11 for one (case, stress component): the two
+/// properties the dissertation regressed from it, with their printed labels, values (Pa)
+/// and R^2 (NaN where not printed). Compare with RegressionLine of the same case/component.
+struct PrintedRegression {
+  int case_id;
+  int component;           ///< Voigt index
+  const char* lin_label;   ///< as printed, e.g. "C0_22"
+  double lin_value, lin_r2;
+  const char* dam_label;   ///< as printed, e.g. "2A5", "B1"
+  double dam_value, dam_r2;
+};
+const std::vector<PrintedRegression>& printed_regression(Model m);
+} // namespace pnc::damage

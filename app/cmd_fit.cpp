@@ -1,0 +1,75 @@
+// pnc fit: joint NDM fit of stress-strain curves -> material card (+ plots).
+#include "commands.hpp"
+#include "plot.hpp"
+#include "report.hpp"
+
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/fit.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+
+namespace pnc::app {
+
+int run_fit(const FitArgs& a) {
+  using namespace pnc::damage;
+  FitOptions o;
+  o.model = parse_model(a.model, "<command line>: --model");
+  o.fit_alpha = a.fit_alpha;
+  o.alpha = a.alpha;
+  o.loss = a.loss;
+  o.loss_scale = a.loss_scale;
+  o.max_iterations = a.max_iterations;
+  if (!a.prior.empty()) {
+    o.prior = read_card(a.prior).params;
+    o.prior_source = a.prior;
+  }
+  o.validate();
+  const StressStrainData data = read_stress_strain(a.data);
+  const FitReport rep = fit_ndm(data, o);
+  Card card = card_from_fit(rep, data, a.loss);
+  write_card(a.out, card, a.command_line);
+
+  std::vector<std::string> pngs;
+  std::string plot_dir;
+  if (!a.no_plots) {
+    plot_dir = a.plots.empty()
+                   ? (std::filesystem::path(a.out).replace_extension("").string() + "_plots")
+                   : a.plots;
+    pngs = plot_fit(data, card.params, plot_dir,
+                    std::string("NDM fit (") + model_name(o.model) + ") of " +
+                        std::filesystem::path(a.data).filename().string());
+  }
+
+  std::cerr << fmt::format("pnc fit: {} points from {} ({} cases), model {}\n", data.points(),
+                           a.data, data.cases.size(), model_name(o.model));
+  std::cerr << fmt::format("  solver: {} after {} iterations in {:.3f} s; {}\n", rep.termination,
+                           rep.iterations, rep.seconds, rep.message);
+  if (!rep.warnings.empty()) std::cerr << "  warning: " << rep.warnings << "\n";
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model);
+  std::cerr << "  card: " << a.out << "\n";
+  for (const auto& p : pngs) std::cerr << "  plot: " << p << "\n";
+
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "fit";
+    j["card"] = a.out;
+    j["model"] = model_name(o.model);
+    j["data"] = a.data;
+    j["points"] = data.points();
+    j["constants"] = constants_json(card);
+    j["fit"] = fit_json(card.fit);
+    j["plots"] = pngs;
+    std::cout << j.dump() << std::endl;
+  }
+  if (!rep.converged) {
+    std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
+              << "; the card was written but check it before use\n";
+    return 3;
+  }
+  return 0;
+}
+
+} // namespace pnc::app

@@ -1,0 +1,45 @@
+#pragma once
+// The pnc subcommands as plain functions over plain option structs; CLI11 lives only in
+// main.cpp. Each run_* returns the process exit code, prints its human-readable report on
+// stderr and, with json = true, one JSON object on stdout.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pnc::app {
+
+struct FitArgs {
+  std::string data, model = "pnc", out, prior, plots, loss = "none";
+  bool no_plots = false, fit_alpha = false, json = false;
+  std::optional<double> alpha;
+  double loss_scale = 1.0;
+  int max_iterations = 200;
+  std::string command_line;
+};
+int run_fit(const FitArgs& a);
+
+struct CardShowArgs {
+  std::string card;
+  bool json = false;
+  double max_strain = 1.0;
+};
+int run_card_show(const CardShowArgs& a);
+
+struct CardTablesArgs {
+  std::string model = "pnc", out;
+  bool json = false;
+  std::string command_line;
+};
+int run_card_tables(const CardTablesArgs& a);
+
+struct SynthArgs {
+  std::string model = "pnc", card, out;
+  std::vector<int> cases;
+  int points = 200;
+  double max_extension = 0.2, max_shear = 0.4, noise_mpa = 2.0;
+  unsigned long long seed = 1;
+  bool json = false;
+};
+int run_synth(const SynthArgs& a);
+
+} // namespace pnc::app

@@ -1,0 +1,106 @@
+// pnc: command-line entry point. One subcommand per file (cmd_*.cpp); CLI11 only here.
+// Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
+// rule), 2 internal error, 3 a fit that did not converge; CLI11's own codes for bad usage.
+#include "commands.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/core/version.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <sstream>
+
+namespace {
+std::string join_args(int argc, char** argv) {
+  std::ostringstream s;
+  for (int i = 0; i < argc; ++i) s << (i ? " " : "") << argv[i];
+  return s.str();
+}
+} // namespace
+
+int main(int argc, char** argv) {
+  using namespace pnc::app;
+  CLI::App app{"pnc: multiscale toolkit for polymer nanocomposites (Nair 2010 method).\n"
+               "Fits the nano-scale damage model (NDM) to stress-strain curves and writes a "
+               "material card (HDF5, SI units) for the fe_material plugin."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", pnc::version_string());
+  const std::string cmdline = join_args(argc, argv);
+
+  // --- fit
+  FitArgs fa;
+  fa.command_line = cmdline;
+  auto* fit = app.add_subcommand("fit", "Joint NDM fit (Ceres) of stress-strain curves -> card + plots");
+  fit->add_option("--data", fa.data,
+                  "Stress-strain data: CSV (case,e11..g12,s11..s12; stress in MPa) or cases.h5")
+      ->required();
+  fit->add_option("--model", fa.model, "pnc (nanocomposite, cases 1-6) or pp (pure polymer, cases 2, 6)")
+      ->check(CLI::IsMember({"pnc", "pp"}));
+  fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
+  fit->add_flag("--fit-alpha", fa.fit_alpha, "Also fit the critical-stretch factor alpha (0.5..1.5)");
+  fit->add_option("--alpha", fa.alpha, "Value of alpha (default: 0.861 pnc, 0.941 pp)")
+      ->check(CLI::Range(0.5, 1.5));
+  fit->add_option("--loss", fa.loss, "Robust loss: none, huber, cauchy")
+      ->check(CLI::IsMember({"none", "huber", "cauchy"}));
+  fit->add_option("--loss-scale", fa.loss_scale, "Scale of the robust loss (MPa, or data std. errors)")
+      ->check(CLI::PositiveNumber);
+  fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit")
+      ->check(CLI::PositiveNumber);
+  fit->add_option("--prior", fa.prior,
+                  "Card whose constants are used where the data cannot determine them "
+                  "(default: the dissertation's tables)");
+  fit->add_option("--plots", fa.plots, "Directory for the PNG plots (default: <card>_plots)");
+  fit->add_flag("--no-plots", fa.no_plots, "Do not draw plots");
+  fit->add_flag("--json", fa.json, "Print one JSON object with the key numbers on stdout");
+
+  // --- card
+  auto* card = app.add_subcommand("card", "Inspect or create material cards");
+  card->require_subcommand(1);
+  CardShowArgs cs;
+  auto* show = card->add_subcommand("show", "Constants, errors, derived moduli and strengths of a card");
+  show->add_option("card", cs.card, "Material card (HDF5)")->required();
+  show->add_option("--max-strain", cs.max_strain, "Strain up to which strengths are searched")
+      ->check(CLI::Range(1e-6, 10.0));
+  show->add_flag("--json", cs.json, "Print one JSON object on stdout");
+  CardTablesArgs ct;
+  ct.command_line = cmdline;
+  auto* tables = card->add_subcommand("tables", "Write the dissertation's tabulated constants as a card");
+  tables->add_option("--model", ct.model, "pnc or pp")->check(CLI::IsMember({"pnc", "pp"}));
+  tables->add_option("--out", ct.out, "Card to write (HDF5)")->required();
+  tables->add_flag("--json", ct.json, "Print one JSON object on stdout");
+
+  // --- synth
+  SynthArgs sa;
+  auto* synth = app.add_subcommand("synth", "Synthetic stress-strain curves from the NDM plus noise");
+  synth->add_option("--model", sa.model, "pnc or pp (dissertation constants)")
+      ->check(CLI::IsMember({"pnc", "pp"}));
+  synth->add_option("--card", sa.card, "Use this card's constants instead of the dissertation's");
+  synth->add_option("--cases", sa.cases, "Case ids (default: the model's cases)")->delimiter(',');
+  synth->add_option("--points", sa.points, "Points per case (>= 3)");
+  synth->add_option("--max-extension", sa.max_extension, "Largest normal strain");
+  synth->add_option("--max-shear", sa.max_shear, "Largest engineering shear strain");
+  synth->add_option("--noise-mpa", sa.noise_mpa, "Standard deviation of the stress noise (MPa)");
+  synth->add_option("--seed", sa.seed, "Random seed");
+  synth->add_option("--out", sa.out, "Output file (.csv or .h5)")->required();
+  synth->add_flag("--json", sa.json, "Print one JSON object on stdout");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*fit) return run_fit(fa);
+    if (*show) return run_card_show(cs);
+    if (*tables) return run_card_tables(ct);
+    if (*synth) return run_synth(sa);
+  } catch (const pnc::InputError& e) {
+    std::cerr << "pnc: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "pnc: internal error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,81 @@
+#include "plot.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/damage/reference.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#ifndef PNC_PYTHON
+#define PNC_PYTHON "/usr/bin/python3"
+#endif
+#ifndef PNC_SCRIPTS_DIR
+#define PNC_SCRIPTS_DIR "scripts"
+#endif
+
+namespace pnc::app {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> plot_fit(const damage::StressStrainData& data,
+                                  const damage::NdmParameters& p, const std::string& dir,
+                                  const std::string& title) {
+  fs::create_directories(dir);
+  // Model curve on a fine grid of the driven strain (a monotonic path from zero) and the
+  // data points, for every case and active component.
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "kind,case,component,strain,stress_mpa\n";
+  for (const auto& c : data.cases) {
+    const auto& dc = damage::deformation_case(c.id);
+    for (Eigen::Index k = 0; k < c.strain.rows(); ++k)
+      for (int comp : dc.active)
+        csv << "data," << c.id << ',' << comp << ',' << c.strain(k, dc.driven) << ','
+            << c.stress(k, comp) / 1e6 << '\n';
+    const double top = c.strain.col(dc.driven).maxCoeff();
+    const int n = 400;
+    damage::PathMatrix path(n + 1, 6);
+    for (int i = 0; i <= n; ++i) path.row(i) = damage::case_strain(c.id, top * i / n).transpose();
+    const auto s = damage::stress_path(p, path);
+    for (int i = 0; i <= n; ++i)
+      for (int comp : dc.active)
+        csv << "model," << c.id << ',' << comp << ',' << path(i, dc.driven) << ','
+            << s(i, comp) / 1e6 << '\n';
+  }
+  const std::string curves = (fs::path(dir) / "curves.csv").string();
+  write_text_atomically(curves, csv.str());
+
+  const char* env_py = std::getenv("PNC_PYTHON");
+  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
+  const std::string py = env_py ? env_py : PNC_PYTHON;
+  const std::string script =
+      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / "plot_fit.py").string();
+  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
+  auto quote = [](const std::string& s) {
+    std::string q = "'";
+    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+  };
+  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(curves) + " " +
+                          quote(dir) + " " + quote(title) + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+  const int rc = ::pclose(pipe);
+  if (rc != 0)
+    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  std::vector<std::string> pngs;
+  std::istringstream lines(out);
+  std::string line;
+  while (std::getline(lines, line))
+    if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
+  return pngs;
+}
+
+} // namespace pnc::app

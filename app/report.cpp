@@ -1,0 +1,89 @@
+#include "report.hpp"
+
+#include "pnc/damage/reference.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace pnc::app {
+
+namespace {
+const char* kComp[6] = {"11", "22", "33", "23", "13", "12"};
+}
+
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+double display_value(const std::string& name, double si) { return name == "alpha" ? si : si / 1e9; }
+const char* display_units(const std::string& name) { return name == "alpha" ? "" : "GPa"; }
+
+std::string constants_table(const damage::Card& c) {
+  std::string s = fmt::format("  {:<6} {:>12} {:>11}  {:<5} {}\n", "const", "value", "std.err",
+                              "units", "status");
+  const auto& names = damage::constant_names(c.params.model);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const double v = display_value(names[i], c.params.k[i]);
+    const double e = display_value(names[i], c.std_error[i]);
+    const std::string err = std::isfinite(e) ? fmt::format("{:11.4g}", e) : fmt::format("{:>11}", "-");
+    s += fmt::format("  {:<6} {:12.5g} {}  {:<5} {}{}\n", names[i], v, err, display_units(names[i]),
+                     c.fitted[i] ? "fitted" : "held", c.note[i].empty() ? "" : ": " + c.note[i]);
+  }
+  return s;
+}
+
+nlohmann::json constants_json(const damage::Card& c) {
+  nlohmann::json j = nlohmann::json::object();
+  const auto& names = damage::constant_names(c.params.model);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    j[names[i]] = {{"value", c.params.k[i]},
+                   {"std_error", num(c.std_error[i])},
+                   {"units", names[i] == "alpha" ? "1" : "Pa"},
+                   {"fitted", static_cast<bool>(c.fitted[i])}};
+  }
+  return j;
+}
+
+std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
+  std::string s = "  fit quality (joint NDM fit):\n";
+  for (const auto& c : f.components)
+    s += fmt::format("    case {} sigma{}: R^2 = {:.4f}, rms residual = {:.3g} MPa ({} points)\n",
+                     c.case_id, kComp[c.component], c.r2, c.rms / 1e6, c.points);
+  s += "  per-case linear regression sigma_i = a eps + b D eps (dissertation's method), GPa:\n";
+  for (const auto& l : f.regression) {
+    std::string printed;
+    for (const auto& p : damage::printed_regression(m)) {
+      if (p.case_id == l.case_id && p.component == l.component)
+        printed = fmt::format("   [printed: {} = {:.4g}, {} = {:.4g}]", p.lin_label,
+                              p.lin_value / 1e9, p.dam_label, p.dam_value / 1e9);
+    }
+    const std::string b = std::isfinite(l.b) ? fmt::format("{:.4g}", l.b / 1e9) : "n/a (no damage)";
+    s += fmt::format("    case {} sigma{}: {} = {:.4g}, {} = {}, R^2 = {:.4f}{}\n", l.case_id,
+                     kComp[l.component], l.linear_label, l.a / 1e9, l.damage_label, b, l.r2, printed);
+  }
+  return s;
+}
+
+nlohmann::json fit_json(const damage::FitRecord& f) {
+  nlohmann::json j;
+  j["converged"] = f.converged;
+  j["termination"] = f.termination;
+  j["iterations"] = f.iterations;
+  j["initial_cost"] = num(f.initial_cost);
+  j["final_cost"] = num(f.final_cost);
+  j["seconds"] = num(f.seconds);
+  j["residuals"] = f.residuals;
+  j["free_parameters"] = f.free_parameters;
+  j["warnings"] = f.warnings;
+  j["r2"] = nlohmann::json::array();
+  for (const auto& c : f.components)
+    j["r2"].push_back({{"case", c.case_id}, {"component", kComp[c.component]}, {"r2", num(c.r2)},
+                       {"rms_pa", num(c.rms)}});
+  j["regression"] = nlohmann::json::array();
+  for (const auto& l : f.regression)
+    j["regression"].push_back({{"case", l.case_id}, {"component", kComp[l.component]},
+                               {l.linear_label, num(l.a)}, {l.damage_label, num(l.b)},
+                               {"r2", num(l.r2)}});
+  return j;
+}
+
+} // namespace pnc::app

@@ -1,0 +1,21 @@
+#pragma once
+// Shared formatting of constants for the human-readable reports and the JSON output.
+#include "pnc/damage/card.hpp"
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace pnc::app {
+/// Value in display units: GPa for stiffness-like constants, plain for alpha.
+double display_value(const std::string& name, double si);
+const char* display_units(const std::string& name);
+/// Constants table (name, value +- std error, fitted/held, note) for stderr.
+std::string constants_table(const damage::Card& c);
+nlohmann::json constants_json(const damage::Card& c);
+/// Fit quality (R^2 per case/component) and the per-case regression next to the printed
+/// tables of the dissertation.
+std::string fit_tables(const damage::FitRecord& f, damage::Model m);
+nlohmann::json fit_json(const damage::FitRecord& f);
+/// NaN/inf become null in JSON.
+nlohmann::json num(double v);
+} // namespace pnc::app
