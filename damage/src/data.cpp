@@ -18,6 +18,8 @@ const char* kStrainCols[6] = {"e11", "e22", "e33", "g23", "g13", "g12"};
 const char* kStressCols[6] = {"s11", "s22", "s33", "s23", "s13", "s12"};
 const char* kStderrCols[6] = {"sd11", "sd22", "sd33", "sd23", "sd13", "sd12"};
 constexpr double kMPa = 1e6;
+const char* kCaseRule =
+    "deformation case must be an integer 1..6 (1-3 extension x1..x3, 4-6 shear 2-3, 1-3, 1-2)";
 } // namespace
 
 const CaseCurve* StressStrainData::find(int id) const {
@@ -60,10 +62,10 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const double c = t.rows[r][jc];
     const std::string where = "case (line " + std::to_string(t.line_numbers[r]) + ")";
-    if (c != std::floor(c)) fail(path, where, std::to_string(c), "case must be an integer 1..6");
     std::ostringstream v;
     v << c;
-    deformation_case(static_cast<int>(c), path + ": field '" + where + "'");
+    if (c != std::floor(c) || c < 1 || c > 6)
+      fail(path, where, v.str(), kCaseRule);
     rows_of[static_cast<int>(c)].push_back(r);
     if (has_sd) {
       for (int i = 0; i < 6; ++i)
@@ -111,7 +113,7 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
     } catch (...) {
       fail(path, "/" + name, idtxt, "group name must be case_<n> with n in 1..6");
     }
-    deformation_case(id, path + ": field '/" + name + "'");
+    if (id < 1 || id > 6) fail(path, "/" + name, idtxt, kCaseRule);
     CaseCurve c;
     c.id = id;
     const std::string g = "/" + name;
