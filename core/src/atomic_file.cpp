@@ -3,6 +3,7 @@
 #include "pnc/core/error.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -45,7 +46,7 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 std::string file_fnv1a64(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) fail(path, "", "", "cannot open for reading");
-  std::uint64_t h = 1469598103934665603ULL;
+  std::uint64_t h = 0xcbf29ce484222325ULL; // FNV-1a 64 offset basis
   char buf[1 << 16];
   while (f) {
     f.read(buf, sizeof buf);
