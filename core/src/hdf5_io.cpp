@@ -4,6 +4,8 @@
 
 #include <H5Cpp.h>
 
+#include <filesystem>
+
 namespace pnc::h5 {
 
 struct File::Impl {
@@ -63,7 +65,10 @@ File::File(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>())
   impl_->path = path;
   try {
     if (mode == Mode::read) {
-      if (!H5::H5File::isHdf5(path)) fail(path, "", "", "not an HDF5 file (or does not exist)");
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(path, ec))
+        fail(path, "", "", "cannot open: no such file");
+      if (!H5::H5File::isHdf5(path)) fail(path, "", "", "not an HDF5 file");
       impl_->file = H5::H5File(path, H5F_ACC_RDONLY);
     } else {
       impl_->file = H5::H5File(path, H5F_ACC_TRUNC);
@@ -202,10 +207,14 @@ std::optional<std::string> File::attr_string(const std::string& object,
   ObjectHolder h;
   H5::H5Object* o = open_object(impl_->file, object, h);
   if (!o->attrExists(name)) return std::nullopt;
-  H5::Attribute a = o->openAttribute(name);
-  std::string s;
-  a.read(a.getStrType(), s);
-  return s;
+  try {
+    H5::Attribute a = o->openAttribute(name);
+    std::string s;
+    a.read(a.getStrType(), s);
+    return s;
+  } catch (const H5::Exception& e) {
+    fail(impl_->path, object + "@" + name, "", "attribute must be text: " + e.getDetailMsg());
+  }
 }
 
 std::optional<double> File::attr_double(const std::string& object,
@@ -214,10 +223,16 @@ std::optional<double> File::attr_double(const std::string& object,
   ObjectHolder h;
   H5::H5Object* o = open_object(impl_->file, object, h);
   if (!o->attrExists(name)) return std::nullopt;
-  H5::Attribute a = o->openAttribute(name);
-  double v = 0;
-  a.read(H5::PredType::NATIVE_DOUBLE, &v);
-  return v;
+  try {
+    H5::Attribute a = o->openAttribute(name);
+    if (a.getTypeClass() != H5T_FLOAT && a.getTypeClass() != H5T_INTEGER)
+      fail(impl_->path, object + "@" + name, "", "attribute must be a number");
+    double v = 0;
+    a.read(H5::PredType::NATIVE_DOUBLE, &v);
+    return v;
+  } catch (const H5::Exception& e) {
+    fail(impl_->path, object + "@" + name, "", "attribute must be a number: " + e.getDetailMsg());
+  }
 }
 
 std::vector<std::string> File::children(const std::string& group) const {

@@ -1,6 +1,6 @@
 #pragma once
 // pnc/damage/card.hpp: the material card, the one file format that carries a fitted NDM
-// from `pnc fit` to every solver (fe_material plugin, GIMP, deal.II). Format: docs/card.md.
+// from `pnc fit` to every solver (fe_material plugin, GIMP, deal.II). Format: docs/formats.md.
 //
 // HDF5 layout (SI units; every constant dataset has attributes `units`, `std_error`,
 // `fitted`, `note`):

@@ -1,0 +1,312 @@
+#pragma once
+// pnc/fe_material/material.hpp: header-only C++ wrapper over the C ABI of the pnc material
+// plugin (pnc_material.h, docs/plugin.md). Two ways in:
+//
+//   // 1. linked: target_link_libraries(app PRIVATE pnc::fe_material)
+//   auto mat = pnc::fe_material::Material::from_card("fit.h5");
+//
+//   // 2. loaded at run time: target_link_libraries(app PRIVATE pnc::fe_material_headers)
+//   pnc::fe_material::Plugin plugin("/path/to/libpnc_material.so");
+//   auto mat = plugin.from_card("fit.h5");
+//
+//   std::vector<double> s0 = mat.initial_state(), s1(s0.size());
+//   std::array<double, 6> eps0{}, deps{0.01, 0, 0, 0, 0, 0}, sig;
+//   std::array<double, 36> K;                      // row-major d sigma / d eps, Pa
+//   mat.integrate(s0, s1, eps0, deps, sig, &K);    // throws pnc::fe_material::Error
+//
+// Units and Voigt order as in pnc_material.h: Pa, 11,22,33,23,13,12, engineering shear
+// strain. A Material is move-only; integrate() is const and may be called from many threads
+// on one Material. A Material made by a Plugin keeps the plugin loaded while it exists.
+#include "pnc/fe_material/pnc_material.h"
+
+#include <dlfcn.h>
+
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pnc::fe_material {
+
+/// Every failure of the wrapper (card, constants, plugin loading, integration).
+class Error : public std::runtime_error {
+public:
+  explicit Error(const std::string& what, int status = 0)
+      : std::runtime_error(what), status_(status) {}
+  /// PNC_MATERIAL_* status of a failed integration; 0 for other errors.
+  int status() const noexcept { return status_; }
+
+private:
+  int status_;
+};
+
+using Voigt6 = std::array<double, 6>;     ///< 11,22,33,23,13,12; engineering shear strain
+using Tangent36 = std::array<double, 36>; ///< row-major d sigma_i / d eps_j
+
+/// The C functions of one library: the linked one or a dlopen()ed plugin.
+struct Api {
+  pnc_material_abi_version_fn abi_version = nullptr;
+  pnc_material_create_fn create = nullptr;
+  pnc_material_create_from_constants_fn create_from_constants = nullptr;
+  pnc_material_destroy_fn destroy = nullptr;
+  pnc_material_model_fn model = nullptr;
+  pnc_material_n_constants_fn n_constants = nullptr;
+  pnc_material_constant_name_fn constant_name = nullptr;
+  pnc_material_constant_fn constant = nullptr;
+  pnc_material_rotation_fn rotation = nullptr;
+  pnc_material_n_state_fn n_state = nullptr;
+  pnc_material_state_name_fn state_name = nullptr;
+  pnc_material_init_state_fn init_state = nullptr;
+  pnc_material_integrate_fn integrate = nullptr;
+};
+
+namespace detail {
+
+/// A library handle (null for the linked library) and its function table.
+struct Library {
+  std::string path; ///< "<linked>" or the plugin path
+  void* handle = nullptr;
+  Api api;
+  Library() = default;
+  Library(const Library&) = delete;
+  Library& operator=(const Library&) = delete;
+  ~Library() {
+    if (handle) dlclose(handle);
+  }
+};
+
+inline std::string str(const char* s) {
+  return s ? std::string(s) : std::string();
+}
+
+} // namespace detail
+
+class Plugin;
+
+/// One material: model, constants and platelet rotation; immutable.
+class Material {
+public:
+  /// Reads a material card with the linked library (needs pnc::fe_material at link time).
+  static Material from_card(const std::string& card_path) {
+    return create_card(linked(), card_path);
+  }
+  /// Builds a material from constants (order of constant_names(), SI) without touching any
+  /// file; `rotation` is R row-major (x_local = R x_global), null for the identity. Linked
+  /// library.
+  static Material from_constants(const std::string& model, const std::vector<double>& constants,
+                                 const std::array<double, 9>* rotation = nullptr) {
+    return create_constants(linked(), model, constants, rotation);
+  }
+
+  Material(Material&& o) noexcept : lib_(std::move(o.lib_)), m_(std::exchange(o.m_, nullptr)) {}
+  Material& operator=(Material&& o) noexcept {
+    if (this != &o) {
+      reset();
+      lib_ = std::move(o.lib_);
+      m_ = std::exchange(o.m_, nullptr);
+    }
+    return *this;
+  }
+  Material(const Material&) = delete;
+  Material& operator=(const Material&) = delete;
+  ~Material() { reset(); }
+
+  /// "pnc" or "pp".
+  std::string model() const { return detail::str(api().model(m_)); }
+  /// Where the library came from: "<linked>" or the plugin path.
+  const std::string& library() const { return lib_->path; }
+
+  int n_constants() const { return api().n_constants(m_); }
+  std::vector<std::string> constant_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < n_constants(); ++i)
+      out.push_back(detail::str(api().constant_name(m_, i)));
+    return out;
+  }
+  std::vector<double> constants() const {
+    std::vector<double> out;
+    for (int i = 0; i < n_constants(); ++i)
+      out.push_back(api().constant(m_, i));
+    return out;
+  }
+  /// A constant by name (SI); throws Error for a name the model does not have.
+  double constant(const std::string& name) const {
+    for (int i = 0; i < n_constants(); ++i)
+      if (detail::str(api().constant_name(m_, i)) == name) return api().constant(m_, i);
+    throw Error("pnc::fe_material::Material: field '" + name + "': not a constant of model " +
+                model());
+  }
+  /// Platelet rotation R, row-major, x_local = R x_global.
+  std::array<double, 9> rotation() const {
+    std::array<double, 9> R{};
+    api().rotation(m_, R.data());
+    return R;
+  }
+
+  int n_state() const { return api().n_state(m_); }
+  /// kappa1 kappa2 kappa3 D1 D2 D3 (pnc) or kappa D (pp).
+  std::vector<std::string> state_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < n_state(); ++i)
+      out.push_back(detail::str(api().state_name(m_, i)));
+    return out;
+  }
+  /// The virgin state.
+  std::vector<double> initial_state() const {
+    std::vector<double> s(static_cast<std::size_t>(n_state()));
+    api().init_state(m_, s.data());
+    return s;
+  }
+  void init_state(double* state) const { api().init_state(m_, state); }
+
+  /// One increment, no exceptions: returns PNC_MATERIAL_OK or a status with the message in
+  /// err. Arrays as in pnc_material_integrate(); tangent may be null.
+  int try_integrate(const double* state0, double* state1, const double* eps0, const double* deps,
+                    double* stress, double* tangent, char* err, std::size_t errlen) const noexcept {
+    return api().integrate(m_, state0, state1, eps0, deps, stress, tangent, err, errlen);
+  }
+  /// One increment; throws Error (naming the argument, the value and the rule) on failure.
+  void integrate(const double* state0, double* state1, const double* eps0, const double* deps,
+                 double* stress, double* tangent = nullptr) const {
+    char err[512] = {0};
+    const int st = try_integrate(state0, state1, eps0, deps, stress, tangent, err, sizeof err);
+    if (st != PNC_MATERIAL_OK) throw Error(err, st);
+  }
+  /// One increment with containers; state1 is resized to n_state().
+  void integrate(const std::vector<double>& state0, std::vector<double>& state1, const Voigt6& eps0,
+                 const Voigt6& deps, Voigt6& stress, Tangent36* tangent = nullptr) const {
+    const auto ns = static_cast<std::size_t>(n_state());
+    if (state0.size() != ns)
+      throw Error("pnc::fe_material::Material::integrate: argument 'state0': value '" +
+                  std::to_string(state0.size()) + " entries': model " + model() + " has " +
+                  std::to_string(ns) + " state variables");
+    state1.resize(ns);
+    integrate(state0.data(), state1.data(), eps0.data(), deps.data(), stress.data(),
+              tangent ? tangent->data() : nullptr);
+  }
+
+  /// The C handle, for code that calls the C ABI directly.
+  const pnc_material* get() const noexcept { return m_; }
+
+private:
+  friend class Plugin;
+  Material(std::shared_ptr<const detail::Library> lib, pnc_material* m)
+      : lib_(std::move(lib)), m_(m) {}
+  const Api& api() const { return lib_->api; }
+  void reset() noexcept {
+    if (m_) lib_->api.destroy(m_);
+    m_ = nullptr;
+  }
+
+  static std::shared_ptr<const detail::Library> linked() {
+    auto lib = std::make_shared<detail::Library>();
+    lib->path = "<linked>";
+    Api& a = lib->api;
+    a.abi_version = &pnc_material_abi_version;
+    a.create = &pnc_material_create;
+    a.create_from_constants = &pnc_material_create_from_constants;
+    a.destroy = &pnc_material_destroy;
+    a.model = &pnc_material_model;
+    a.n_constants = &pnc_material_n_constants;
+    a.constant_name = &pnc_material_constant_name;
+    a.constant = &pnc_material_constant;
+    a.rotation = &pnc_material_rotation;
+    a.n_state = &pnc_material_n_state;
+    a.state_name = &pnc_material_state_name;
+    a.init_state = &pnc_material_init_state;
+    a.integrate = &pnc_material_integrate;
+    return lib;
+  }
+  static Material create_card(std::shared_ptr<const detail::Library> lib,
+                              const std::string& card_path) {
+    char err[1024] = {0};
+    pnc_material* m = lib->api.create(card_path.c_str(), err, sizeof err);
+    if (!m) throw Error(err);
+    return Material(std::move(lib), m);
+  }
+  static Material create_constants(std::shared_ptr<const detail::Library> lib,
+                                   const std::string& model, const std::vector<double>& constants,
+                                   const std::array<double, 9>* rotation) {
+    char err[1024] = {0};
+    if (constants.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+      throw Error("pnc::fe_material::Material::from_constants: too many constants");
+    pnc_material* m = lib->api.create_from_constants(
+        model.c_str(), constants.data(), static_cast<int>(constants.size()),
+        rotation ? rotation->data() : nullptr, err, sizeof err);
+    if (!m) throw Error(err);
+    return Material(std::move(lib), m);
+  }
+
+  std::shared_ptr<const detail::Library> lib_;
+  pnc_material* m_ = nullptr;
+};
+
+/// A pnc material plugin loaded at run time with dlopen(): resolves the C ABI with dlsym()
+/// and checks its ABI version. Cheap to copy (shares the handle); the library stays loaded
+/// while a Plugin or a Material made from it exists.
+class Plugin {
+public:
+  explicit Plugin(const std::string& path, int dlopen_flags = RTLD_NOW | RTLD_LOCAL) {
+    auto lib = std::make_shared<detail::Library>();
+    lib->path = path;
+    dlerror();
+    lib->handle = dlopen(path.c_str(), dlopen_flags);
+    if (!lib->handle)
+      throw Error("pnc::fe_material::Plugin: '" + path +
+                  "': cannot load the plugin: " + detail::str(dlerror()));
+    Api& a = lib->api;
+    resolve(*lib, "pnc_material_abi_version", a.abi_version);
+    const int version = a.abi_version();
+    if (version != PNC_MATERIAL_ABI_VERSION)
+      throw Error("pnc::fe_material::Plugin: '" + path + "': field 'pnc_material_abi_version()'" +
+                  ": value '" + std::to_string(version) + "': this program was built for ABI " +
+                  std::to_string(PNC_MATERIAL_ABI_VERSION) +
+                  " (pnc_material.h); use a matching plugin");
+    resolve(*lib, "pnc_material_create", a.create);
+    resolve(*lib, "pnc_material_create_from_constants", a.create_from_constants);
+    resolve(*lib, "pnc_material_destroy", a.destroy);
+    resolve(*lib, "pnc_material_model", a.model);
+    resolve(*lib, "pnc_material_n_constants", a.n_constants);
+    resolve(*lib, "pnc_material_constant_name", a.constant_name);
+    resolve(*lib, "pnc_material_constant", a.constant);
+    resolve(*lib, "pnc_material_rotation", a.rotation);
+    resolve(*lib, "pnc_material_n_state", a.n_state);
+    resolve(*lib, "pnc_material_state_name", a.state_name);
+    resolve(*lib, "pnc_material_init_state", a.init_state);
+    resolve(*lib, "pnc_material_integrate", a.integrate);
+    lib_ = std::move(lib);
+  }
+
+  const std::string& path() const { return lib_->path; }
+  int abi_version() const { return lib_->api.abi_version(); }
+  const Api& api() const { return lib_->api; }
+
+  /// Reads a material card through the plugin.
+  Material from_card(const std::string& card_path) const {
+    return Material::create_card(lib_, card_path);
+  }
+  /// Builds a material from constants through the plugin (no file access).
+  Material from_constants(const std::string& model, const std::vector<double>& constants,
+                          const std::array<double, 9>* rotation = nullptr) const {
+    return Material::create_constants(lib_, model, constants, rotation);
+  }
+
+private:
+  template <class Fn> static void resolve(detail::Library& lib, const char* name, Fn& fn) {
+    dlerror();
+    void* sym = dlsym(lib.handle, name);
+    if (!sym)
+      throw Error("pnc::fe_material::Plugin: '" + lib.path + "': symbol '" + name +
+                  "' is missing: not a pnc material plugin of ABI " +
+                  std::to_string(PNC_MATERIAL_ABI_VERSION) + " (" + detail::str(dlerror()) + ")");
+    fn = reinterpret_cast<Fn>(sym);
+  }
+
+  std::shared_ptr<const detail::Library> lib_;
+};
+
+} // namespace pnc::fe_material

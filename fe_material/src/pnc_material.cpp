@@ -1,0 +1,198 @@
+// The C ABI of the pnc material plugin (pnc/fe_material/pnc_material.h). All physics is
+// pnc::damage::integrate(); this file only converts arrays and errors at the C boundary.
+#include "pnc/fe_material/pnc_material.h"
+
+#include "abi_util.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/ndm.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <new>
+#include <string>
+
+struct pnc_material {
+  pnc::damage::NdmParameters params;
+  std::string source; ///< card path or "<constants>", for messages
+};
+
+namespace {
+
+using pnc::fe_material::detail::copy_message;
+
+constexpr const char* kFromConstants = "pnc_material_create_from_constants";
+
+// Runs f() and turns any exception into a message; returns the material or nullptr.
+template <class F> pnc_material* guarded_create(F&& f, char* err, std::size_t errlen) noexcept {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    copy_message(err, errlen, "pnc_material: out of memory");
+  } catch (const std::exception& e) {
+    copy_message(err, errlen, e.what());
+  } catch (...) {
+    copy_message(err, errlen, "pnc_material: unknown error while creating the material");
+  }
+  return nullptr;
+}
+
+} // namespace
+
+extern "C" {
+
+PNC_MATERIAL_API int pnc_material_abi_version(void) {
+  return PNC_MATERIAL_ABI_VERSION;
+}
+
+PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* err,
+                                                   size_t errlen) {
+  return guarded_create(
+      [&]() -> pnc_material* {
+        if (!card_path)
+          pnc::fail("pnc_material_create", "card_path", "NULL", "a card file path is required");
+        // A clearer message than HDF5's for the most common mistake.
+        if (std::FILE* probe = std::fopen(card_path, "rb"))
+          std::fclose(probe);
+        else
+          pnc::fail(card_path, "card_path", card_path,
+                    std::string("cannot open the material card: ") + std::strerror(errno));
+        pnc::damage::Card card = pnc::damage::read_card(card_path); // validates
+        auto* m = new pnc_material;
+        m->params = card.params;
+        m->source = card_path;
+        return m;
+      },
+      err, errlen);
+}
+
+PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* model,
+                                                                  const double* constants, int n,
+                                                                  const double* rotation9,
+                                                                  char* err, size_t errlen) {
+  return guarded_create(
+      [&]() -> pnc_material* {
+        if (!model) pnc::fail(kFromConstants, "model", "NULL", "must be 'pnc' or 'pp'");
+        pnc::damage::NdmParameters p;
+        p.model = pnc::damage::parse_model(model, kFromConstants);
+        const auto& names = pnc::damage::constant_names(p.model);
+        const int want = static_cast<int>(names.size());
+        if (n != want) {
+          std::string list;
+          for (const auto& s : names)
+            list += (list.empty() ? "" : " ") + s;
+          pnc::fail(kFromConstants, "n", std::to_string(n),
+                    std::string("model ") + model + " takes " + std::to_string(want) +
+                        " constants: " + list);
+        }
+        if (!constants) pnc::fail(kFromConstants, "constants", "NULL", "an array is required");
+        for (int i = 0; i < n; ++i)
+          p.k[static_cast<std::size_t>(i)] = constants[i];
+        if (rotation9)
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              p.R(r, c) = rotation9[3 * r + c];
+        pnc::damage::validate(p, kFromConstants);
+        auto* m = new pnc_material;
+        m->params = p;
+        m->source = "<constants>";
+        return m;
+      },
+      err, errlen);
+}
+
+PNC_MATERIAL_API void pnc_material_destroy(pnc_material* m) {
+  delete m;
+}
+
+PNC_MATERIAL_API const char* pnc_material_model(const pnc_material* m) {
+  return m ? pnc::damage::model_name(m->params.model) : nullptr;
+}
+
+PNC_MATERIAL_API int pnc_material_n_constants(const pnc_material* m) {
+  return m ? static_cast<int>(m->params.size()) : 0;
+}
+
+PNC_MATERIAL_API const char* pnc_material_constant_name(const pnc_material* m, int i) {
+  if (!m || i < 0 || i >= pnc_material_n_constants(m)) return nullptr;
+  return pnc::damage::constant_names(m->params.model)[static_cast<std::size_t>(i)].c_str();
+}
+
+PNC_MATERIAL_API double pnc_material_constant(const pnc_material* m, int i) {
+  if (!m || i < 0 || i >= pnc_material_n_constants(m))
+    return std::numeric_limits<double>::quiet_NaN();
+  return m->params.k[static_cast<std::size_t>(i)];
+}
+
+PNC_MATERIAL_API void pnc_material_rotation(const pnc_material* m, double* rotation9) {
+  if (!m || !rotation9) return;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      rotation9[3 * r + c] = m->params.R(r, c);
+}
+
+PNC_MATERIAL_API int pnc_material_n_state(const pnc_material* m) {
+  return m ? static_cast<int>(pnc::damage::state_size(m->params.model)) : 0;
+}
+
+PNC_MATERIAL_API const char* pnc_material_state_name(const pnc_material* m, int i) {
+  if (!m || i < 0 || i >= pnc_material_n_state(m)) return nullptr;
+  return pnc::damage::state_names(m->params.model)[static_cast<std::size_t>(i)].c_str();
+}
+
+PNC_MATERIAL_API void pnc_material_init_state(const pnc_material* m, double* state) {
+  if (!m || !state) return;
+  pnc::damage::state_to_array(m->params.model, pnc::damage::NdmState{}, state);
+}
+
+PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double* state0,
+                                            double* state1, const double strain0[6],
+                                            const double dstrain[6], double stress[6],
+                                            double* tangent, char* err, size_t errlen) {
+  try {
+    if (!m || !state0 || !state1 || !strain0 || !dstrain || !stress) {
+      copy_message(err, errlen,
+                   "pnc_material_integrate: argument 'm/state0/state1/strain0/dstrain/stress': "
+                   "value 'NULL': these pointers are required");
+      return PNC_MATERIAL_BAD_ARGUMENT;
+    }
+    using pnc::damage::Matrix6;
+    using pnc::damage::Voigt;
+    const pnc::damage::Model model = m->params.model;
+    const pnc::damage::NdmState s0 = pnc::damage::state_from_array(model, state0);
+    pnc::damage::NdmState s1;
+    const Voigt e0 = Eigen::Map<const Voigt>(strain0);
+    const Voigt de = Eigen::Map<const Voigt>(dstrain);
+    Voigt sigma;
+    Matrix6 K;
+    pnc::damage::ErrorBuffer ebuf;
+    const pnc::damage::Status st =
+        pnc::damage::integrate(m->params, s0, s1, e0, de, sigma, tangent ? &K : nullptr, ebuf);
+    if (st != pnc::damage::Status::ok) {
+      const Voigt e = e0 + de;
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "pnc_material_integrate: argument 'strain0 + dstrain': value '%g %g %g %g "
+                    "%g %g': %s",
+                    e[0], e[1], e[2], e[3], e[4], e[5], ebuf.msg);
+      copy_message(err, errlen, line);
+      return PNC_MATERIAL_BAD_INPUT;
+    }
+    pnc::damage::state_to_array(model, s1, state1);
+    Eigen::Map<Voigt>{stress} = sigma;
+    if (tangent) Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>{tangent} = K;
+    return PNC_MATERIAL_OK;
+  } catch (const std::exception& e) {
+    copy_message(err, errlen, e.what());
+  } catch (...) {
+    copy_message(err, errlen, "pnc_material_integrate: unknown internal error");
+  }
+  return PNC_MATERIAL_INTERNAL;
+}
+
+} // extern "C"
