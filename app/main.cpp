@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
 // rule), 2 internal error, 3 a fit that did not converge; CLI11's own codes for bad usage.
 #include "commands.hpp"
+#include "registrars.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/version.hpp"
@@ -85,6 +86,15 @@ int main(int argc, char** argv) {
   synth->add_option("--out", sa.out, "Output file (.csv or .h5)")->required();
   synth->add_flag("--json", sa.json, "Print one JSON object on stdout");
 
+  // Subcommand families in their own files (registrars.hpp).
+  Action action;
+#ifdef PNC_HAVE_RVE_COMMANDS
+  register_rve(app, action);
+#endif
+#ifdef PNC_HAVE_GIMP_COMMANDS
+  register_gimp(app, action);
+#endif
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -95,6 +105,7 @@ int main(int argc, char** argv) {
     if (*show) return run_card_show(cs);
     if (*tables) return run_card_tables(ct);
     if (*synth) return run_synth(sa);
+    if (action) return action();
   } catch (const pnc::InputError& e) {
     std::cerr << "pnc: error: " << e.what() << "\n";
     return 1;
