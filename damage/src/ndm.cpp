@@ -12,7 +12,9 @@
 
 namespace pnc::damage {
 
-const char* model_name(Model m) { return m == Model::pnc ? "pnc" : "pp"; }
+const char* model_name(Model m) {
+  return m == Model::pnc ? "pnc" : "pp";
+}
 
 Model parse_model(const std::string& name, const std::string& source) {
   if (name == "pnc") return Model::pnc;
@@ -37,7 +39,8 @@ int constant_index(Model m, const std::string& name) {
 
 double& NdmParameters::operator[](const std::string& name) {
   const int i = constant_index(model, name);
-  if (i < 0) fail("<parameters>", name, "", std::string("not a constant of model ") + model_name(model));
+  if (i < 0)
+    fail("<parameters>", name, "", std::string("not a constant of model ") + model_name(model));
   return k[static_cast<std::size_t>(i)];
 }
 double NdmParameters::operator[](const std::string& name) const {
@@ -47,86 +50,98 @@ double NdmParameters::operator[](const std::string& name) const {
 // ---------------------------------------------------------------- stiffness
 namespace {
 enum PncIdx {
-  iC11, iC22, iC33, iC12, iC13, iC23, iC44, iC55, iC66,
-  iA1, iA5, iA9, iA10, iA11, iA13, iA15, iA17, iA18, iA22, iA24, iA26, iAlphaPnc
+  iC11,
+  iC22,
+  iC33,
+  iC12,
+  iC13,
+  iC23,
+  iC44,
+  iC55,
+  iC66,
+  iA1,
+  iA5,
+  iA9,
+  iA10,
+  iA11,
+  iA13,
+  iA15,
+  iA17,
+  iA18,
+  iA22,
+  iA24,
+  iA26,
+  iAlphaPnc
 };
 enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
 } // namespace
 
-Matrix6 stiffness_c0(const NdmParameters& p) {
-  Matrix6 C = Matrix6::Zero();
+namespace {
+// The one place where the layout of [C0] + [C1(D)] is written (eqs. 5.37, 5.58-5.66 in the
+// engineering form of decisions D1-D3); stiffness_c0/c1/c1_dD below are views of it.
+void assemble_stiffness(const NdmParameters& p, const std::array<double, 3>& D, Matrix6& C) {
   const auto& k = p.k;
+  C.setZero();
   if (p.model == Model::pnc) {
-    C(0, 0) = k[iC11]; C(1, 1) = k[iC22]; C(2, 2) = k[iC33];
-    C(0, 1) = C(1, 0) = k[iC12];
-    C(0, 2) = C(2, 0) = k[iC13];
-    C(1, 2) = C(2, 1) = k[iC23];
-    C(3, 3) = k[iC44]; C(4, 4) = k[iC55]; C(5, 5) = k[iC66];
+    const double D1 = D[0], D2 = D[1], D3 = D[2];
+    C(0, 0) = k[iC11] + D1 * (2 * k[iA1]);
+    C(1, 1) = k[iC22] + D2 * (2 * k[iA5]);
+    C(2, 2) = k[iC33] + D3 * (2 * k[iA9]);
+    C(0, 1) = C(1, 0) = k[iC12] + (D1 * k[iA10] + D2 * k[iA11]);
+    C(0, 2) = C(2, 0) = k[iC13] + (D1 * k[iA13] + D3 * k[iA15]);
+    C(1, 2) = C(2, 1) = k[iC23] + (D2 * k[iA17] + D3 * k[iA18]);
+    C(3, 3) = k[iC44] + D2 * k[iA22];
+    C(4, 4) = k[iC55] + D3 * k[iA26];
+    C(5, 5) = k[iC66] + D2 * k[iA24];
   } else {
+    const double d = D[0];
     for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) C(i, j) = (i == j) ? k[jC11] : k[jC12];
-      C(3 + i, 3 + i) = k[jC44];
+      for (int j = 0; j < 3; ++j)
+        C(i, j) = (i == j) ? k[jC11] + d * (2 * k[jB1]) : k[jC12] + d * k[jB2];
+      C(3 + i, 3 + i) = k[jC44] + d * k[jB4];
     }
   }
-  return C;
 }
 
-Matrix6 stiffness_c1_dD(const NdmParameters& p, int mode) {
-  Matrix6 C = Matrix6::Zero();
-  const auto& k = p.k;
-  if (p.model == Model::pnc) {
-    switch (mode) {
-    case 0: // D1: voids normal to x1 (eqs. 5.58, 5.61, 5.62)
-      C(0, 0) = 2 * k[iA1];
-      C(0, 1) = C(1, 0) = k[iA10];
-      C(0, 2) = C(2, 0) = k[iA13];
-      break;
-    case 1: // D2: interface debond (eqs. 5.59, 5.61, 5.63, 5.64, 5.66)
-      C(1, 1) = 2 * k[iA5];
-      C(0, 1) = C(1, 0) = k[iA11];
-      C(1, 2) = C(2, 1) = k[iA17];
-      C(3, 3) = k[iA22]; // engineering form of 2 A22 D2 (decision D2)
-      C(5, 5) = k[iA24];
-      break;
-    case 2: // D3: voids normal to x3 (eqs. 5.60, 5.62, 5.63, 5.65)
-      C(2, 2) = 2 * k[iA9];
-      C(0, 2) = C(2, 0) = k[iA15];
-      C(1, 2) = C(2, 1) = k[iA18];
-      C(4, 4) = k[iA26];
-      break;
-    default: break;
-    }
-  } else if (mode == 0) { // isotropic reading of eqs. 6.42-6.45 (decision D3)
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) C(i, j) = (i == j) ? 2 * k[jB1] : k[jB2];
-      C(3 + i, 3 + i) = k[jB4];
-    }
-  }
+} // namespace
+
+Matrix6 stiffness_c0(const NdmParameters& p) {
+  Matrix6 C;
+  assemble_stiffness(p, {0.0, 0.0, 0.0}, C);
   return C;
 }
 
 Matrix6 stiffness_c1(const NdmParameters& p, const std::array<double, 3>& D) {
-  Matrix6 C = Matrix6::Zero();
-  const int n = p.model == Model::pnc ? 3 : 1;
-  for (int m = 0; m < n; ++m)
-    if (D[m] != 0.0) C += D[m] * stiffness_c1_dD(p, m);
-  return C;
+  Matrix6 C;
+  assemble_stiffness(p, D, C);
+  return C - stiffness_c0(p);
+}
+
+Matrix6 stiffness_c1_dD(const NdmParameters& p, int mode) {
+  std::array<double, 3> D{0.0, 0.0, 0.0};
+  if (mode < 0 || mode > 2 || (p.model == Model::pp && mode > 0)) return Matrix6::Zero();
+  D[static_cast<std::size_t>(mode)] = 1.0;
+  return stiffness_c1(p, D); // C1 is linear in D
 }
 
 Matrix6 c0_from_c_constants(const std::array<double, 9>& c) {
   Matrix6 C = Matrix6::Zero();
-  C(0, 0) = 2 * c[0]; C(1, 1) = 2 * c[1]; C(2, 2) = 2 * c[2];
+  C(0, 0) = 2 * c[0];
+  C(1, 1) = 2 * c[1];
+  C(2, 2) = 2 * c[2];
   C(0, 1) = C(1, 0) = c[3];
   C(0, 2) = C(2, 0) = c[4];
   C(1, 2) = C(2, 1) = c[5];
   // eq. 5.37 puts 2 c7 on the diagonal for the TENSORIAL shear strain; on engineering shear
   // (gamma = 2 eps) the same energy c7 eps4^2 gives C44 = c7 (eq. 5.38: c7 = C0_44).
-  C(3, 3) = c[6]; C(4, 4) = c[7]; C(5, 5) = c[8];
+  C(3, 3) = c[6];
+  C(4, 4) = c[7];
+  C(5, 5) = c[8];
   return C;
 }
 
-Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13,
-                            double nu23, double mu12, double mu13, double mu23) {
+Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13, double nu23,
+                            double mu12, double mu13, double mu23) {
   const double nu21 = nu12 * E2 / E1, nu31 = nu13 * E3 / E1, nu32 = nu23 * E3 / E2;
   const double Y = 1.0 / (1 - nu12 * nu21 - nu23 * nu32 - nu13 * nu31 - 2 * nu21 * nu32 * nu13);
   Matrix6 C = Matrix6::Zero();
@@ -138,7 +153,9 @@ Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double
   // Printed eq. 5.44 (and its EQUATIONS.md restatement) has nu31*nu32; the orthotropic
   // inverse requires nu31*nu23 (decision D1b; tested against the compliance matrix).
   C(0, 1) = C(1, 0) = E1 * (nu21 + nu31 * nu23) * Y;
-  C(3, 3) = mu23; C(4, 4) = mu13; C(5, 5) = mu12;
+  C(3, 3) = mu23;
+  C(4, 4) = mu13;
+  C(5, 5) = mu12;
   return C;
 }
 
@@ -149,20 +166,34 @@ const double kLambdaC = std::pow(26.0 / 7.0, 1.0 / 6.0);
 const double kDamageScale = 1.0 / std::abs(2 * std::pow(kLambdaC, -13) - std::pow(kLambdaC, -7));
 } // namespace
 
-double critical_stretch() { return kLambdaC; }
+double critical_stretch() {
+  return kLambdaC;
+}
+
+namespace {
+// D(x) and dD/dx together (eq. 5.80, decision D4), one division.
+inline void damage_and_slope(double x, double& D, double& dD) {
+  if (!(x > kLambdaC)) {
+    D = dD = 0.0;
+    return;
+  }
+  const double xi = 1.0 / x;
+  const double x2 = xi * xi, x6 = x2 * x2 * x2, x7 = x6 * xi, x8 = x6 * x2;
+  D = 1.0 + kDamageScale * (2 * x7 * x6 - x7);
+  dD = kDamageScale * (-26 * x8 * x6 + 7 * x8);
+}
+} // namespace
 
 double damage_function(double x) {
-  if (!(x > kLambdaC)) return 0.0;
-  const double x6 = 1.0 / (x * x * x * x * x * x);
-  const double x7 = x6 / x;
-  return 1.0 + kDamageScale * (2 * x7 * x6 - x7);
+  double D, dD;
+  damage_and_slope(x, D, dD);
+  return D;
 }
 
 double damage_function_derivative(double x) {
-  if (!(x > kLambdaC)) return 0.0;
-  const double x6 = 1.0 / (x * x * x * x * x * x);
-  const double x8 = x6 / (x * x);
-  return kDamageScale * (-26 * x8 * x6 + 7 * x8);
+  double D, dD;
+  damage_and_slope(x, D, dD);
+  return dD;
 }
 
 // ---------------------------------------------------------------- state
@@ -171,7 +202,9 @@ const std::vector<std::string>& state_names(Model m) {
   static const std::vector<std::string> pp = {"kappa", "D"};
   return m == Model::pnc ? pnc : pp;
 }
-std::size_t state_size(Model m) { return state_names(m).size(); }
+std::size_t state_size(Model m) {
+  return state_names(m).size();
+}
 
 void state_to_array(Model m, const NdmState& s, double* out) {
   const int n = m == Model::pnc ? 3 : 1;
@@ -192,64 +225,128 @@ NdmState state_from_array(Model m, const double* in) {
 }
 
 // ---------------------------------------------------------------- kinematics
-ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
-  ModeStretch out;
-  Eigen::Matrix3d e;
-  e << v[0], 0.5 * v[5], 0.5 * v[4], //
-      0.5 * v[5], v[1], 0.5 * v[3],  //
-      0.5 * v[4], 0.5 * v[3], v[2];
-  // Principal stretches of U = I + e by eigen-decomposition (closed form for 3x3).
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(e, with_derivative ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
-  out.lambda_max = 1.0 + es.eigenvalues()[2];
-  Eigen::Matrix<double, 1, 6> dmax = Eigen::Matrix<double, 1, 6>::Zero();
-  if (with_derivative) {
-    const Eigen::Vector3d N = es.eigenvectors().col(2);
-    dmax << N[0] * N[0], N[1] * N[1], N[2] * N[2], N[1] * N[2], N[0] * N[2], N[0] * N[1];
+namespace {
+// Largest eigenvalue of a symmetric 3x3 matrix, closed form (trigonometric solution of the
+// characteristic cubic; one acos and one cos instead of Eigen's atan2 + sincos for all three).
+double largest_eigenvalue(const Eigen::Matrix3d& e) {
+  const double p1 = e(0, 1) * e(0, 1) + e(0, 2) * e(0, 2) + e(1, 2) * e(1, 2);
+  if (p1 == 0.0) return std::max(e(0, 0), std::max(e(1, 1), e(2, 2)));
+  const double q = (e(0, 0) + e(1, 1) + e(2, 2)) / 3.0;
+  const double a = e(0, 0) - q, b = e(1, 1) - q, c = e(2, 2) - q;
+  const double p2 = a * a + b * b + c * c + 2.0 * p1;
+  const double pp = std::sqrt(p2 / 6.0);
+  const double ip = 1.0 / pp;
+  // det(B)/2 with B = (e - q I)/p
+  const double b00 = a * ip, b11 = b * ip, b22 = c * ip;
+  const double b01 = e(0, 1) * ip, b02 = e(0, 2) * ip, b12 = e(1, 2) * ip;
+  const double det =
+      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+  const double r = std::min(1.0, std::max(-1.0, 0.5 * det));
+  return q + 2.0 * pp * std::cos(std::acos(r) / 3.0);
+}
+
+// Unit eigenvector of e for its (simple) largest eigenvalue lam: the longest cross product of
+// two rows of e - lam I. Falls back to Eigen's solver when lam is (nearly) repeated
+// (then the direction, and the tangent, is not unique anyway).
+Eigen::Vector3d largest_eigenvector(const Eigen::Matrix3d& e, double lam) {
+  Eigen::Matrix3d M = e;
+  M.diagonal().array() -= lam;
+  const Eigen::Vector3d r0 = M.row(0), r1 = M.row(1), r2 = M.row(2);
+  const Eigen::Vector3d c01 = r0.cross(r1), c02 = r0.cross(r2), c12 = r1.cross(r2);
+  const double n01 = c01.squaredNorm(), n02 = c02.squaredNorm(), n12 = c12.squaredNorm();
+  const double scale = e.squaredNorm();
+  const double best = std::max(n01, std::max(n02, n12));
+  if (!(best > 1e-20 * scale * scale)) { // (nearly) repeated largest eigenvalue
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(e, Eigen::ComputeEigenvectors);
+    return es.eigenvectors().col(2);
   }
-  if (m == Model::pp) {
-    out.lambda[0] = out.lambda_max;
-    if (with_derivative) out.dlambda.row(0) = dmax;
-    return out;
+  const Eigen::Vector3d& c = best == n01 ? c01 : (best == n02 ? c02 : c12);
+  return c / std::sqrt(best);
+}
+
+} // namespace
+
+namespace {
+// Mode stretches of decisions D6/D7 without derivatives; stretch_row() adds the derivative of
+// one mode on demand (integrate() needs it only for loading modes).
+struct Stretch {
+  Eigen::Matrix3d e;       // tensorial small strain, platelet frame
+  double lambda_max = 1.0; // largest principal stretch of U = I + e
+  std::array<double, 3> lambda{1.0, 1.0, 1.0};
+  std::array<double, 3> shear{0.0, 0.0, 0.0};      // sqrt(sum_{j != k} e_kj^2)
+  std::array<bool, 3> clipped{true, false, false}; // lambda_k = lambda_max (the cap binds)
+};
+
+Stretch compute_stretch(Model m, const Voigt& v) {
+  Stretch s;
+  s.e << v[0], 0.5 * v[5], 0.5 * v[4], //
+      0.5 * v[5], v[1], 0.5 * v[3],    //
+      0.5 * v[4], 0.5 * v[3], v[2];
+  s.lambda_max = 1.0 + largest_eigenvalue(s.e);
+  s.lambda[0] = s.lambda_max; // pp: the maximum principal stretch
+  if (m == Model::pp) return s;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    s.shear[k] = std::sqrt(s.e(k, a) * s.e(k, a) + s.e(k, b) * s.e(k, b));
+    const double raw = 1.0 + s.e(k, k) + s.shear[k];
+    s.clipped[k] = !(raw <= s.lambda_max);
+    s.lambda[k] = s.clipped[k] ? s.lambda_max : raw;
+  }
+  return s;
+}
+
+// d lambda_mode / d eps (engineering Voigt). N caches the principal direction of lambda_max.
+Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vector3d& N,
+                                        bool& have_N) {
+  Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
+  if (s.clipped[mode]) {
+    if (!have_N) {
+      N = largest_eigenvector(s.e, s.lambda_max - 1.0);
+      have_N = true;
+    }
+    row << N[0] * N[0], N[1] * N[1], N[2] * N[2], N[1] * N[2], N[0] * N[2], N[0] * N[1];
+    return row;
   }
   // Voigt index of the shear pair (k, j): (1,2)->3, (0,2)->4, (0,1)->5.
   static const int pair_index[3][3] = {{-1, 5, 4}, {5, -1, 3}, {4, 3, -1}};
-  for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const double s = std::sqrt(e(k, a) * e(k, a) + e(k, b) * e(k, b));
-    const double raw = 1.0 + e(k, k) + s;
-    if (raw <= out.lambda_max) {
-      out.lambda[k] = raw;
-      if (with_derivative) {
-        out.dlambda(k, k) = 1.0;
-        if (s > 0) {
-          out.dlambda(k, pair_index[k][a]) = e(k, a) / (2 * s);
-          out.dlambda(k, pair_index[k][b]) = e(k, b) / (2 * s);
-        }
-      }
-    } else {
-      out.lambda[k] = out.lambda_max;
-      if (with_derivative) out.dlambda.row(k) = dmax;
-    }
+  const int a = (mode + 1) % 3, b = (mode + 2) % 3;
+  row[mode] = 1.0;
+  if (s.shear[mode] > 0) {
+    row[pair_index[mode][a]] = s.e(mode, a) / (2 * s.shear[mode]);
+    row[pair_index[mode][b]] = s.e(mode, b) / (2 * s.shear[mode]);
+  }
+  return row;
+}
+} // namespace
+
+ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
+  const Stretch s = compute_stretch(m, v);
+  ModeStretch out;
+  out.lambda = s.lambda;
+  out.lambda_max = s.lambda_max;
+  if (with_derivative) {
+    Eigen::Vector3d N;
+    bool have_N = false;
+    for (int k = 0; k < (m == Model::pnc ? 3 : 1); ++k)
+      out.dlambda.row(k) = stretch_row(s, k, N, have_N);
   }
   return out;
 }
 
 Matrix6 strain_rotation(const Eigen::Matrix3d& R) {
+  // Closed form of el = R e R^T for each unit engineering strain J (pair (a, b) of J;
+  // a = b for a normal strain): el(i, j) = (R(i,a) R(j,b) + R(i,b) R(j,a)) / 2, doubled on
+  // the engineering shear rows. Bitwise equal to the triple product it replaces.
+  static const int pa[6] = {0, 1, 2, 1, 0, 0}, pb[6] = {0, 1, 2, 2, 2, 1};
   Matrix6 T;
   for (int J = 0; J < 6; ++J) {
-    Voigt unit = Voigt::Zero();
-    unit[J] = 1.0;
-    Eigen::Matrix3d e;
-    e << unit[0], 0.5 * unit[5], 0.5 * unit[4], 0.5 * unit[5], unit[1], 0.5 * unit[3],
-        0.5 * unit[4], 0.5 * unit[3], unit[2];
-    const Eigen::Matrix3d el = R * e * R.transpose();
-    T(0, J) = el(0, 0);
-    T(1, J) = el(1, 1);
-    T(2, J) = el(2, 2);
-    T(3, J) = 2 * el(1, 2);
-    T(4, J) = 2 * el(0, 2);
-    T(5, J) = 2 * el(0, 1);
+    const int a = pa[J], b = pb[J];
+    for (int I = 0; I < 6; ++I) {
+      const int i = pa[I], j = pb[I];
+      const double v = 0.5 * (R(i, a) * R(j, b) + R(i, b) * R(j, a));
+      T(I, J) = I < 3 ? v : 2 * v;
+    }
   }
   return T;
 }
@@ -260,6 +357,38 @@ void ErrorBuffer::set(const char* text) {
 }
 
 // ---------------------------------------------------------------- integration
+namespace {
+
+// dC1/dD_m * e, using the sparsity of dC1/dD_m.
+Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
+  const auto& k = p.k;
+  Voigt v;
+  if (p.model == Model::pnc) {
+    switch (m) {
+    case 0:
+      v << 2 * k[iA1] * e[0] + k[iA10] * e[1] + k[iA13] * e[2], k[iA10] * e[0], k[iA13] * e[0], 0,
+          0, 0;
+      break;
+    case 1:
+      v << k[iA11] * e[1], k[iA11] * e[0] + 2 * k[iA5] * e[1] + k[iA17] * e[2], k[iA17] * e[1],
+          k[iA22] * e[3], 0, k[iA24] * e[5];
+      break;
+    default:
+      v << k[iA15] * e[2], k[iA18] * e[2], k[iA15] * e[0] + k[iA18] * e[1] + 2 * k[iA9] * e[2], 0,
+          k[iA26] * e[4], 0;
+      break;
+    }
+  } else {
+    const double s = e[0] + e[1] + e[2];
+    for (int i = 0; i < 3; ++i) {
+      v[i] = 2 * k[jB1] * e[i] + k[jB2] * (s - e[i]);
+      v[3 + i] = k[jB4] * e[3 + i];
+    }
+  }
+  return v;
+}
+} // namespace
+
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
   const Voigt eps = eps0 + deps;
@@ -274,27 +403,35 @@ Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const
     T = strain_rotation(p.R);
     el = T * eps;
   }
-  const ModeStretch ms = mode_stretches(p.model, el, K != nullptr);
-  const int n = p.model == Model::pnc ? 3 : 1;
-  const double alpha = p.alpha();
+  // mode stretches (decisions D6/D7), derivatives only where the tangent needs them
+  const bool pnc = p.model == Model::pnc;
+  const int n = pnc ? 3 : 1;
+  const Stretch st = compute_stretch(p.model, el);
+  const auto& lambda = st.lambda;
+  const double alpha =
+      p.k[pnc ? static_cast<std::size_t>(iAlphaPnc) : static_cast<std::size_t>(jAlphaPp)];
   NdmState out = s0;
+  std::array<double, 3> dD{0, 0, 0};
   std::array<bool, 3> loading{false, false, false};
   for (int m = 0; m < n; ++m) {
-    loading[m] = ms.lambda[m] > s0.kappa[m];
-    out.kappa[m] = loading[m] ? ms.lambda[m] : s0.kappa[m];
-    out.D[m] = damage_function(out.kappa[m] / alpha);
+    loading[m] = lambda[m] > s0.kappa[m];
+    out.kappa[m] = loading[m] ? lambda[m] : s0.kappa[m];
+    damage_and_slope(out.kappa[m] / alpha, out.D[m], dD[m]);
   }
-  const Matrix6 C = stiffness_c0(p) + stiffness_c1(p, out.D);
+  Matrix6 C;
+  assemble_stiffness(p, out.D, C);
   const Voigt sl = C * el;
   if (K) {
-    Matrix6 Kl = C;
+    Matrix6& Kl = rotated ? C : *K;
+    if (!rotated) *K = C;
+    bool have_N = false;
+    Eigen::Vector3d N = Eigen::Vector3d::Zero();
     for (int m = 0; m < n; ++m) {
-      if (!loading[m]) continue;
-      const double dD = damage_function_derivative(out.kappa[m] / alpha) / alpha;
-      if (dD == 0.0) continue;
-      Kl.noalias() += (stiffness_c1_dD(p, m) * el) * (dD * ms.dlambda.row(m));
+      if (!loading[m] || dD[m] == 0.0) continue;
+      const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
+      Kl.noalias() += c1_times(p, m, el) * ((dD[m] / alpha) * row);
     }
-    *K = rotated ? Matrix6(T.transpose() * Kl * T) : Kl;
+    if (rotated) *K = T.transpose() * Kl * T;
   }
   sigma = rotated ? Voigt(T.transpose() * sl) : sl;
   s1 = out;
