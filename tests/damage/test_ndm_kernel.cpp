@@ -114,14 +114,30 @@ TEST(Stiffness, C0AndC1AreTheGradientOfTheFreeEnergy531to535) {
   NdmParameters p;
   p.model = Model::pnc;
   const Matrix6 C0 = c0_from_c_constants(c);
-  p["C11"] = C0(0, 0); p["C22"] = C0(1, 1); p["C33"] = C0(2, 2);
-  p["C12"] = C0(0, 1); p["C13"] = C0(0, 2); p["C23"] = C0(1, 2);
-  p["C44"] = C0(3, 3); p["C55"] = C0(4, 4); p["C66"] = C0(5, 5);
-  const double A1 = -0.5, A5 = -0.45, A9 = -0.25, A10 = -0.6, A11 = -0.55, A13 = -0.47,
-               A15 = -0.59, A17 = -0.43, A18 = -0.5, A22 = -0.33, A24 = -0.3, A26 = -0.1;
-  p["A1"] = A1; p["A5"] = A5; p["A9"] = A9; p["A10"] = A10; p["A11"] = A11; p["A13"] = A13;
-  p["A15"] = A15; p["A17"] = A17; p["A18"] = A18; p["A22"] = A22; p["A24"] = A24;
-  p["A26"] = A26; p["alpha"] = 1.0;
+  p["C11"] = C0(0, 0);
+  p["C22"] = C0(1, 1);
+  p["C33"] = C0(2, 2);
+  p["C12"] = C0(0, 1);
+  p["C13"] = C0(0, 2);
+  p["C23"] = C0(1, 2);
+  p["C44"] = C0(3, 3);
+  p["C55"] = C0(4, 4);
+  p["C66"] = C0(5, 5);
+  const double A1 = -0.5, A5 = -0.45, A9 = -0.25, A10 = -0.6, A11 = -0.55, A13 = -0.47, A15 = -0.59,
+               A17 = -0.43, A18 = -0.5, A22 = -0.33, A24 = -0.3, A26 = -0.1;
+  p["A1"] = A1;
+  p["A5"] = A5;
+  p["A9"] = A9;
+  p["A10"] = A10;
+  p["A11"] = A11;
+  p["A13"] = A13;
+  p["A15"] = A15;
+  p["A17"] = A17;
+  p["A18"] = A18;
+  p["A22"] = A22;
+  p["A24"] = A24;
+  p["A26"] = A26;
+  p["alpha"] = 1.0;
   const std::array<double, 3> D = {0.2, 0.35, 0.1};
   auto psi = [&](const Voigt& g) {
     const double e1 = g[0], e2 = g[1], e3 = g[2], e4 = g[3] / 2, e5 = g[4] / 2, e6 = g[5] / 2;
@@ -152,7 +168,8 @@ TEST(Stiffness, C0AndC1AreTheGradientOfTheFreeEnergy531to535) {
 TEST(ModeStretch, LaterallyConstrainedExtensionDrivesOnlyItsOwnMode) {
   for (int k = 0; k < 3; ++k) {
     const ModeStretch ms = mode_stretches(Model::pnc, case_strain(k + 1, 0.1), false);
-    for (int m = 0; m < 3; ++m) EXPECT_NEAR(ms.lambda[m], m == k ? 1.1 : 1.0, 1e-14);
+    for (int m = 0; m < 3; ++m)
+      EXPECT_NEAR(ms.lambda[m], m == k ? 1.1 : 1.0, 1e-14);
     EXPECT_NEAR(mode_stretches(Model::pp, case_strain(k + 1, 0.1), false).lambda[0], 1.1, 1e-14);
   }
 }
@@ -179,14 +196,46 @@ TEST(ModeStretch, NeverExceedsTheMaximumPrincipalStretchAndIsOneAtRest) {
   std::uniform_real_distribution<double> u(-0.1, 0.1);
   for (int t = 0; t < 200; ++t) {
     Voigt e;
-    for (int i = 0; i < 6; ++i) e[i] = u(rng);
+    for (int i = 0; i < 6; ++i)
+      e[i] = u(rng);
     const ModeStretch ms = mode_stretches(Model::pnc, e, false);
-    const double lmax = 1 + Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(to_tensor(e)).eigenvalues()[2];
+    const double lmax =
+        1 + Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(to_tensor(e)).eigenvalues()[2];
     EXPECT_NEAR(ms.lambda_max, lmax, 1e-13);
-    for (int m = 0; m < 3; ++m) EXPECT_LE(ms.lambda[m], lmax + 1e-14);
+    for (int m = 0; m < 3; ++m)
+      EXPECT_LE(ms.lambda[m], lmax + 1e-14);
   }
   const ModeStretch rest = mode_stretches(Model::pnc, Voigt::Zero(), false);
-  for (int m = 0; m < 3; ++m) EXPECT_EQ(rest.lambda[m], 1.0);
+  for (int m = 0; m < 3; ++m)
+    EXPECT_EQ(rest.lambda[m], 1.0);
+}
+
+TEST(ModeStretch, ClosedFormLargestStretchMatchesEigenOnDegenerateStrains) {
+  // The kernel takes the largest eigenvalue in closed form (acos of the cubic's invariant);
+  // repeated eigenvalues are where that formula is delicate. Reference: Eigen's QL solver.
+  std::vector<Voigt> cases;
+  Voigt v;
+  v << 0, 0, 0, 0, 0, 0;
+  cases.push_back(v); // zero
+  v << 0.03, 0.03, 0.03, 0, 0, 0;
+  cases.push_back(v); // hydrostatic
+  v << 0.03, 0.03, -0.01, 0, 0, 0;
+  cases.push_back(v); // equibiaxial
+  v << -0.01, -0.01, 0.03, 0, 0, 0;
+  cases.push_back(v); // uniaxial (two equal)
+  v << 0, 0, 0, 0, 0, 0.04;
+  cases.push_back(v); // pure shear
+  v << 0.02, 0.02, 0.02, 1e-12, 0, 0;
+  cases.push_back(v); // nearly hydrostatic
+  v << 0.01, 0.01, 0.01, 0.02, 0.02, 0.02;
+  cases.push_back(v); // double root below the top
+  v << 1e-9, -1e-9, 0, 3e-10, 0, 0;
+  cases.push_back(v); // tiny
+  for (const Voigt& c : cases) {
+    const double ref =
+        1 + Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(to_tensor(c)).eigenvalues()[2];
+    EXPECT_NEAR(mode_stretches(Model::pp, c, false).lambda_max, ref, 1e-14) << c.transpose();
+  }
 }
 
 TEST(ModeStretch, PrincipalStretchIsObjectiveUnderRotationOfTheStrain) {
@@ -222,7 +271,8 @@ TEST(Kernel, FrameIndifferenceWithARotatedPlatelet) {
     const Voigt s2 = integrate_total(pq, NdmState{}, eq, &sq);
     EXPECT_LT((stress_tensor(s2) - Q * stress_tensor(s1) * Q.transpose()).norm(),
               1e-9 * stress_tensor(s1).norm());
-    for (int m = 0; m < 3; ++m) EXPECT_NEAR(sq.D[m], s.D[m], 1e-12);
+    for (int m = 0; m < 3; ++m)
+      EXPECT_NEAR(sq.D[m], s.D[m], 1e-12);
   }
 }
 
@@ -263,7 +313,7 @@ TEST(Kernel, TangentMatchesFiniteDifferencesElasticLoadingUnloadingRotated) {
     NdmParameters p = dissertation_parameters(m);
     Voigt elastic, loading, general;
     elastic << 0.01, -0.005, 0.002, 0.004, -0.003, 0.006;
-    loading << 0.02, 0.13, -0.01, 0.015, 0.01, -0.02;  // mode 2 / max stretch past onset
+    loading << 0.02, 0.13, -0.01, 0.015, 0.01, -0.02; // mode 2 / max stretch past onset
     general << 0.11, 0.03, 0.095, 0.04, -0.03, 0.05;  // several modes loading
     check_tangent(p, NdmState{}, elastic, "elastic");
     check_tangent(p, NdmState{}, loading, "loading");
@@ -290,10 +340,14 @@ TEST(Kernel, DamageIsIrreversibleOnUnloadAndReload) {
     // Case 2 path: load to 0.25, unload to 0.10, reload to 0.25, load on to 0.30 (onset is
     // at alpha*lambda_c - 1 = 7.2 % for pnc and 17.1 % for pp).
     std::vector<double> amounts;
-    for (int i = 1; i <= 50; ++i) amounts.push_back(0.005 * i);        // 0..49
-    for (int i = 1; i <= 30; ++i) amounts.push_back(0.25 - 0.005 * i); // 50..79
-    for (int i = 1; i <= 30; ++i) amounts.push_back(0.10 + 0.005 * i); // 80..109
-    for (int i = 1; i <= 10; ++i) amounts.push_back(0.25 + 0.005 * i); // 110..119
+    for (int i = 1; i <= 50; ++i)
+      amounts.push_back(0.005 * i); // 0..49
+    for (int i = 1; i <= 30; ++i)
+      amounts.push_back(0.25 - 0.005 * i); // 50..79
+    for (int i = 1; i <= 30; ++i)
+      amounts.push_back(0.10 + 0.005 * i); // 80..109
+    for (int i = 1; i <= 10; ++i)
+      amounts.push_back(0.25 + 0.005 * i); // 110..119
     PathMatrix path(static_cast<Eigen::Index>(amounts.size()), 6);
     for (std::size_t i = 0; i < amounts.size(); ++i)
       path.row(static_cast<Eigen::Index>(i)) = case_strain(2, amounts[i]).transpose();
@@ -322,7 +376,8 @@ TEST(Kernel, RejectsNonFiniteStrainWithAMessage) {
   Voigt sigma = Voigt::Constant(7.0), bad = Voigt::Zero();
   bad[2] = std::nan("");
   ErrorBuffer err;
-  EXPECT_EQ(integrate(p, NdmState{}, s1, Voigt::Zero(), bad, sigma, nullptr, err), Status::bad_input);
+  EXPECT_EQ(integrate(p, NdmState{}, s1, Voigt::Zero(), bad, sigma, nullptr, err),
+            Status::bad_input);
   EXPECT_NE(std::string(err.msg).find("not finite"), std::string::npos);
   EXPECT_EQ(sigma[0], 7.0); // untouched
 }
