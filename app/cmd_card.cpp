@@ -22,16 +22,19 @@ int run_card_show(const CardShowArgs& a) {
   const Model m = c.params.model;
   const DerivedModuli d = derive_moduli(c.params);
   std::cerr << fmt::format("pnc card {}: NDM, model {} ({})\n", a.card, model_name(m),
-                           m == Model::pnc ? "nanocomposite, 3 damage modes" : "pure polymer, isotropic reading");
-  if (!c.software.empty()) std::cerr << "  written by " << c.software << " on " << c.created << "\n";
+                           m == Model::pnc ? "nanocomposite, 3 damage modes"
+                                           : "pure polymer, isotropic reading");
+  if (!c.software.empty())
+    std::cerr << "  written by " << c.software << " on " << c.created << "\n";
   std::cerr << constants_table(c);
   const double G = 1e9;
   std::cerr << "  derived moduli of C0 (GPa):\n";
   std::cerr << fmt::format("    by compliance inversion: E1 = {:.4g}, E2 = {:.4g}, E3 = {:.4g}\n",
                            d.E1 / G, d.E2 / G, d.E3 / G);
-  std::cerr << fmt::format("      nu12 = {:.4g}, nu13 = {:.4g}, nu23 = {:.4g} (nu21 = {:.4g}, nu31 = "
-                           "{:.4g}, nu32 = {:.4g})\n",
-                           d.nu12, d.nu13, d.nu23, d.nu21, d.nu31, d.nu32);
+  std::cerr << fmt::format(
+      "      nu12 = {:.4g}, nu13 = {:.4g}, nu23 = {:.4g} (nu21 = {:.4g}, nu31 = "
+      "{:.4g}, nu32 = {:.4g})\n",
+      d.nu12, d.nu13, d.nu23, d.nu21, d.nu31, d.nu32);
   std::cerr << fmt::format("      G23 = {:.4g}, G13 = {:.4g}, G12 = {:.4g}\n", d.G23 / G, d.G13 / G,
                            d.G12 / G);
   if (m == Model::pnc)
@@ -39,7 +42,8 @@ int run_card_show(const CardShowArgs& a) {
                              "inversion): {:.4g}\n",
                              d.E2_eq646_printed / G);
   else
-    std::cerr << fmt::format("    eq. 6.47 (isotropic E from C22 -> C11, C12): {:.4g}\n", d.E_eq647 / G);
+    std::cerr << fmt::format("    eq. 6.47 (isotropic E from C22 -> C11, C12): {:.4g}\n",
+                             d.E_eq647 / G);
   std::cerr << "  strength per case (peak of the driven stress along the case path, strain <= "
             << a.max_strain << "):\n";
   nlohmann::json strengths = nlohmann::json::array();
@@ -53,11 +57,12 @@ int run_card_show(const CardShowArgs& a) {
       std::cerr << fmt::format("    case {} ({}): no peak (stress rises monotonically up to strain "
                                "{})\n",
                                id, deformation_case(id).name, s.max_strain_searched);
-    strengths.push_back({{"case", id},
-                         {"component", kComp[s.component]},
-                         {"peak_pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
-                         {"strain_at_peak", s.peak ? nlohmann::json(s.strain_at_peak) : nlohmann::json()},
-                         {"max_strain_searched", s.max_strain_searched}});
+    strengths.push_back(
+        {{"case", id},
+         {"component", kComp[s.component]},
+         {"peak_pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
+         {"strain_at_peak", s.peak ? nlohmann::json(s.strain_at_peak) : nlohmann::json()},
+         {"max_strain_searched", s.max_strain_searched}});
   }
   if (c.fit.present) {
     std::cerr << fmt::format("  fit: {} from {} ({}), {} iterations, {}\n", c.fit.termination,
@@ -71,10 +76,20 @@ int run_card_show(const CardShowArgs& a) {
     j["card"] = a.card;
     j["model"] = model_name(m);
     j["constants"] = constants_json(c);
-    j["moduli"] = {{"E1", d.E1}, {"E2", d.E2}, {"E3", d.E3}, {"nu12", d.nu12}, {"nu13", d.nu13},
-                   {"nu23", d.nu23}, {"nu21", d.nu21}, {"nu31", d.nu31}, {"nu32", d.nu32},
-                   {"G23", d.G23}, {"G13", d.G13}, {"G12", d.G12},
-                   {"E2_eq646_printed", d.E2_eq646_printed}, {"E_eq647", d.E_eq647},
+    j["moduli"] = {{"E1", d.E1},
+                   {"E2", d.E2},
+                   {"E3", d.E3},
+                   {"nu12", d.nu12},
+                   {"nu13", d.nu13},
+                   {"nu23", d.nu23},
+                   {"nu21", d.nu21},
+                   {"nu31", d.nu31},
+                   {"nu32", d.nu32},
+                   {"G23", d.G23},
+                   {"G13", d.G13},
+                   {"G12", d.G12},
+                   {"E2_eq646_printed", d.E2_eq646_printed},
+                   {"E_eq647", d.E_eq647},
                    {"units", "Pa"},
                    {"note", "E1..E3 by compliance inversion; E2_eq646_printed is eq. 6.46 as "
                             "printed (equals E1); E_eq647 is the isotropic formula 6.47"}};

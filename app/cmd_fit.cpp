@@ -50,7 +50,8 @@ int run_fit(const FitArgs& a) {
   if (!rep.warnings.empty()) std::cerr << "  warning: " << rep.warnings << "\n";
   std::cerr << constants_table(card) << fit_tables(card.fit, o.model);
   std::cerr << "  card: " << a.out << "\n";
-  for (const auto& p : pngs) std::cerr << "  plot: " << p << "\n";
+  for (const auto& p : pngs)
+    std::cerr << "  plot: " << p << "\n";
 
   if (a.json) {
     nlohmann::json j;

@@ -37,11 +37,15 @@ int run_synth(const SynthArgs& a) {
     const std::string e(s);
     return a.out.size() >= e.size() && a.out.compare(a.out.size() - e.size(), e.size(), e) == 0;
   };
-  if (ends(".csv")) write_stress_strain_csv(a.out, d);
-  else if (ends(".h5") || ends(".hdf5")) write_stress_strain_h5(a.out, d);
-  else fail("<command line>", "--out", a.out, "must end in .csv or .h5");
-  std::cerr << fmt::format("pnc synth: {} cases x {} points, model {}, noise sd {} MPa, seed {} -> {}\n",
-                           d.cases.size(), a.points, model_name(p.model), a.noise_mpa, a.seed, a.out);
+  if (ends(".csv"))
+    write_stress_strain_csv(a.out, d);
+  else if (ends(".h5") || ends(".hdf5"))
+    write_stress_strain_h5(a.out, d);
+  else
+    fail("<command line>", "--out", a.out, "must end in .csv or .h5");
+  std::cerr << fmt::format(
+      "pnc synth: {} cases x {} points, model {}, noise sd {} MPa, seed {} -> {}\n", d.cases.size(),
+      a.points, model_name(p.model), a.noise_mpa, a.seed, a.out);
   if (a.json) {
     nlohmann::json j;
     j["command"] = "synth";
@@ -49,7 +53,8 @@ int run_synth(const SynthArgs& a) {
     j["model"] = model_name(p.model);
     j["points"] = d.points();
     std::vector<int> ids;
-    for (const auto& c : d.cases) ids.push_back(c.id);
+    for (const auto& c : d.cases)
+      ids.push_back(c.id);
     j["cases"] = ids;
     j["noise_sd_pa"] = o.noise_sd;
     j["seed"] = a.seed;

@@ -15,7 +15,8 @@
 namespace {
 std::string join_args(int argc, char** argv) {
   std::ostringstream s;
-  for (int i = 0; i < argc; ++i) s << (i ? " " : "") << argv[i];
+  for (int i = 0; i < argc; ++i)
+    s << (i ? " " : "") << argv[i];
   return s.str();
 }
 } // namespace
@@ -32,19 +33,23 @@ int main(int argc, char** argv) {
   // --- fit
   FitArgs fa;
   fa.command_line = cmdline;
-  auto* fit = app.add_subcommand("fit", "Joint NDM fit (Ceres) of stress-strain curves -> card + plots");
+  auto* fit =
+      app.add_subcommand("fit", "Joint NDM fit (Ceres) of stress-strain curves -> card + plots");
   fit->add_option("--data", fa.data,
                   "Stress-strain data: CSV (case,e11..g12,s11..s12; stress in MPa) or cases.h5")
       ->required();
-  fit->add_option("--model", fa.model, "pnc (nanocomposite, cases 1-6) or pp (pure polymer, cases 2, 6)")
+  fit->add_option("--model", fa.model,
+                  "pnc (nanocomposite, cases 1-6) or pp (pure polymer, cases 2, 6)")
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
-  fit->add_flag("--fit-alpha", fa.fit_alpha, "Also fit the critical-stretch factor alpha (0.5..1.5)");
+  fit->add_flag("--fit-alpha", fa.fit_alpha,
+                "Also fit the critical-stretch factor alpha (0.5..1.5)");
   fit->add_option("--alpha", fa.alpha, "Value of alpha (default: 0.861 pnc, 0.941 pp)")
       ->check(CLI::Range(0.5, 1.5));
   fit->add_option("--loss", fa.loss, "Robust loss: none, huber, cauchy")
       ->check(CLI::IsMember({"none", "huber", "cauchy"}));
-  fit->add_option("--loss-scale", fa.loss_scale, "Scale of the robust loss (MPa, or data std. errors)")
+  fit->add_option("--loss-scale", fa.loss_scale,
+                  "Scale of the robust loss (MPa, or data std. errors)")
       ->check(CLI::PositiveNumber);
   fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit")
       ->check(CLI::PositiveNumber);
@@ -59,21 +64,24 @@ int main(int argc, char** argv) {
   auto* card = app.add_subcommand("card", "Inspect or create material cards");
   card->require_subcommand(1);
   CardShowArgs cs;
-  auto* show = card->add_subcommand("show", "Constants, errors, derived moduli and strengths of a card");
+  auto* show =
+      card->add_subcommand("show", "Constants, errors, derived moduli and strengths of a card");
   show->add_option("card", cs.card, "Material card (HDF5)")->required();
   show->add_option("--max-strain", cs.max_strain, "Strain up to which strengths are searched")
       ->check(CLI::Range(1e-6, 10.0));
   show->add_flag("--json", cs.json, "Print one JSON object on stdout");
   CardTablesArgs ct;
   ct.command_line = cmdline;
-  auto* tables = card->add_subcommand("tables", "Write the dissertation's tabulated constants as a card");
+  auto* tables =
+      card->add_subcommand("tables", "Write the dissertation's tabulated constants as a card");
   tables->add_option("--model", ct.model, "pnc or pp")->check(CLI::IsMember({"pnc", "pp"}));
   tables->add_option("--out", ct.out, "Card to write (HDF5)")->required();
   tables->add_flag("--json", ct.json, "Print one JSON object on stdout");
 
   // --- synth
   SynthArgs sa;
-  auto* synth = app.add_subcommand("synth", "Synthetic stress-strain curves from the NDM plus noise");
+  auto* synth =
+      app.add_subcommand("synth", "Synthetic stress-strain curves from the NDM plus noise");
   synth->add_option("--model", sa.model, "pnc or pp (dissertation constants)")
       ->check(CLI::IsMember({"pnc", "pp"}));
   synth->add_option("--card", sa.card, "Use this card's constants instead of the dissertation's");

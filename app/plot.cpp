@@ -39,7 +39,8 @@ std::vector<std::string> plot_fit(const damage::StressStrainData& data,
     const double top = c.strain.col(dc.driven).maxCoeff();
     const int n = 400;
     damage::PathMatrix path(n + 1, 6);
-    for (int i = 0; i <= n; ++i) path.row(i) = damage::case_strain(c.id, top * i / n).transpose();
+    for (int i = 0; i <= n; ++i)
+      path.row(i) = damage::case_strain(c.id, top * i / n).transpose();
     const auto s = damage::stress_path(p, path);
     for (int i = 0; i <= n; ++i)
       for (int comp : dc.active)
@@ -57,19 +58,20 @@ std::vector<std::string> plot_fit(const damage::StressStrainData& data,
   if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
   auto quote = [](const std::string& s) {
     std::string q = "'";
-    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    for (char ch : s)
+      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
     return q + "'";
   };
-  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(curves) + " " +
-                          quote(dir) + " " + quote(title) + " 2>&1";
+  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(curves) + " " + quote(dir) +
+                          " " + quote(title) + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
   std::string out;
   char buf[512];
-  while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+  while (std::fgets(buf, sizeof buf, pipe))
+    out += buf;
   const int rc = ::pclose(pipe);
-  if (rc != 0)
-    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  if (rc != 0) fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
   std::vector<std::string> pngs;
   std::istringstream lines(out);
   std::string line;

@@ -12,10 +12,16 @@ namespace {
 const char* kComp[6] = {"11", "22", "33", "23", "13", "12"};
 }
 
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 
-double display_value(const std::string& name, double si) { return name == "alpha" ? si : si / 1e9; }
-const char* display_units(const std::string& name) { return name == "alpha" ? "" : "GPa"; }
+double display_value(const std::string& name, double si) {
+  return name == "alpha" ? si : si / 1e9;
+}
+const char* display_units(const std::string& name) {
+  return name == "alpha" ? "" : "GPa";
+}
 
 std::string constants_table(const damage::Card& c) {
   std::string s = fmt::format("  {:<6} {:>12} {:>11}  {:<5} {}\n", "const", "value", "std.err",
@@ -24,7 +30,8 @@ std::string constants_table(const damage::Card& c) {
   for (std::size_t i = 0; i < names.size(); ++i) {
     const double v = display_value(names[i], c.params.k[i]);
     const double e = display_value(names[i], c.std_error[i]);
-    const std::string err = std::isfinite(e) ? fmt::format("{:11.4g}", e) : fmt::format("{:>11}", "-");
+    const std::string err =
+        std::isfinite(e) ? fmt::format("{:11.4g}", e) : fmt::format("{:>11}", "-");
     s += fmt::format("  {:<6} {:12.5g} {}  {:<5} {}{}\n", names[i], v, err, display_units(names[i]),
                      c.fitted[i] ? "fitted" : "held", c.note[i].empty() ? "" : ": " + c.note[i]);
   }
@@ -58,7 +65,8 @@ std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
     }
     const std::string b = std::isfinite(l.b) ? fmt::format("{:.4g}", l.b / 1e9) : "n/a (no damage)";
     s += fmt::format("    case {} sigma{}: {} = {:.4g}, {} = {}, R^2 = {:.4f}{}\n", l.case_id,
-                     kComp[l.component], l.linear_label, l.a / 1e9, l.damage_label, b, l.r2, printed);
+                     kComp[l.component], l.linear_label, l.a / 1e9, l.damage_label, b, l.r2,
+                     printed);
   }
   return s;
 }
@@ -76,12 +84,16 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["warnings"] = f.warnings;
   j["r2"] = nlohmann::json::array();
   for (const auto& c : f.components)
-    j["r2"].push_back({{"case", c.case_id}, {"component", kComp[c.component]}, {"r2", num(c.r2)},
+    j["r2"].push_back({{"case", c.case_id},
+                       {"component", kComp[c.component]},
+                       {"r2", num(c.r2)},
                        {"rms_pa", num(c.rms)}});
   j["regression"] = nlohmann::json::array();
   for (const auto& l : f.regression)
-    j["regression"].push_back({{"case", l.case_id}, {"component", kComp[l.component]},
-                               {l.linear_label, num(l.a)}, {l.damage_label, num(l.b)},
+    j["regression"].push_back({{"case", l.case_id},
+                               {"component", kComp[l.component]},
+                               {l.linear_label, num(l.a)},
+                               {l.damage_label, num(l.b)},
                                {"r2", num(l.r2)}});
   return j;
 }

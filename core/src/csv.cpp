@@ -22,7 +22,8 @@ std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> cells;
   std::string cell;
   std::istringstream ss(line);
-  while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+  while (std::getline(ss, cell, ','))
+    cells.push_back(trim(cell));
   if (!line.empty() && line.back() == ',') cells.emplace_back();
   return cells;
 }
@@ -52,8 +53,8 @@ CsvTable read_csv(const std::string& path) {
     }
     if (cells.size() != t.header.size()) {
       fail(path, "line " + std::to_string(lineno), std::to_string(cells.size()) + " cells",
-           "every row must have as many cells as the header (" +
-               std::to_string(t.header.size()) + ")");
+           "every row must have as many cells as the header (" + std::to_string(t.header.size()) +
+               ")");
     }
     std::vector<double> row(cells.size());
     for (std::size_t j = 0; j < cells.size(); ++j) {

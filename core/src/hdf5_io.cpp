@@ -53,8 +53,10 @@ H5::H5Object* open_object(H5::H5File& f, const std::string& name, ObjectHolder& 
   } else {
     H5O_info_t info;
     H5Oget_info_by_name(f.getId(), name.c_str(), &info, H5P_DEFAULT);
-    if (info.type == H5O_TYPE_GROUP) holder.group.emplace(f.openGroup(name));
-    else holder.dataset.emplace(f.openDataSet(name));
+    if (info.type == H5O_TYPE_GROUP)
+      holder.group.emplace(f.openGroup(name));
+    else
+      holder.dataset.emplace(f.openDataSet(name));
   }
   return holder.get();
 }
@@ -80,7 +82,9 @@ File::File(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>())
 File::~File() = default;
 File::File(File&&) noexcept = default;
 File& File::operator=(File&&) noexcept = default;
-const std::string& File::path() const { return impl_->path; }
+const std::string& File::path() const {
+  return impl_->path;
+}
 
 void File::write_scalar(const std::string& dataset, double value) {
   ensure_parents(impl_->file, dataset);
@@ -92,16 +96,16 @@ void File::write_scalar(const std::string& dataset, double value) {
 void File::write_matrix(const std::string& dataset, const RowMatrix& m) {
   ensure_parents(impl_->file, dataset);
   hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
-  H5::DataSet ds = impl_->file.createDataSet(dataset, H5::PredType::NATIVE_DOUBLE,
-                                             H5::DataSpace(2, dims));
+  H5::DataSet ds =
+      impl_->file.createDataSet(dataset, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims));
   if (m.size() > 0) ds.write(m.data(), H5::PredType::NATIVE_DOUBLE);
 }
 
 void File::write_vector(const std::string& dataset, const std::vector<double>& v) {
   ensure_parents(impl_->file, dataset);
   hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
-  H5::DataSet ds = impl_->file.createDataSet(dataset, H5::PredType::NATIVE_DOUBLE,
-                                             H5::DataSpace(1, dims));
+  H5::DataSet ds =
+      impl_->file.createDataSet(dataset, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, dims));
   if (!v.empty()) ds.write(v.data(), H5::PredType::NATIVE_DOUBLE);
 }
 
@@ -112,8 +116,7 @@ void File::write_string(const std::string& dataset, const std::string& text) {
   ds.write(text, st);
 }
 
-void File::set_attr(const std::string& object, const std::string& name,
-                    const std::string& value) {
+void File::set_attr(const std::string& object, const std::string& name, const std::string& value) {
   ObjectHolder h;
   H5::H5Object* o = open_object(impl_->file, object, h);
   H5::StrType st(H5::PredType::C_S1, H5T_VARIABLE);
@@ -217,8 +220,7 @@ std::optional<std::string> File::attr_string(const std::string& object,
   }
 }
 
-std::optional<double> File::attr_double(const std::string& object,
-                                        const std::string& name) const {
+std::optional<double> File::attr_double(const std::string& object, const std::string& name) const {
   if (!exists(object) && object != "/") return std::nullopt;
   ObjectHolder h;
   H5::H5Object* o = open_object(impl_->file, object, h);
@@ -239,7 +241,8 @@ std::vector<std::string> File::children(const std::string& group) const {
   std::vector<std::string> out;
   if (!exists(group) && group != "/") return out;
   H5::Group g = impl_->file.openGroup(group);
-  for (hsize_t i = 0; i < g.getNumObjs(); ++i) out.push_back(g.getObjnameByIdx(i));
+  for (hsize_t i = 0; i < g.getNumObjs(); ++i)
+    out.push_back(g.getObjnameByIdx(i));
   return out;
 }
 

@@ -14,7 +14,9 @@ namespace pnc::damage {
 namespace {
 constexpr int kCardVersion = 1;
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-std::string units_of(const std::string& name) { return name == "alpha" ? "1" : "Pa"; }
+std::string units_of(const std::string& name) {
+  return name == "alpha" ? "1" : "Pa";
+}
 } // namespace
 
 Card card_from_parameters(const NdmParameters& p, const std::string& note) {
@@ -180,7 +182,8 @@ Card read_card(const std::string& path) {
     }
     if (f.exists("/fit/regression")) {
       const auto m = f.read_matrix("/fit/regression");
-      std::istringstream labels(f.exists("/fit/regression_labels") ? f.read_string("/fit/regression_labels") : "");
+      std::istringstream labels(
+          f.exists("/fit/regression_labels") ? f.read_string("/fit/regression_labels") : "");
       for (Eigen::Index i = 0; i < m.rows(); ++i) {
         std::string line, lin, dam;
         std::getline(labels, line);

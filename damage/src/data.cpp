@@ -30,7 +30,8 @@ const CaseCurve* StressStrainData::find(int id) const {
 
 std::size_t StressStrainData::points() const {
   std::size_t n = 0;
-  for (const auto& c : cases) n += static_cast<std::size_t>(c.strain.rows());
+  for (const auto& c : cases)
+    n += static_cast<std::size_t>(c.strain.rows());
   return n;
 }
 
@@ -55,8 +56,10 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
   std::size_t jd[6] = {0, 0, 0, 0, 0, 0};
   for (int i = 0; i < 6; ++i) {
     auto it = std::find(t.header.begin(), t.header.end(), kStderrCols[i]);
-    if (it == t.header.end()) has_sd = false;
-    else jd[i] = static_cast<std::size_t>(it - t.header.begin());
+    if (it == t.header.end())
+      has_sd = false;
+    else
+      jd[i] = static_cast<std::size_t>(it - t.header.begin());
   }
   std::map<int, std::vector<std::size_t>> rows_of;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
@@ -64,14 +67,13 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
     const std::string where = "case (line " + std::to_string(t.line_numbers[r]) + ")";
     std::ostringstream v;
     v << c;
-    if (c != std::floor(c) || c < 1 || c > 6)
-      fail(path, where, v.str(), kCaseRule);
+    if (c != std::floor(c) || c < 1 || c > 6) fail(path, where, v.str(), kCaseRule);
     rows_of[static_cast<int>(c)].push_back(r);
     if (has_sd) {
       for (int i = 0; i < 6; ++i)
         if (t.rows[r][jd[i]] < 0)
-          fail(path, std::string(kStderrCols[i]) + " (line " +
-                         std::to_string(t.line_numbers[r]) + ")",
+          fail(path,
+               std::string(kStderrCols[i]) + " (line " + std::to_string(t.line_numbers[r]) + ")",
                std::to_string(t.rows[r][jd[i]]), "a standard error must be >= 0");
     }
   }
@@ -120,15 +122,17 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
     const auto strain = f.read_matrix(g + "/strain");
     const auto stress = f.read_matrix(g + "/stress");
     if (strain.cols() != 6 || stress.cols() != 6 || strain.rows() != stress.rows())
-      fail(path, g, std::to_string(strain.rows()) + "x" + std::to_string(strain.cols()) + " / " +
-                        std::to_string(stress.rows()) + "x" + std::to_string(stress.cols()),
+      fail(path, g,
+           std::to_string(strain.rows()) + "x" + std::to_string(strain.cols()) + " / " +
+               std::to_string(stress.rows()) + "x" + std::to_string(stress.cols()),
            "strain and stress must both be k x 6 with the same k");
     const auto su = f.attr_string(g + "/stress", "units").value_or("Pa");
     const double scale = su == "Pa" ? 1.0 : su == "MPa" ? 1e6 : su == "GPa" ? 1e9 : -1.0;
     if (scale < 0) fail(path, g + "/stress@units", su, "stress units must be Pa, MPa or GPa");
     c.strain = strain;
     c.stress = stress * scale;
-    if (f.exists(g + "/stress_stderr")) c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
+    if (f.exists(g + "/stress_stderr"))
+      c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
     if (!c.strain.allFinite() || !c.stress.allFinite())
       fail(path, g, "", "strain and stress must be finite numbers");
     d.cases.push_back(std::move(c));
@@ -145,20 +149,27 @@ void write_stress_strain_csv(const std::string& path, const StressStrainData& d)
   s << "# pnc stress-strain data; strain dimensionless (engineering shear), stress in MPa\n";
   s << "# source: " << d.stress_definition << "\n";
   bool sd = !d.cases.empty();
-  for (const auto& c : d.cases) sd = sd && c.stress_stderr.rows() == c.stress.rows();
+  for (const auto& c : d.cases)
+    sd = sd && c.stress_stderr.rows() == c.stress.rows();
   s << "case";
-  for (auto* n : kStrainCols) s << ',' << n;
-  for (auto* n : kStressCols) s << ',' << n;
+  for (auto* n : kStrainCols)
+    s << ',' << n;
+  for (auto* n : kStressCols)
+    s << ',' << n;
   if (sd)
-    for (auto* n : kStderrCols) s << ',' << n;
+    for (auto* n : kStderrCols)
+      s << ',' << n;
   s << '\n';
   for (const auto& c : d.cases) {
     for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
       s << c.id;
-      for (int i = 0; i < 6; ++i) s << ',' << c.strain(k, i);
-      for (int i = 0; i < 6; ++i) s << ',' << c.stress(k, i) / kMPa;
+      for (int i = 0; i < 6; ++i)
+        s << ',' << c.strain(k, i);
+      for (int i = 0; i < 6; ++i)
+        s << ',' << c.stress(k, i) / kMPa;
       if (sd)
-        for (int i = 0; i < 6; ++i) s << ',' << c.stress_stderr(k, i) / kMPa;
+        for (int i = 0; i < 6; ++i)
+          s << ',' << c.stress_stderr(k, i) / kMPa;
       s << '\n';
     }
   }

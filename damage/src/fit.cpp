@@ -23,12 +23,15 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::vector<int> block_sizes(Model m) {
   return m == Model::pnc ? std::vector<int>{6, 3, 12, 1} : std::vector<int>{2, 1, 3, 1};
 }
-int n_theta(Model m) { return static_cast<int>(constant_names(m).size()); }
+int n_theta(Model m) {
+  return static_cast<int>(constant_names(m).size());
+}
 
 NdmParameters params_from_constants(Model m, const std::vector<double>& k) {
   NdmParameters p;
   p.model = m;
-  for (std::size_t i = 0; i < k.size(); ++i) p.k[i] = k[i];
+  for (std::size_t i = 0; i < k.size(); ++i)
+    p.k[i] = k[i];
   return p;
 }
 
@@ -110,7 +113,8 @@ class PointCost final : public ceres::CostFunction {
 public:
   explicit PointCost(const PointTerm* t) : t_(t) {
     set_num_residuals(static_cast<int>(t->comps.size()));
-    for (int s : block_sizes(t->model)) mutable_parameter_block_sizes()->push_back(s);
+    for (int s : block_sizes(t->model))
+      mutable_parameter_block_sizes()->push_back(s);
   }
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
@@ -199,7 +203,8 @@ void check_cases(const StressStrainData& data, Model m) {
       fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
            "each case needs at least 3 points");
   }
-  const std::vector<int> required = m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
+  const std::vector<int> required =
+      m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
   for (int id : required)
     if (!data.find(id))
       fail(data.source, "case", std::to_string(id),
@@ -269,13 +274,18 @@ std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) 
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Cn);
     Eigen::Vector3d ev = es.eigenvalues();
     const double floor = 1e-3 * std::max(1.0, ev.maxCoeff());
-    for (int i = 0; i < 3; ++i) ev[i] = std::max(ev[i], floor);
+    for (int i = 0; i < 3; ++i)
+      ev[i] = std::max(ev[i], floor);
     Cn = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
     llt.compute(Cn);
   }
   const Eigen::Matrix3d L = llt.matrixL();
-  th[0] = L(0, 0); th[1] = L(1, 0); th[2] = L(1, 1);
-  th[3] = L(2, 0); th[4] = L(2, 1); th[5] = L(2, 2);
+  th[0] = L(0, 0);
+  th[1] = L(1, 0);
+  th[2] = L(1, 1);
+  th[3] = L(2, 0);
+  th[4] = L(2, 1);
+  th[5] = L(2, 2);
   return th;
 }
 
@@ -287,11 +297,19 @@ std::vector<double> constants_from_theta(Model m, const std::vector<double>& th)
     return k;
   }
   Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
-  L(0, 0) = th[0]; L(1, 0) = th[1]; L(1, 1) = th[2];
-  L(2, 0) = th[3]; L(2, 1) = th[4]; L(2, 2) = th[5];
+  L(0, 0) = th[0];
+  L(1, 0) = th[1];
+  L(1, 1) = th[2];
+  L(2, 0) = th[3];
+  L(2, 1) = th[4];
+  L(2, 2) = th[5];
   const Eigen::Matrix3d C = L * L.transpose();
-  k[0] = C(0, 0); k[1] = C(1, 1); k[2] = C(2, 2);
-  k[3] = C(0, 1); k[4] = C(0, 2); k[5] = C(1, 2);
+  k[0] = C(0, 0);
+  k[1] = C(1, 1);
+  k[2] = C(2, 2);
+  k[3] = C(0, 1);
+  k[4] = C(0, 2);
+  k[5] = C(1, 2);
   return k;
 }
 
@@ -299,31 +317,38 @@ Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
   const int n = n_theta(m);
   Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n);
   if (m == Model::pp) {
-    G(0, 0) = 2.0 / 3; G(0, 1) = 1.0 / 3;
-    G(1, 0) = -1.0 / 3; G(1, 1) = 1.0 / 3;
+    G(0, 0) = 2.0 / 3;
+    G(0, 1) = 1.0 / 3;
+    G(1, 0) = -1.0 / 3;
+    G(1, 1) = 1.0 / 3;
     return G;
   }
   Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
-  L(0, 0) = th[0]; L(1, 0) = th[1]; L(1, 1) = th[2];
-  L(2, 0) = th[3]; L(2, 1) = th[4]; L(2, 2) = th[5];
+  L(0, 0) = th[0];
+  L(1, 0) = th[1];
+  L(1, 1) = th[2];
+  L(2, 0) = th[3];
+  L(2, 1) = th[4];
+  L(2, 2) = th[5];
   static const int pos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
   static const int ent[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}; // C11..C23
   for (int q = 0; q < 6; ++q) {
     Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
     E(pos[q][0], pos[q][1]) = 1.0;
     const Eigen::Matrix3d dC = E * L.transpose() + L * E.transpose();
-    for (int c = 0; c < 6; ++c) G(c, q) = dC(ent[c][0], ent[c][1]);
+    for (int c = 0; c < 6; ++c)
+      G(c, q) = dC(ent[c][0], ent[c][1]);
   }
   return G;
 }
 
-void residuals_and_jacobian(const StressStrainData& data, Model m,
-                            const std::vector<double>& theta, Eigen::VectorXd& r,
-                            Eigen::MatrixXd* J) {
+void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
+                            Eigen::VectorXd& r, Eigen::MatrixXd* J) {
   const std::vector<double> k = constants_from_theta(m, theta);
   const auto terms = build_terms(data, m, k.back());
   Eigen::Index rows = 0;
-  for (const auto& t : terms) rows += static_cast<Eigen::Index>(t.comps.size());
+  for (const auto& t : terms)
+    rows += static_cast<Eigen::Index>(t.comps.size());
   r.resize(rows);
   if (J) J->resize(rows, n_theta(m));
   const Eigen::MatrixXd G = dconstants_dtheta(m, theta);
@@ -350,7 +375,8 @@ std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m,
     const Eigen::Index n = c.strain.rows();
     Eigen::VectorXd x = c.strain.col(dc.driven), Dx(n);
     const int mode = m == Model::pnc ? dc.damage_mode : 0;
-    for (Eigen::Index i = 0; i < n; ++i) Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];
+    for (Eigen::Index i = 0; i < n; ++i)
+      Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];
     const bool damaged = Dx.cwiseAbs().maxCoeff() > 0;
     for (int comp : dc.active) {
       const Eigen::VectorXd y = c.stress.col(comp) / kMPa;
@@ -359,8 +385,8 @@ std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m,
       if (damaged) X.col(1) = Dx;
       const Eigen::VectorXd coef = X.colPivHouseholderQr().solve(y);
       const LabelPair lab = regression_labels(m, c.id, comp);
-      out.push_back({c.id, comp, lab.lin, lab.dam, coef[0] * kMPa,
-                     damaged ? coef[1] * kMPa : kNaN, r_squared(y, X * coef)});
+      out.push_back({c.id, comp, lab.lin, lab.dam, coef[0] * kMPa, damaged ? coef[1] * kMPa : kNaN,
+                     r_squared(y, X * coef)});
     }
   }
   return out;
@@ -381,21 +407,24 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
 
   // Initial constants (MPa): regression where it informs a constant, the prior elsewhere.
   std::vector<double> k0(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j) k0[static_cast<std::size_t>(j)] = prior.k[static_cast<std::size_t>(j)] / kMPa;
+  for (int j = 0; j < n; ++j)
+    k0[static_cast<std::size_t>(j)] = prior.k[static_cast<std::size_t>(j)] / kMPa;
   k0.back() = alpha0;
   std::map<std::string, std::vector<double>> est;
   for (const auto& l : rep.regression) {
     est[l.linear_label].push_back(l.a / kMPa);
     if (std::isfinite(l.b)) {
       const bool twice = l.damage_label[0] == '2';
-      est[twice ? l.damage_label.substr(1) : l.damage_label].push_back((twice ? 0.5 : 1.0) * l.b / kMPa);
+      est[twice ? l.damage_label.substr(1) : l.damage_label].push_back((twice ? 0.5 : 1.0) * l.b /
+                                                                       kMPa);
     }
   }
   for (const auto& [name, v] : est) {
     const int j = constant_index(m, name);
     if (j < 0 || v.empty()) continue;
     double s = 0;
-    for (double x : v) s += x;
+    for (double x : v)
+      s += x;
     k0[static_cast<std::size_t>(j)] = s / static_cast<double>(v.size());
   }
 
@@ -416,12 +445,14 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
     const auto js = static_cast<std::size_t>(j);
     if (j == n - 1 && !opt.fit_alpha) {
       rep.fitted[js] = false;
-      rep.note[js] = opt.alpha ? "fixed by option" : "fixed at the prior (" + opt.prior_source + ")";
+      rep.note[js] =
+          opt.alpha ? "fixed by option" : "fixed at the prior (" + opt.prior_source + ")";
     } else if (colnorm[j] == 0.0) {
       rep.fitted[js] = false;
-      rep.note[js] = std::string(names[js][0] == 'C' ? "no data for the case that determines it"
-                                                       : "the data never reach damage onset for its mode") +
-                     "; held at the prior (" + opt.prior_source + ")";
+      rep.note[js] =
+          std::string(names[js][0] == 'C' ? "no data for the case that determines it"
+                                          : "the data never reach damage onset for its mode") +
+          "; held at the prior (" + opt.prior_source + ")";
     }
   }
 
@@ -437,7 +468,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   }
   ceres::Problem problem;
   std::vector<double*> ptrs;
-  for (auto& b : blocks) ptrs.push_back(b.data());
+  for (auto& b : blocks)
+    ptrs.push_back(b.data());
   for (const auto& t : terms) {
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
@@ -450,16 +482,21 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
     std::vector<int> held;
     for (int c = 0; c < sizes[b]; ++c)
       if (!rep.fitted[static_cast<std::size_t>(off + c)]) held.push_back(c);
-    if (static_cast<int>(held.size()) == sizes[b]) problem.SetParameterBlockConstant(ptrs[b]);
-    else if (!held.empty()) problem.SetManifold(ptrs[b], new ceres::SubsetManifold(sizes[b], held));
+    if (static_cast<int>(held.size()) == sizes[b])
+      problem.SetParameterBlockConstant(ptrs[b]);
+    else if (!held.empty())
+      problem.SetManifold(ptrs[b], new ceres::SubsetManifold(sizes[b], held));
     off += sizes[b];
   }
   // Bounds (decision D10).
   if (m == Model::pnc) {
-    for (int d : {0, 2, 5}) problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
-    for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(ptrs[1], c, 1e-6);
+    for (int d : {0, 2, 5})
+      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    for (int c = 0; c < 3; ++c)
+      problem.SetParameterLowerBound(ptrs[1], c, 1e-6);
   } else {
-    for (int d : {0, 1}) problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    for (int d : {0, 1})
+      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
     problem.SetParameterLowerBound(ptrs[1], 0, 1e-6);
   }
   if (opt.fit_alpha) {
@@ -489,10 +526,12 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   rep.residuals = summary.num_residuals;
 
   theta.clear();
-  for (const auto& b : blocks) theta.insert(theta.end(), b.begin(), b.end());
+  for (const auto& b : blocks)
+    theta.insert(theta.end(), b.begin(), b.end());
   const std::vector<double> kf = detail::constants_from_theta(m, theta);
   rep.params = params_from_constants(m, kf);
-  for (int j = 0; j < n - 1; ++j) rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
+  for (int j = 0; j < n - 1; ++j)
+    rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
 
   // Standard errors: Cov(theta_free) = s^2 (J^T J)^-1, mapped to constants with G.
   Eigen::VectorXd r;
@@ -500,7 +539,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   {
     const auto terms_f = build_terms(data, m, kf.back());
     Eigen::Index rows = 0;
-    for (const auto& t : terms_f) rows += static_cast<Eigen::Index>(t.comps.size());
+    for (const auto& t : terms_f)
+      rows += static_cast<Eigen::Index>(t.comps.size());
     r.resize(rows);
     Eigen::MatrixXd Jk(rows, n);
     Eigen::Index row = 0;
@@ -520,7 +560,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   const Eigen::Index dof = r.size() - static_cast<Eigen::Index>(free.size());
   if (dof > 0) {
     Eigen::MatrixXd Jf(J.rows(), static_cast<Eigen::Index>(free.size()));
-    for (std::size_t c = 0; c < free.size(); ++c) Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
+    for (std::size_t c = 0; c < free.size(); ++c)
+      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
     const Eigen::MatrixXd JtJ = Jf.transpose() * Jf;
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(JtJ);
     const double emax = es.eigenvalues().maxCoeff(), emin = es.eigenvalues().minCoeff();
@@ -532,7 +573,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
       const Eigen::MatrixXd cov_theta = s2 * JtJ.inverse();
       const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta);
       Eigen::MatrixXd Gf(n, static_cast<Eigen::Index>(free.size()));
-      for (std::size_t c = 0; c < free.size(); ++c) Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
+      for (std::size_t c = 0; c < free.size(); ++c)
+        Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
       const Eigen::MatrixXd cov_k = Gf * cov_theta * Gf.transpose();
       for (int j = 0; j < n; ++j) {
         if (!rep.fitted[static_cast<std::size_t>(j)]) continue;

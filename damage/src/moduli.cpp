@@ -49,7 +49,10 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   const double g = 0.5 * (std::sqrt(5.0) - 1);
   double x1 = b - g * (b - a), x2 = a + g * (b - a);
   for (int it = 0; it < 80; ++it) {
-    if (f(x1) > f(x2)) b = x2; else a = x1;
+    if (f(x1) > f(x2))
+      b = x2;
+    else
+      a = x1;
     x1 = b - g * (b - a);
     x2 = a + g * (b - a);
   }

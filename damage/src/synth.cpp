@@ -16,7 +16,8 @@ void SynthOptions::validate() const {
   if (!(max_shear > 0 && max_shear < 2))
     fail(src, "max_shear", std::to_string(max_shear), "must be in (0, 2)");
   if (!(noise_sd >= 0)) fail(src, "noise_sd", std::to_string(noise_sd), "must be >= 0");
-  for (int c : cases) deformation_case(c, src + ": field 'cases'");
+  for (int c : cases)
+    deformation_case(c, src + ": field 'cases'");
 }
 
 StressStrainData synthesize(const NdmParameters& p, const SynthOptions& o) {
@@ -40,7 +41,8 @@ StressStrainData synthesize(const NdmParameters& p, const SynthOptions& o) {
       c.strain.row(i) = case_strain(id, top * (i + 1) / o.points).transpose();
     c.stress = stress_path(p, c.strain);
     for (Eigen::Index i = 0; i < c.stress.rows(); ++i)
-      for (int j = 0; j < 6; ++j) c.stress(i, j) += o.noise_sd * noise(rng);
+      for (int j = 0; j < 6; ++j)
+        c.stress(i, j) += o.noise_sd * noise(rng);
     if (o.noise_sd > 0) c.stress_stderr = PathMatrix::Constant(o.points, 6, o.noise_sd);
     d.cases.push_back(std::move(c));
   }

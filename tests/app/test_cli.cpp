@@ -22,9 +22,10 @@ struct Result {
 class Cli : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pnc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
+    dir_ =
+        fs::temp_directory_path() /
+        ("pnc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+         "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -33,11 +34,13 @@ protected:
 
   Result run(const std::string& args) const {
     const std::string errf = p("stderr.txt");
-    const std::string cmd = "cd '" + dir_.string() + "' && '" PNC_EXE "' " + args + " 2>'" + errf + "'";
+    const std::string cmd =
+        "cd '" + dir_.string() + "' && '" PNC_EXE "' " + args + " 2>'" + errf + "'";
     FILE* pipe = ::popen(cmd.c_str(), "r");
     std::string out;
     char buf[4096];
-    while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+    while (std::fgets(buf, sizeof buf, pipe))
+      out += buf;
     const int st = ::pclose(pipe);
     std::ifstream e(errf);
     std::stringstream ss;
@@ -47,7 +50,8 @@ protected:
   }
   std::vector<std::string> listing() const {
     std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_))
+      v.push_back(e.path().filename().string());
     std::sort(v.begin(), v.end());
     return v;
   }
@@ -56,7 +60,8 @@ protected:
 
 int lines(const std::string& s) {
   int n = 0;
-  for (char c : s) n += c == '\n';
+  for (char c : s)
+    n += c == '\n';
   return n;
 }
 

@@ -14,13 +14,15 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path fresh_dir(const char* tag) {
-  const fs::path d = fs::temp_directory_path() / (std::string("pnc_core_") + tag + "_" + std::to_string(::getpid()));
+  const fs::path d = fs::temp_directory_path() /
+                     (std::string("pnc_core_") + tag + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
 }
 std::size_t count(const fs::path& d) {
-  return static_cast<std::size_t>(std::distance(fs::directory_iterator(d), fs::directory_iterator()));
+  return static_cast<std::size_t>(
+      std::distance(fs::directory_iterator(d), fs::directory_iterator()));
 }
 } // namespace
 

@@ -23,8 +23,9 @@ class TempDir : public ::testing::Test {
 protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("pnc_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
+           ("pnc_test_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -33,7 +34,8 @@ protected:
   /// Files in the directory (to check that nothing partial was left behind).
   std::vector<std::string> listing() const {
     std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_))
+      v.push_back(e.path().filename().string());
     std::sort(v.begin(), v.end());
     return v;
   }
@@ -96,7 +98,8 @@ TEST_F(DataFiles, MissingColumnIsNamed) {
 }
 
 TEST_F(DataFiles, NonNumericCellIsNamedWithLineAndValue) {
-  write("bad.csv", std::string(kHeader) + "1,0.01,0,0,0,0,0,1,2,3,0,0,0\n1,0.02,0,0,0,0,0,abc,2,3,0,0,0\n");
+  write("bad.csv",
+        std::string(kHeader) + "1,0.01,0,0,0,0,0,1,2,3,0,0,0\n1,0.02,0,0,0,0,0,abc,2,3,0,0,0\n");
   const std::string m = error_of([&] { read_stress_strain(path("bad.csv")); });
   EXPECT_NE(m.find("bad.csv"), std::string::npos) << m;
   EXPECT_NE(m.find("s11 (line 3)"), std::string::npos) << m;
@@ -115,10 +118,13 @@ TEST_F(DataFiles, UnknownCaseNumberIsNamed) {
 
 TEST_F(DataFiles, RaggedRowAndUnknownFormat) {
   write("bad.csv", std::string(kHeader) + "1,0.01,0,0\n");
-  EXPECT_NE(error_of([&] { read_stress_strain(path("bad.csv")); }).find("line 2"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_stress_strain(path("bad.csv")); }).find("line 2"),
+            std::string::npos);
   write("x.txt", "hello");
-  EXPECT_NE(error_of([&] { read_stress_strain(path("x.txt")); }).find(".csv or .h5"), std::string::npos);
-  EXPECT_NE(error_of([&] { read_stress_strain(path("absent.csv")); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_stress_strain(path("x.txt")); }).find(".csv or .h5"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_stress_strain(path("absent.csv")); }).find("cannot open"),
+            std::string::npos);
 }
 
 using Cards = TempDir;
@@ -130,7 +136,8 @@ TEST_F(Cards, RoundTripIsExactAndCarriesUnits) {
     write_card(path("c.h5"), card_from_parameters(p, "test"), "test");
     const Card c = read_card(path("c.h5"));
     EXPECT_EQ(c.params.model, m);
-    for (std::size_t i = 0; i < p.size(); ++i) EXPECT_EQ(c.params.k[i], p.k[i]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      EXPECT_EQ(c.params.k[i], p.k[i]);
     EXPECT_EQ((c.params.R - p.R).norm(), 0.0);
     pnc::h5::File f(path("c.h5"), pnc::h5::File::Mode::read);
     EXPECT_EQ(f.attr_string("/constants/C11", "units").value(), "Pa");
@@ -158,7 +165,8 @@ TEST_F(Cards, MissingConstantIsNamed) {
 TEST_F(Cards, NonPositiveDefiniteC0IsRejectedOnReadAndNeverWritten) {
   NdmParameters p = dissertation_parameters(Model::pnc);
   p["C23"] = 1.5e9; // > sqrt(C22 C33) = 0.86 GPa
-  const std::string w = error_of([&] { write_card(path("npd.h5"), card_from_parameters(p, ""), ""); });
+  const std::string w =
+      error_of([&] { write_card(path("npd.h5"), card_from_parameters(p, ""), ""); });
   EXPECT_NE(w.find("positive definite"), std::string::npos) << w;
   EXPECT_TRUE(listing().empty()) << "no partial card may be left behind";
   {
@@ -166,7 +174,8 @@ TEST_F(Cards, NonPositiveDefiniteC0IsRejectedOnReadAndNeverWritten) {
     f.write_string("/model/law", "NDM");
     f.set_attr("/model", "variant", "pnc");
     f.set_attr("/model", "card_version", 1.0);
-    for (const auto& n : constant_names(Model::pnc)) f.write_scalar("/constants/" + n, p[n]);
+    for (const auto& n : constant_names(Model::pnc))
+      f.write_scalar("/constants/" + n, p[n]);
   }
   const std::string m = error_of([&] { read_card(path("npd.h5")); });
   EXPECT_NE(m.find("npd.h5"), std::string::npos) << m;
@@ -176,5 +185,6 @@ TEST_F(Cards, NonPositiveDefiniteC0IsRejectedOnReadAndNeverWritten) {
 
 TEST_F(Cards, NotACard) {
   write("text.h5", "not hdf5");
-  EXPECT_NE(error_of([&] { read_card(path("text.h5")); }).find("not an HDF5 file"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_card(path("text.h5")); }).find("not an HDF5 file"),
+            std::string::npos);
 }

@@ -26,7 +26,8 @@ StressStrainData synth(Model m, double noise_mpa, std::uint64_t seed, int points
 
 std::vector<double> constants_mpa(const NdmParameters& p) {
   std::vector<double> k(p.size());
-  for (std::size_t i = 0; i < k.size(); ++i) k[i] = i + 1 == k.size() ? p.k[i] : p.k[i] / 1e6;
+  for (std::size_t i = 0; i < k.size(); ++i)
+    k[i] = i + 1 == k.size() ? p.k[i] : p.k[i] / 1e6;
   return k;
 }
 
@@ -37,7 +38,8 @@ TEST(FitJacobian, ThetaMapRoundTripsAndItsDerivativeMatchesFiniteDifferences) {
     const auto k = constants_mpa(dissertation_parameters(m));
     const auto th = detail::theta_from_constants(m, k);
     const auto back = detail::constants_from_theta(m, th);
-    for (std::size_t i = 0; i < k.size(); ++i) EXPECT_NEAR(back[i], k[i], 1e-10 * (1 + std::abs(k[i])));
+    for (std::size_t i = 0; i < k.size(); ++i)
+      EXPECT_NEAR(back[i], k[i], 1e-10 * (1 + std::abs(k[i])));
     const Eigen::MatrixXd G = detail::dconstants_dtheta(m, th);
     for (std::size_t j = 0; j < th.size(); ++j) {
       auto tp = th, tm = th;
@@ -58,7 +60,8 @@ TEST(FitJacobian, AnalyticJacobianMatchesCentralDifferences) {
   for (Model m : {Model::pnc, Model::pp}) {
     const StressStrainData d = synth(m, 1.0, 3, 40);
     auto k = constants_mpa(dissertation_parameters(m));
-    for (std::size_t i = 0; i < k.size(); ++i) k[i] *= 1.0 + 0.03 * std::sin(1.0 + static_cast<double>(i));
+    for (std::size_t i = 0; i < k.size(); ++i)
+      k[i] *= 1.0 + 0.03 * std::sin(1.0 + static_cast<double>(i));
     auto th = detail::theta_from_constants(m, k);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
@@ -91,7 +94,8 @@ TEST(FitRecovery, NoiseFreeDataGiveTheConstantsBack) {
     EXPECT_TRUE(r.converged) << r.message;
     for (std::size_t i = 0; i < truth.size(); ++i) {
       // A26 = 0 in the tables: compare on the scale of the stiffnesses (1e-9 of 1 GPa).
-      EXPECT_NEAR(r.params.k[i], truth.k[i], 1e-7 * std::max(1e9 * (i + 1 < truth.size()), std::abs(truth.k[i])))
+      EXPECT_NEAR(r.params.k[i], truth.k[i],
+                  1e-7 * std::max(1e9 * (i + 1 < truth.size()), std::abs(truth.k[i])))
           << model_name(m) << " " << constant_names(m)[i];
     }
   }
@@ -116,7 +120,8 @@ TEST(FitRecovery, NoisyDataWithinTheReportedStandardErrorsAndTheErrorsAreCalibra
         ASSERT_TRUE(r.fitted[i]) << constant_names(m)[i];
         ASSERT_TRUE(std::isfinite(r.std_error[i]));
         const double z = (r.params.k[i] - truth.k[i]) / r.std_error[i];
-        EXPECT_LT(std::abs(z), 5.0) << model_name(m) << " seed " << seed << " " << constant_names(m)[i];
+        EXPECT_LT(std::abs(z), 5.0)
+            << model_name(m) << " seed " << seed << " " << constant_names(m)[i];
         z2 += z * z;
         ++nz;
       }
@@ -152,7 +157,8 @@ TEST(FitRecovery, RobustLossResistsOutliers) {
   StressStrainData d = synth(Model::pnc, 3.0, 9, 200);
   for (auto& c : d.cases)
     if (c.id == 2)
-      for (Eigen::Index k = 0; k < c.stress.rows(); k += 20) c.stress(k, 1) += 60e6;
+      for (Eigen::Index k = 0; k < c.stress.rows(); k += 20)
+        c.stress(k, 1) += 60e6;
   FitOptions ls, hub;
   hub.loss = "huber";
   hub.loss_scale = 2.0; // residuals are in units of the data sd (3 MPa)
@@ -173,7 +179,8 @@ TEST(FitRegression, NoiseFreeDataReproduceTheTabulatedCoefficients) {
   ASSERT_EQ(lines.size(), 12u);
   for (const auto& l : lines) {
     const bool twice = l.damage_label[0] == '2';
-    const double b_true = (twice ? 2.0 : 1.0) * truth[twice ? l.damage_label.substr(1) : l.damage_label];
+    const double b_true =
+        (twice ? 2.0 : 1.0) * truth[twice ? l.damage_label.substr(1) : l.damage_label];
     EXPECT_NEAR(l.a, truth[l.linear_label], 1e-6 * 1e9) << l.case_id << " " << l.linear_label;
     EXPECT_NEAR(l.b, b_true, 1e-6 * 1e9) << l.case_id << " " << l.damage_label;
     EXPECT_GT(l.r2, 0.999999);

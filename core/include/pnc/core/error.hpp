@@ -26,7 +26,6 @@ private:
 };
 
 /// Throws InputError built from the four parts.
-[[noreturn]] void fail(std::string source, std::string field, std::string value,
-                       std::string rule);
+[[noreturn]] void fail(std::string source, std::string field, std::string value, std::string rule);
 
 } // namespace pnc

@@ -35,10 +35,10 @@ struct FitRecord {
 };
 
 struct Card {
-  NdmParameters params;            ///< SI (Pa), alpha dimensionless
-  std::vector<double> std_error;   ///< per constant, SI; NaN if not fitted
-  std::vector<bool> fitted;        ///< per constant
-  std::vector<std::string> note;   ///< per constant
+  NdmParameters params;          ///< SI (Pa), alpha dimensionless
+  std::vector<double> std_error; ///< per constant, SI; NaN if not fitted
+  std::vector<bool> fitted;      ///< per constant
+  std::vector<std::string> note; ///< per constant
   FitRecord fit;
   std::string software, created, command;
 };

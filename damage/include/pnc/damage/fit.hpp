@@ -22,11 +22,11 @@ namespace pnc::damage {
 
 struct FitOptions {
   Model model = Model::pnc;
-  bool fit_alpha = false;        ///< fit alpha too (needs data past damage onset)
-  std::optional<double> alpha;   ///< alpha to use / start from; default: the dissertation's
-  std::string loss = "none";     ///< "none", "huber" or "cauchy"
-  double loss_scale = 1.0;       ///< robust-loss scale, in units of the residual (MPa or sd)
-  int max_iterations = 200;      ///< > 0
+  bool fit_alpha = false;            ///< fit alpha too (needs data past damage onset)
+  std::optional<double> alpha;       ///< alpha to use / start from; default: the dissertation's
+  std::string loss = "none";         ///< "none", "huber" or "cauchy"
+  double loss_scale = 1.0;           ///< robust-loss scale, in units of the residual (MPa or sd)
+  int max_iterations = 200;          ///< > 0
   double function_tolerance = 1e-12; ///< in (0, 1)
   /// Values for constants the data cannot determine (a missing shear case, damage never
   /// reached). Default: the dissertation's constants (pnc::damage::dissertation_parameters).
@@ -41,8 +41,8 @@ struct ComponentFit {
   int case_id;
   int component; ///< Voigt index 0..5
   int points;
-  double r2;     ///< 1 - SS_res / SS_tot of the joint fit
-  double rms;    ///< root-mean-square residual, Pa
+  double r2;  ///< 1 - SS_res / SS_tot of the joint fit
+  double rms; ///< root-mean-square residual, Pa
 };
 
 /// One line of the dissertation-style per-case linear regression
@@ -50,32 +50,32 @@ struct ComponentFit {
 struct RegressionLine {
   int case_id;
   int component;
-  std::string linear_label;  ///< C0 entry that a estimates, e.g. "C12"
-  std::string damage_label;  ///< C1 coefficient that b estimates, e.g. "A10", "2A1"
-  double a;                  ///< Pa
-  double b;                  ///< Pa; NaN when the data never reach damage onset
+  std::string linear_label; ///< C0 entry that a estimates, e.g. "C12"
+  std::string damage_label; ///< C1 coefficient that b estimates, e.g. "A10", "2A1"
+  double a;                 ///< Pa
+  double b;                 ///< Pa; NaN when the data never reach damage onset
   double r2;
 };
 
 struct FitReport {
-  NdmParameters params;               ///< fitted constants, Pa
-  std::vector<double> std_error;        ///< per constant, Pa (alpha: 1); NaN if held
-  std::vector<bool> fitted;           ///< false: held at the prior (see note)
-  std::vector<std::string> note;      ///< why a constant was held, per constant
+  NdmParameters params;          ///< fitted constants, Pa
+  std::vector<double> std_error; ///< per constant, Pa (alpha: 1); NaN if held
+  std::vector<bool> fitted;      ///< false: held at the prior (see note)
+  std::vector<std::string> note; ///< why a constant was held, per constant
   std::vector<ComponentFit> components;
   std::vector<RegressionLine> regression;
   // how the solve ended
   bool converged = false;
-  std::string termination;            ///< Ceres termination type
-  std::string message;                ///< Ceres message
-  std::string brief_report;           ///< Ceres BriefReport
-  std::string full_report;            ///< Ceres FullReport
+  std::string termination;  ///< Ceres termination type
+  std::string message;      ///< Ceres message
+  std::string brief_report; ///< Ceres BriefReport
+  std::string full_report;  ///< Ceres FullReport
   int iterations = 0;
   double initial_cost = 0, final_cost = 0; ///< Ceres cost (1/2 sum r^2), r in MPa or sd
   double seconds = 0;
   int residuals = 0;
   int free_parameters = 0;
-  std::string warnings;               ///< e.g. singular covariance
+  std::string warnings; ///< e.g. singular covariance
 };
 
 /// Fit. Throws pnc::InputError for data the model cannot use (a missing extension case, a
@@ -83,8 +83,7 @@ struct FitReport {
 FitReport fit_ndm(const StressStrainData& data, const FitOptions& options);
 
 /// The dissertation's per-case linear regressions alone (cross-check).
-std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model model,
-                                          double alpha);
+std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model model, double alpha);
 
 namespace detail {
 /// Flat parameter vector theta (MPa) <-> constants (MPa); see decision D10.
@@ -94,9 +93,8 @@ std::vector<double> constants_from_theta(Model m, const std::vector<double>& the
 Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& theta);
 /// Residuals (MPa or in units of the data sd) and their analytic Jacobian w.r.t. theta over
 /// all points of `data`, exactly as the Ceres cost functions compute them (for tests).
-void residuals_and_jacobian(const StressStrainData& data, Model m,
-                            const std::vector<double>& theta, Eigen::VectorXd& r,
-                            Eigen::MatrixXd* J);
+void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
+                            Eigen::VectorXd& r, Eigen::MatrixXd* J);
 } // namespace detail
 
 } // namespace pnc::damage

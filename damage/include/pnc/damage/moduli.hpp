@@ -24,10 +24,10 @@ DerivedModuli derive_moduli(const NdmParameters& p);
 
 struct CaseStrength {
   int case_id;
-  int component;                 ///< Voigt index of the stress reported
-  std::optional<double> peak;    ///< maximum stress along the case path, if there is one
-  double strain_at_peak = 0.0;   ///< imposed strain at the peak
-  double max_strain_searched;    ///< the path was followed up to this strain
+  int component;               ///< Voigt index of the stress reported
+  std::optional<double> peak;  ///< maximum stress along the case path, if there is one
+  double strain_at_peak = 0.0; ///< imposed strain at the peak
+  double max_strain_searched;  ///< the path was followed up to this strain
 };
 /// Strength of the NDM in one deformation case: the maximum of the driven stress component
 /// along the monotonic case path, searched up to `max_strain` with `points` steps and then

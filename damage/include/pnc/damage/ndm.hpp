@@ -75,8 +75,8 @@ Matrix6 stiffness_c1_dD(const NdmParameters& p, int k);
 Matrix6 c0_from_c_constants(const std::array<double, 9>& c);
 /// Orthotropic [C0] from engineering constants (eqs. 5.39-5.47). Poisson ratios nu_ij are
 /// "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
-Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13,
-                            double nu23, double mu12, double mu13, double mu23);
+Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13, double nu23,
+                            double mu12, double mu13, double mu23);
 
 /// Damage function D(x) of eq. 5.80 for a (scaled) stretch x; D = 0 for x <= lambda_c.
 double damage_function(double x);

@@ -21,9 +21,9 @@ NdmParameters dissertation_parameters(Model m);
 struct DeformationCase {
   int id;
   const char* name;
-  int driven;                 ///< Voigt index 0..5 of the imposed strain component
-  std::vector<int> active;    ///< stress components the model makes non-zero
-  int damage_mode;            ///< D index driven (section 6.3.1): 0=D1, 1=D2, 2=D3
+  int driven;              ///< Voigt index 0..5 of the imposed strain component
+  std::vector<int> active; ///< stress components the model makes non-zero
+  int damage_mode;         ///< D index driven (section 6.3.1): 0=D1, 1=D2, 2=D3
 };
 /// Throws pnc::InputError (naming `source`) for an id outside 1..6.
 const DeformationCase& deformation_case(int id, const std::string& source = "<case>");
@@ -39,10 +39,10 @@ namespace pnc::damage {
 /// and R^2 (NaN where not printed). Compare with RegressionLine of the same case/component.
 struct PrintedRegression {
   int case_id;
-  int component;           ///< Voigt index
-  const char* lin_label;   ///< as printed, e.g. "C0_22"
+  int component;         ///< Voigt index
+  const char* lin_label; ///< as printed, e.g. "C0_22"
   double lin_value, lin_r2;
-  const char* dam_label;   ///< as printed, e.g. "2A5", "B1"
+  const char* dam_label; ///< as printed, e.g. "2A5", "B1"
   double dam_value, dam_r2;
 };
 const std::vector<PrintedRegression>& printed_regression(Model m);

@@ -12,13 +12,13 @@
 namespace pnc::damage {
 
 struct SynthOptions {
-  std::vector<int> cases;            ///< case ids 1..6; empty = the model's cases
-  int points = 200;                  ///< points per case, >= 3
-  double max_extension = 0.20;       ///< largest imposed normal strain, > 0
-  double max_shear = 0.40;           ///< largest imposed engineering shear strain, > 0
-  double noise_sd = 2e6;             ///< Pa, >= 0
+  std::vector<int> cases;      ///< case ids 1..6; empty = the model's cases
+  int points = 200;            ///< points per case, >= 3
+  double max_extension = 0.20; ///< largest imposed normal strain, > 0
+  double max_shear = 0.40;     ///< largest imposed engineering shear strain, > 0
+  double noise_sd = 2e6;       ///< Pa, >= 0
   std::uint64_t seed = 1;
-  void validate() const;             ///< throws pnc::InputError naming the option
+  void validate() const; ///< throws pnc::InputError naming the option
 };
 
 /// Curves for every requested case; the recorded stress_stderr equals noise_sd (when > 0).
