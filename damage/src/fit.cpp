@@ -260,6 +260,18 @@ void FitOptions::validate() const {
 
 // ------------------------------------------------------------------ theta map
 namespace detail {
+namespace {
+// Positions of the 6 Cholesky parameters in L, and of C11 C22 C33 C12 C13 C23 in C_n.
+constexpr int kLPos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
+constexpr int kCPos[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+Eigen::Matrix3d lower_from_theta(const std::vector<double>& th) {
+  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
+  for (int q = 0; q < 6; ++q)
+    L(kLPos[q][0], kLPos[q][1]) = th[static_cast<std::size_t>(q)];
+  return L;
+}
+} // namespace
+
 std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) {
   std::vector<double> th(k);
   if (m == Model::pp) {
@@ -280,12 +292,8 @@ std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) 
     llt.compute(Cn);
   }
   const Eigen::Matrix3d L = llt.matrixL();
-  th[0] = L(0, 0);
-  th[1] = L(1, 0);
-  th[2] = L(1, 1);
-  th[3] = L(2, 0);
-  th[4] = L(2, 1);
-  th[5] = L(2, 2);
+  for (int q = 0; q < 6; ++q)
+    th[static_cast<std::size_t>(q)] = L(kLPos[q][0], kLPos[q][1]);
   return th;
 }
 
@@ -296,20 +304,10 @@ std::vector<double> constants_from_theta(Model m, const std::vector<double>& th)
     k[1] = (th[1] - th[0]) / 3;
     return k;
   }
-  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
-  L(0, 0) = th[0];
-  L(1, 0) = th[1];
-  L(1, 1) = th[2];
-  L(2, 0) = th[3];
-  L(2, 1) = th[4];
-  L(2, 2) = th[5];
+  const Eigen::Matrix3d L = lower_from_theta(th);
   const Eigen::Matrix3d C = L * L.transpose();
-  k[0] = C(0, 0);
-  k[1] = C(1, 1);
-  k[2] = C(2, 2);
-  k[3] = C(0, 1);
-  k[4] = C(0, 2);
-  k[5] = C(1, 2);
+  for (int c = 0; c < 6; ++c)
+    k[static_cast<std::size_t>(c)] = C(kCPos[c][0], kCPos[c][1]);
   return k;
 }
 
@@ -323,21 +321,13 @@ Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
     G(1, 1) = 1.0 / 3;
     return G;
   }
-  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
-  L(0, 0) = th[0];
-  L(1, 0) = th[1];
-  L(1, 1) = th[2];
-  L(2, 0) = th[3];
-  L(2, 1) = th[4];
-  L(2, 2) = th[5];
-  static const int pos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
-  static const int ent[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}; // C11..C23
+  const Eigen::Matrix3d L = lower_from_theta(th);
   for (int q = 0; q < 6; ++q) {
     Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
-    E(pos[q][0], pos[q][1]) = 1.0;
+    E(kLPos[q][0], kLPos[q][1]) = 1.0;
     const Eigen::Matrix3d dC = E * L.transpose() + L * E.transpose();
     for (int c = 0; c < 6; ++c)
-      G(c, q) = dC(ent[c][0], ent[c][1]);
+      G(c, q) = dC(kCPos[c][0], kCPos[c][1]);
   }
   return G;
 }
@@ -536,22 +526,7 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   // Standard errors: Cov(theta_free) = s^2 (J^T J)^-1, mapped to constants with G.
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
-  {
-    const auto terms_f = build_terms(data, m, kf.back());
-    Eigen::Index rows = 0;
-    for (const auto& t : terms_f)
-      rows += static_cast<Eigen::Index>(t.comps.size());
-    r.resize(rows);
-    Eigen::MatrixXd Jk(rows, n);
-    Eigen::Index row = 0;
-    for (const auto& t : terms_f) {
-      Eigen::MatrixXd drdk;
-      point_residual(t, kf, r.data() + row, &drdk);
-      Jk.middleRows(row, drdk.rows()) = drdk;
-      row += drdk.rows();
-    }
-    J = Jk * detail::dconstants_dtheta(m, theta);
-  }
+  detail::residuals_and_jacobian(data, m, theta, r, &J);
   std::vector<int> free;
   for (int j = 0; j < n; ++j)
     if (rep.fitted[static_cast<std::size_t>(j)]) free.push_back(j);
