@@ -1,0 +1,296 @@
+// pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
+// MD -> fit pipeline (issue #3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+#include "plot.hpp"
+#include "registrars.hpp"
+#include "report.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/version.hpp"
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/fit.hpp"
+#include "pnc/damage/moduli.hpp"
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/characterize.hpp"
+#include "pnc/rve/recipe.hpp"
+#include "pnc/rve/runner.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace pnc::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BuildArgs {
+  rve::BuildSpec spec;
+  std::string out;
+  bool json = false;
+};
+
+int run_rve_build(const BuildArgs& a) {
+  const rve::PolymerForceField ff;
+  a.spec.validate("<command line>");
+  fs::create_directories(a.out);
+  const rve::System s = rve::build_polymer(a.spec, ff);
+  const std::string data = (fs::path(a.out) / "rve.data").string();
+  const std::string rec = (fs::path(a.out) / "build.h5").string();
+  rve::write_data_file(data, s, "coarse-grained polypropylene RVE");
+  write_build_record(rec, s, a.spec, ff, "{}");
+  const std::string ffin = (fs::path(a.out) / "forcefield.lmp").string();
+  std::string cmds = "# force field of section 6.1, units real (decisions D13, D14)\n";
+  for (const auto& c : rve::polymer_forcefield_commands(ff))
+    cmds += c + "\n";
+  write_text_atomically(ffin, cmds);
+  const double dmin = rve::min_nonbonded_distance(s);
+  std::cerr << fmt::format("pnc rve build: {} chains x {} beads = {} beads, box {:.3f} A, "
+                           "density {:.4f} g/cm3, min non-bonded distance {:.3f} A\n",
+                           a.spec.chains, a.spec.beads_per_chain, s.x.size(), s.length()[0],
+                           s.density(), dmin);
+  std::cerr << "  data: " << data << "\n  record: " << rec << "\n  force field: " << ffin << "\n";
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "rve build";
+    j["data"] = data;
+    j["record"] = rec;
+    j["atoms"] = s.x.size();
+    j["density_g_cm3"] = s.density();
+    j["box_A"] = s.length()[0];
+    j["min_nonbonded_distance_A"] = dmin;
+    std::cout << j.dump() << std::endl;
+  }
+  return 0;
+}
+
+struct LammpsArgs {
+  std::string input, log;
+  std::vector<std::string> vars;
+};
+
+/// Runs a LAMMPS input file in a supervised child (the same runner as every stage).
+int run_rve_lammps(const LammpsArgs& a) {
+  rve::StageSpec s{"lammps " + a.input, a.log.empty() ? "log.lammps" : a.log, {}};
+  for (const auto& v : a.vars) {
+    const auto eq = v.find('=');
+    if (eq == std::string::npos || eq == 0)
+      fail("<command line>", "--var", v, "must be NAME=VALUE");
+    s.extra_args.insert(s.extra_args.end(), {"-var", v.substr(0, eq), v.substr(eq + 1)});
+  }
+  if (!fs::is_regular_file(a.input)) fail(a.input, "INPUT", a.input, "no such LAMMPS input file");
+  const std::string in = fs::absolute(a.input).string();
+  const auto o = rve::run_stage(s, [in](rve::Lammps& l) { l.file(in); });
+  if (!o.ok) fail(s.log_path, "LAMMPS", a.input, o.error);
+  std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s (log {})\n", a.input, o.seconds,
+                           s.log_path);
+  return 0;
+}
+
+struct RecipeShowArgs {
+  std::string name;
+  bool expanded = false;
+};
+
+int run_recipe_show(const RecipeShowArgs& a) {
+  const nlohmann::json j = rve::preset_json(a.name);
+  if (a.expanded)
+    std::cout << rve::expanded_json(rve::parse_recipe(j, "preset " + a.name)).dump(2) << "\n";
+  else
+    std::cout << j.dump(2) << "\n";
+  return 0;
+}
+
+struct CharacterizeArgs {
+  std::string recipe, out;
+  bool resume = false, json = false, no_plots = false;
+  int jobs = 0;
+};
+
+rve::Recipe load_recipe(const std::string& arg) {
+  for (const auto& n : rve::preset_names())
+    if (arg == n) return rve::parse_recipe(rve::preset_json(n), "preset " + n);
+  if (!fs::is_regular_file(arg))
+    fail(arg, "RECIPE", arg, "is neither a recipe file nor a preset name (demo, paper)");
+  return rve::read_recipe(arg);
+}
+
+std::string code_block(const std::string& s) {
+  return "```\n" + s + "```\n";
+}
+
+int run_characterize(const CharacterizeArgs& a) {
+  using namespace pnc::damage;
+  const auto t0 = std::chrono::steady_clock::now();
+  const rve::Recipe r = load_recipe(a.recipe);
+  const int jobs = a.jobs > 0 ? a.jobs : r.jobs;
+  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs);
+
+  // --- fit
+  std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
+  FitOptions o;
+  o.model = parse_model(r.model, md.recipe_path + ": model");
+  o.fit_alpha = r.fit_alpha;
+  o.validate();
+  const StressStrainData data = read_stress_strain(md.cases_h5);
+  const FitReport rep = fit_ndm(data, o);
+  Card card = card_from_fit(rep, data, "none");
+  const std::string card_path = (fs::path(a.out) / "card.h5").string();
+  const std::string command =
+      fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out, a.resume ? " --resume" : "");
+  write_card(card_path, card, command);
+  std::vector<std::string> pngs;
+  if (!a.no_plots)
+    pngs = plot_fit(data, card.params, (fs::path(a.out) / "plots").string(),
+                    fmt::format("MD ({}) and fitted NDM ({})", r.name, model_name(o.model)));
+  const DerivedModuli dm = derive_moduli(card.params);
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // --- report
+  const auto& e = md.equilibrated;
+  std::string rep_md;
+  rep_md += fmt::format("# pnc characterize: recipe `{}`\n\n", r.name);
+  rep_md +=
+      fmt::format("{} -- {} UTC. Command: `{}`.\n\n", version_string(), utc_timestamp(), command);
+  rep_md += "## RVE\n\n";
+  rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
+                        "force field of section 6.1 (decision D13 units).\n\n",
+                        r.build.chains, r.build.beads_per_chain,
+                        r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
+  rep_md += "Equilibration (one line per stage, with the criterion that ended it):\n\n";
+  for (const auto& c : e.criteria)
+    rep_md += "- " + c + "\n";
+  rep_md += fmt::format(
+      "\n| equilibrated RVE | value |\n|---|---|\n| ensemble | {} |\n| density | {:.4f} g/cm3 |\n"
+      "| pressure (with kinetic term) | {:.0f} +- {:.0f} atm |\n| pressure (virial only) | {:.0f} "
+      "atm |\n"
+      "| temperature | {:.1f} K |\n| void fraction (1 A grid, farther than sigma from every bead) "
+      "| {:.4f} |\n"
+      "| smallest pair distance | {:.3f} A |\n\n",
+      r.equilibrate.ensemble, e.density, e.pressure_total, e.pressure_total_se, e.pressure_virial,
+      e.temperature, e.void_fraction, e.min_distance);
+  rep_md += fmt::format(
+      "Deformation: cases {}, strain 0 -> {} in {} steps, hold {} steps of {} fs, "
+      "samples every {} steps. Stress handed to the fit: {}.\n\n",
+      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps, r.deform.hold_steps,
+      r.deform.timestep_fs, r.deform.sample_every, data.stress_definition);
+  rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
+  rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
+            code_block(fit_tables(card.fit, o.model));
+  rep_md +=
+      fmt::format("\n## Derived moduli\n\n| quantity | this run | dissertation |\n|---|---|---|\n"
+                  "| E (eq. 6.47, pure polymer) | {:.3f} GPa | 0.162 GPa (Table 6.12) |\n"
+                  "| E by inversion of C0 (E1) | {:.3f} GPa | -- |\n| nu12 | {:.3f} | -- |\n"
+                  "| G12 | {:.3f} GPa | 0.109 GPa (C44, Table 6.11) |\n\n",
+                  dm.E_eq647 * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
+  rep_md += fmt::format("Solver: {} after {} iterations; {}\n\n", rep.termination, rep.iterations,
+                        rep.converged ? "converged" : "NOT converged");
+  if (!pngs.empty()) {
+    rep_md += "## Plots\n\n";
+    for (const auto& p : pngs)
+      rep_md += fmt::format("![{0}]({0})\n", fs::relative(p, a.out).string());
+  }
+  rep_md +=
+      fmt::format("\nWall time: build {:.1f} s, equilibration {:.1f} s, cases {:.1f} s, total "
+                  "{:.1f} s (this invocation).\n",
+                  md.seconds_build, md.seconds_equilibrate, md.seconds_cases, total_s);
+  const std::string report_path = (fs::path(a.out) / "report.md").string();
+  write_text_atomically(report_path, rep_md);
+
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model);
+  std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
+                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
+                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
+  std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
+            << "\n  report: " << report_path << "\n";
+  for (const auto& p : pngs)
+    std::cerr << "  plot: " << p << "\n";
+  std::cerr << fmt::format("  wall time {:.1f} s\n", total_s);
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "characterize";
+    j["recipe"] = r.name;
+    j["out"] = a.out;
+    j["cases_h5"] = md.cases_h5;
+    j["card"] = card_path;
+    j["report"] = report_path;
+    j["plots"] = pngs;
+    j["equilibrated"] = {
+        {"ensemble", r.equilibrate.ensemble},       {"density_g_cm3", e.density},
+        {"pressure_atm", e.pressure_total},         {"pressure_stderr_atm", e.pressure_total_se},
+        {"pressure_virial_atm", e.pressure_virial}, {"temperature_K", e.temperature},
+        {"void_fraction", e.void_fraction},         {"min_distance_A", e.min_distance}};
+    j["constants"] = constants_json(card);
+    j["fit"] = fit_json(card.fit);
+    j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
+    j["seconds"] = {{"build", md.seconds_build},
+                    {"equilibrate", md.seconds_equilibrate},
+                    {"cases", md.seconds_cases},
+                    {"total", total_s}};
+    std::cout << j.dump() << std::endl;
+  }
+  if (!rep.converged) {
+    std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
+              << "; the card was written but check it before use\n";
+    return 3;
+  }
+  return 0;
+}
+
+} // namespace
+
+void register_rve(CLI::App& app, Action& action) {
+  auto* rve = app.add_subcommand("rve", "Coarse-grained PP RVE tools (LAMMPS, units real)");
+  rve->require_subcommand(1);
+  auto ba = std::make_shared<BuildArgs>();
+  auto* build = rve->add_subcommand("build", "Build a polymer RVE: LAMMPS data file + HDF5 record");
+  build->add_option("--chains", ba->spec.chains, "Number of chains");
+  build->add_option("--beads", ba->spec.beads_per_chain, "Beads per chain");
+  build->add_option("--density", ba->spec.density, "Target density (g/cm3)");
+  build->add_option("--seed", ba->spec.seed, "Random seed");
+  build->add_option("--min-distance", ba->spec.min_distance, "Minimum non-bonded distance (A)");
+  build->add_option("--out", ba->out, "Output directory")->required();
+  build->add_flag("--json", ba->json, "Print one JSON object on stdout");
+  build->callback([ba, &action] { action = [ba] { return run_rve_build(*ba); }; });
+
+  auto la = std::make_shared<LammpsArgs>();
+  auto* lmp = rve->add_subcommand(
+      "lammps", "Run a LAMMPS input file in a supervised child process (errors from its log)");
+  lmp->add_option("input", la->input, "LAMMPS input file")->required();
+  lmp->add_option("--log", la->log, "LAMMPS log file (default log.lammps)");
+  lmp->add_option("--var", la->vars, "LAMMPS index variable NAME=VALUE (repeatable)");
+  lmp->callback([la, &action] { action = [la] { return run_rve_lammps(*la); }; });
+
+  auto* recipe = app.add_subcommand("recipe", "Recipes of pnc characterize");
+  recipe->require_subcommand(1);
+  auto rs = std::make_shared<RecipeShowArgs>();
+  auto* show = recipe->add_subcommand("show", "Print a preset recipe (JSON)");
+  show->add_option("name", rs->name, "Preset: demo or paper")
+      ->required()
+      ->check(CLI::IsMember({"demo", "paper"}));
+  show->add_flag("--expanded", rs->expanded, "Print every field with its value");
+  show->callback([rs, &action] { action = [rs] { return run_recipe_show(*rs); }; });
+
+  auto ca = std::make_shared<CharacterizeArgs>();
+  auto* ch = app.add_subcommand(
+      "characterize", "Recipe -> RVE build -> equilibration -> deformation cases (LAMMPS) -> "
+                      "NDM fit -> card + plots + report");
+  ch->add_option("recipe", ca->recipe, "Recipe file (.json) or preset name (demo, paper)")
+      ->required();
+  ch->add_option("--out", ca->out, "Output directory")->required();
+  ch->add_flag("--resume", ca->resume, "Continue a stopped run without recomputing finished steps");
+  ch->add_option("--jobs", ca->jobs, "Cases run at the same time (default: the recipe's run.jobs)")
+      ->check(CLI::Range(1, 64));
+  ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
+  ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
+  ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });
+}
+
+} // namespace pnc::app

@@ -1,0 +1,40 @@
+#pragma once
+// pnc/rve/characterize.hpp: the MD half of `pnc characterize`: build -> equilibrate ->
+// deformation cases (in parallel child processes) -> cases.h5 (SI) for the fit.
+//
+// Units: LAMMPS `real` inside; cases.h5 in Pa (tension positive).
+//
+// Output directory layout:
+//   recipe.json                      the expanded recipe (a resumed run must match it)
+//   build/rve.data, build/build.h5   builder output and record
+//   equilibrate/<stage>.{log,h5,restart}
+//   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
+//   cases.h5                         strain/stress (+ standard errors) per case, the stress
+//                                    chosen by the recipe, moving average applied
+#include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/recipe.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pnc::rve {
+
+struct MdOutcome {
+  std::string dir, recipe_path, data_file, build_record, cases_h5;
+  EquilibratedState equilibrated;
+  std::vector<CaseResult> cases;
+  double seconds_build = 0, seconds_equilibrate = 0, seconds_cases = 0;
+};
+
+/// Runs the MD pipeline. With `resume`, finished parts are reused and cases continue from
+/// their checkpoints; the recipe must equal the one stored in `dir`. Failed cases are all
+/// run to their end (or failure) before an InputError names the first failure with LAMMPS's
+/// message; finished cases and checkpoints stay on disk.
+MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs);
+
+/// cases.h5 from the case checkpoints: the stress of `r.stress`, moving average of
+/// `r.moving_average` points over strain steps (standard error of a window mean:
+/// sqrt(sum se_i^2) / n), labelled in `stress_definition`.
+void write_cases_h5(const std::string& path, const Recipe& r, const std::vector<CaseResult>& cases);
+
+} // namespace pnc::rve

@@ -1,0 +1,60 @@
+#pragma once
+// pnc/rve/recipe.hpp: the recipe of `pnc characterize` (JSON) and its presets.
+//
+// Units: LAMMPS `real` for everything the recipe feeds to LAMMPS (A, fs, kcal/mol, atm, K;
+// densities g/cm^3); the cases.h5 the pipeline hands to the fit is in SI (Pa).
+//
+// A recipe is a JSON object with the sections below; every key is optional (defaults: the
+// values of the structs), unknown keys are errors. Errors name the file, the field (dotted
+// path), the value and the rule.
+//   { "name": "demo", "seed": 1, "model": "pp",
+//     "build":       { "chains", "beads_per_chain", "density", "min_distance" },
+//     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
+//     "equilibrate": { EquilibrateSpec fields by name },
+//     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
+//                      "sample_every", "blocks", "temperature", "damp_fs" },
+//     "analysis":    { "stress": "virial" | "total", "moving_average": odd >= 1,
+//                      "reference": "subtract" | "none" },
+//     "fit":         { "fit_alpha": bool },
+//     "run":         { "jobs": N } }
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/deform.hpp"
+#include "pnc/rve/equilibrate.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pnc::rve {
+
+struct Recipe {
+  std::string name = "custom";
+  std::uint64_t seed = 1;
+  std::string model = "pp"; ///< "pp" (pure polymer); "pnc" needs the clay platelet (not built yet)
+  BuildSpec build;
+  PolymerForceField ff;
+  EquilibrateSpec equilibrate;
+  DeformSpec deform; ///< template: case_id, seed, start_state filled per case
+  std::vector<int> cases = {2, 6};
+  std::string stress = "virial"; ///< which stress goes to the fit: "virial" (eq. 6.23) or "total"
+  int moving_average = 13;       ///< points of the moving average over strain steps (1 = off)
+  /// "subtract": the fit gets sigma(eps_k) - sigma(0) (row 0 = hold at zero strain), decision
+  /// D18; "none": the raw stress, row 0 included.
+  std::string reference = "subtract";
+  bool fit_alpha = false;
+  int jobs = 1;
+  nlohmann::json source_json; ///< the recipe as given (stored in every output)
+};
+
+/// Parses and validates. `source` names the file in errors.
+Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
+/// Reads a JSON recipe file (".json"); other extensions are an InputError.
+Recipe read_recipe(const std::string& path);
+/// The presets "demo" and "paper" as JSON (what `pnc recipe show` prints).
+nlohmann::json preset_json(const std::string& name);
+std::vector<std::string> preset_names();
+/// The recipe fully expanded (every field with its value), for records and `recipe show`.
+nlohmann::json expanded_json(const Recipe& r);
+
+} // namespace pnc::rve

@@ -1,0 +1,74 @@
+#pragma once
+// pnc/rve/runner.hpp: run LAMMPS stages in supervised child processes.
+//
+// Units: whatever the stage's commands set; every stage pnc writes uses LAMMPS `real`.
+//
+// The Debian LAMMPS library has no C++ exceptions: a LAMMPS error calls exit() in the
+// process that hosts LAMMPS. So every stage runs in a child created by fork(); the child
+// opens LAMMPS with `-log <stage log> -screen none -nocite`, runs the stage body, writes its
+// result files atomically, and _exit(0)s. The parent waits and, when the child did not exit
+// with 0, reports the last "ERROR..." line of the stage log (LAMMPS's own message) plus the
+// "Last command:" line, or the pnc error text the body threw (kept in `<log>.pnc-error`),
+// or the signal that killed it. The parent never loads LAMMPS state and always survives.
+//
+// The parent must not have initialised MPI (the child does, through lammps_open_no_mpi).
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pnc::rve {
+
+/// A LAMMPS instance inside a stage child. `cmd` runs one command; a LAMMPS error in it
+/// terminates the child (reported by the parent from the log).
+class Lammps {
+public:
+  explicit Lammps(void* handle) : h_(handle) {}
+  void cmd(const std::string& command);
+  void cmds(const std::vector<std::string>& commands);
+  /// Runs a LAMMPS input file (lammps_file).
+  void file(const std::string& path);
+  double thermo(const char* keyword);
+  void* handle() const { return h_; }
+  long natoms();
+  /// Element of a global vector (i) or array (i, j) of a fix; throws if absent.
+  double fix_value(const std::string& id, int i, int j = -1);
+  /// Element of a compute's global vector; global scalar when i < 0.
+  double compute_value(const std::string& id, int i = -1);
+  /// Gathers a per-atom double quantity ("x", "v", "f") ordered by atom id, count per atom.
+  std::vector<double> gather(const std::string& name, int count);
+  /// Box: lo[3], hi[3], xy, yz, xz (LAMMPS order).
+  void box(double lo[3], double hi[3], double& xy, double& yz, double& xz);
+
+private:
+  void* h_;
+};
+
+struct StageSpec {
+  std::string name;                    ///< for messages, e.g. "equilibrate/hot"
+  std::string log_path;                ///< LAMMPS log of this stage (overwritten)
+  std::vector<std::string> extra_args; ///< extra LAMMPS command-line args, e.g. {"-sf","opt"}
+};
+
+struct StageOutcome {
+  std::string name;
+  bool ok = false;
+  int exit_code = 0; ///< child exit status (when it exited)
+  int signal = 0;    ///< signal that killed the child, 0 if none
+  std::string error; ///< LAMMPS's ERROR line (+ last command) or the pnc error, if !ok
+  std::string log_path;
+  double seconds = 0;
+};
+
+using StageBody = std::function<void(Lammps&)>;
+
+/// Runs `body` in a child process with its own LAMMPS instance; blocks until it ends.
+StageOutcome run_stage(const StageSpec& spec, const StageBody& body);
+
+/// Runs stages concurrently, at most `jobs` at a time (one child each). Outcomes in input order.
+std::vector<StageOutcome> run_stages(const std::vector<std::pair<StageSpec, StageBody>>& stages,
+                                     int jobs);
+
+/// The last "ERROR" line of a LAMMPS log with the following "Last command:" line, or "".
+std::string last_lammps_error(const std::string& log_path);
+
+} // namespace pnc::rve

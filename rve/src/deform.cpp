@@ -1,0 +1,343 @@
+// Stepwise strain-controlled deformation driver (units real inside, Pa outside).
+#include "pnc/rve/deform.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/version.hpp"
+#include "pnc/rve/forcefield.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+namespace pnc::rve {
+
+namespace fs = std::filesystem;
+using PathM = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+
+int case_voigt(int case_id) {
+  if (case_id < 1 || case_id > 6)
+    fail("<deform>", "case", std::to_string(case_id), "must be 1..6 (EQUATIONS.md section 2)");
+  return case_id - 1; // 1..3 -> 11,22,33; 4 -> 23; 5 -> 13; 6 -> 12
+}
+
+void DeformSpec::validate(const std::string& source) const {
+  case_voigt(case_id);
+  if (!(std::isfinite(strain_max) && strain_max != 0.0 && std::fabs(strain_max) <= 0.5))
+    fail(source, "deform.strain_max", fmt::format("{}", strain_max),
+         "must be non-zero with |strain_max| <= 0.5");
+  if (steps < 1 || steps > 100000)
+    fail(source, "deform.steps", std::to_string(steps), "must be in 1..100000");
+  if (!(timestep_fs > 0 && timestep_fs <= 10))
+    fail(source, "deform.timestep_fs", fmt::format("{}", timestep_fs), "must be in (0, 10] fs");
+  if (sample_every < 1)
+    fail(source, "deform.sample_every", std::to_string(sample_every), "must be >= 1");
+  if (blocks < 2) fail(source, "deform.blocks", std::to_string(blocks), "must be >= 2");
+  if (hold_steps < static_cast<long>(sample_every) * blocks)
+    fail(source, "deform.hold_steps", std::to_string(hold_steps),
+         fmt::format("must be >= sample_every * blocks = {} (one sample per block at least)",
+                     sample_every * blocks));
+  if (!(temperature >= 0))
+    fail(source, "deform.temperature", fmt::format("{}", temperature), "must be >= 0 K");
+  if (!(damp_fs > 0)) fail(source, "deform.damp_fs", fmt::format("{}", damp_fs), "must be > 0");
+  if (seed < 1 || seed > 900000000)
+    fail(source, "deform.seed", std::to_string(seed), "must be in 1..900000000 (LAMMPS seeds)");
+  if (start_state.empty()) fail(source, "deform.start_state", "", "must name a restart file");
+}
+
+std::pair<double, double> block_mean_se(const std::vector<double>& x, int blocks) {
+  const std::size_t n = x.size();
+  double mean = 0;
+  for (double v : x)
+    mean += v;
+  mean /= static_cast<double>(n);
+  const std::size_t nb = std::min<std::size_t>(static_cast<std::size_t>(blocks), n);
+  if (nb < 2) return {mean, std::nan("")};
+  const std::size_t per = n / nb; // trailing remainder samples only enter the mean
+  std::vector<double> bm(nb, 0.0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    for (std::size_t i = 0; i < per; ++i)
+      bm[b] += x[b * per + i];
+    bm[b] /= static_cast<double>(per);
+  }
+  double m = 0;
+  for (double v : bm)
+    m += v;
+  m /= static_cast<double>(nb);
+  double var = 0;
+  for (double v : bm)
+    var += (v - m) * (v - m);
+  var /= static_cast<double>(nb - 1);
+  return {mean, std::sqrt(var / static_cast<double>(nb))};
+}
+
+PathM moving_average(const PathM& m, int points) {
+  if (points < 1 || points % 2 == 0)
+    fail("<deform>", "moving_average", std::to_string(points), "must be an odd number >= 1");
+  const Eigen::Index n = m.rows(), h = points / 2;
+  PathM out(n, 6);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index a = std::max<Eigen::Index>(0, i - h), b = std::min(n - 1, i + h);
+    out.row(i) = m.middleRows(a, b - a + 1).colwise().mean();
+  }
+  return out;
+}
+
+namespace {
+
+std::string ckpt_path(const std::string& dir) {
+  return (fs::path(dir) / "checkpoint.h5").string();
+}
+/// State after row k (k = 0: the reference hold at zero strain).
+std::string state_path(const std::string& dir, int k) {
+  return (fs::path(dir) / fmt::format("state_{}.restart", k)).string();
+}
+/// State that row k starts from: the start state (made triclinic for shear) for k = 0.
+std::string prev_state(const std::string& dir, int k) {
+  return k == 0 ? (fs::path(dir) / "state_init.restart").string() : state_path(dir, k - 1);
+}
+
+h5::RowMatrix to_row(const Eigen::MatrixXd& m) {
+  return m;
+}
+
+struct Checkpoint {
+  CaseResult r;
+  std::vector<double> ref_box; // xlo ylo zlo xhi yhi zhi xy xz yz
+};
+
+void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Checkpoint& c) {
+  AtomicOutput out(ckpt_path(dir));
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    f.set_attr("/", "format", "pnc-rve-case");
+    f.set_attr("/", "pnc_version", version_string());
+    f.set_attr("/", "updated_utc", utc_timestamp());
+    f.set_attr("/", "stress_sign", "tension positive: sigma = -P (LAMMPS pressure tensor)");
+    f.write_scalar("/case", spec.case_id);
+    f.write_scalar("/rows_done", c.r.rows_done);
+    f.write_scalar("/steps_planned", spec.steps);
+    f.write_scalar("/strain_max", spec.strain_max);
+    f.write_string("/seed", std::to_string(spec.seed));
+    f.write_scalar("/hold_steps", static_cast<double>(spec.hold_steps));
+    f.write_scalar("/timestep", spec.timestep_fs);
+    f.set_attr("/timestep", "units", "fs");
+    f.write_scalar("/sample_every", spec.sample_every);
+    f.write_scalar("/blocks", spec.blocks);
+    f.write_scalar("/temperature", spec.temperature);
+    f.set_attr("/temperature", "units", "K");
+    f.write_string("/start_state", spec.start_state);
+    f.write_string("/recipe", spec.recipe_json.empty() ? "{}" : spec.recipe_json);
+    f.write_string("/lammps_version", "20210929 (Debian 20220106)");
+    f.write_vector("/reference_box", c.ref_box);
+    f.set_attr("/reference_box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
+    if (c.r.rows_done > 0) {
+      f.write_matrix("/strain", to_row(c.r.strain));
+      f.set_attr("/strain", "units", "1 (engineering; shear as gamma)");
+      const std::pair<const char*, const PathM*> mats[] = {
+          {"/stress_virial", &c.r.stress_virial},
+          {"/stress_virial_stderr", &c.r.stress_virial_se},
+          {"/stress_total", &c.r.stress_total},
+          {"/stress_total_stderr", &c.r.stress_total_se}};
+      for (const auto& [name, m] : mats) {
+        f.write_matrix(name, to_row(*m));
+        f.set_attr(name, "units", "Pa");
+      }
+      f.set_attr(
+          "/stress_virial", "definition",
+          "virial only, no kinetic term (eq. 6.23, Zhou 2003): compute pressure NULL virial");
+      f.set_attr("/stress_total", "definition",
+                 "virial + kinetic term (compute pressure thermo_temp)");
+      f.write_matrix("/thermo", to_row(c.r.thermo));
+      f.set_attr("/thermo", "units",
+                 "columns: T (K), PE (kcal/mol), V (A^3), density (g/cm^3); step means");
+    }
+  }
+  out.commit();
+}
+
+Checkpoint read_checkpoint(const std::string& dir) {
+  const std::string p = ckpt_path(dir);
+  if (!fs::exists(p)) fail(p, "", "", "no checkpoint (the case has not started)");
+  h5::File f(p, h5::File::Mode::read);
+  Checkpoint c;
+  c.r.case_id = static_cast<int>(f.read_scalar("/case"));
+  c.r.rows_done = static_cast<int>(f.read_scalar("/rows_done"));
+  c.ref_box = f.read_vector("/reference_box");
+  if (c.r.rows_done > 0) {
+    c.r.strain = f.read_matrix("/strain");
+    c.r.stress_virial = f.read_matrix("/stress_virial");
+    c.r.stress_virial_se = f.read_matrix("/stress_virial_stderr");
+    c.r.stress_total = f.read_matrix("/stress_total");
+    c.r.stress_total_se = f.read_matrix("/stress_total_stderr");
+    c.r.thermo = f.read_matrix("/thermo");
+  } else {
+    c.r.strain.resize(0, 6);
+    c.r.stress_virial.resize(0, 6);
+    c.r.stress_virial_se.resize(0, 6);
+    c.r.stress_total.resize(0, 6);
+    c.r.stress_total_se.resize(0, 6);
+    c.r.thermo.resize(0, 4);
+  }
+  return c;
+}
+
+template <class M> void append_row(M& m, const Eigen::RowVectorXd& row) {
+  m.conservativeResize(m.rows() + 1, Eigen::NoChange);
+  m.row(m.rows() - 1) = row;
+}
+
+void read_state(Lammps& l, const DeformSpec& spec, const std::string& file) {
+  l.cmd("clear");
+  l.cmd("units real");
+  l.cmd("atom_style " + spec.atom_style);
+  l.cmd("read_restart " + file);
+  l.cmds(spec.force_field);
+}
+
+void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
+  using clock = std::chrono::steady_clock;
+  const int voigt = case_voigt(spec.case_id);
+  const bool shear = voigt >= 3;
+  Checkpoint c;
+  c.r.case_id = spec.case_id;
+  if (resume && fs::exists(ckpt_path(dir))) {
+    c = read_checkpoint(dir);
+    if (c.r.case_id != spec.case_id)
+      fail(ckpt_path(dir), "/case", std::to_string(c.r.case_id),
+           fmt::format("the checkpoint is of another case than {}", spec.case_id));
+    if (!fs::exists(prev_state(dir, c.r.rows_done)))
+      fail(prev_state(dir, c.r.rows_done), "", "", "the checkpoint names a missing restart file");
+  } else {
+    read_state(l, spec, spec.start_state);
+    if (shear) l.cmd("change_box all triclinic");
+    double lo[3], hi[3], xy, yz, xz;
+    l.box(lo, hi, xy, yz, xz);
+    c.ref_box = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], xy, xz, yz};
+    l.cmd("write_restart " + prev_state(dir, 0));
+    c.r.strain.resize(0, 6);
+    c.r.stress_virial.resize(0, 6);
+    c.r.stress_virial_se.resize(0, 6);
+    c.r.stress_total.resize(0, 6);
+    c.r.stress_total_se.resize(0, 6);
+    c.r.thermo.resize(0, 4);
+    c.r.rows_done = 0;
+    write_checkpoint(dir, spec, c);
+  }
+  const auto& B = c.ref_box;
+  const double L0[3] = {B[3] - B[0], B[4] - B[1], B[5] - B[2]};
+  const auto t_start = clock::now();
+  const int first = c.r.rows_done;
+  for (int k = first; k <= spec.steps; ++k) {
+    const double t = spec.strain_max * k / spec.steps;
+    read_state(l, spec, prev_state(dir, k));
+    l.cmd("reset_timestep 0");
+    l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
+    // Apply F_k to the reference box (lateral dimensions held), remapping the atoms.
+    if (!shear) {
+      const int a = voigt;
+      const double centre = 0.5 * (B[a] + B[a + 3]), half = 0.5 * L0[a] * (1.0 + t);
+      l.cmd(fmt::format("change_box all {} final {:.15g} {:.15g} remap units box", "xyz"[a],
+                        centre - half, centre + half));
+    } else if (voigt == 3) {
+      l.cmd(fmt::format("change_box all yz final {:.15g} remap units box", B[8] + t * L0[2]));
+    } else if (voigt == 4) {
+      l.cmd(fmt::format("change_box all xz final {:.15g} remap units box", B[7] + t * L0[2]));
+    } else {
+      l.cmd(fmt::format("change_box all xy final {:.15g} remap units box", B[6] + t * L0[1]));
+    }
+    l.cmd("fix pnc_nve all nve");
+    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
+                      spec.temperature, spec.damp_fs, spec.seed + static_cast<std::uint64_t>(k)));
+    l.cmd(fmt::format("fix pnc_mom all momentum {} linear 1 1 1", spec.momentum_every));
+    l.cmd("compute pnc_pv all pressure NULL virial");
+    l.cmd("variable pnc_vol equal vol");
+    l.cmd("variable pnc_rho equal density");
+    l.cmd(fmt::format("fix pnc_samp all vector {} c_pnc_pv[1] c_pnc_pv[2] c_pnc_pv[3] c_pnc_pv[4] "
+                      "c_pnc_pv[5] c_pnc_pv[6] c_thermo_press[1] c_thermo_press[2] "
+                      "c_thermo_press[3] c_thermo_press[4] c_thermo_press[5] c_thermo_press[6] "
+                      "c_thermo_temp v_pnc_vol v_pnc_rho",
+                      spec.sample_every));
+    // potential energy is extensive: fix vector keeps it apart from the intensive columns
+    l.cmd(fmt::format("fix pnc_pe all vector {} c_thermo_pe", spec.sample_every));
+    l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz");
+    l.cmd(fmt::format("thermo {}", std::max<long>(1, spec.hold_steps / 10)));
+    l.cmd(fmt::format("run {}", spec.hold_steps));
+    // Samples: stored on every multiple of sample_every from step 0 through hold_steps;
+    // the step-0 sample (the state just after the remap, before any hold) is left out.
+    const int nrows = static_cast<int>(spec.hold_steps / spec.sample_every) + 1;
+    std::vector<std::vector<double>> col(16); // 12 stresses, T, V, density, PE
+    for (int i = 1; i < nrows; ++i) {
+      for (int j = 0; j < 15; ++j)
+        col[j].push_back(l.fix_value("pnc_samp", i, j));
+      col[15].push_back(l.fix_value("pnc_pe", i));
+    }
+    static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
+    static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
+    Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
+    for (int v = 0; v < 6; ++v) {
+      auto [m1, e1] = block_mean_se(col[lmp_of_voigt[v]], spec.blocks);
+      auto [m2, e2] = block_mean_se(col[6 + lmp_of_voigt[v]], spec.blocks);
+      sv[v] = -m1 * pa_per_atm;
+      svse[v] = e1 * pa_per_atm;
+      st[v] = -m2 * pa_per_atm;
+      stse[v] = e2 * pa_per_atm;
+    }
+    th[0] = block_mean_se(col[12], spec.blocks).first; // T
+    th[1] = block_mean_se(col[15], spec.blocks).first; // PE
+    th[2] = block_mean_se(col[13], spec.blocks).first; // V
+    th[3] = block_mean_se(col[14], spec.blocks).first; // density
+    strain[voigt] = t;
+    l.cmd("write_restart " + state_path(dir, k));
+    append_row(c.r.strain, strain);
+    append_row(c.r.stress_virial, sv);
+    append_row(c.r.stress_virial_se, svse);
+    append_row(c.r.stress_total, st);
+    append_row(c.r.stress_total_se, stse);
+    append_row(c.r.thermo, th);
+    c.r.rows_done = k + 1;
+    write_checkpoint(dir, spec, c);
+    std::error_code ec;
+    fs::remove(prev_state(dir, k), ec);
+    const double el = std::chrono::duration<double>(clock::now() - t_start).count();
+    const double eta = el / (k - first + 1) * (spec.steps - k);
+    std::cerr << fmt::format("  case {}: step {}/{} strain {:+.5f}  s{} = {:+9.2f} +- {:.2f} MPa "
+                             "(virial)  T = {:.1f} K  ETA {:.0f} s\n",
+                             spec.case_id, k, spec.steps, t, voigt_names[voigt], sv[voigt] * 1e-6,
+                             svse[voigt] * 1e-6, th[0], eta)
+              << std::flush;
+    if (spec.abort_after_step == k) std::raise(SIGKILL);
+  }
+}
+
+} // namespace
+
+StageSpec case_stage(const DeformSpec& spec, const std::string& dir) {
+  StageSpec s;
+  s.name = fmt::format("case {}", spec.case_id);
+  s.log_path = (fs::path(dir) / "lammps.log").string();
+  return s;
+}
+
+StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume) {
+  spec.validate("<deform>");
+  fs::create_directories(dir);
+  return [spec, dir, resume](Lammps& l) { case_child(l, spec, dir, resume); };
+}
+
+StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
+  auto body = case_body(spec, dir, resume);
+  return run_stage(case_stage(spec, dir), body);
+}
+
+CaseResult read_case(const std::string& dir) {
+  return read_checkpoint(dir).r;
+}
+
+} // namespace pnc::rve

@@ -1,0 +1,451 @@
+// Equilibration protocol (sections 3.3.1-3.3.2), one child process per stage. Units real.
+#include "pnc/rve/equilibrate.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/version.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+namespace pnc::rve {
+
+namespace fs = std::filesystem;
+
+void EquilibrateSpec::validate(const std::string& source) const {
+  auto pos = [&](const char* f, double v) {
+    if (!(v > 0) || !std::isfinite(v)) fail(source, f, fmt::format("{}", v), "must be > 0");
+  };
+  auto nonneg = [&](const char* f, long v) {
+    if (v < 0) fail(source, f, std::to_string(v), "must be >= 0");
+  };
+  pos("equilibrate.timestep_fs", timestep_fs);
+  pos("equilibrate.temperature", temperature);
+  pos("equilibrate.damp_fs", damp_fs);
+  pos("equilibrate.hot_temperature", hot_temperature);
+  pos("equilibrate.pushoff_A_max", pushoff_A_max);
+  pos("equilibrate.steady_tolerance", steady_tolerance);
+  pos("equilibrate.pdamp_fs", pdamp_fs);
+  nonneg("equilibrate.hot_steps", hot_steps);
+  nonneg("equilibrate.cool_steps", cool_steps);
+  nonneg("equilibrate.npt_steps", npt_steps);
+  if (pushoff_steps < 100)
+    fail(source, "equilibrate.pushoff_steps", std::to_string(pushoff_steps), "must be >= 100");
+  if (langevin_chunk_steps < 100)
+    fail(source, "equilibrate.langevin_chunk_steps", std::to_string(langevin_chunk_steps),
+         "must be >= 100");
+  if (final_steps < 100)
+    fail(source, "equilibrate.final_steps", std::to_string(final_steps), "must be >= 100");
+  if (langevin_max_chunks < 2)
+    fail(source, "equilibrate.langevin_max_chunks", std::to_string(langevin_max_chunks),
+         "must be >= 2 (the criterion compares two chunks)");
+  if (pushoff_max_rounds < 1)
+    fail(source, "equilibrate.pushoff_max_rounds", std::to_string(pushoff_max_rounds),
+         "must be >= 1");
+  if (!(pushoff_min_distance_sigma > 0 && pushoff_min_distance_sigma < 1.2))
+    fail(source, "equilibrate.pushoff_min_distance_sigma",
+         fmt::format("{}", pushoff_min_distance_sigma), "must be in (0, 1.2)");
+  if (ensemble != "npt" && ensemble != "nvt")
+    fail(source, "equilibrate.ensemble", ensemble,
+         "must be \"npt\" (set pressure) or \"nvt\" (set density)");
+  if (!std::isfinite(pressure_atm) || std::fabs(pressure_atm) > 1e5)
+    fail(source, "equilibrate.pressure_atm", fmt::format("{}", pressure_atm),
+         "must be finite, |p| <= 1e5 atm");
+  if (seed < 1 || seed > 900000000)
+    fail(source, "seed", std::to_string(seed), "must be in 1..900000000 (LAMMPS seeds)");
+}
+
+double void_fraction(const std::vector<double>& x, const double lo[3], const double hi[3],
+                     double probe, double h) {
+  int nc[3], ng[3];
+  double L[3], w[3];
+  for (int a = 0; a < 3; ++a) {
+    L[a] = hi[a] - lo[a];
+    nc[a] = std::max(1, static_cast<int>(std::floor(L[a] / probe)));
+    w[a] = L[a] / nc[a];
+    ng[a] = std::max(1, static_cast<int>(std::round(L[a] / h)));
+  }
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  std::vector<std::vector<std::size_t>> cells(static_cast<std::size_t>(nc[0]) * nc[1] * nc[2]);
+  auto cidx = [&](int i, int j, int k) {
+    return (static_cast<std::size_t>(wrap(i, nc[0])) * nc[1] + wrap(j, nc[1])) * nc[2] +
+           wrap(k, nc[2]);
+  };
+  auto ccoord = [&](double p, int a) {
+    double u = std::fmod(p - lo[a], L[a]);
+    if (u < 0) u += L[a];
+    return std::min(nc[a] - 1, static_cast<int>(u / w[a]));
+  };
+  const std::size_t n = x.size() / 3;
+  for (std::size_t i = 0; i < n; ++i)
+    cells[cidx(ccoord(x[3 * i], 0), ccoord(x[3 * i + 1], 1), ccoord(x[3 * i + 2], 2))].push_back(i);
+  const double p2 = probe * probe;
+  long empty = 0, total = 0;
+  for (int gi = 0; gi < ng[0]; ++gi)
+    for (int gj = 0; gj < ng[1]; ++gj)
+      for (int gk = 0; gk < ng[2]; ++gk) {
+        const double g[3] = {lo[0] + (gi + 0.5) * L[0] / ng[0], lo[1] + (gj + 0.5) * L[1] / ng[1],
+                             lo[2] + (gk + 0.5) * L[2] / ng[2]};
+        const int c[3] = {ccoord(g[0], 0), ccoord(g[1], 1), ccoord(g[2], 2)};
+        bool covered = false;
+        for (int dx = -1; dx <= 1 && !covered; ++dx)
+          for (int dy = -1; dy <= 1 && !covered; ++dy)
+            for (int dz = -1; dz <= 1 && !covered; ++dz)
+              for (std::size_t j : cells[cidx(c[0] + dx, c[1] + dy, c[2] + dz)]) {
+                double r2 = 0;
+                for (int a = 0; a < 3; ++a) {
+                  double d = x[3 * j + a] - g[a];
+                  d -= L[a] * std::round(d / L[a]);
+                  r2 += d * d;
+                }
+                if (r2 < p2) {
+                  covered = true;
+                  break;
+                }
+              }
+        ++total;
+        empty += covered ? 0 : 1;
+      }
+  return static_cast<double>(empty) / static_cast<double>(total);
+}
+
+namespace {
+
+std::string p(const std::string& dir, const std::string& stage, const char* ext) {
+  return (fs::path(dir) / (stage + ext)).string();
+}
+
+/// Means over chunks of a run: T (K), PE (kcal/mol), P total (atm), P virial (atm),
+/// density (g/cm3), volume (A^3).
+struct Trace {
+  std::vector<std::array<double, 6>> rows;
+  double mean(int c, std::size_t from = 0) const {
+    double s = 0;
+    for (std::size_t i = from; i < rows.size(); ++i)
+      s += rows[i][c];
+    return s / static_cast<double>(rows.size() - from);
+  }
+};
+
+void define_measures(Lammps& l) {
+  l.cmd("compute pnc_pv all pressure NULL virial");
+  l.cmd("variable pnc_rho equal density");
+  l.cmd("variable pnc_vol equal vol");
+  l.cmd("variable pnc_pe equal pe");
+  l.cmd("thermo_style custom step temp pe press c_pnc_pv density vol");
+}
+
+void run_chunks(Lammps& l, long steps, int chunks, Trace& t) {
+  if (steps <= 0) return;
+  long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
+  const int n = static_cast<int>((steps + chunk - 1) / chunk);
+  l.cmd(fmt::format("thermo {}", chunk));
+  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {} {} c_thermo_temp c_thermo_pe c_thermo_press "
+                    "c_pnc_pv v_pnc_rho v_pnc_vol",
+                    chunk / 10, chunk));
+  for (int i = 0; i < n; ++i) {
+    l.cmd(fmt::format("run {}", chunk));
+    std::array<double, 6> r{};
+    for (int c = 0; c < 6; ++c)
+      r[c] = l.fix_value("pnc_avg", c);
+    t.rows.push_back(r);
+  }
+  l.cmd("unfix pnc_avg");
+}
+
+void read_state(Lammps& l, const PolymerForceField& ff, const EquilibrateSpec& s,
+                const std::string& restart) {
+  l.cmd("units real");
+  l.cmd("atom_style molecular");
+  l.cmd("read_restart " + restart);
+  l.cmds(polymer_forcefield_commands(ff));
+  l.cmd("reset_timestep 0");
+  l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
+  define_measures(l);
+}
+
+double min_pair_distance(Lammps& l, double cutoff) {
+  // neighbour pairs within the pair cutoff (excluded 1-2/1-3/1-4 pairs are not listed)
+  l.cmd("compute pnc_pl all pair/local dist");
+  l.cmd("compute pnc_dmin all reduce min c_pnc_pl");
+  l.cmd("run 0");
+  const double d = l.compute_value("pnc_dmin");
+  l.cmd("uncompute pnc_dmin");
+  l.cmd("uncompute pnc_pl");
+  return std::min(d, cutoff);
+}
+
+void write_stage(const std::string& path, const std::string& stage, const std::string& criterion,
+                 const Trace& t, const std::string& recipe_json) {
+  AtomicOutput out(path);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    f.set_attr("/", "format", "pnc-rve-equilibration-stage");
+    f.set_attr("/", "stage", stage);
+    f.set_attr("/", "pnc_version", version_string());
+    f.set_attr("/", "created_utc", utc_timestamp());
+    f.write_string("/criterion", criterion);
+    f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+    if (!t.rows.empty()) {
+      h5::RowMatrix m(static_cast<Eigen::Index>(t.rows.size()), 6);
+      for (std::size_t i = 0; i < t.rows.size(); ++i)
+        for (int c = 0; c < 6; ++c)
+          m(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
+      f.write_matrix("/trace", m);
+      f.set_attr("/trace", "units",
+                 "chunk means: T (K), PE (kcal/mol), P total (atm), P virial (atm), density "
+                 "(g/cm^3), volume (A^3)");
+    }
+  }
+  out.commit();
+}
+
+} // namespace
+
+EquilibratedState read_equilibrated(const std::string& dir) {
+  const std::string path = p(dir, "final", ".h5");
+  h5::File f(path, h5::File::Mode::read);
+  EquilibratedState e;
+  e.restart = p(dir, "final", ".restart");
+  e.density = f.read_scalar("/density");
+  e.pressure_virial = f.read_scalar("/pressure_virial");
+  e.pressure_total = f.read_scalar("/pressure_total");
+  e.pressure_total_se = f.read_scalar("/pressure_total_stderr");
+  e.temperature = f.read_scalar("/temperature");
+  e.void_fraction = f.read_scalar("/void_fraction");
+  e.min_distance = f.read_scalar("/min_distance");
+  for (const char* st : {"pushoff", "hot", "cool", "langevin", "final"}) {
+    const std::string sp = p(dir, st, ".h5");
+    if (fs::exists(sp))
+      e.criteria.push_back(std::string(st) + ": " +
+                           h5::File(sp, h5::File::Mode::read).read_string("/criterion"));
+  }
+  return e;
+}
+
+EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
+                              const EquilibrateSpec& s, const std::string& dir, bool resume,
+                              const std::string& recipe_json) {
+  s.validate("<equilibrate>");
+  fs::create_directories(dir);
+  const double sig = ff.sigma;
+  auto stage = [&](const std::string& name, const StageBody& body) {
+    if (resume && fs::exists(p(dir, name, ".h5")) && fs::exists(p(dir, name, ".restart"))) {
+      std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
+      return;
+    }
+    std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
+              << std::flush;
+    const StageOutcome o = run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}}, body);
+    if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
+    const std::string crit =
+        h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");
+    std::cerr << fmt::format("  equilibrate/{}: {} ({:.1f} s)\n", name, crit, o.seconds);
+  };
+
+  stage("pushoff", [&](Lammps& l) {
+    l.cmd("units real");
+    l.cmd("atom_style molecular");
+    l.cmd("read_data " + data_file);
+    l.cmds(polymer_forcefield_commands(ff));
+    l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
+    l.cmd("pair_coeff * * 0.0");
+    l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
+    define_measures(l);
+    l.cmd(
+        fmt::format("velocity all create {:.10g} {} dist gaussian mom yes", s.temperature, s.seed));
+    l.cmd("fix pnc_lim all nve/limit 0.1");
+    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                      s.damp_fs, s.seed + 1));
+    Trace t;
+    double d = 0;
+    int round = 0;
+    const double target = s.pushoff_min_distance_sigma * sig;
+    for (round = 1; round <= s.pushoff_max_rounds; ++round) {
+      if (round == 1) {
+        l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
+        l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
+        run_chunks(l, s.pushoff_steps, 5, t);
+        l.cmd("unfix pnc_adapt");
+        l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
+      } else {
+        run_chunks(l, s.pushoff_steps, 5, t);
+      }
+      d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig);
+      if (d >= target) break;
+    }
+    const bool met = d >= target;
+    l.cmd("write_restart " + p(dir, "pushoff", ".restart"));
+    write_stage(p(dir, "pushoff", ".h5"), "pushoff",
+                fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
+                            "{} round(s) of {} steps{}",
+                            d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
+                            std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
+                            met ? "" : " -- NOT met; continuing with minimisation"),
+                t, recipe_json);
+  });
+
+  stage("hot", [&](Lammps& l) {
+    read_state(l, ff, s, p(dir, "pushoff", ".restart"));
+    l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
+    l.cmd("reset_timestep 0");
+    l.cmd(fmt::format("velocity all create {:.10g} {} dist gaussian mom yes", s.hot_temperature,
+                      s.seed + 2));
+    l.cmd("fix pnc_lim all nve/limit 0.1");
+    l.cmd(fmt::format("fix pnc_rs all temp/rescale 10 {0:.10g} {0:.10g} 10.0 1.0",
+                      s.hot_temperature));
+    Trace t;
+    run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t); // limited displacement first
+    l.cmd("unfix pnc_lim");
+    l.cmd("fix pnc_nve all nve");
+    run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t);
+    l.cmd("write_restart " + p(dir, "hot", ".restart"));
+    write_stage(p(dir, "hot", ".h5"), "hot",
+                fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T of the second half "
+                            "{:.1f} K",
+                            s.hot_steps, s.hot_temperature, t.mean(0, t.rows.size() / 2)),
+                t, recipe_json);
+  });
+
+  stage("cool", [&](Lammps& l) {
+    read_state(l, ff, s, p(dir, "hot", ".restart"));
+    l.cmd("fix pnc_nve all nve");
+    l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {}", s.hot_temperature,
+                      s.temperature, s.damp_fs, s.seed + 3));
+    Trace t;
+    run_chunks(l, s.cool_steps, 10, t);
+    l.cmd("write_restart " + p(dir, "cool", ".restart"));
+    write_stage(
+        p(dir, "cool", ".h5"), "cool",
+        fmt::format("Langevin ramp {:.0f} -> {:.0f} K over {} steps; final chunk T {:.1f} K",
+                    s.hot_temperature, s.temperature, s.cool_steps,
+                    t.rows.empty() ? 0.0 : t.rows.back()[0]),
+        t, recipe_json);
+  });
+
+  stage("langevin", [&](Lammps& l) {
+    read_state(l, ff, s, p(dir, "cool", ".restart"));
+    l.cmd("fix pnc_nve all nve");
+    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                      s.damp_fs, s.seed + 4));
+    Trace t;
+    double rel = 1;
+    int k = 0;
+    for (k = 1; k <= s.langevin_max_chunks; ++k) {
+      run_chunks(l, s.langevin_chunk_steps, 1, t);
+      if (k >= 2) {
+        const double a = t.rows[t.rows.size() - 2][1], b = t.rows.back()[1];
+        rel = std::fabs(b - a) / std::max(1e-12, std::fabs(b));
+        if (rel < s.steady_tolerance) break;
+      }
+    }
+    l.cmd("write_restart " + p(dir, "langevin", ".restart"));
+    write_stage(
+        p(dir, "langevin", ".h5"), "langevin",
+        fmt::format("{} chunk(s) of {} steps at {:.0f} K; relative change of mean PE "
+                    "between the last two chunks {:.4f} {} {}{}",
+                    std::min(k, s.langevin_max_chunks), s.langevin_chunk_steps, s.temperature, rel,
+                    rel < s.steady_tolerance ? "<" : ">=", s.steady_tolerance,
+                    rel < s.steady_tolerance ? " (steady)" : " -- NOT steady at the chunk limit"),
+        t, recipe_json);
+  });
+
+  stage("final", [&](Lammps& l) {
+    read_state(l, ff, s, p(dir, "langevin", ".restart"));
+    Trace tn, tf;
+    std::string how;
+    if (s.ensemble == "npt") {
+      l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} iso {2:.10g} {2:.10g} "
+                        "{3:.10g}",
+                        s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
+      run_chunks(l, s.npt_steps, 10, tn);
+      l.cmd("unfix pnc_npt");
+      const double vmean = tn.mean(5, tn.rows.size() / 2);
+      double lo[3], hi[3], xy, yz, xz;
+      l.box(lo, hi, xy, yz, xz);
+      const double f = std::cbrt(vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])));
+      std::string cb = "change_box all";
+      for (int a = 0; a < 3; ++a) {
+        const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * f;
+        cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
+      }
+      l.cmd(cb + " remap units box");
+      how = fmt::format(
+          "NPT at {:.1f} atm for {} steps (mean density of the second half {:.4f} "
+          "g/cm3), box set to its mean volume {:.1f} A^3, then NVT (Langevin) for {} steps",
+          s.pressure_atm, s.npt_steps, tn.mean(4, tn.rows.size() / 2), vmean, s.final_steps);
+    } else {
+      how = fmt::format("NVT at the build density, Langevin for {} steps", s.final_steps);
+    }
+    l.cmd("fix pnc_nve all nve");
+    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                      s.damp_fs, s.seed + 5));
+    run_chunks(l, s.final_steps, 10, tf);
+    l.cmd("unfix pnc_lan");
+    l.cmd("unfix pnc_nve");
+    const double dmin = min_pair_distance(l, ff.cutoff());
+    double lo[3], hi[3], xy, yz, xz;
+    l.box(lo, hi, xy, yz, xz);
+    const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);
+    l.cmd("write_restart " + p(dir, "final", ".restart"));
+    // P over chunks: standard error from the chunk means
+    double m = tf.mean(2), var = 0;
+    for (const auto& r : tf.rows)
+      var += (r[2] - m) * (r[2] - m);
+    const double se = std::sqrt(var / static_cast<double>(tf.rows.size() - 1) /
+                                static_cast<double>(tf.rows.size()));
+    const std::string crit = fmt::format(
+        "{}; density {:.4f} g/cm3, P {:.0f} +- {:.0f} atm (total), {:.0f} atm (virial only), "
+        "T {:.1f} K, void fraction {:.4f}, min pair distance {:.3f} A",
+        how, tf.mean(4), m, se, tf.mean(3), tf.mean(0), vf, dmin);
+    AtomicOutput out(p(dir, "final", ".h5"));
+    {
+      h5::File f(out.temp_path(), h5::File::Mode::truncate);
+      f.set_attr("/", "format", "pnc-rve-equilibration-stage");
+      f.set_attr("/", "stage", "final");
+      f.set_attr("/", "pnc_version", version_string());
+      f.set_attr("/", "created_utc", utc_timestamp());
+      f.write_string("/criterion", crit);
+      f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+      f.write_string("/ensemble", s.ensemble);
+      f.write_scalar("/density", tf.mean(4));
+      f.set_attr("/density", "units", "g/cm^3");
+      f.write_scalar("/pressure_total", m);
+      f.set_attr("/pressure_total", "units", "atm");
+      f.write_scalar("/pressure_total_stderr", se);
+      f.set_attr("/pressure_total_stderr", "units", "atm");
+      f.write_scalar("/pressure_virial", tf.mean(3));
+      f.set_attr("/pressure_virial", "units", "atm");
+      f.write_scalar("/temperature", tf.mean(0));
+      f.set_attr("/temperature", "units", "K");
+      f.write_scalar("/void_fraction", vf);
+      f.set_attr("/void_fraction", "definition",
+                 "fraction of the points of a 1 A grid farther than sigma from every bead centre");
+      f.write_scalar("/min_distance", dmin);
+      f.set_attr("/min_distance", "units", "A");
+      auto put = [&](const char* name, const Trace& t) {
+        if (t.rows.empty()) return;
+        h5::RowMatrix mm(static_cast<Eigen::Index>(t.rows.size()), 6);
+        for (std::size_t i = 0; i < t.rows.size(); ++i)
+          for (int c = 0; c < 6; ++c)
+            mm(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
+        f.write_matrix(name, mm);
+        f.set_attr(name, "units",
+                   "chunk means: T (K), PE (kcal/mol), P total (atm), P virial (atm), density "
+                   "(g/cm^3), volume (A^3)");
+      };
+      put("/trace", tf);
+      put("/trace_npt", tn);
+    }
+    out.commit();
+  });
+  EquilibratedState e = read_equilibrated(dir);
+  return e;
+}
+
+} // namespace pnc::rve

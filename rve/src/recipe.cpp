@@ -1,0 +1,313 @@
+// Recipes of `pnc characterize`: strict JSON parsing with errors naming field, value, rule.
+#include "pnc/rve/recipe.hpp"
+
+#include "pnc/core/error.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace pnc::rve {
+
+namespace {
+
+using json = nlohmann::json;
+
+class Section {
+public:
+  Section(const json& j, std::string path, const std::string& source)
+      : j_(j), path_(std::move(path)), source_(source) {
+    if (!j_.is_object()) fail(source_, path_, j_.dump(), "must be a JSON object");
+  }
+  std::string field(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
+  template <class T> void get(const std::string& key, T& out) {
+    seen_.insert(key);
+    if (!j_.contains(key)) return;
+    const json& v = j_.at(key);
+    if constexpr (std::is_same_v<T, bool>) {
+      if (!v.is_boolean()) fail(source_, field(key), v.dump(), "must be true or false");
+      out = v.get<bool>();
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      if (!v.is_string()) fail(source_, field(key), v.dump(), "must be a string");
+      out = v.get<std::string>();
+    } else if constexpr (std::is_integral_v<T>) {
+      if (!v.is_number_integer() && !v.is_number_unsigned())
+        fail(source_, field(key), v.dump(), "must be an integer");
+      if constexpr (std::is_unsigned_v<T>) {
+        if (v.is_number_integer() && v.get<long long>() < 0)
+          fail(source_, field(key), v.dump(), "must be >= 0");
+      }
+      out = v.get<T>();
+    } else {
+      if (!v.is_number()) fail(source_, field(key), v.dump(), "must be a number");
+      out = v.get<T>();
+    }
+  }
+  void get_cases(const std::string& key, std::vector<int>& out) {
+    seen_.insert(key);
+    if (!j_.contains(key)) return;
+    const json& v = j_.at(key);
+    if (!v.is_array() || v.empty())
+      fail(source_, field(key), v.dump(), "must be a non-empty array of case ids 1..6");
+    out.clear();
+    for (const auto& e : v) {
+      if (!e.is_number_integer() || e.get<int>() < 1 || e.get<int>() > 6)
+        fail(source_, field(key), e.dump(), "case ids are integers 1..6 (EQUATIONS.md section 2)");
+      out.push_back(e.get<int>());
+    }
+  }
+  Section sub(const std::string& key) {
+    seen_.insert(key);
+    static const json empty = json::object();
+    return Section(j_.contains(key) ? j_.at(key) : empty, field(key), source_);
+  }
+  void check_unknown() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+      if (!seen_.count(it.key())) {
+        std::string allowed;
+        for (const auto& k : seen_)
+          allowed += (allowed.empty() ? "" : ", ") + k;
+        fail(source_, field(it.key()), it.value().dump(), "unknown key; allowed: " + allowed);
+      }
+  }
+
+private:
+  const json& j_;
+  std::string path_;
+  const std::string& source_;
+  std::set<std::string> seen_;
+};
+
+const char* demo_text = R"({
+  "name": "demo",
+  "seed": 1,
+  "model": "pp",
+  "build": { "chains": 30, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "equilibrate": { "timestep_fs": 1.0, "pushoff_steps": 2000, "hot_steps": 10000,
+                   "cool_steps": 10000, "langevin_chunk_steps": 5000, "langevin_max_chunks": 6,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 20000,
+                   "final_steps": 5000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 20, "timestep_fs": 1.0,
+              "hold_steps": 5000, "sample_every": 10, "blocks": 10 },
+  "analysis": { "stress": "virial", "moving_average": 5, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+const char* paper_text = R"({
+  "name": "paper",
+  "seed": 1,
+  "model": "pp",
+  "build": { "chains": 75, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 10000, "hot_steps": 200000,
+                   "hot_temperature": 1000, "cool_steps": 200000,
+                   "langevin_chunk_steps": 20000, "langevin_max_chunks": 20,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
+                   "final_steps": 20000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300 },
+  "analysis": { "stress": "virial", "moving_average": 13, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+} // namespace
+
+std::vector<std::string> preset_names() {
+  return {"demo", "paper"};
+}
+
+nlohmann::json preset_json(const std::string& name) {
+  if (name == "demo") return json::parse(demo_text);
+  if (name == "paper") return json::parse(paper_text);
+  fail("<command line>", "preset", name, "must be one of: demo, paper");
+}
+
+Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
+  Recipe r;
+  r.source_json = j;
+  Section top(j, "", source);
+  top.get("name", r.name);
+  top.get("seed", r.seed);
+  top.get("model", r.model);
+  if (r.model != "pp" && r.model != "pnc")
+    fail(source, "model", r.model, "must be \"pp\" (pure polymer) or \"pnc\" (with clay)");
+  if (r.model == "pnc")
+    fail(source, "model", r.model,
+         "the montmorillonite platelet builder is not implemented yet (issue #3 layer 6); "
+         "use \"pp\"");
+  if (r.seed < 1 || r.seed > 1000000)
+    fail(source, "seed", std::to_string(r.seed), "must be in 1..1000000");
+  {
+    Section s = top.sub("build");
+    s.get("chains", r.build.chains);
+    s.get("beads_per_chain", r.build.beads_per_chain);
+    s.get("density", r.build.density);
+    s.get("min_distance", r.build.min_distance);
+    s.check_unknown();
+  }
+  {
+    Section s = top.sub("forcefield");
+    s.get("sigma", r.ff.sigma);
+    s.get("epsilon", r.ff.epsilon);
+    s.get("cutoff_sigma", r.ff.cutoff_sigma);
+    s.check_unknown();
+  }
+  {
+    auto& e = r.equilibrate;
+    Section s = top.sub("equilibrate");
+    s.get("timestep_fs", e.timestep_fs);
+    s.get("temperature", e.temperature);
+    s.get("damp_fs", e.damp_fs);
+    s.get("pushoff_steps", e.pushoff_steps);
+    s.get("pushoff_max_rounds", e.pushoff_max_rounds);
+    s.get("pushoff_A_max", e.pushoff_A_max);
+    s.get("pushoff_min_distance_sigma", e.pushoff_min_distance_sigma);
+    s.get("hot_steps", e.hot_steps);
+    s.get("hot_temperature", e.hot_temperature);
+    s.get("cool_steps", e.cool_steps);
+    s.get("langevin_chunk_steps", e.langevin_chunk_steps);
+    s.get("langevin_max_chunks", e.langevin_max_chunks);
+    s.get("steady_tolerance", e.steady_tolerance);
+    s.get("ensemble", e.ensemble);
+    s.get("pressure_atm", e.pressure_atm);
+    s.get("pdamp_fs", e.pdamp_fs);
+    s.get("npt_steps", e.npt_steps);
+    s.get("final_steps", e.final_steps);
+    s.check_unknown();
+  }
+  {
+    auto& d = r.deform;
+    Section s = top.sub("deform");
+    s.get_cases("cases", r.cases);
+    s.get("strain_max", d.strain_max);
+    s.get("steps", d.steps);
+    s.get("timestep_fs", d.timestep_fs);
+    s.get("hold_steps", d.hold_steps);
+    s.get("sample_every", d.sample_every);
+    s.get("blocks", d.blocks);
+    s.get("temperature", d.temperature);
+    s.get("damp_fs", d.damp_fs);
+    s.check_unknown();
+  }
+  {
+    Section s = top.sub("analysis");
+    s.get("stress", r.stress);
+    s.get("moving_average", r.moving_average);
+    s.get("reference", r.reference);
+    s.check_unknown();
+    if (r.reference != "subtract" && r.reference != "none")
+      fail(source, "analysis.reference", r.reference,
+           "must be \"subtract\" (stress relative to the zero-strain hold) or \"none\"");
+    if (r.stress != "virial" && r.stress != "total")
+      fail(source, "analysis.stress", r.stress,
+           "must be \"virial\" (no kinetic term, eq. 6.23) or \"total\" (with kinetic term)");
+    if (r.moving_average < 1 || r.moving_average % 2 == 0)
+      fail(source, "analysis.moving_average", std::to_string(r.moving_average),
+           "must be an odd number >= 1 (1 = off)");
+  }
+  {
+    Section s = top.sub("fit");
+    s.get("fit_alpha", r.fit_alpha);
+    s.check_unknown();
+  }
+  {
+    Section s = top.sub("run");
+    s.get("jobs", r.jobs);
+    s.check_unknown();
+    if (r.jobs < 1 || r.jobs > 64)
+      fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
+  }
+  top.check_unknown();
+  if (r.model == "pp")
+    for (int c : r.cases)
+      if (c != 2 && c != 6)
+        fail(source, "deform.cases", std::to_string(c),
+             "the pure polymer (model pp) uses cases 2 and 6 (section 6.3.2)");
+  r.equilibrate.seed = r.seed;
+  r.build.seed = r.seed;
+  r.build.validate(source);
+  r.ff.validate(source);
+  r.equilibrate.validate(source);
+  DeformSpec probe = r.deform;
+  probe.start_state = "<equilibrated state>";
+  probe.seed = r.seed;
+  probe.validate(source);
+  // the cutoff must fit the smallest box: 2 r_c < L at the build density
+  const double L = std::cbrt(r.build.chains * r.build.beads_per_chain * r.ff.bead_mass /
+                             (r.build.density * avogadro_per_A3_cm3));
+  if (2 * r.ff.cutoff() >= L)
+    fail(source, "build.chains", std::to_string(r.build.chains),
+         fmt::format("the box ({:.2f} A at the build density) must exceed twice the LJ cutoff "
+                     "({:.2f} A): use more chains",
+                     L, 2 * r.ff.cutoff()));
+  return r;
+}
+
+Recipe read_recipe(const std::string& path) {
+  const auto ext = std::filesystem::path(path).extension().string();
+  if (ext != ".json")
+    fail(path, "", ext, "recipes are JSON files (.json); TOML is not supported in this version");
+  std::ifstream f(path);
+  if (!f) fail(path, "", "", "cannot open the recipe");
+  json j;
+  try {
+    j = json::parse(f);
+  } catch (const json::parse_error& e) {
+    fail(path, "", "", std::string("not valid JSON: ") + e.what());
+  }
+  return parse_recipe(j, path);
+}
+
+nlohmann::json expanded_json(const Recipe& r) {
+  const auto& e = r.equilibrate;
+  const auto& d = r.deform;
+  return json{
+      {"name", r.name},
+      {"seed", r.seed},
+      {"model", r.model},
+      {"build",
+       {{"chains", r.build.chains},
+        {"beads_per_chain", r.build.beads_per_chain},
+        {"density", r.build.density},
+        {"min_distance", r.build.min_distance}}},
+      {"forcefield",
+       {{"sigma", r.ff.sigma}, {"epsilon", r.ff.epsilon}, {"cutoff_sigma", r.ff.cutoff_sigma}}},
+      {"equilibrate",
+       {{"timestep_fs", e.timestep_fs},
+        {"temperature", e.temperature},
+        {"damp_fs", e.damp_fs},
+        {"pushoff_steps", e.pushoff_steps},
+        {"pushoff_max_rounds", e.pushoff_max_rounds},
+        {"pushoff_A_max", e.pushoff_A_max},
+        {"pushoff_min_distance_sigma", e.pushoff_min_distance_sigma},
+        {"hot_steps", e.hot_steps},
+        {"hot_temperature", e.hot_temperature},
+        {"cool_steps", e.cool_steps},
+        {"langevin_chunk_steps", e.langevin_chunk_steps},
+        {"langevin_max_chunks", e.langevin_max_chunks},
+        {"steady_tolerance", e.steady_tolerance},
+        {"ensemble", e.ensemble},
+        {"pressure_atm", e.pressure_atm},
+        {"pdamp_fs", e.pdamp_fs},
+        {"npt_steps", e.npt_steps},
+        {"final_steps", e.final_steps}}},
+      {"deform",
+       {{"cases", r.cases},
+        {"strain_max", d.strain_max},
+        {"steps", d.steps},
+        {"timestep_fs", d.timestep_fs},
+        {"hold_steps", d.hold_steps},
+        {"sample_every", d.sample_every},
+        {"blocks", d.blocks},
+        {"temperature", d.temperature},
+        {"damp_fs", d.damp_fs}}},
+      {"analysis",
+       {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
+      {"fit", {{"fit_alpha", r.fit_alpha}}},
+      {"run", {{"jobs", r.jobs}}}};
+}
+
+} // namespace pnc::rve

@@ -1,0 +1,100 @@
+// pnc characterize end to end on a tiny recipe (seconds): outputs, JSON, resume without
+// recomputation, and a bad recipe's error line.
+#include "pnc/damage/data.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Proc {
+  int code;
+  std::string out;
+};
+Proc run(const std::string& args) {
+  const std::string cmd = std::string(PNC_EXE) + " " + args;
+  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p.get()))
+    out += buf.data();
+  const int st = pclose(p.release());
+  return {WEXITSTATUS(st), out};
+}
+const char* tiny = R"({
+  "name": "tiny", "seed": 3,
+  "build": { "chains": 8 },
+  "equilibrate": { "pushoff_steps": 500, "hot_steps": 1000, "cool_steps": 500,
+                   "langevin_chunk_steps": 200, "langevin_max_chunks": 2,
+                   "npt_steps": 1000, "final_steps": 200 },
+  "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
+              "hold_steps": 200, "sample_every": 10, "blocks": 4 },
+  "analysis": { "moving_average": 1 },
+  "run": { "jobs": 2 }
+})";
+} // namespace
+
+TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_char";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::ofstream(d / "tiny.json") << tiny;
+  const std::string out = (d / "out").string();
+  const Proc r = run("characterize " + (d / "tiny.json").string() + " --out " + out +
+                     " --json --no-plots 2>" + (d / "err.txt").string());
+  // exit 0 (converged) or 3 (fit did not converge on such noisy data): both leave the outputs
+  ASSERT_TRUE(r.code == 0 || r.code == 3) << r.code << " " << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["command"], "characterize");
+  for (const char* f :
+       {"cases.h5", "card.h5", "report.md", "recipe.json", "build/rve.data", "build/build.h5",
+        "equilibrate/final.h5", "cases/case_2/checkpoint.h5", "cases/case_6/checkpoint.h5"})
+    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  EXPECT_GT(j["equilibrated"]["density_g_cm3"].get<double>(), 0.5);
+  EXPECT_GE(j["equilibrated"]["void_fraction"].get<double>(), 0.0);
+  // cases.h5: SI, labelled, relative to the zero-strain hold (row 0 dropped): 3 rows per case
+  const auto data = pnc::damage::read_stress_strain_h5((fs::path(out) / "cases.h5").string());
+  ASSERT_EQ(data.cases.size(), 2u);
+  EXPECT_EQ(data.cases[0].id, 2);
+  EXPECT_EQ(data.cases[0].strain.rows(), 3);
+  EXPECT_DOUBLE_EQ(data.cases[0].strain(2, 1), 0.03);
+  EXPECT_DOUBLE_EQ(data.cases[1].strain(0, 5), 0.01);
+  EXPECT_EQ(data.cases[0].stress_stderr.rows(), 3);
+  EXPECT_NE(data.stress_definition.find("virial only"), std::string::npos);
+  EXPECT_NE(data.stress_definition.find("zero-strain hold"), std::string::npos);
+  // resume of a finished run recomputes nothing (case checkpoints untouched)
+  const auto t2 = fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5");
+  const Proc again = run("characterize " + (d / "tiny.json").string() + " --out " + out +
+                         " --resume --no-plots 2>" + (d / "err2.txt").string());
+  EXPECT_TRUE(again.code == 0 || again.code == 3);
+  EXPECT_EQ(fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5"), t2);
+  // without --resume an existing run is refused, naming --out
+  const Proc refuse = run("characterize " + (d / "tiny.json").string() + " --out " + out + " 2>&1");
+  EXPECT_EQ(refuse.code, 1);
+  EXPECT_NE(refuse.out.find("--resume"), std::string::npos) << refuse.out;
+  fs::remove_all(d);
+}
+
+TEST(RveCharacterizeCli, BadRecipeAndRecipeShow) {
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_char_bad";
+  fs::create_directories(d);
+  std::ofstream(d / "bad.json") << R"({"deform": {"steps": 0}})";
+  const Proc r =
+      run("characterize " + (d / "bad.json").string() + " --out " + (d / "o").string() + " 2>&1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("deform.steps"), std::string::npos) << r.out;
+  const Proc show = run("recipe show paper");
+  EXPECT_EQ(show.code, 0);
+  const auto j = nlohmann::json::parse(show.out);
+  EXPECT_EQ(j["build"]["chains"], 75);
+  fs::remove_all(d);
+}

@@ -1,0 +1,115 @@
+// Stage runner: LAMMPS errors are reported with LAMMPS's own ERROR text and the parent
+// survives; pnc errors thrown in the child are reported; stages run concurrently; the
+// virial stress of a 2-atom periodic configuration matches the analytic value.
+#include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/rve/forcefield.hpp"
+#include "pnc/rve/runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace pnc::rve;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path tmpdir(const std::string& tag) {
+  const auto d = fs::temp_directory_path() / ("pnc_test_rve_runner_" + tag);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+} // namespace
+
+TEST(RveRunner, BadLammpsCommandIsReportedWithLammpsErrorAndParentSurvives) {
+  const auto d = tmpdir("bad");
+  StageSpec s{"bad stage", (d / "stage.log").string(), {}};
+  const auto out = run_stage(s, [](Lammps& l) {
+    l.cmd("units real");
+    l.cmd("pair_style no_such_pair_style 2.5");
+    l.cmd("print 'never reached'");
+  });
+  EXPECT_FALSE(out.ok);
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_EQ(out.error.rfind("ERROR", 0), 0u) << out.error;
+  EXPECT_NE(out.error.find("no_such_pair_style"), std::string::npos) << out.error;
+  EXPECT_NE(out.error.find("Last command"), std::string::npos) << out.error;
+  // the LAMMPS output went to the stage log, which holds the same message
+  std::ifstream f(s.log_path);
+  std::string text((std::istreambuf_iterator<char>(f)), {});
+  EXPECT_NE(text.find("no_such_pair_style"), std::string::npos);
+  // and the parent keeps working: a good stage after the failure
+  const auto ok =
+      run_stage({"good", (d / "good.log").string(), {}}, [](Lammps& l) { l.cmd("units real"); });
+  EXPECT_TRUE(ok.ok) << ok.error;
+  fs::remove_all(d);
+}
+
+TEST(RveRunner, PncErrorInChildAndParallelStages) {
+  const auto d = tmpdir("par");
+  std::vector<std::pair<StageSpec, StageBody>> st;
+  st.push_back({{"throws", (d / "a.log").string(), {}},
+                [](Lammps&) { pnc::fail("recipe.json", "deform.steps", "0", "must be >= 1"); }});
+  for (int i = 0; i < 3; ++i)
+    st.push_back({{"ok" + std::to_string(i), (d / ("b" + std::to_string(i) + ".log")).string(), {}},
+                  [](Lammps& l) { l.cmd("units real"); }});
+  st.push_back({{"lmp error", (d / "c.log").string(), {}},
+                [](Lammps& l) { l.cmd("run 10"); }}); // no box yet
+  const auto out = run_stages(st, 2);
+  ASSERT_EQ(out.size(), 5u);
+  EXPECT_FALSE(out[0].ok);
+  EXPECT_NE(out[0].error.find("deform.steps"), std::string::npos) << out[0].error;
+  for (int i = 1; i <= 3; ++i)
+    EXPECT_TRUE(out[i].ok) << out[i].error;
+  EXPECT_FALSE(out[4].ok);
+  EXPECT_EQ(out[4].error.rfind("ERROR", 0), 0u) << out[4].error;
+  fs::remove_all(d);
+}
+
+TEST(RveRunner, VirialStressOfTwoAtomsMatchesAnalytic) {
+  // Two LJ atoms in a periodic 30 A cube, separated along (1, 2, 2)/3 by r = 3.5 A; the
+  // cutoff (10 A) sees only the direct pair. Virial: W_ab = r_a f_b (one pair),
+  // P_ab = W_ab / V in atm (nktv2p of real units); LAMMPS's virial-only pressure must match.
+  const auto d = tmpdir("virial");
+  const double eps = 0.2, sig = 3.4, r = 3.5, L = 30;
+  const double n[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3};
+  const std::string res = (d / "r.h5").string();
+  const auto out = run_stage({"virial", (d / "v.log").string(), {}}, [&](Lammps& l) {
+    l.cmds({"units real", "atom_style atomic", "boundary p p p", "region b block 0 30 0 30 0 30",
+            "create_box 1 b", "mass 1 39.948", "create_atoms 1 single 10 10 10 units box",
+            "create_atoms 1 single " + std::to_string(10 + r * n[0]) + " " +
+                std::to_string(10 + r * n[1]) + " " + std::to_string(10 + r * n[2]) + " units box",
+            "pair_style lj/cut 10", "pair_coeff 1 1 0.2 3.4", "compute pv all pressure NULL virial",
+            "thermo_style custom step pe c_pv[1] c_pv[2] c_pv[3] c_pv[4] c_pv[5] c_pv[6]",
+            "run 0"});
+    std::vector<double> p;
+    for (int i = 0; i < 6; ++i)
+      p.push_back(l.compute_value("pv", i));
+    // positions as LAMMPS stored them (create_atoms with %f-formatted coordinates)
+    const auto x = l.gather("x", 3);
+    for (int a = 0; a < 3; ++a)
+      p.push_back(x[3 + a] - x[a]);
+    pnc::h5::File h(res, pnc::h5::File::Mode::truncate);
+    h.write_vector("/p", p);
+  });
+  ASSERT_TRUE(out.ok) << out.error;
+  pnc::h5::File h(res, pnc::h5::File::Mode::read);
+  const auto p = h.read_vector("/p");
+  const double rr = std::sqrt(p[6] * p[6] + p[7] * p[7] + p[8] * p[8]);
+  EXPECT_NEAR(rr, r, 1e-5);
+  const double u[3] = {p[6] / rr, p[7] / rr, p[8] / rr};
+  const double s6 = std::pow(sig / rr, 6);
+  const double F = 24 * eps / rr * (2 * s6 * s6 - s6); // -dU/dr, > 0 repulsive
+  const double nktv2p = 68568.415;                     // kcal/mol/A^3 -> atm
+  const double W = rr * F;                             // r_ij . f_ij for the one pair
+  const int lmp[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}; // pxx pyy pzz pxy pxz pyz
+  for (int k = 0; k < 6; ++k) {
+    const double expect = W * u[lmp[k][0]] * u[lmp[k][1]] / (L * L * L) * nktv2p;
+    EXPECT_NEAR(p[k], expect, 1e-9 * std::fabs(W / (L * L * L) * nktv2p)) << "component " << k;
+  }
+  EXPECT_GT(p[0], 0); // repulsive pair at r < 2^(1/6) sigma: positive pressure, sigma = -P < 0
+  fs::remove_all(d);
+}
