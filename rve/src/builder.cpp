@@ -144,26 +144,43 @@ Vec System::min_image(const Vec& a, const Vec& b) const {
 System build_polymer(const BuildSpec& spec, const PolymerForceField& ff) {
   spec.validate("<build>");
   ff.validate("<build>");
-  const int N = spec.beads_per_chain;
-  const int total = spec.chains * N;
   System s;
   s.type_mass = {ff.bead_mass};
-  const double V = total * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
+  const double V =
+      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
   const double L = std::cbrt(V);
   s.hi = {L, L, L};
-  s.x.reserve(total);
-  CellList cells(s, spec.min_distance);
+  grow_chains(s, spec, ff, spec.min_distance);
+  return s;
+}
+
+void grow_chains(System& s, const BuildSpec& spec, const PolymerForceField& ff,
+                 double obstacle_min_distance) {
+  const int N = spec.beads_per_chain;
+  const int n0 = static_cast<int>(s.x.size()); // obstacles (clay atoms) already in s
+  const int total = spec.chains * N;
+  const Vec Lb = s.length();
+  s.x.reserve(static_cast<std::size_t>(n0 + total));
+  CellList cells(s, std::max(spec.min_distance, obstacle_min_distance));
+  for (int i = 0; i < n0; ++i)
+    cells.insert(i);
   std::mt19937_64 gen(spec.seed);
   const double d2min = spec.min_distance * spec.min_distance;
+  const double d2obs = obstacle_min_distance * obstacle_min_distance;
   const double ct = std::cos(pi - ff.theta0_deg * pi / 180.0);
   const double st = std::sin(pi - ff.theta0_deg * pi / 180.0);
 
   for (int c = 0; c < spec.chains; ++c) {
-    const int first = c * N;
+    const int first = n0 + c * N;
     auto ok = [&](const Vec& p, int b) {
       bool good = true;
       cells.around(p, [&](int j, double r2) {
-        if (!good || r2 >= d2min) return;
+        if (!good) return;
+        if (j < n0) {
+          if (r2 < d2obs) good = false;
+          return;
+        }
+        if (r2 >= d2min) return;
         if (j >= first && b - (j - first) <= 2) return; // own 1-2 / 1-3 neighbour
         good = false;
       });
@@ -176,7 +193,7 @@ System build_polymer(const BuildSpec& spec, const PolymerForceField& ff) {
       bool placed = false;
       for (int t = 0; t < spec.max_trials && !placed; ++t) {
         if (b == 0) {
-          p = {u01(gen) * L, u01(gen) * L, u01(gen) * L};
+          p = {s.lo[0] + u01(gen) * Lb[0], s.lo[1] + u01(gen) * Lb[1], s.lo[2] + u01(gen) * Lb[2]};
         } else if (b == 1) {
           p = add(s.x[first], scale(random_unit(gen), ff.l0));
         } else {
@@ -222,7 +239,6 @@ System build_polymer(const BuildSpec& spec, const PolymerForceField& ff) {
     for (int i = 0; i + 3 < N; ++i)
       s.dihedrals.push_back({1, first + i, first + i + 1, first + i + 2, first + i + 3});
   }
-  return s;
 }
 
 double min_nonbonded_distance(const System& s) {
@@ -237,6 +253,7 @@ double min_nonbonded_distance(const System& s) {
   for (std::size_t i = 0; i < s.x.size(); ++i) {
     cells.around(s.x[i], [&](int j, double r2) {
       if (static_cast<std::size_t>(j) >= i) return;
+      if (s.type[i] != 1 && s.type[j] != 1) return; // clay-clay pairs: not beads
       if (s.mol[i] != 0 && s.mol[i] == s.mol[j] && std::abs(pos[i] - pos[j]) <= 2) return;
       best2 = std::min(best2, r2);
     });

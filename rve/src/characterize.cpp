@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/damage/data.hpp"
+#include "pnc/rve/clay.hpp"
 
 #include <fmt/format.h>
 
@@ -114,9 +115,39 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs)
   if (!(resume && fs::exists(o.data_file) && fs::exists(o.build_record))) {
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
-    const System s = build_polymer(r.build, r.ff);
+    CompositeInfo ci;
+    const System s = r.model == "pnc" ? build_composite(r.build, r.ff, r.clay, &ci)
+                                      : build_polymer(r.build, r.ff);
     write_data_file(o.data_file, s, "pnc characterize " + r.name);
     write_build_record(o.build_record, s, r.build, r.ff, recipe_text);
+    if (r.model == "pnc") {
+      const nlohmann::json cj = {
+          {"cells_a", r.clay.cells_a},
+          {"cells_b", r.clay.cells_b},
+          {"clay_atoms", ci.clay_atoms},
+          {"polymer_beads", ci.polymer_beads},
+          {"clay_mass_g_mol", ci.clay_mass},
+          {"polymer_mass_g_mol", ci.polymer_mass},
+          {"platelet_length_A", ci.length},
+          {"platelet_width_A", ci.width},
+          {"platelet_thickness_A", ci.thickness},
+          {"aspect_ratio_length_over_width", ci.aspect_ratio},
+          {"clay_bounding_volume_A3", ci.clay_volume},
+          {"box_volume_A3", ci.box_volume},
+          {"volume_fraction", ci.volume_fraction},
+          {"weight_fraction", ci.weight_fraction},
+          {"min_polymer_clay_distance_A", min_polymer_clay_distance(s)},
+          {"definitions", "volume fraction = platelet bounding volume (cells_a a x cells_b b x "
+                          "atom-centre thickness) / box volume at the build; weight fraction = "
+                          "W_clay / (W_clay + W_PP)"}};
+      write_text_atomically((bdir / "clay.json").string(), cj.dump(2) + "\n");
+      std::cerr << fmt::format("  clay: {} x {} cells, {} atoms, {:.2f} x {:.2f} x {:.2f} A "
+                               "(aspect ratio {:.2f}), volume fraction {:.4f}, weight fraction "
+                               "{:.4f}, min bead-clay distance {:.3f} A\n",
+                               r.clay.cells_a, r.clay.cells_b, ci.clay_atoms, ci.length, ci.width,
+                               ci.thickness, ci.aspect_ratio, ci.volume_fraction,
+                               ci.weight_fraction, min_polymer_clay_distance(s));
+    }
     std::cerr << fmt::format("  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n",
                              s.x.size(), s.length()[0], min_nonbonded_distance(s));
   } else {
@@ -127,8 +158,9 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs)
   // --- equilibrate
   t0 = std::chrono::steady_clock::now();
   std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}\n", r.equilibrate.ensemble);
-  o.equilibrated = equilibrate(o.data_file, r.ff, r.equilibrate,
-                               (fs::path(dir) / "equilibrate").string(), resume, recipe_text);
+  o.equilibrated =
+      equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
+                  resume, recipe_text, r.model == "pnc");
   o.seconds_equilibrate = seconds_since(t0);
 
   // --- cases
@@ -140,7 +172,8 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs)
     d.case_id = id;
     d.seed = static_cast<std::uint64_t>(r.seed) * 100 + static_cast<std::uint64_t>(id);
     d.start_state = o.equilibrated.restart;
-    d.force_field = polymer_forcefield_commands(r.ff);
+    d.force_field =
+        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
     d.recipe_json = recipe_text;
     const std::string cdir = (fs::path(dir) / "cases" / fmt::format("case_{}", id)).string();
     if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {

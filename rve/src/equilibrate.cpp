@@ -1,6 +1,8 @@
 // Equilibration protocol (sections 3.3.1-3.3.2), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
+#include "pnc/rve/clay.hpp"
+
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -33,6 +35,7 @@ void EquilibrateSpec::validate(const std::string& source) const {
   pos("equilibrate.pdamp_fs", pdamp_fs);
   nonneg("equilibrate.hot_steps", hot_steps);
   nonneg("equilibrate.cool_steps", cool_steps);
+  nonneg("equilibrate.clay_steps", clay_steps);
   nonneg("equilibrate.npt_steps", npt_steps);
   if (pushoff_steps < 100)
     fail(source, "equilibrate.pushoff_steps", std::to_string(pushoff_steps), "must be >= 100");
@@ -140,7 +143,9 @@ void define_measures(Lammps& l) {
   l.cmd("thermo_style custom step temp pe press c_pnc_pv density vol");
 }
 
-void run_chunks(Lammps& l, long steps, int chunks, Trace& t) {
+/// `whole_ramp`: thermostat ramps (Tstart -> Tstop) span all chunks (run ... start/stop),
+/// not each chunk; assumes the timestep counter is 0 at the call.
+void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false) {
   if (steps <= 0) return;
   long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
   const int n = static_cast<int>((steps + chunk - 1) / chunk);
@@ -149,7 +154,10 @@ void run_chunks(Lammps& l, long steps, int chunks, Trace& t) {
                     "c_pnc_pv v_pnc_rho v_pnc_vol",
                     chunk / 10, chunk));
   for (int i = 0; i < n; ++i) {
-    l.cmd(fmt::format("run {}", chunk));
+    if (whole_ramp)
+      l.cmd(fmt::format("run {} start 0 stop {}", chunk, chunk * n));
+    else
+      l.cmd(fmt::format("run {}", chunk));
     std::array<double, 6> r{};
     for (int c = 0; c < 6; ++c)
       r[c] = l.fix_value("pnc_avg", c);
@@ -158,20 +166,20 @@ void run_chunks(Lammps& l, long steps, int chunks, Trace& t) {
   l.cmd("unfix pnc_avg");
 }
 
-void read_state(Lammps& l, const PolymerForceField& ff, const EquilibrateSpec& s,
+void read_state(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
                 const std::string& restart) {
   l.cmd("units real");
   l.cmd("atom_style molecular");
   l.cmd("read_restart " + restart);
-  l.cmds(polymer_forcefield_commands(ff));
+  l.cmds(ffcmds);
   l.cmd("reset_timestep 0");
   l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
   define_measures(l);
 }
 
-double min_pair_distance(Lammps& l, double cutoff) {
+double min_pair_distance(Lammps& l, double cutoff, const std::string& group = "all") {
   // neighbour pairs within the pair cutoff (excluded 1-2/1-3/1-4 pairs are not listed)
-  l.cmd("compute pnc_pl all pair/local dist");
+  l.cmd("compute pnc_pl " + group + " pair/local dist");
   l.cmd("compute pnc_dmin all reduce min c_pnc_pl");
   l.cmd("run 0");
   const double d = l.compute_value("pnc_dmin");
@@ -219,7 +227,7 @@ EquilibratedState read_equilibrated(const std::string& dir) {
   e.temperature = f.read_scalar("/temperature");
   e.void_fraction = f.read_scalar("/void_fraction");
   e.min_distance = f.read_scalar("/min_distance");
-  for (const char* st : {"pushoff", "hot", "cool", "langevin", "final"}) {
+  for (const char* st : {"pushoff", "hot", "clay", "cool", "langevin", "final"}) {
     const std::string sp = p(dir, st, ".h5");
     if (fs::exists(sp))
       e.criteria.push_back(std::string(st) + ": " +
@@ -230,10 +238,14 @@ EquilibratedState read_equilibrated(const std::string& dir) {
 
 EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
                               const EquilibrateSpec& s, const std::string& dir, bool resume,
-                              const std::string& recipe_json) {
+                              const std::string& recipe_json, bool with_clay) {
   s.validate("<equilibrate>");
   fs::create_directories(dir);
   const double sig = ff.sigma;
+  const std::vector<std::string> ffcmds =
+      with_clay ? composite_forcefield_commands(ff) : polymer_forcefield_commands(ff);
+  // the atoms that move while the clay is frozen, and the pairs the push-off criterion checks
+  const std::string mob = with_clay ? "pnc_poly" : "all";
   auto stage = [&](const std::string& name, const StageBody& body) {
     if (resume && fs::exists(p(dir, name, ".h5")) && fs::exists(p(dir, name, ".restart"))) {
       std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
@@ -252,16 +264,16 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     l.cmd("units real");
     l.cmd("atom_style molecular");
     l.cmd("read_data " + data_file);
-    l.cmds(polymer_forcefield_commands(ff));
+    l.cmds(ffcmds);
     l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
     l.cmd("pair_coeff * * 0.0");
     l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
     define_measures(l);
-    l.cmd(
-        fmt::format("velocity all create {:.10g} {} dist gaussian mom yes", s.temperature, s.seed));
-    l.cmd("fix pnc_lim all nve/limit 0.1");
-    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
-                      s.damp_fs, s.seed + 1));
+    l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.temperature,
+                      s.seed));
+    l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
+    l.cmd(fmt::format("fix pnc_lan {} langevin {:.10g} {:.10g} {:.10g} {}", mob, s.temperature,
+                      s.temperature, s.damp_fs, s.seed + 1));
     Trace t;
     double d = 0;
     int round = 0;
@@ -270,13 +282,13 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
       if (round == 1) {
         l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
         l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
-        run_chunks(l, s.pushoff_steps, 5, t);
+        run_chunks(l, s.pushoff_steps, 5, t, true); // ramp(0, A_max) over the whole round
         l.cmd("unfix pnc_adapt");
         l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
       } else {
         run_chunks(l, s.pushoff_steps, 5, t);
       }
-      d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig);
+      d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig, mob);
       if (d >= target) break;
     }
     const bool met = d >= target;
@@ -291,18 +303,20 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   });
 
   stage("hot", [&](Lammps& l) {
-    read_state(l, ff, s, p(dir, "pushoff", ".restart"));
+    read_state(l, ffcmds, s, p(dir, "pushoff", ".restart"));
+    if (with_clay) l.cmd("fix pnc_frz pnc_clay setforce 0.0 0.0 0.0");
     l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
+    if (with_clay) l.cmd("unfix pnc_frz");
     l.cmd("reset_timestep 0");
-    l.cmd(fmt::format("velocity all create {:.10g} {} dist gaussian mom yes", s.hot_temperature,
+    l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.hot_temperature,
                       s.seed + 2));
-    l.cmd("fix pnc_lim all nve/limit 0.1");
-    l.cmd(fmt::format("fix pnc_rs all temp/rescale 10 {0:.10g} {0:.10g} 10.0 1.0",
-                      s.hot_temperature));
+    l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
+    l.cmd(fmt::format("fix pnc_rs {} temp/rescale 10 {:.10g} {:.10g} 10.0 1.0", mob,
+                      s.hot_temperature, s.hot_temperature));
     Trace t;
     run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t); // limited displacement first
     l.cmd("unfix pnc_lim");
-    l.cmd("fix pnc_nve all nve");
+    l.cmd("fix pnc_nve " + mob + " nve");
     run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t);
     l.cmd("write_restart " + p(dir, "hot", ".restart"));
     write_stage(p(dir, "hot", ".h5"), "hot",
@@ -312,13 +326,41 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                 t, recipe_json);
   });
 
+  if (with_clay)
+    stage("clay", [&](Lammps& l) {
+      read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
+      // section 3.3.2 step 3: the polymer is held fixed, the clay relaxes in its field
+      l.cmd("velocity pnc_poly set 0.0 0.0 0.0");
+      l.cmd("fix pnc_frz pnc_poly setforce 0.0 0.0 0.0");
+      l.cmd("run 0");
+      const double e0 = l.thermo("pe");
+      l.cmd("minimize 1.0e-6 1.0e-8 2000 20000");
+      l.cmd("run 0");
+      const double e1 = l.thermo("pe");
+      l.cmd("unfix pnc_frz");
+      l.cmd("reset_timestep 0");
+      l.cmd(fmt::format("velocity pnc_clay create {:.10g} {} dist gaussian mom yes", s.temperature,
+                        s.seed + 6));
+      l.cmd("fix pnc_nve pnc_clay nve/limit 0.05");
+      l.cmd(fmt::format("fix pnc_lan pnc_clay langevin {0:.10g} {0:.10g} {1:.10g} {2}",
+                        s.temperature, s.damp_fs, s.seed + 7));
+      Trace t;
+      run_chunks(l, s.clay_steps, 5, t);
+      l.cmd("write_restart " + p(dir, "clay", ".restart"));
+      write_stage(p(dir, "clay", ".h5"), "clay",
+                  fmt::format("polymer fixed; clay minimised (PE {:.1f} -> {:.1f} kcal/mol), then "
+                              "{} steps NVE (limit 0.05 A/step) + Langevin {:.0f} K on the clay",
+                              e0, e1, s.clay_steps, s.temperature),
+                  t, recipe_json);
+    });
+
   stage("cool", [&](Lammps& l) {
-    read_state(l, ff, s, p(dir, "hot", ".restart"));
+    read_state(l, ffcmds, s, p(dir, with_clay ? "clay" : "hot", ".restart"));
     l.cmd("fix pnc_nve all nve");
     l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {}", s.hot_temperature,
                       s.temperature, s.damp_fs, s.seed + 3));
     Trace t;
-    run_chunks(l, s.cool_steps, 10, t);
+    run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
     l.cmd("write_restart " + p(dir, "cool", ".restart"));
     write_stage(
         p(dir, "cool", ".h5"), "cool",
@@ -329,7 +371,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   });
 
   stage("langevin", [&](Lammps& l) {
-    read_state(l, ff, s, p(dir, "cool", ".restart"));
+    read_state(l, ffcmds, s, p(dir, "cool", ".restart"));
     l.cmd("fix pnc_nve all nve");
     l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
                       s.damp_fs, s.seed + 4));
@@ -356,29 +398,37 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   });
 
   stage("final", [&](Lammps& l) {
-    read_state(l, ff, s, p(dir, "langevin", ".restart"));
+    read_state(l, ffcmds, s, p(dir, "langevin", ".restart"));
     Trace tn, tf;
     std::string how;
     if (s.ensemble == "npt") {
-      l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} iso {2:.10g} {2:.10g} "
-                        "{3:.10g}",
-                        s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
+      if (with_clay) // x1 (along the platelet) held, x2 and x3 coupled
+        l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} y {2:.10g} "
+                          "{2:.10g} {3:.10g} z {2:.10g} {2:.10g} {3:.10g} couple yz",
+                          s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
+      else
+        l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} iso {2:.10g} "
+                          "{2:.10g} {3:.10g}",
+                          s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
       run_chunks(l, s.npt_steps, 10, tn);
       l.cmd("unfix pnc_npt");
       const double vmean = tn.mean(5, tn.rows.size() / 2);
       double lo[3], hi[3], xy, yz, xz;
       l.box(lo, hi, xy, yz, xz);
-      const double f = std::cbrt(vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])));
+      const double ratio = vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+      const double f = with_clay ? std::sqrt(ratio) : std::cbrt(ratio);
       std::string cb = "change_box all";
       for (int a = 0; a < 3; ++a) {
-        const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * f;
+        const double fa = (with_clay && a == 0) ? 1.0 : f;
+        const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * fa;
         cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
       }
       l.cmd(cb + " remap units box");
       how = fmt::format(
-          "NPT at {:.1f} atm for {} steps (mean density of the second half {:.4f} "
+          "NPT at {:.1f} atm{} for {} steps (mean density of the second half {:.4f} "
           "g/cm3), box set to its mean volume {:.1f} A^3, then NVT (Langevin) for {} steps",
-          s.pressure_atm, s.npt_steps, tn.mean(4, tn.rows.size() / 2), vmean, s.final_steps);
+          s.pressure_atm, with_clay ? " on x2, x3 (coupled; x1 held)" : "", s.npt_steps,
+          tn.mean(4, tn.rows.size() / 2), vmean, s.final_steps);
     } else {
       how = fmt::format("NVT at the build density, Langevin for {} steps", s.final_steps);
     }
@@ -388,7 +438,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     run_chunks(l, s.final_steps, 10, tf);
     l.cmd("unfix pnc_lan");
     l.cmd("unfix pnc_nve");
-    const double dmin = min_pair_distance(l, ff.cutoff());
+    const double dmin = min_pair_distance(l, ff.cutoff(), mob);
     double lo[3], hi[3], xy, yz, xz;
     l.box(lo, hi, xy, yz, xz);
     const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);

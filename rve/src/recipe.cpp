@@ -113,16 +113,54 @@ const char* paper_text = R"({
   "run": { "jobs": 2 }
 })";
 
+// Nanocomposite (decision D24): platelet of 7 x 1 cells (36.4 x 9.2 A, aspect ratio 3.96,
+// the closest to the printed 4.19), 1500 beads, cases 1-6, 0.5 fs (O-H bond).
+const char* paper_pnc_text = R"({
+  "name": "paper_pnc",
+  "seed": 1,
+  "model": "pnc",
+  "build": { "chains": 75, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "clay": { "cells_a": 7, "cells_b": 1, "min_distance": 3.0, "gap_x": 10.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 10000, "hot_steps": 200000,
+                   "hot_temperature": 1000, "clay_steps": 20000, "cool_steps": 200000,
+                   "langevin_chunk_steps": 20000, "langevin_max_chunks": 20,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
+                   "final_steps": 20000 },
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300 },
+  "analysis": { "stress": "virial", "moving_average": 13, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+// Small nanocomposite that finishes in minutes: 400 beads, 3 x 1 cells, short holds.
+const char* demo_pnc_text = R"({
+  "name": "demo_pnc",
+  "seed": 1,
+  "model": "pnc",
+  "build": { "chains": 20, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "clay": { "cells_a": 3, "cells_b": 1, "min_distance": 3.0, "gap_x": 10.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 2000, "hot_steps": 6000,
+                   "clay_steps": 2000, "cool_steps": 6000, "langevin_chunk_steps": 3000,
+                   "langevin_max_chunks": 3, "ensemble": "npt", "pressure_atm": 0.0,
+                   "npt_steps": 10000, "final_steps": 2000 },
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.05, "steps": 10, "timestep_fs": 0.5,
+              "hold_steps": 2000, "sample_every": 10, "blocks": 10 },
+  "analysis": { "stress": "virial", "moving_average": 3, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
 } // namespace
 
 std::vector<std::string> preset_names() {
-  return {"demo", "paper"};
+  return {"demo", "paper", "demo_pnc", "paper_pnc"};
 }
 
 nlohmann::json preset_json(const std::string& name) {
   if (name == "demo") return json::parse(demo_text);
   if (name == "paper") return json::parse(paper_text);
-  fail("<command line>", "preset", name, "must be one of: demo, paper");
+  if (name == "demo_pnc") return json::parse(demo_pnc_text);
+  if (name == "paper_pnc") return json::parse(paper_pnc_text);
+  fail("<command line>", "preset", name, "must be one of: demo, paper, demo_pnc, paper_pnc");
 }
 
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
@@ -134,10 +172,12 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   top.get("model", r.model);
   if (r.model != "pp" && r.model != "pnc")
     fail(source, "model", r.model, "must be \"pp\" (pure polymer) or \"pnc\" (with clay)");
-  if (r.model == "pnc")
+  if (r.model == "pnc" && !j.contains("clay"))
     fail(source, "model", r.model,
-         "the montmorillonite platelet builder is not implemented yet (issue #3 layer 6); "
-         "use \"pp\"");
+         "model \"pnc\" needs a \"clay\" block naming the platelet (cells_a or aspect_ratio, "
+         "cells_b), e.g. {\"cells_a\": 7, \"cells_b\": 1}; see the preset paper_pnc");
+  if (r.model == "pp" && j.contains("clay"))
+    fail(source, "clay", j.at("clay").dump(), "a clay block needs \"model\": \"pnc\"");
   if (r.seed < 1 || r.seed > 1000000)
     fail(source, "seed", std::to_string(r.seed), "must be in 1..1000000");
   {
@@ -147,6 +187,26 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("density", r.build.density);
     s.get("min_distance", r.build.min_distance);
     s.check_unknown();
+  }
+  {
+    Section s = top.sub("clay");
+    s.get("cells_a", r.clay.cells_a);
+    s.get("cells_b", r.clay.cells_b);
+    s.get("aspect_ratio", r.clay.aspect_ratio);
+    s.get("min_distance", r.clay.min_distance);
+    s.get("gap_x", r.clay.gap_x);
+    s.check_unknown();
+    r.clay.validate(source);
+    if (r.clay.aspect_ratio > 0) {
+      if (j.at("clay").contains("cells_a"))
+        fail(source, "clay.aspect_ratio", fmt::format("{}", r.clay.aspect_ratio),
+             "give either clay.cells_a or clay.aspect_ratio, not both");
+      const ClayLattice lat;
+      r.clay.cells_a = std::max(
+          1, static_cast<int>(std::lround(r.clay.aspect_ratio * r.clay.cells_b * lat.b / lat.a)));
+      r.clay.aspect_ratio = 0; // expanded into cells_a
+      r.clay.validate(source);
+    }
   }
   {
     Section s = top.sub("forcefield");
@@ -167,6 +227,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("pushoff_min_distance_sigma", e.pushoff_min_distance_sigma);
     s.get("hot_steps", e.hot_steps);
     s.get("hot_temperature", e.hot_temperature);
+    s.get("clay_steps", e.clay_steps);
     s.get("cool_steps", e.cool_steps);
     s.get("langevin_chunk_steps", e.langevin_chunk_steps);
     s.get("langevin_max_chunks", e.langevin_max_chunks);
@@ -181,6 +242,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     auto& d = r.deform;
     Section s = top.sub("deform");
+    if (r.model == "pnc") r.cases = {1, 2, 3, 4, 5, 6};
     s.get_cases("cases", r.cases);
     s.get("strain_max", d.strain_max);
     s.get("steps", d.steps);
@@ -236,8 +298,12 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   probe.seed = r.seed;
   probe.validate(source);
   // the cutoff must fit the smallest box: 2 r_c < L at the build density
-  const double L = std::cbrt(r.build.chains * r.build.beads_per_chain * r.ff.bead_mass /
-                             (r.build.density * avogadro_per_A3_cm3));
+  double L = std::cbrt(r.build.chains * r.build.beads_per_chain * r.ff.bead_mass /
+                       (r.build.density * avogadro_per_A3_cm3));
+  if (r.model == "pnc") {
+    const auto box = composite_box(r.build, r.ff, r.clay, source);
+    L = std::min({box[0], box[1], box[2]});
+  }
   if (2 * r.ff.cutoff() >= L)
     fail(source, "build.chains", std::to_string(r.build.chains),
          fmt::format("the box ({:.2f} A at the build density) must exceed twice the LJ cutoff "
@@ -264,7 +330,7 @@ Recipe read_recipe(const std::string& path) {
 nlohmann::json expanded_json(const Recipe& r) {
   const auto& e = r.equilibrate;
   const auto& d = r.deform;
-  return json{
+  json out{
       {"name", r.name},
       {"seed", r.seed},
       {"model", r.model},
@@ -285,6 +351,7 @@ nlohmann::json expanded_json(const Recipe& r) {
         {"pushoff_min_distance_sigma", e.pushoff_min_distance_sigma},
         {"hot_steps", e.hot_steps},
         {"hot_temperature", e.hot_temperature},
+        {"clay_steps", e.clay_steps},
         {"cool_steps", e.cool_steps},
         {"langevin_chunk_steps", e.langevin_chunk_steps},
         {"langevin_max_chunks", e.langevin_max_chunks},
@@ -308,6 +375,12 @@ nlohmann::json expanded_json(const Recipe& r) {
        {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
       {"run", {{"jobs", r.jobs}}}};
+  if (r.model == "pnc")
+    out["clay"] = {{"cells_a", r.clay.cells_a},
+                   {"cells_b", r.clay.cells_b},
+                   {"min_distance", r.clay.min_distance},
+                   {"gap_x", r.clay.gap_x}};
+  return out;
 }
 
 } // namespace pnc::rve

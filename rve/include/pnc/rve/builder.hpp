@@ -60,8 +60,15 @@ struct System {
 /// Grows the chains. Deterministic for a given spec (seed included).
 System build_polymer(const BuildSpec& spec, const PolymerForceField& ff);
 
+/// Grows spec.chains chains into `s` (box set; atoms already in `s`, e.g. the clay, are
+/// obstacles no bead may approach closer than `obstacle_min_distance`). Bead atoms get type 1
+/// and molecules 1..chains; topology types 1.
+void grow_chains(System& s, const BuildSpec& spec, const PolymerForceField& ff,
+                 double obstacle_min_distance);
+
 /// Smallest minimum-image distance between two beads that are not 1-2 or 1-3 bonded
-/// neighbours in the same chain (cell list; O(N)).
+/// neighbours in the same chain (cell list; O(N)). Pairs of two non-bead atoms (type != 1,
+/// the clay) are not counted.
 double min_nonbonded_distance(const System& s);
 
 /// LAMMPS data file (atom_style molecular, or full when charges are present), written

@@ -11,6 +11,7 @@
 //             until no two non-excluded beads are closer than `pushoff_min_distance_sigma` sigma.
 //  2 hot      LJ on; energy minimisation (removes the remaining soft-core strain), then
 //             `hot_steps` at `hot_temperature` with velocity rescaling (fix temp/rescale).
+//  2b clay    (composite only) clay relaxes with the polymer fixed, see equilibrate()
 //  3 cool     Langevin with the target ramped hot_temperature -> temperature.
 //  4 langevin Langevin at `temperature` in chunks until the mean potential energy of two
 //             successive chunks differs by less than `steady_tolerance` of its magnitude
@@ -41,6 +42,7 @@ struct EquilibrateSpec {
   double pushoff_min_distance_sigma = 0.75; ///< end criterion of the push-off
   long hot_steps = 20000;
   double hot_temperature = 1000;
+  long clay_steps = 5000; ///< with clay: clay relaxation with the polymer fixed (stage "clay")
   long cool_steps = 20000;
   long langevin_chunk_steps = 10000;
   int langevin_max_chunks = 10;
@@ -68,9 +70,14 @@ struct EquilibratedState {
 
 /// Runs the protocol from a LAMMPS data file into `dir`. Stages with results are skipped
 /// when `resume`. Throws pnc::InputError naming the stage (and LAMMPS's ERROR line) on failure.
+/// `with_clay` (composite data file of clay.hpp, section 3.3.2): the clay (group pnc_clay) is
+/// frozen in pushoff and hot (not integrated; fix setforce 0 during the minimisation), then
+/// stage "clay" minimises and runs the clay (NVE + Langevin at `temperature`, `clay_steps`)
+/// with the polymer fixed; cool/langevin/final move everything, and the NPT barostat acts on
+/// x2 and x3 only (coupled), x1 (along the platelet) keeps its build length (decision D24).
 EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
                               const EquilibrateSpec& spec, const std::string& dir, bool resume,
-                              const std::string& recipe_json);
+                              const std::string& recipe_json, bool with_clay = false);
 
 /// Reads `dir`/final.h5.
 EquilibratedState read_equilibrated(const std::string& dir);

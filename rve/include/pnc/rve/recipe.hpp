@@ -9,6 +9,8 @@
 // path), the value and the rule.
 //   { "name": "demo", "seed": 1, "model": "pp",
 //     "build":       { "chains", "beads_per_chain", "density", "min_distance" },
+//     "clay":        { "cells_a" | "aspect_ratio", "cells_b", "min_distance", "gap_x" }
+//                    (model "pnc" only; clay.hpp; cases default to 1..6)
 //     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
 //     "equilibrate": { EquilibrateSpec fields by name },
 //     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
@@ -18,6 +20,7 @@
 //     "fit":         { "fit_alpha": bool },
 //     "run":         { "jobs": N } }
 #include "pnc/rve/builder.hpp"
+#include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
 
@@ -31,8 +34,9 @@ namespace pnc::rve {
 struct Recipe {
   std::string name = "custom";
   std::uint64_t seed = 1;
-  std::string model = "pp"; ///< "pp" (pure polymer); "pnc" needs the clay platelet (not built yet)
+  std::string model = "pp"; ///< "pp" (pure polymer) or "pnc" (with the clay platelet)
   BuildSpec build;
+  ClaySpec clay; ///< used when model == "pnc"
   PolymerForceField ff;
   EquilibrateSpec equilibrate;
   DeformSpec deform; ///< template: case_id, seed, start_state filled per case
@@ -51,7 +55,7 @@ struct Recipe {
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
 /// Reads a JSON recipe file (".json"); other extensions are an InputError.
 Recipe read_recipe(const std::string& path);
-/// The presets "demo" and "paper" as JSON (what `pnc recipe show` prints).
+/// The presets "demo", "paper", "demo_pnc", "paper_pnc" as JSON (what `pnc recipe show` prints).
 nlohmann::json preset_json(const std::string& name);
 std::vector<std::string> preset_names();
 /// The recipe fully expanded (every field with its value), for records and `recipe show`.
