@@ -1,0 +1,158 @@
+// Benchmarks of the uGIMP step (gimp_coupler/bench/README.md): particle-steps per second for
+// 2-D and 3-D with the hyperelastic polymer law, 1e4..1e6 particles, 1 and 2 threads, and a
+// streaming loop over the same particle arrays (the memory-bandwidth ceiling).
+#include "pnc/gimp_coupler/solver.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+
+using namespace pnc::gimp;
+
+namespace {
+
+/// A block of N (about) particles, 2 per cell per axis, in a grid with a 2-cell margin,
+/// small random-ish velocities so that stresses are non-zero; the left face is fixed.
+template <int D> std::unique_ptr<Solver<D>> make_block(long n_target, int threads) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  auto s = std::make_unique<Solver<D>>();
+  const int ppc = 2;
+  const long per_cell = D == 2 ? 4 : 8;
+  const long cells_total = std::max(1L, n_target / per_cell);
+  // Aspect 4:1(:1) block.
+  const double side = std::pow(static_cast<double>(cells_total) / 4.0, 1.0 / D);
+  std::array<int, D> nc{};
+  for (int a = 0; a < D; ++a)
+    nc[a] = std::max(1, static_cast<int>(std::lround(a == 0 ? 4 * side : side)));
+  s->grid.h = 1e-3;
+  for (int a = 0; a < D; ++a) {
+    s->grid.origin[a] = -2e-3;
+    s->grid.n[a] = nc[a] + 5;
+  }
+  s->materials.push_back(std::make_shared<HyperelasticPolymer>(1200, 1.8e8, 1.48e7));
+  const double d = s->grid.h / ppc, V = std::pow(d, D);
+  std::array<int, D> k{};
+  std::array<int, D> np{};
+  for (int a = 0; a < D; ++a)
+    np[a] = nc[a] * ppc;
+  while (true) {
+    Vec x;
+    for (int a = 0; a < D; ++a)
+      x[a] = (k[a] + 0.5) * d;
+    Vec v = Vec::Zero();
+    v[0] = 1.0 * std::sin(3.0 * x[0] / (nc[0] * 1e-3));
+    s->particles.add(x, Vec::Constant(0.5 * d), 1200 * V, V, 0, v);
+    int a = 0;
+    for (; a < D; ++a) {
+      if (++k[a] < np[a]) break;
+      k[a] = 0;
+    }
+    if (a == D) break;
+  }
+  NodeBC<D> wall;
+  wall.lo = Vec::Constant(-1.0);
+  wall.hi = Vec::Constant(1.0);
+  wall.hi[0] = 0.0;
+  wall.mask.fill(true);
+  s->bcs.push_back(wall);
+  s->threads = threads;
+  s->initialize();
+  return s;
+}
+
+template <int D> void BM_Step(benchmark::State& st) {
+  auto s = make_block<D>(st.range(0), static_cast<int>(st.range(1)));
+  if constexpr (D == 2) {
+    if (st.range(2)) { // an edge crack from the top face to mid-height at x = 40 % of the block
+      double xmax = 0, ymax = 0;
+      for (const auto& x : s->particles.x) {
+        xmax = std::max(xmax, x[0]);
+        ymax = std::max(ymax, x[1]);
+      }
+      Crack c;
+      c.points = {Eigen::Vector2d(0.4 * xmax + 1e-7, ymax + 1e-3),
+                  Eigen::Vector2d(0.4 * xmax + 1e-7, 0.5 * ymax + 1e-7)};
+      s->cracks.push_back(c);
+      s->initialize();
+    }
+  }
+  const double dt = 0.5 * s->stable_dt();
+  for (int i = 0; i < 3; ++i)
+    s->step(dt); // warm-up
+  for (auto _ : st)
+    s->step(dt);
+  const auto n = static_cast<double>(s->particles.size());
+  st.counters["particles"] = n;
+  st.counters["threads"] = static_cast<double>(st.range(1));
+  st.counters["psteps_per_s"] =
+      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  st.counters["psteps_per_s_per_thread"] = benchmark::Counter(
+      n / static_cast<double>(st.range(1)), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// The bandwidth ceiling: one pass that reads and writes every particle array a step touches
+/// (x, v, F, sigma, W, V) with trivial arithmetic, no grid.
+template <int D> void BM_Stream(benchmark::State& st) {
+  auto s = make_block<D>(st.range(0), 1);
+  auto& P = s->particles;
+  const double dt = 1e-9;
+  for (auto _ : st) {
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      P.x[p] += dt * P.v[p];
+      P.v[p] *= 1.0 - 1e-12;
+      P.F[p] *= 1.0 + 1e-15;
+      P.sigma[p] *= 1.0 - 1e-15;
+      P.W[p] += dt;
+      P.V[p] = P.V0[p] * P.F[p](0, 0);
+    }
+    benchmark::ClobberMemory();
+  }
+  const auto n = static_cast<double>(P.size());
+  st.counters["particles"] = n;
+  st.counters["psteps_per_s"] =
+      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// Cost of the material law alone (hyperelastic, one particle update).
+void BM_HyperelasticUpdate(benchmark::State& st) {
+  const HyperelasticPolymer m(1200, 1.8e8, 1.48e7);
+  Mat3 F;
+  F << 1.01, 0.002, 0, -0.001, 0.995, 0, 0, 0, 1;
+  Mat3 sig;
+  double W;
+  for (auto _ : st) {
+    m.update(F, F, nullptr, nullptr, sig, W);
+    benchmark::DoNotOptimize(sig);
+    F(0, 0) += 1e-12;
+  }
+}
+
+} // namespace
+
+BENCHMARK_TEMPLATE(BM_Step, 2)
+    ->ArgsProduct({{10000, 100000, 1000000}, {1, 2}, {0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// The same 2-D step with an edge crack (two velocity fields, contact): cost ratio.
+BENCHMARK_TEMPLATE(BM_Step, 2)
+    ->ArgsProduct({{10000, 100000}, {1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Step, 3)
+    ->ArgsProduct({{10000, 100000, 1000000}, {1, 2}, {0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Stream, 2)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Stream, 3)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HyperelasticUpdate);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,52 @@
+#pragma once
+// pnc/gimp_coupler/output.hpp: particle frames (VTU + PVD index), histories (CSV) and
+// checkpoints (HDF5) of the GIMP solver. All files are written atomically.
+//
+// VTU (VTK XML UnstructuredGrid, one VTK_VERTEX cell per particle; ParaView-readable), point
+// data, SI units: displacement (m), velocity (m/s), stress (Cauchy, Pa, 9 components),
+// strain (Green-Lagrange E = (F^T F - I)/2, 9 components), density (kg/m^3), volume (m^3),
+// mass (kg), strain_energy_density (J/m^3), material (index), and one array per material
+// state variable (named after the law's state names; 0 for particles of other laws).
+// 2-D frames have z = 0 and 3-component vectors.
+#include "pnc/gimp_coupler/solver.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pnc::gimp {
+
+/// Writes one VTU frame (ASCII, or base64-encoded binary when `binary`).
+template <int D>
+void write_vtu(const std::string& path, const Solver<D>& s, bool binary,
+               const std::vector<std::string>& material_names);
+
+/// Writes the PVD index of frames (file names relative to the PVD's folder) and times (s).
+void write_pvd(const std::string& path, const std::vector<std::string>& files,
+               const std::vector<double>& times);
+
+/// Base64 of a byte buffer (RFC 4648, with padding).
+std::string base64(const unsigned char* data, std::size_t n);
+
+/// Run history: one row per recorded step.
+struct History {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  void write_csv(const std::string& path) const;
+};
+
+/// What a checkpoint holds besides the solver: output bookkeeping and the history.
+struct CheckpointExtra {
+  std::string input_hash; ///< FNV-1a of the input file; a resume with another input fails
+  double next_output_time = 0.0;
+  std::vector<std::string> frame_files;
+  std::vector<double> frame_times;
+  History history;
+};
+
+template <int D>
+void write_checkpoint(const std::string& path, const Solver<D>& s, const CheckpointExtra& x);
+/// Restores particles, time, steps and energies into a solver built from the same input,
+/// and the extra data. Throws pnc::InputError if the checkpoint does not match.
+template <int D> void read_checkpoint(const std::string& path, Solver<D>& s, CheckpointExtra& x);
+
+} // namespace pnc::gimp

@@ -1,0 +1,48 @@
+#pragma once
+// pnc/gimp_coupler/run.hpp: the driver of `pnc gimp run INPUT --out DIR [--resume]`.
+//
+// Writes into DIR: particles.pvd + frames/particles_NNNNNN.vtu (particle fields, SI),
+// history.csv (energies in J, reactions in N, per recorded step), checkpoint.h5 (restart),
+// energy.png (energy balance, drawn by gimp_coupler/scripts/plot_energy.py with
+// /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), summary.json.
+#include "pnc/gimp_coupler/solver.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pnc::gimp {
+
+struct RunOptions {
+  std::string input;
+  std::string out_dir;
+  bool resume = false;
+  int threads = 0;           ///< 0: from the input file
+  bool progress = true;      ///< progress lines (step, time, ETA) on stderr
+  bool plot = true;          ///< energy.png
+  long stop_after_steps = 0; ///< stop when the total step count reaches this (0: no limit);
+                             ///< not part of the input, so the run can be resumed
+};
+
+struct RunSummary {
+  int dimension = 2;
+  std::size_t particles = 0;
+  long steps = 0; ///< total, including steps before a resume
+  long steps_this_run = 0;
+  double time = 0.0;    ///< s
+  double dt_last = 0.0; ///< s
+  Energies energy;
+  double max_abs_balance = 0.0; ///< max |KE + SE - W_ext - W_bc| over the history, J
+  double wall_seconds = 0.0;
+  double particle_steps_per_second = 0.0;
+  int threads = 1;
+  bool resumed = false;
+  int frames = 0;
+  std::string pvd, history_csv, checkpoint, plot_png, plot_warning;
+  std::vector<std::string> reaction_names;
+  std::vector<std::vector<double>> reactions; ///< last step, N, per boundary
+};
+
+RunSummary run(const RunOptions& o);
+
+} // namespace pnc::gimp

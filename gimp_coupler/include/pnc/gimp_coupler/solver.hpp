@@ -1,0 +1,207 @@
+#pragma once
+// pnc/gimp_coupler/solver.hpp: the explicit uGIMP solver, dimension D = 2 (plane strain,
+// unit thickness 1 m) or 3.
+//
+// Units: SI. Positions, half-lengths m; velocity m/s; mass kg; volume m^3 (2-D: area x 1 m);
+// stress Pa; force N; energy J; body acceleration m/s^2; time s.
+//
+// One step (dissertation eqs. 2.39-2.46, EQUATIONS.md section 1; decisions D30, D33-D35):
+//  0. P2G with S_ip, grad S_ip at x_p^t: m_i, p_i, f_i^int,t = -sum sigma_p grad S V_p,
+//     f_i^ext,t+dt = sum S_ip f_p^ext(t+dt); velocity BCs imposed on p_i.
+//  1. v*_i = (p_i + dt/2 (f^int,t + f^ext)) / m_i; BCs on v*.
+//  2. grad du_p = dt sum v*_i (x) grad S_ip; F_p <- (I + grad du_p) F_p (LEFT product);
+//     V_p = V_p0 det F_p; sigma_p from the material law.
+//  3. f_i^int,* = -sum sigma_p* grad S_ip V_p (weights still at x_p^t).
+//  4. p_i^t+dt = m_i v*_i + dt/2 (f^int,* + f^ext); BCs; v_i^t+dt = p_i^t+dt / m_i.
+//  5. x_p += dt sum S_ip v*_i;  v_p += sum S_ip (v_i^t+dt - v_i^t)  (FLIP form of eq. 2.22
+//     with the nodal momentum change of eq. 2.45, decision D33).
+// Particle domains: uGIMP, the half-lengths l_p stay fixed (decision D34).
+// Threads: std::thread pool; P2G scatters go to per-thread grid copies reduced in node
+// blocks, summing the copies in thread order (no races, deterministic for a thread count).
+#include "pnc/gimp_coupler/materials.hpp"
+#include "pnc/gimp_coupler/weights.hpp"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pnc::gimp {
+
+/// Linear ramp of a load or boundary velocity: factor 0 before t0, 1 after t1, linear in
+/// between; t1 <= t0 means a step (factor 1 for t >= t0). Times in s.
+struct Ramp {
+  double t0 = 0.0, t1 = 0.0;
+  double operator()(double t) const {
+    if (t1 <= t0) return t >= t0 ? 1.0 : 0.0;
+    if (t <= t0) return 0.0;
+    if (t >= t1) return 1.0;
+    return (t - t0) / (t1 - t0);
+  }
+};
+
+/// Particles in structure-of-arrays form (one std::vector per field).
+template <int D> struct Particles {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  std::vector<Vec> x;        ///< centroid, m
+  std::vector<Vec> x0;       ///< initial centroid, m (displacement = x - x0)
+  std::vector<Vec> v;        ///< velocity, m/s
+  std::vector<Vec> l;        ///< half-lengths, m (uGIMP: fixed)
+  std::vector<Vec> fext;     ///< external force of this step (traction + body), N
+  std::vector<double> m;     ///< mass, kg
+  std::vector<double> V0;    ///< reference volume, m^3
+  std::vector<double> V;     ///< current volume V0 det F, m^3
+  std::vector<Mat> F;        ///< deformation gradient (in-plane block in 2-D)
+  std::vector<Mat3> sigma;   ///< Cauchy stress, Pa (full 3x3; sigma_33 in plane strain)
+  std::vector<double> W;     ///< stored-energy density, J/m^3 of reference volume
+  std::vector<int> mat;      ///< material index
+  std::vector<double> state; ///< material state, state_stride doubles per particle
+  int state_stride = 0;
+
+  std::size_t size() const { return x.size(); }
+  /// Appends one particle at rest with F = I (state set by Solver::initialize()).
+  void add(const Vec& pos, const Vec& half, double mass, double volume, int material,
+           const Vec& vel = Vec::Zero());
+};
+
+/// Velocity boundary condition on the grid nodes inside a box [lo, hi] (inclusive, with a
+/// tolerance of 1e-9 h): components with mask[a] are prescribed to velocity[a] * ramp(t).
+/// A fixed wall: all components, velocity 0. A symmetry plane: the normal component only.
+template <int D> struct NodeBC {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  std::string name;
+  Vec lo, hi;
+  std::array<bool, D> mask{};
+  Vec velocity = Vec::Zero(); ///< m/s
+  Ramp ramp{0.0, 0.0};
+  std::vector<std::int64_t> nodes; ///< filled by Solver::initialize()
+  Vec reaction = Vec::Zero();      ///< force the boundary exerts on the body, N (last step)
+};
+
+/// Surface traction on a set of particles: force per particle = traction (Pa) x the area of
+/// the particle face normal to `axis` (prod of 2 l_b over the other axes; x 1 m in 2-D),
+/// times ramp(t).
+template <int D> struct Traction {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  std::string name;
+  std::vector<std::size_t> particles;
+  int axis = 0;
+  Vec traction = Vec::Zero(); ///< Pa
+  Ramp ramp{0.0, 0.0};
+};
+
+/// A crack in 2-D (CRAMP, Nairn 2003): a polyline of points (m) through the body. Its faces
+/// are traction-free; where they touch they are in frictionless contact. Growth and energy
+/// release rates are not implemented.
+struct Crack {
+  std::string name;
+  std::vector<Eigen::Vector2d> points; ///< >= 2 points, m
+};
+
+/// Energies and works since t = 0, J.
+struct Energies {
+  double initial = 0.0;       ///< kinetic + strain at t = 0
+  double kinetic = 0.0;       ///< sum 1/2 m v^2
+  double strain = 0.0;        ///< sum V0 W (stored energy)
+  double external_work = 0.0; ///< work of body forces and tractions
+  double boundary_work = 0.0; ///< work of the reactions of velocity BCs
+  /// Energy error kinetic + strain - initial - external_work - boundary_work (0 for an exactly
+  /// conservative elastic run; negative when energy is dissipated, e.g. by damage).
+  double balance() const { return kinetic + strain - initial - external_work - boundary_work; }
+};
+
+class ThreadPool; // solver.cpp: persistent worker threads with blocking hand-over
+
+template <int D> class Solver {
+public:
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+
+  Grid<D> grid;
+  Particles<D> particles;
+  std::vector<std::shared_ptr<const Material>> materials;
+  std::vector<NodeBC<D>> bcs;
+  std::vector<Traction<D>> tractions;
+  /// Cracks (2-D only): nodes whose support a crack cuts carry a second velocity field; a
+  /// particle uses field 1 of a node when the segment particle -> node crosses a crack.
+  std::vector<Crack> cracks;
+  Vec gravity = Vec::Zero(); ///< body acceleration, m/s^2
+  Ramp gravity_ramp{0.0, 0.0};
+  int threads = 1;
+  double cfl = 0.5; ///< safety factor on dt = h / (c_max + |v|_max)
+
+  double time = 0.0; ///< s
+  long steps = 0;
+  Energies energy;
+
+  /// Checks the set-up, sizes the state arrays, finds BC nodes and computes the initial
+  /// stresses. Call once before step() (and again after changing particles or BCs).
+  /// `fresh_state`: initialise material states (false when restoring a checkpoint).
+  void initialize(bool fresh_state = true);
+  /// CFL time step: cfl * h / (max wave speed + max particle speed), s.
+  double stable_dt() const;
+  /// One explicit step of length dt (s). Throws std::runtime_error naming the particle if a
+  /// particle leaves the grid or its law fails.
+  void step(double dt);
+  /// Recomputes energy.kinetic and energy.strain from the particles.
+  void update_energies();
+  /// Total reaction of all BCs (N).
+  Vec total_reaction() const;
+
+private:
+  struct Buffer {
+    std::vector<double> m;
+    std::vector<Vec> p, fi, fe;
+  };
+  void external_forces(double t);
+  void scatter();
+  void reduce(bool first);
+  void constrain(std::vector<Vec>& vel, double t, bool with_mass) const;
+  void apply_fields(std::size_t p, Stencil<D>& st) const;
+  void contact(std::vector<Vec>& vel) const;
+  bool crosses(const Vec& a, const Vec& b) const;
+  [[noreturn]] void left_grid(std::size_t p) const;
+
+  std::vector<Buffer> buf_;    // per-thread grid copies
+  std::vector<double> gm_;     // node mass, kg
+  std::vector<Vec> gp_;        // node momentum, then v_i^t (m/s)
+  std::vector<Vec> gfi_, gfe_; // internal, external force, N
+  std::vector<Vec> gfi0_;      // f^int,t kept for the reaction and velocity update
+  std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
+  std::vector<unsigned char> active_;
+  std::size_t nnodes_ = 0;           // grid nodes; arrays hold nfields_ x nnodes_ entries
+  int nfields_ = 1;                  // 2 with cracks
+  std::vector<std::uint32_t> fmask_; // per particle: bit k = stencil node k uses field 1
+  std::vector<Vec> gu_;              // nodal displacement per field (contact gap test), m
+  Vec crack_lo_ = Vec::Zero(), crack_hi_ = Vec::Zero(); // crack bounding box + 2 h
+  std::vector<std::size_t> crack_nodes_;                // nodes inside that box
+  bool near_crack(const Vec& x) const {
+    for (int a = 0; a < D; ++a)
+      if (x[a] < crack_lo_[a] || x[a] > crack_hi_[a]) return false;
+    return true;
+  }
+  std::vector<AxisWeights<D>> wcache_; // per-particle weights at x^t, reused within a step
+  std::shared_ptr<ThreadPool> pool_;   // threads - 1 workers; null for one thread
+  bool has_fext_ = false;              // any body force or traction this step
+  bool fext_zeroed_ = false;
+  double mass_floor_ = 0.0;
+};
+
+extern template class Solver<2>;
+extern template class Solver<3>;
+
+/// Embeds the in-plane D x D block into a 3x3 (F_33 = 1 for D = 2).
+template <int D> Mat3 to3(const Eigen::Matrix<double, D, D>& F) {
+  if constexpr (D == 3) {
+    return F;
+  } else {
+    Mat3 r = Mat3::Identity();
+    r.template topLeftCorner<2, 2>() = F;
+    return r;
+  }
+}
+
+} // namespace pnc::gimp

@@ -1,0 +1,45 @@
+#!/usr/bin/python3
+"""Energy balance of a pnc gimp run: plot_energy.py HISTORY.csv OUT.png [TITLE].
+
+Reads history.csv (time in s, energies in J) and draws kinetic, strain, external work,
+boundary work and the energy error KE + SE - E0 - W_ext - W_bc against time. Needs matplotlib
+(/usr/bin/python3 on the project machine).
+"""
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit("usage: plot_energy.py HISTORY.csv OUT.png [TITLE]")
+    rows = []
+    with open(sys.argv[1]) as f:
+        lines = [ln for ln in f if not ln.startswith("#")]
+    reader = csv.DictReader(lines)
+    for r in reader:
+        rows.append({k: float(v) for k, v in r.items()})
+    if not rows:
+        sys.exit("no rows in " + sys.argv[1])
+    t = [r["time"] for r in rows]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for key, label in [("kinetic", "kinetic"), ("strain", "strain energy"),
+                       ("external_work", "external work"), ("boundary_work", "boundary work"),
+                       ("balance", "error: KE + SE - E0 - W_ext - W_bc")]:
+        ax.plot(t, [r[key] for r in rows], label=label, lw=1.5 if key != "balance" else 2.0,
+                ls="-" if key != "balance" else "--")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("energy (J)")
+    ax.set_title(sys.argv[3] if len(sys.argv) > 3 else "energy balance")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(sys.argv[2], dpi=120)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,226 @@
+// The driver of `pnc gimp run` (run.hpp).
+#include "pnc/gimp_coupler/run.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/version.hpp"
+#include "pnc/gimp_coupler/input.hpp"
+#include "pnc/gimp_coupler/output.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#ifndef PNC_GIMP_PYTHON
+#define PNC_GIMP_PYTHON "/usr/bin/python3"
+#endif
+#ifndef PNC_GIMP_SCRIPTS_DIR
+#define PNC_GIMP_SCRIPTS_DIR "gimp_coupler/scripts"
+#endif
+
+namespace pnc::gimp {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char ch : s)
+    q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return q + "'";
+}
+
+/// Draws energy.png from history.csv; returns a warning ("" on success).
+std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title) {
+  const char* env_py = std::getenv("PNC_PYTHON");
+  const std::string py = env_py ? env_py : PNC_GIMP_PYTHON;
+  const char* env_dir = std::getenv("PNC_GIMP_SCRIPTS_DIR");
+  const std::string script =
+      (fs::path(env_dir ? env_dir : PNC_GIMP_SCRIPTS_DIR) / "plot_energy.py").string();
+  if (!fs::exists(script)) return "plot script not found: " + script;
+  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(csv) + " " + quote(png) +
+                          " " + quote(title) + " 2>&1";
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[512];
+    while (fgets(buf, sizeof buf, p))
+      out += buf;
+    const int rc = pclose(p);
+    if (rc != 0) return "energy plot failed (" + py + "): " + out;
+  } else {
+    return "cannot run " + py;
+  }
+  return "";
+}
+
+template <int D> RunSummary run_dim(const RunOptions& o) {
+  const auto wall0 = Clock::now();
+  Solver<D> s;
+  RunConfig rc = load_input<D>(o.input, s);
+  if (o.threads > 0) s.threads = rc.threads = o.threads;
+  fs::create_directories(fs::path(o.out_dir) / "frames");
+  const std::string ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
+  const std::string pvd = (fs::path(o.out_dir) / "particles.pvd").string();
+  const std::string hist_csv = (fs::path(o.out_dir) / "history.csv").string();
+
+  CheckpointExtra x;
+  x.input_hash = file_fnv1a64(o.input);
+  RunSummary sum;
+  sum.dimension = D;
+  if (o.resume && fs::exists(ckpt)) {
+    s.initialize(true);
+    read_checkpoint<D>(ckpt, s, x);
+    s.initialize(false);
+    // initialize() recomputes KE/SE from the particles; keep the works from the checkpoint.
+    sum.resumed = true;
+  } else {
+    if (o.resume && o.progress)
+      std::cerr << "pnc gimp: --resume: no checkpoint in " << o.out_dir << ", starting at t = 0\n";
+    s.initialize(true);
+    x.history.columns = {"step",          "time",          "dt",     "kinetic", "strain",
+                         "external_work", "boundary_work", "balance"};
+    static const char* ax[] = {"x", "y", "z"};
+    for (const auto& bc : s.bcs)
+      for (int a = 0; a < D; ++a)
+        x.history.columns.push_back("reaction_" + bc.name + "_" + ax[a]);
+  }
+  auto record = [&](double dt) {
+    std::vector<double> row = {static_cast<double>(s.steps),
+                               s.time,
+                               dt,
+                               s.energy.kinetic,
+                               s.energy.strain,
+                               s.energy.external_work,
+                               s.energy.boundary_work,
+                               s.energy.balance()};
+    for (const auto& bc : s.bcs)
+      for (int a = 0; a < D; ++a)
+        row.push_back(bc.reaction[a]);
+    x.history.rows.push_back(row);
+  };
+  auto frame = [&]() {
+    const std::string name = fmt::format("frames/particles_{:06d}.vtu", x.frame_files.size());
+    write_vtu<D>((fs::path(o.out_dir) / name).string(), s, rc.vtu_binary, rc.material_names);
+    x.frame_files.push_back(name);
+    x.frame_times.push_back(s.time);
+    write_pvd(pvd, x.frame_files, x.frame_times);
+  };
+  if (!sum.resumed) {
+    record(0.0);
+    frame();
+    x.next_output_time = rc.output_interval > 0 ? rc.output_interval : rc.t_end;
+    write_checkpoint<D>(ckpt, s, x);
+  }
+
+  const long step0 = s.steps;
+  const double t_begin = s.time;
+  auto last_report = Clock::now();
+  const auto run0 = Clock::now();
+  double dt = 0.0;
+  const double eps_t = 1e-12 * rc.t_end;
+  bool last_framed = true;
+  while (s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps) &&
+         (o.stop_after_steps == 0 || s.steps < o.stop_after_steps)) {
+    dt = rc.dt > 0 ? rc.dt : s.stable_dt();
+    dt = std::min(dt, rc.t_end - s.time);
+    if (x.next_output_time > s.time + eps_t) dt = std::min(dt, x.next_output_time - s.time);
+    s.step(dt);
+    last_framed = false;
+    if (s.steps % rc.history_every == 0) record(dt);
+    if (s.time >= x.next_output_time - eps_t) {
+      if (s.steps % rc.history_every != 0) record(dt);
+      frame();
+      last_framed = true;
+      x.next_output_time += rc.output_interval > 0 ? rc.output_interval : rc.t_end;
+      if (x.frame_files.size() % static_cast<std::size_t>(rc.checkpoint_every) == 0) {
+        x.history.write_csv(hist_csv);
+        write_checkpoint<D>(ckpt, s, x);
+      }
+    }
+    const auto now = Clock::now();
+    if (o.progress && std::chrono::duration<double>(now - last_report).count() > 2.0) {
+      last_report = now;
+      const double el = std::chrono::duration<double>(now - run0).count();
+      const double frac = (s.time - t_begin) / std::max(rc.t_end - t_begin, 1e-300);
+      const double eta = frac > 0 ? el * (1 - frac) / frac : 0.0;
+      std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s ({:.1f}%) dt = {:.3g} s, "
+                               "elapsed {:.0f} s, ETA {:.0f} s\n",
+                               s.steps, s.time, 100 * s.time / rc.t_end, dt, el, eta);
+    }
+  }
+  // Stopped by --max-steps before the end: leave frames and history as an uninterrupted run
+  // would have them (the checkpoint carries the rest); --resume continues.
+  const bool interrupted = o.stop_after_steps > 0 && s.steps >= o.stop_after_steps &&
+                           s.time < rc.t_end - eps_t &&
+                           (rc.max_steps == 0 || s.steps < rc.max_steps);
+  if (!last_framed && !interrupted) {
+    if (x.history.rows.empty() || x.history.rows.back()[0] != static_cast<double>(s.steps))
+      record(dt);
+    frame();
+  }
+  x.history.write_csv(hist_csv);
+  write_checkpoint<D>(ckpt, s, x);
+
+  const double run_s = std::chrono::duration<double>(Clock::now() - run0).count();
+  sum.particles = s.particles.size();
+  sum.steps = s.steps;
+  sum.steps_this_run = s.steps - step0;
+  sum.time = s.time;
+  sum.dt_last = dt;
+  sum.energy = s.energy;
+  for (const auto& r : x.history.rows)
+    sum.max_abs_balance = std::max(sum.max_abs_balance, std::abs(r[7]));
+  sum.threads = s.threads;
+  sum.frames = static_cast<int>(x.frame_files.size());
+  sum.pvd = pvd;
+  sum.history_csv = hist_csv;
+  sum.checkpoint = ckpt;
+  sum.particle_steps_per_second = run_s > 0 ? static_cast<double>(sum.steps_this_run) *
+                                                  static_cast<double>(sum.particles) / run_s
+                                            : 0.0;
+  for (const auto& bc : s.bcs) {
+    sum.reaction_names.push_back(bc.name);
+    sum.reactions.emplace_back(bc.reaction.data(), bc.reaction.data() + D);
+  }
+  if (o.plot) {
+    const std::string png = (fs::path(o.out_dir) / "energy.png").string();
+    sum.plot_warning = plot_energy(hist_csv, png, fs::path(o.input).filename().string());
+    if (sum.plot_warning.empty()) sum.plot_png = png;
+  }
+  sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+
+  nlohmann::json j;
+  j["software"] = version_string();
+  j["input"] = o.input;
+  j["dimension"] = D;
+  j["particles"] = sum.particles;
+  j["steps"] = sum.steps;
+  j["time_s"] = sum.time;
+  j["energy_J"] = {{"initial", s.energy.initial},
+                   {"kinetic", s.energy.kinetic},
+                   {"strain", s.energy.strain},
+                   {"external_work", s.energy.external_work},
+                   {"boundary_work", s.energy.boundary_work},
+                   {"balance", s.energy.balance()},
+                   {"max_abs_balance", sum.max_abs_balance}};
+  j["frames"] = sum.frames;
+  write_text_atomically((fs::path(o.out_dir) / "summary.json").string(), j.dump(2) + "\n");
+  return sum;
+}
+
+} // namespace
+
+RunSummary run(const RunOptions& o) {
+  if (o.out_dir.empty()) fail("<command line>", "--out", "", "an output folder is required");
+  const int d = input_dimension(o.input);
+  return d == 2 ? run_dim<2>(o) : run_dim<3>(o);
+}
+
+} // namespace pnc::gimp

@@ -1,0 +1,341 @@
+// The JSON input (errors name key, value, rule) and the run driver (outputs, resume).
+#include "pnc/gimp_coupler/input.hpp"
+#include "pnc/gimp_coupler/output.hpp"
+#include "pnc/gimp_coupler/run.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/reference.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace pnc::gimp;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+json base_input() {
+  return json::parse(R"({
+    "dimension": 2,
+    "grid": {"origin": [0, 0], "cells": [24, 8], "cell_size": 0.05},
+    "particles_per_cell": 2,
+    "materials": [{"name": "poly", "type": "hyperelastic_polymer", "density": 1200,
+                   "E": 1.5e9, "nu": 0.33}],
+    "bodies": [{"material": "poly", "shape": "box", "min": [0.05, 0.1], "max": [1.05, 0.3],
+                "holes": [{"shape": "circle", "center": [0.5, 0.2], "radius": 0.04},
+                          {"shape": "box", "min": [0.8, 0.1], "max": [0.82, 0.15]}]}],
+    "boundaries": [{"name": "left", "min": [0.05, 0], "max": [0.05, 0.4], "fix": "all"}],
+    "loads": {"tractions": [{"name": "pull", "min": [1.0, 0.1], "max": [1.05, 0.3],
+                             "axis": "x", "traction": [1e6, 0], "ramp": [0, 2e-4]}]},
+    "time": {"end": 4e-4, "cfl": 0.4},
+    "output": {"interval": 1e-4, "vtu": "binary", "history_every": 5},
+    "threads": 2
+  })");
+}
+
+std::string error_of(const json& j) {
+  Solver<2> s;
+  try {
+    load_input_text<2>(j.dump(), "in.json", "", s);
+  } catch (const pnc::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+fs::path tmpdir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("pnc_gimp_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+} // namespace
+
+TEST(GimpInput, BuildsBodiesWithHolesBoundariesAndTractions) {
+  Solver<2> s;
+  const RunConfig rc = load_input_text<2>(base_input().dump(), "in.json", "", s);
+  EXPECT_EQ(rc.threads, 2);
+  EXPECT_TRUE(rc.vtu_binary);
+  // 20 x 4 cells of 4 particles minus the hole and the notch.
+  const std::size_t full = 20 * 4 * 4;
+  EXPECT_LT(s.particles.size(), full);
+  EXPECT_GT(s.particles.size(), full - 40);
+  for (std::size_t p = 0; p < s.particles.size(); ++p) {
+    EXPECT_GT((s.particles.x[p] - Eigen::Vector2d(0.5, 0.2)).norm(), 0.04);
+    EXPECT_NEAR(s.particles.m[p], 1200 * 0.025 * 0.025, 1e-12);
+  }
+  ASSERT_EQ(s.bcs.size(), 1u);
+  EXPECT_TRUE(s.bcs[0].mask[0] && s.bcs[0].mask[1]);
+  ASSERT_EQ(s.tractions.size(), 1u);
+  EXPECT_EQ(s.tractions[0].particles.size(), 16u); // the last two particle columns
+  {
+    json j = base_input();
+    j["cracks"] = json::array(
+        {{{"name", "edge"},
+          {"points", json::array({json::array({0.3, 0.0}), json::array({0.3001, 0.2})})}}});
+    Solver<2> c;
+    load_input_text<2>(j.dump(), "in.json", "", c);
+    ASSERT_EQ(c.cracks.size(), 1u);
+    EXPECT_EQ(c.cracks[0].name, "edge");
+    c.initialize();
+    c.step(1e-7);
+  }
+  const auto* hp = dynamic_cast<const HyperelasticPolymer*>(s.materials[0].get());
+  ASSERT_NE(hp, nullptr);
+  EXPECT_NEAR(hp->youngs_modulus(), 1.5e9, 1.0);
+}
+
+TEST(GimpInput, ErrorsNameKeyValueAndRule) {
+  auto expect_error = [](json j, const std::string& key, const std::string& rule) {
+    const std::string msg = error_of(j);
+    EXPECT_NE(msg.find("in.json"), std::string::npos) << key << ": " << msg;
+    EXPECT_NE(msg.find(key), std::string::npos) << msg;
+    EXPECT_NE(msg.find(rule), std::string::npos) << msg;
+  };
+  json j = base_input();
+  j["grid"]["cell_size"] = -1;
+  expect_error(j, "grid.cell_size", "must be > 0");
+  j = base_input();
+  j["materials"][0]["nu"] = 0.5;
+  expect_error(j, "materials[0].nu", "(-1, 0.5)");
+  j = base_input();
+  j["bodies"][0]["material"] = "steel";
+  expect_error(j, "bodies[0].material", "not the name");
+  j = base_input();
+  j["bodies"][0]["holes"][0]["radius"] = 0;
+  expect_error(j, "bodies[0].holes[0].radius", "must be > 0");
+  j = base_input();
+  j["boundaries"][0]["fix"] = json::array({"q"});
+  expect_error(j, "boundaries[0].fix", "\"x\" or \"y\"");
+  j = base_input();
+  j["loads"]["tractions"][0]["ramp"] = json::array({2, 1});
+  expect_error(j, "loads.tractions[0].ramp", "t_start <= t_end");
+  j = base_input();
+  j["time"]["cfl"] = 2;
+  expect_error(j, "time.cfl", "(0, 1]");
+  j = base_input();
+  j["grid"]["celsize"] = 1;
+  expect_error(j, "grid.celsize", "unknown key");
+  j = base_input();
+  j["grid"]["cells"] = json::array({1, 8});
+  expect_error(j, "grid.cells", "integer in [2, 100000]");
+  j = base_input();
+  j["materials"][0]["type"] = "rubber";
+  expect_error(j, "materials[0].type", "must be");
+  j = base_input();
+  j["materials"][0] = {{"name", "d"}, {"type", "damage_card"}, {"density", 1}, {"card", "nope.h5"}};
+  j["bodies"][0]["material"] = "d";
+  expect_error(j, "materials[0].card", "file not found");
+  j = base_input();
+  j.erase("time");
+  expect_error(j, "time", "required key");
+  j = base_input();
+  j["cracks"] = json::array({{{"name", "c"}, {"points", json::array({json::array({0.5, 0.1})})}}});
+  expect_error(j, "cracks[0].points", ">= 2 points");
+}
+
+TEST(GimpInput, ParticleCsvAndDamageCard) {
+  const fs::path d = tmpdir("csv");
+  {
+    std::ofstream f(d / "p.csv");
+    f << "x,y,volume,vx,vy\n0.2,0.2,0.0004,1,0\n0.22,0.2,0.0004,1,0\n";
+  }
+  pnc::damage::write_card((d / "card.h5").string(),
+                          pnc::damage::card_from_parameters(
+                              pnc::damage::dissertation_parameters(pnc::damage::Model::pp), "test"),
+                          "test");
+  json j = base_input();
+  j["materials"][0] = {
+      {"name", "ndm"}, {"type", "damage_card"}, {"density", 1200}, {"card", "card.h5"}};
+  j["bodies"] = json::array({{{"material", "ndm"}, {"shape", "particles"}, {"file", "p.csv"}}});
+  j["boundaries"] = json::array();
+  j.erase("loads");
+  Solver<2> s;
+  load_input_text<2>(j.dump(), "in.json", d.string(), s);
+  ASSERT_EQ(s.particles.size(), 2u);
+  EXPECT_NEAR(s.particles.l[0][0], 0.01, 1e-12);
+  EXPECT_NEAR(s.particles.v[1][0], 1.0, 0);
+  EXPECT_EQ(s.materials[0]->type(), "damage_card");
+  EXPECT_EQ(s.materials[0]->n_state(), 2);
+}
+
+TEST(GimpRun, WritesFramesHistoryCheckpointAndResumes) {
+  const fs::path d = tmpdir("run");
+  {
+    std::ofstream f(d / "in.json");
+    f << base_input().dump(2);
+  }
+  RunOptions o;
+  o.input = (d / "in.json").string();
+  o.out_dir = (d / "out").string();
+  o.progress = false;
+  o.plot = false;
+  const RunSummary a = run(o);
+  EXPECT_NEAR(a.time, 4e-4, 1e-15);
+  EXPECT_EQ(a.frames, 5);
+  EXPECT_TRUE(fs::exists(d / "out/particles.pvd"));
+  EXPECT_TRUE(fs::exists(d / "out/frames/particles_000004.vtu"));
+  EXPECT_TRUE(fs::exists(d / "out/history.csv"));
+  EXPECT_GT(a.energy.external_work, 0.0);
+  // Traction work goes into kinetic + strain energy (fixed wall: no boundary work).
+  EXPECT_LT(std::abs(a.energy.balance()), 0.02 * a.energy.external_work);
+  EXPECT_NEAR(a.energy.boundary_work, 0.0, 1e-12 * a.energy.external_work);
+  // The reaction at the wall: the wall carries a force opposite to the traction
+  // (dynamic, so not equal yet).
+  ASSERT_EQ(a.reactions.size(), 1u);
+
+  // A resume with a changed input file is refused.
+  {
+    json j = base_input();
+    j["time"]["end"] = 5e-4;
+    std::ofstream f(d / "in.json");
+    f << j.dump(2);
+  }
+  o.resume = true;
+  std::string msg;
+  try {
+    run(o);
+  } catch (const pnc::InputError& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("input file changed"), std::string::npos) << msg;
+}
+
+TEST(GimpRun, ResumeContinuesBitForBit) {
+  const fs::path d = tmpdir("resume");
+  json j = base_input();
+  j["time"]["max_steps"] = 40;
+  j["output"]["interval"] = 0.5e-4;
+  {
+    std::ofstream f(d / "in.json");
+    f << j.dump(2);
+  }
+  RunOptions o;
+  o.input = (d / "in.json").string();
+  o.progress = false;
+  o.plot = false;
+  o.out_dir = (d / "straight").string();
+  const RunSummary a = run(o); // 40 steps in one go
+  o.out_dir = (d / "split").string();
+  o.stop_after_steps = 17;
+  const RunSummary b1 = run(o); // interrupted after 17 steps
+  EXPECT_EQ(b1.steps, 17);
+  o.stop_after_steps = 0;
+  o.resume = true;
+  const RunSummary b = run(o);
+  EXPECT_TRUE(b.resumed);
+  EXPECT_GT(a.steps, 17);
+  EXPECT_EQ(b.steps, a.steps);
+  EXPECT_EQ(b.steps_this_run, a.steps - 17);
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
+  EXPECT_EQ(a.energy.external_work, b.energy.external_work);
+  Solver<2> sa, sb;
+  load_input<2>(o.input, sa);
+  load_input<2>(o.input, sb);
+  sa.initialize();
+  sb.initialize();
+  CheckpointExtra xa, xb;
+  read_checkpoint<2>((d / "straight/checkpoint.h5").string(), sa, xa);
+  read_checkpoint<2>((d / "split/checkpoint.h5").string(), sb, xb);
+  for (std::size_t p = 0; p < sa.particles.size(); ++p) {
+    EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
+    EXPECT_EQ(sa.particles.sigma[p], sb.particles.sigma[p]);
+  }
+  EXPECT_EQ(xa.history.rows, xb.history.rows);
+  EXPECT_EQ(xa.frame_times, xb.frame_times);
+}
+
+namespace {
+std::vector<unsigned char> unbase64(const std::string& s) {
+  auto val = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::vector<unsigned char> out;
+  unsigned buf = 0;
+  int bits = 0;
+  for (char c : s) {
+    const int v = val(c);
+    if (v < 0) continue;
+    buf = (buf << 6) | static_cast<unsigned>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((buf >> bits) & 0xFF));
+    }
+  }
+  return out;
+}
+/// The text between <DataArray ... Name="name" ...> and </DataArray>.
+std::string data_array(const std::string& xml, const std::string& name) {
+  const auto a = xml.find("Name=\"" + name + "\"");
+  const auto b = xml.find('>', a) + 1;
+  const auto e = xml.find("</DataArray>", b);
+  return xml.substr(b, e - b);
+}
+} // namespace
+
+TEST(GimpOutput, Base64MatchesRfc4648) {
+  const std::string t = "Many hands make light work.";
+  EXPECT_EQ(base64(reinterpret_cast<const unsigned char*>(t.data()), t.size()),
+            "TWFueSBoYW5kcyBtYWtlIGxpZ2h0IHdvcmsu");
+  EXPECT_EQ(base64(reinterpret_cast<const unsigned char*>("ab"), 2), "YWI=");
+  EXPECT_EQ(base64(reinterpret_cast<const unsigned char*>("a"), 1), "YQ==");
+}
+
+TEST(GimpOutput, VtuAsciiAndBinaryHoldTheParticleData) {
+  Solver<2> s;
+  load_input_text<2>(base_input().dump(), "in.json", "", s);
+  s.initialize();
+  s.step(1e-7);
+  const fs::path d = tmpdir("vtu");
+  for (bool binary : {false, true}) {
+    const std::string path = (d / (binary ? "b.vtu" : "a.vtu")).string();
+    write_vtu<2>(path, s, binary, {"poly"});
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string xml = ss.str();
+    EXPECT_NE(xml.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
+    EXPECT_NE(xml.find("NumberOfPoints=\"" + std::to_string(s.particles.size()) + "\""),
+              std::string::npos);
+    for (const char* name : {"displacement", "velocity", "stress", "strain", "density", "volume",
+                             "mass", "strain_energy_density", "material", "types"})
+      EXPECT_NE(xml.find(std::string("Name=\"") + name + "\""), std::string::npos) << name;
+    std::vector<double> pts;
+    const std::string body = data_array(xml, "Points");
+    if (binary) {
+      const auto bytes = unbase64(body);
+      std::uint32_t nb;
+      std::memcpy(&nb, bytes.data(), 4);
+      ASSERT_EQ(nb, 3 * s.particles.size() * sizeof(double));
+      ASSERT_EQ(bytes.size(), 4 + nb);
+      pts.resize(nb / sizeof(double));
+      std::memcpy(pts.data(), bytes.data() + 4, nb);
+    } else {
+      std::istringstream in(body);
+      double v;
+      while (in >> v)
+        pts.push_back(v);
+    }
+    ASSERT_EQ(pts.size(), 3 * s.particles.size());
+    for (std::size_t p = 0; p < s.particles.size(); ++p) {
+      EXPECT_NEAR(pts[3 * p], s.particles.x[p][0], binary ? 0.0 : 1e-10);
+      EXPECT_NEAR(pts[3 * p + 1], s.particles.x[p][1], binary ? 0.0 : 1e-10);
+      EXPECT_EQ(pts[3 * p + 2], 0.0);
+    }
+  }
+}
