@@ -1,0 +1,37 @@
+#!/bin/sh
+# Cost of one Newton iteration of dealii_fracture versus the number of dofs, and the share
+# of the assembly spent inside the material plugin (issue #7; goal: plugin <= 10 % of the
+# assembly).
+#
+#   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none]
+#
+# Single-edge notch (coarse cell 0.5 mm, 128 cells) refined uniformly r = 2..MAX times
+# (r = 4: 69k dofs, 5: 0.27M, 6: 1.05M); two load steps, to u = 0.2 mm (damage onset at
+# the notch tip) and on to 0.25 mm (D_max ~ 0.03), so the Newton iterations of the second
+# step have loading points. Prints one CSV
+# line per mesh: dofs, Newton iterations, assembly s/iteration, solve (UMFPACK) s/iteration,
+# plugin share of the assembly. The nonlocal regularisation adds its averaging cost
+# (reported separately in the JSON as nonlocal_s); the default here measures the plain
+# assembly.
+set -e
+BUILD=${1:?build dir}
+CARD=${2:?card}
+MAX=${3:-6}
+REG=${4:-none}
+EXE=$BUILD/examples/dealii_fracture/dealii_fracture
+SRC=$(dirname "$0")/..
+echo "dofs,newton_iterations,assembly_s_per_iteration,solve_s_per_iteration,plugin_share_of_assembly,nonlocal_s"
+r=2
+while [ "$r" -le "$MAX" ]; do
+  "$EXE" "$SRC/short.prm" --json --set "Material/Card=$CARD" --set "Mesh/Adaptive=false" \
+    --set "Mesh/Global refinements=$r" --set "Loading/Path=0, 0.2, 0.25" --set "Loading/Step=0.2" \
+    --set "Regularisation/Type=$REG" --set "Output/VTU every=0" --set "Output/Plot=false" \
+    --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" 2>/dev/null |
+    /usr/bin/python3 -c '
+import json, sys
+j = json.load(sys.stdin); t = j["timing"]
+print("%d,%d,%.4g,%.4g,%.3f,%.3g" % (j["dofs"], t["newton_iterations"],
+      t["assembly_s"] / t["assemblies"], t["solve_s"] / max(1, t["newton_iterations"]),
+      t["plugin_share_of_assembly"], t["nonlocal_s"]))'
+  r=$((r + 1))
+done
