@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -32,6 +33,8 @@ namespace fs = std::filesystem;
 
 struct BuildArgs {
   rve::BuildSpec spec;
+  rve::ClaySpec clay;
+  bool with_clay = false;
   std::string out;
   bool json = false;
 };
@@ -39,22 +42,35 @@ struct BuildArgs {
 int run_rve_build(const BuildArgs& a) {
   const rve::PolymerForceField ff;
   a.spec.validate("<command line>");
+  if (a.with_clay) a.clay.validate("<command line>");
   fs::create_directories(a.out);
-  const rve::System s = rve::build_polymer(a.spec, ff);
+  rve::CompositeInfo ci;
+  const rve::System s =
+      a.with_clay ? rve::build_composite(a.spec, ff, a.clay, &ci) : rve::build_polymer(a.spec, ff);
   const std::string data = (fs::path(a.out) / "rve.data").string();
   const std::string rec = (fs::path(a.out) / "build.h5").string();
-  rve::write_data_file(data, s, "coarse-grained polypropylene RVE");
+  rve::write_data_file(data, s,
+                       a.with_clay ? "coarse-grained polypropylene + montmorillonite RVE"
+                                   : "coarse-grained polypropylene RVE");
   write_build_record(rec, s, a.spec, ff, "{}");
   const std::string ffin = (fs::path(a.out) / "forcefield.lmp").string();
-  std::string cmds = "# force field of section 6.1, units real (decisions D13, D14)\n";
-  for (const auto& c : rve::polymer_forcefield_commands(ff))
+  std::string cmds = "# force field of section 6.1 (+ Tables 6.2-6.5 for the clay), units real "
+                     "(decisions D13, D14, D23)\n";
+  for (const auto& c :
+       a.with_clay ? rve::composite_forcefield_commands(ff) : rve::polymer_forcefield_commands(ff))
     cmds += c + "\n";
   write_text_atomically(ffin, cmds);
   const double dmin = rve::min_nonbonded_distance(s);
-  std::cerr << fmt::format("pnc rve build: {} chains x {} beads = {} beads, box {:.3f} A, "
-                           "density {:.4f} g/cm3, min non-bonded distance {:.3f} A\n",
-                           a.spec.chains, a.spec.beads_per_chain, s.x.size(), s.length()[0],
+  const auto L = s.length();
+  std::cerr << fmt::format("pnc rve build: {} chains x {} beads, {} particles, box {:.3f} x {:.3f} "
+                           "x {:.3f} A, density {:.4f} g/cm3, min non-bonded distance {:.3f} A\n",
+                           a.spec.chains, a.spec.beads_per_chain, s.x.size(), L[0], L[1], L[2],
                            s.density(), dmin);
+  if (a.with_clay)
+    std::cerr << fmt::format("  clay: {} x {} cells, {} atoms, aspect ratio {:.2f}, volume "
+                             "fraction {:.4f}, weight fraction {:.4f}\n",
+                             a.clay.cells_a, a.clay.cells_b, ci.clay_atoms, ci.aspect_ratio,
+                             ci.volume_fraction, ci.weight_fraction);
   std::cerr << "  data: " << data << "\n  record: " << rec << "\n  force field: " << ffin << "\n";
   if (a.json) {
     nlohmann::json j;
@@ -63,8 +79,15 @@ int run_rve_build(const BuildArgs& a) {
     j["record"] = rec;
     j["atoms"] = s.x.size();
     j["density_g_cm3"] = s.density();
-    j["box_A"] = s.length()[0];
+    j["box_A"] = {L[0], L[1], L[2]};
     j["min_nonbonded_distance_A"] = dmin;
+    if (a.with_clay)
+      j["clay"] = {{"cells_a", a.clay.cells_a},
+                   {"cells_b", a.clay.cells_b},
+                   {"clay_atoms", ci.clay_atoms},
+                   {"aspect_ratio", ci.aspect_ratio},
+                   {"volume_fraction", ci.volume_fraction},
+                   {"weight_fraction", ci.weight_fraction}};
     std::cout << j.dump() << std::endl;
   }
   return 0;
@@ -95,13 +118,14 @@ int run_rve_lammps(const LammpsArgs& a) {
 
 struct RecipeShowArgs {
   std::string name;
-  bool expanded = false;
+  bool expanded = false, toml = false;
 };
 
 int run_recipe_show(const RecipeShowArgs& a) {
-  const nlohmann::json j = rve::preset_json(a.name);
-  if (a.expanded)
-    std::cout << rve::expanded_json(rve::parse_recipe(j, "preset " + a.name)).dump(2) << "\n";
+  nlohmann::json j = rve::preset_json(a.name);
+  if (a.expanded) j = rve::expanded_json(rve::parse_recipe(j, "preset " + a.name));
+  if (a.toml)
+    std::cout << rve::recipe_toml(j);
   else
     std::cout << j.dump(2) << "\n";
   return 0;
@@ -113,11 +137,19 @@ struct CharacterizeArgs {
   int jobs = 0;
 };
 
+std::string preset_list() {
+  std::string s;
+  for (const auto& n : rve::preset_names())
+    s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 rve::Recipe load_recipe(const std::string& arg) {
   for (const auto& n : rve::preset_names())
     if (arg == n) return rve::parse_recipe(rve::preset_json(n), "preset " + n);
   if (!fs::is_regular_file(arg))
-    fail(arg, "RECIPE", arg, "is neither a recipe file nor a preset name (demo, paper)");
+    fail(arg, "RECIPE", arg,
+         "is neither a recipe file (.json, .toml) nor a preset name (" + preset_list() + ")");
   return rve::read_recipe(arg);
 }
 
@@ -164,6 +196,25 @@ int run_characterize(const CharacterizeArgs& a) {
                         "force field of section 6.1 (decision D13 units).\n\n",
                         r.build.chains, r.build.beads_per_chain,
                         r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
+  nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
+  if (r.model == "pnc") {
+    const auto cp = fs::path(md.build_record).parent_path() / "clay.json";
+    std::ifstream cf(cp);
+    if (cf) clay_info = nlohmann::json::parse(cf, nullptr, false);
+    if (clay_info.is_object() && !clay_info.is_discarded())
+      rep_md += fmt::format(
+          "Montmorillonite platelet (C2/m cell, Table 3.1): {} x {} cells, {} atoms, {:.2f} x "
+          "{:.2f} x {:.2f} A (aspect ratio {:.2f}); clay volume fraction {:.4f}, weight fraction "
+          "{:.4f} (definitions in {}).\n\n",
+          clay_info.value("cells_a", 0), clay_info.value("cells_b", 0),
+          clay_info.value("clay_atoms", 0), clay_info.value("platelet_length_A", 0.0),
+          clay_info.value("platelet_width_A", 0.0), clay_info.value("platelet_thickness_A", 0.0),
+          clay_info.value("aspect_ratio_length_over_width", 0.0),
+          clay_info.value("volume_fraction", 0.0), clay_info.value("weight_fraction", 0.0),
+          fs::relative(cp, a.out).string());
+    else
+      rep_md += fmt::format("Clay record {} is missing or unreadable.\n\n", cp.string());
+  }
   rep_md += "Equilibration (one line per stage, with the criterion that ended it):\n\n";
   for (const auto& c : e.criteria)
     rep_md += "- " + c + "\n";
@@ -227,6 +278,7 @@ int run_characterize(const CharacterizeArgs& a) {
         {"pressure_atm", e.pressure_total},         {"pressure_stderr_atm", e.pressure_total_se},
         {"pressure_virial_atm", e.pressure_virial}, {"temperature_K", e.temperature},
         {"void_fraction", e.void_fraction},         {"min_distance_A", e.min_distance}};
+    if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
     j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
@@ -250,15 +302,24 @@ void register_rve(CLI::App& app, Action& action) {
   auto* rve = app.add_subcommand("rve", "Coarse-grained PP RVE tools (LAMMPS, units real)");
   rve->require_subcommand(1);
   auto ba = std::make_shared<BuildArgs>();
-  auto* build = rve->add_subcommand("build", "Build a polymer RVE: LAMMPS data file + HDF5 record");
+  auto* build = rve->add_subcommand(
+      "build", "Build a polymer (or polymer + clay) RVE: LAMMPS data file + HDF5 record");
   build->add_option("--chains", ba->spec.chains, "Number of chains");
   build->add_option("--beads", ba->spec.beads_per_chain, "Beads per chain");
   build->add_option("--density", ba->spec.density, "Target density (g/cm3)");
   build->add_option("--seed", ba->spec.seed, "Random seed");
   build->add_option("--min-distance", ba->spec.min_distance, "Minimum non-bonded distance (A)");
+  auto* clay_a = build->add_option("--clay-cells-a", ba->clay.cells_a,
+                                   "Add a montmorillonite platelet of this many cells along x1");
+  clay_a->check(CLI::Range(1, 1000));
+  build->add_option("--clay-cells-b", ba->clay.cells_b, "Platelet cells along x3 (default 1)")
+      ->needs(clay_a);
   build->add_option("--out", ba->out, "Output directory")->required();
   build->add_flag("--json", ba->json, "Print one JSON object on stdout");
-  build->callback([ba, &action] { action = [ba] { return run_rve_build(*ba); }; });
+  build->callback([ba, clay_a, &action] {
+    ba->with_clay = clay_a->count() > 0;
+    action = [ba] { return run_rve_build(*ba); };
+  });
 
   auto la = std::make_shared<LammpsArgs>();
   auto* lmp = rve->add_subcommand(
@@ -272,17 +333,19 @@ void register_rve(CLI::App& app, Action& action) {
   recipe->require_subcommand(1);
   auto rs = std::make_shared<RecipeShowArgs>();
   auto* show = recipe->add_subcommand("show", "Print a preset recipe (JSON)");
-  show->add_option("name", rs->name, "Preset: demo or paper")
+  show->add_option("name", rs->name, "Preset: " + preset_list())
       ->required()
-      ->check(CLI::IsMember({"demo", "paper"}));
+      ->check(CLI::IsMember(rve::preset_names()));
   show->add_flag("--expanded", rs->expanded, "Print every field with its value");
+  show->add_flag("--toml", rs->toml, "Print TOML instead of JSON (pnc characterize reads both)");
   show->callback([rs, &action] { action = [rs] { return run_recipe_show(*rs); }; });
 
   auto ca = std::make_shared<CharacterizeArgs>();
   auto* ch = app.add_subcommand(
       "characterize", "Recipe -> RVE build -> equilibration -> deformation cases (LAMMPS) -> "
                       "NDM fit -> card + plots + report");
-  ch->add_option("recipe", ca->recipe, "Recipe file (.json) or preset name (demo, paper)")
+  ch->add_option("recipe", ca->recipe,
+                 "Recipe file (.json or .toml) or preset name (" + preset_list() + ")")
       ->required();
   ch->add_option("--out", ca->out, "Output directory")->required();
   ch->add_flag("--resume", ca->resume, "Continue a stopped run without recomputing finished steps");

@@ -8,7 +8,7 @@ PNC_BUILD="${PNC_BUILD:-$PNC_ROOT/build}"
 # The project's system dependencies (Debian 12 package names).
 PNC_PACKAGES=(
   g++ cmake ninja-build pkg-config git
-  libeigen3-dev libceres-dev libhdf5-dev libfmt-dev nlohmann-json3-dev libcli11-dev
+  libeigen3-dev libceres-dev libhdf5-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtoml11-dev
   liblammps-dev lammps libdeal.ii-dev
   libgtest-dev googletest libbenchmark-dev
   python3 python3-matplotlib python3-numpy

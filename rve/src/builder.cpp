@@ -345,8 +345,9 @@ void write_build_record(const std::string& path, const System& s, const BuildSpe
     f.write_string("/spec/seed", std::to_string(spec.seed));
     f.write_scalar("/spec/min_distance", spec.min_distance);
     f.set_attr("/spec/min_distance", "units", "A");
-    f.write_string("/spec/method", "self-avoiding random walk, fixed l0 and theta0, uniform "
-                                   "torsion, periodic cubic box, mt19937_64");
+    f.write_string("/spec/method",
+                   "self-avoiding random walk, fixed l0 and theta0, uniform "
+                   "torsion, periodic orthogonal box (cubic without clay), mt19937_64");
     f.write_scalar("/forcefield/bead_mass", ff.bead_mass);
     f.write_scalar("/forcefield/k_l", ff.k_l);
     f.set_attr("/forcefield/k_l", "units", "kcal/mol/A^2");

@@ -4,6 +4,7 @@
 #include "pnc/core/error.hpp"
 
 #include <fmt/format.h>
+#include <toml.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -312,17 +313,93 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   return r;
 }
 
+namespace {
+
+// TOML -> JSON, so that one validator (parse_recipe) serves both formats. Dates and times
+// have no meaning in a recipe and are rejected with the key that holds them.
+json toml_to_json(const toml::value& v, const std::string& path, const std::string& source) {
+  switch (v.type()) {
+  case toml::value_t::boolean:
+    return v.as_boolean();
+  case toml::value_t::integer:
+    return static_cast<std::int64_t>(v.as_integer());
+  case toml::value_t::floating:
+    return v.as_floating();
+  case toml::value_t::string:
+    return v.as_string().str;
+  case toml::value_t::array: {
+    json a = json::array();
+    std::size_t i = 0;
+    for (const auto& e : v.as_array())
+      a.push_back(toml_to_json(e, fmt::format("{}[{}]", path, i++), source));
+    return a;
+  }
+  case toml::value_t::table: {
+    json o = json::object();
+    for (const auto& [k, e] : v.as_table())
+      o[k] = toml_to_json(e, path.empty() ? k : path + "." + k, source);
+    return o;
+  }
+  default:
+    fail(source, path, toml::format(v), "dates and times are not recipe values");
+  }
+}
+
+// A TOML scalar or inline array. Floats in their shortest exact form (fmt), always with a
+// decimal point or exponent so that they read back as floats.
+std::string toml_scalar(const json& j) {
+  if (j.is_number_float()) {
+    std::string f = fmt::format("{}", j.get<double>());
+    if (f.find_first_of(".eEn") == std::string::npos) f += ".0";
+    return f;
+  }
+  if (j.is_array()) {
+    std::string a = "[";
+    for (std::size_t i = 0; i < j.size(); ++i)
+      a += (i ? ", " : "") + toml_scalar(j[i]);
+    return a + "]";
+  }
+  if (j.is_object() || j.is_null())
+    throw std::logic_error("toml_scalar: objects and null are not TOML scalars");
+  return j.dump(); // booleans, integers, strings: JSON's spelling is TOML's
+}
+
+void write_toml_table(const json& t, const std::string& name, std::string& out) {
+  if (!name.empty()) out += "\n[" + name + "]\n";
+  for (const auto& [k, v] : t.items())
+    if (!v.is_object()) out += k + " = " + toml_scalar(v) + "\n";
+  for (const auto& [k, v] : t.items())
+    if (v.is_object()) write_toml_table(v, name.empty() ? k : name + "." + k, out);
+}
+
+} // namespace
+
+std::string recipe_toml(const nlohmann::json& recipe) {
+  std::string out;
+  write_toml_table(recipe, "", out);
+  return out;
+}
+
 Recipe read_recipe(const std::string& path) {
   const auto ext = std::filesystem::path(path).extension().string();
-  if (ext != ".json")
-    fail(path, "", ext, "recipes are JSON files (.json); TOML is not supported in this version");
-  std::ifstream f(path);
+  if (ext != ".json" && ext != ".toml") fail(path, "", ext, "a recipe file ends in .json or .toml");
+  std::ifstream f(path, std::ios::binary);
   if (!f) fail(path, "", "", "cannot open the recipe");
   json j;
-  try {
-    j = json::parse(f);
-  } catch (const json::parse_error& e) {
-    fail(path, "", "", std::string("not valid JSON: ") + e.what());
+  if (ext == ".toml") {
+    toml::value t;
+    try {
+      t = toml::parse(f, path);
+    } catch (const std::exception& e) {
+      fail(path, "", "", std::string("not valid TOML: ") + e.what());
+    }
+    j = toml_to_json(t, "", path);
+  } else {
+    try {
+      j = json::parse(f);
+    } catch (const json::parse_error& e) {
+      fail(path, "", "", std::string("not valid JSON: ") + e.what());
+    }
   }
   return parse_recipe(j, path);
 }

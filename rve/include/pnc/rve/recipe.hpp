@@ -1,12 +1,12 @@
 #pragma once
-// pnc/rve/recipe.hpp: the recipe of `pnc characterize` (JSON) and its presets.
+// pnc/rve/recipe.hpp: the recipe of `pnc characterize` (JSON or TOML) and its presets.
 //
 // Units: LAMMPS `real` for everything the recipe feeds to LAMMPS (A, fs, kcal/mol, atm, K;
 // densities g/cm^3); the cases.h5 the pipeline hands to the fit is in SI (Pa).
 //
-// A recipe is a JSON object with the sections below; every key is optional (defaults: the
-// values of the structs), unknown keys are errors. Errors name the file, the field (dotted
-// path), the value and the rule.
+// A recipe is a JSON object (or a TOML document with the same tables) with the sections below;
+// every key is optional (defaults: the values of the structs), unknown keys are errors. Errors name
+// the file, the field (dotted path), the value and the rule.
 //   { "name": "demo", "seed": 1, "model": "pp",
 //     "build":       { "chains", "beads_per_chain", "density", "min_distance" },
 //     "clay":        { "cells_a" | "aspect_ratio", "cells_b", "min_distance", "gap_x" }
@@ -53,11 +53,14 @@ struct Recipe {
 
 /// Parses and validates. `source` names the file in errors.
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
-/// Reads a JSON recipe file (".json"); other extensions are an InputError.
+/// Reads a recipe file: JSON (".json") or TOML (".toml", same sections as tables, same keys);
+/// other extensions are an InputError.
 Recipe read_recipe(const std::string& path);
 /// The presets "demo", "paper", "demo_pnc", "paper_pnc" as JSON (what `pnc recipe show` prints).
 nlohmann::json preset_json(const std::string& name);
 std::vector<std::string> preset_names();
+/// A recipe (JSON form, e.g. preset_json) written as TOML; read_recipe reads it back.
+std::string recipe_toml(const nlohmann::json& recipe);
 /// The recipe fully expanded (every field with its value), for records and `recipe show`.
 nlohmann::json expanded_json(const Recipe& r);
 
