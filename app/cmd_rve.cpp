@@ -12,6 +12,7 @@
 #include "pnc/damage/moduli.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/characterize.hpp"
+#include "pnc/rve/lammps_server.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/runner.hpp"
 
@@ -24,6 +25,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 namespace pnc::app {
 
@@ -94,13 +96,17 @@ int run_rve_build(const BuildArgs& a) {
 }
 
 struct LammpsArgs {
+  int ranks = 0;
   std::string input, log;
   std::vector<std::string> vars;
 };
 
 /// Runs a LAMMPS input file in a supervised child (the same runner as every stage).
 int run_rve_lammps(const LammpsArgs& a) {
+  const rve::LauncherInfo li = rve::launcher_from_environment();
+  if (li.rank > 0) return 0; // under mpirun: rank 0 runs the input on all K ranks
   rve::StageSpec s{"lammps " + a.input, a.log.empty() ? "log.lammps" : a.log, {}};
+  s.ranks = a.ranks > 0 ? a.ranks : li.size;
   for (const auto& v : a.vars) {
     const auto eq = v.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -111,8 +117,8 @@ int run_rve_lammps(const LammpsArgs& a) {
   const std::string in = fs::absolute(a.input).string();
   const auto o = rve::run_stage(s, [in](rve::Lammps& l) { l.file(in); });
   if (!o.ok) fail(s.log_path, "LAMMPS", a.input, o.error);
-  std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s (log {})\n", a.input, o.seconds,
-                           s.log_path);
+  std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s on {} rank(s) (log {})\n",
+                           a.input, o.seconds, s.ranks, s.log_path);
   return 0;
 }
 
@@ -134,8 +140,28 @@ int run_recipe_show(const RecipeShowArgs& a) {
 struct CharacterizeArgs {
   std::string recipe, out;
   bool resume = false, json = false, no_plots = false;
-  int jobs = 0;
+  int jobs = 0, ranks = 0;
 };
+
+/// MPI ranks per LAMMPS stage and cases at a time. Started as `mpirun -np K pnc ...`, rank 0
+/// is the supervisor and runs every stage on K ranks (a fresh mpirun per stage, so a LAMMPS
+/// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
+/// Returns false on those follower ranks.
+bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
+  const rve::LauncherInfo li = rve::launcher_from_environment();
+  if (li.rank > 0) return false;
+  ranks = cli_ranks > 0 ? cli_ranks : li.size;
+  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);
+  if (li.size > 1)
+    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
+                             "rank(s), {} case(s) at a time\n",
+                             li.size, ranks, jobs);
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
+    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
+                             jobs, ranks * jobs, cores);
+  return true;
+}
 
 std::string preset_list() {
   std::string s;
@@ -161,8 +187,9 @@ int run_characterize(const CharacterizeArgs& a) {
   using namespace pnc::damage;
   const auto t0 = std::chrono::steady_clock::now();
   const rve::Recipe r = load_recipe(a.recipe);
-  const int jobs = a.jobs > 0 ? a.jobs : r.jobs;
-  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs);
+  int ranks = 1, jobs = 1;
+  if (!plan_parallelism(a.ranks, a.jobs, r.jobs, ranks, jobs)) return 0;
+  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks);
 
   // --- fit
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
@@ -327,6 +354,8 @@ void register_rve(CLI::App& app, Action& action) {
   lmp->add_option("input", la->input, "LAMMPS input file")->required();
   lmp->add_option("--log", la->log, "LAMMPS log file (default log.lammps)");
   lmp->add_option("--var", la->vars, "LAMMPS index variable NAME=VALUE (repeatable)");
+  lmp->add_option("--ranks", la->ranks, "MPI ranks (default 1; under mpirun -np K: K)")
+      ->check(CLI::Range(1, 256));
   lmp->callback([la, &action] { action = [la] { return run_rve_lammps(*la); }; });
 
   auto* recipe = app.add_subcommand("recipe", "Recipes of pnc characterize");
@@ -349,6 +378,9 @@ void register_rve(CLI::App& app, Action& action) {
       ->required();
   ch->add_option("--out", ca->out, "Output directory")->required();
   ch->add_flag("--resume", ca->resume, "Continue a stopped run without recomputing finished steps");
+  ch->add_option("--ranks", ca->ranks,
+                 "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
+      ->check(CLI::Range(1, 256));
   ch->add_option("--jobs", ca->jobs, "Cases run at the same time (default: the recipe's run.jobs)")
       ->check(CLI::Range(1, 64));
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # LAMMPS through pnc (supervised child, C library) vs the plain `lmp` binary: timesteps/s of
-# the same input on the coarse-grained PP melt, 1500 and 12000 beads; plain lmp also on 2
-# MPI ranks (pnc runs one rank per stage: decision D16). Prints a Markdown table.
+# the same input on the coarse-grained PP melt, 1500 and 12000 beads, on 1 and 2 MPI ranks
+# (pnc on 2 ranks: its stage server under mpirun, decision D16). Prints a Markdown table.
 # Usage: bench/rve/bench_rve.sh [PNC_EXE] [OUTDIR]
 set -euo pipefail
 PNC=$(realpath "${1:-build-rve/app/pnc}")
@@ -27,8 +27,17 @@ for chains in 75 600; do
   (cd "$d" && mpirun --allow-run-as-root --oversubscribe -np 2 lmp -in "$HERE/bench.in" \
      -var data rve.data -var ff forcefield.lmp -var steps $steps -log lmp2.log -screen none \
      -nocite >/dev/null 2>&1) || true
+  (cd "$d" && "$PNC" rve lammps "$HERE/bench.in" --var data=rve.data --var ff=forcefield.lmp \
+     --var steps=$steps --log pnc2.log --ranks 2 2>/dev/null) || true
   r1=$(rate "$d/lmp1.log"); p1=$(rate "$d/pnc1.log")
   echo "| $beads | lmp | 1 | $r1 |"
   echo "| $beads | pnc rve lammps | 1 | $p1 (ratio $(awk -v a=$p1 -v b=$r1 'BEGIN{printf "%.3f", a/b}')) |"
-  [ -f "$d/lmp2.log" ] && echo "| $beads | lmp (mpirun) | 2 | $(rate "$d/lmp2.log") |"
+  if [ -f "$d/lmp2.log" ]; then
+    r2=$(rate "$d/lmp2.log")
+    echo "| $beads | lmp (mpirun) | 2 | $r2 |"
+    if [ -f "$d/pnc2.log" ]; then
+      p2=$(rate "$d/pnc2.log")
+      echo "| $beads | pnc rve lammps --ranks 2 | 2 | $p2 (ratio $(awk -v a=$p2 -v b=$r2 'BEGIN{printf "%.3f", a/b}')) |"
+    fi
+  fi
 done

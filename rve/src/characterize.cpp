@@ -82,7 +82,7 @@ void write_cases_h5(const std::string& path, const Recipe& r,
   damage::write_stress_strain_h5(path, d);
 }
 
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs) {
+MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks) {
   MdOutcome o;
   o.dir = dir;
   fs::create_directories(dir);
@@ -160,7 +160,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs)
   std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}\n", r.equilibrate.ensemble);
   o.equilibrated =
       equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
-                  resume, recipe_text, r.model == "pnc");
+                  resume, recipe_text, r.model == "pnc", ranks);
   o.seconds_equilibrate = seconds_since(t0);
 
   // --- cases
@@ -185,13 +185,13 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs)
       std::cerr << fmt::format("pnc characterize [case {}] resuming after step {}/{}\n", id,
                                c.rows_done - 1, d.steps);
     }
-    stages.push_back({case_stage(d, cdir), case_body(d, cdir, resume)});
+    stages.push_back({case_stage(d, cdir, ranks), case_body(d, cdir, resume)});
     run_ids.push_back(id);
   }
   if (!stages.empty())
-    std::cerr << fmt::format("pnc characterize [cases] {} case(s), {} at a time; LAMMPS logs in "
-                             "{}/cases/case_<n>/lammps.log\n",
-                             stages.size(), std::max(1, jobs), dir);
+    std::cerr << fmt::format("pnc characterize [cases] {} case(s), {} at a time, {} MPI rank(s) "
+                             "each; LAMMPS logs in {}/cases/case_<n>/lammps.log\n",
+                             stages.size(), std::max(1, jobs), ranks, dir);
   const auto outcomes = run_stages(stages, jobs);
   std::string first_error;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {

@@ -318,8 +318,9 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
 
 } // namespace
 
-StageSpec case_stage(const DeformSpec& spec, const std::string& dir) {
+StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks) {
   StageSpec s;
+  s.ranks = ranks;
   s.name = fmt::format("case {}", spec.case_id);
   s.log_path = (fs::path(dir) / "lammps.log").string();
   return s;

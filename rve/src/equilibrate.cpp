@@ -238,7 +238,7 @@ EquilibratedState read_equilibrated(const std::string& dir) {
 
 EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
                               const EquilibrateSpec& s, const std::string& dir, bool resume,
-                              const std::string& recipe_json, bool with_clay) {
+                              const std::string& recipe_json, bool with_clay, int ranks) {
   s.validate("<equilibrate>");
   fs::create_directories(dir);
   const double sig = ff.sigma;
@@ -253,7 +253,8 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     }
     std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
               << std::flush;
-    const StageOutcome o = run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}}, body);
+    const StageOutcome o =
+        run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, body);
     if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
     const std::string crit =
         h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");

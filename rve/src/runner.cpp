@@ -7,23 +7,56 @@
 
 #include <fmt/format.h>
 
+#include "lammps_wire.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sched.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
 namespace pnc::rve {
 
+std::vector<double> Lammps::call(char op, const std::string& text, int i, int j, bool* found) {
+  wire::Request r;
+  r.op = op;
+  r.i = i;
+  r.j = j;
+  r.text = text;
+  std::vector<char> ans;
+  if (!wire::write_frame(fd_, wire::encode(r)) || !wire::read_frame(fd_, ans) || ans.empty()) {
+    const std::string err = last_lammps_error(log_);
+    fail(log_, "LAMMPS server", text,
+         err.empty()
+             ? "the LAMMPS server ended without an ERROR line in its log (see " + log_ + ".mpirun)"
+             : err);
+  }
+  if (found) *found = ans[0] == 0;
+  std::vector<double> v((ans.size() - 1) / sizeof(double));
+  if (!v.empty()) std::memcpy(v.data(), ans.data() + 1, v.size() * sizeof(double));
+  return v;
+}
+
 void Lammps::cmd(const std::string& command) {
-  lammps_command(h_, command.c_str());
+  if (fd_ >= 0)
+    call(wire::kCommand, command);
+  else
+    lammps_command(h_, command.c_str());
 }
 
 void Lammps::cmds(const std::vector<std::string>& commands) {
@@ -32,18 +65,30 @@ void Lammps::cmds(const std::vector<std::string>& commands) {
 }
 
 void Lammps::file(const std::string& path) {
-  lammps_file(h_, path.c_str());
+  if (fd_ >= 0)
+    call(wire::kFile, path);
+  else
+    lammps_file(h_, path.c_str());
 }
 
 double Lammps::thermo(const char* keyword) {
+  if (fd_ >= 0) return call(wire::kThermo, keyword).at(0);
   return lammps_get_thermo(h_, keyword);
 }
 
 long Lammps::natoms() {
+  if (fd_ >= 0) return static_cast<long>(call(wire::kNatoms, "").at(0));
   return static_cast<long>(lammps_get_natoms(h_));
 }
 
 double Lammps::fix_value(const std::string& id, int i, int j) {
+  if (fd_ >= 0) {
+    bool found = false;
+    const auto v = call(wire::kFix, id, i, j, &found);
+    if (!found || v.empty())
+      fail("<lammps>", "fix " + id, fmt::format("({}, {})", i, j), "no such global value");
+    return v[0];
+  }
   const int type = j < 0 ? LMP_TYPE_VECTOR : LMP_TYPE_ARRAY;
   auto* p = static_cast<double*>(
       lammps_extract_fix(h_, id.c_str(), LMP_STYLE_GLOBAL, type, i, j < 0 ? 0 : j));
@@ -54,6 +99,14 @@ double Lammps::fix_value(const std::string& id, int i, int j) {
 }
 
 double Lammps::compute_value(const std::string& id, int i) {
+  if (fd_ >= 0) {
+    bool found = false;
+    const auto v = call(wire::kCompute, id, i, 0, &found);
+    if (!found || v.empty())
+      fail("<lammps>", "compute " + id, i < 0 ? "" : std::to_string(i),
+           i < 0 ? "no global scalar" : "no global vector");
+    return v[0];
+  }
   if (i < 0) {
     auto* p = static_cast<double*>(
         lammps_extract_compute(h_, id.c_str(), LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR));
@@ -67,6 +120,7 @@ double Lammps::compute_value(const std::string& id, int i) {
 }
 
 std::vector<double> Lammps::gather(const std::string& name, int count) {
+  if (fd_ >= 0) return call(wire::kGather, name, count);
   std::vector<double> out(static_cast<std::size_t>(natoms()) * count);
   std::string n = name;
   lammps_gather_atoms(h_, n.data(), 1, count, out.data());
@@ -74,9 +128,24 @@ std::vector<double> Lammps::gather(const std::string& name, int count) {
 }
 
 void Lammps::box(double lo[3], double hi[3], double& xy, double& yz, double& xz) {
+  if (fd_ >= 0) {
+    const auto v = call(wire::kBox, "");
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = v.at(k);
+      hi[k] = v.at(3 + k);
+    }
+    xy = v.at(6);
+    yz = v.at(7);
+    xz = v.at(8);
+    return;
+  }
   int periodicity[3];
   int changed;
   lammps_extract_box(h_, lo, hi, &xy, &yz, &xz, periodicity, &changed);
+}
+
+void Lammps::quit() {
+  if (fd_ >= 0) call(wire::kQuit, "");
 }
 
 std::string last_lammps_error(const std::string& log_path) {
@@ -103,8 +172,123 @@ std::string error_file(const std::string& log) {
   return log + ".pnc-error";
 }
 
+std::string server_executable() {
+  if (const char* e = std::getenv("PNC_LAMMPS_SERVER")) return e;
+  // next to the running executable (installed layout), else where the build put it
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+  if (n > 0) {
+    buf[n] = 0;
+    const auto p = std::filesystem::path(buf).parent_path() / "pnc_lammps_server";
+    if (std::filesystem::exists(p)) return p.string();
+  }
+  return PNC_LAMMPS_SERVER_PATH;
+}
+
+/// Starts `mpirun -np K pnc_lammps_server NAME <lammps args>` with a clean MPI environment
+/// (so that it also works when pnc itself was started by mpirun) and waits until rank 0
+/// connects. Returns the connected socket; throws (pnc error) if mpirun ends first.
+int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_args,
+                 pid_t& mpirun_pid) {
+  static int counter = 0;
+  const std::string name = fmt::format("pnc-lammps-{}-{}", getpid(), counter++);
+  const int ls = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un a{};
+  a.sun_family = AF_UNIX;
+  std::memcpy(a.sun_path + 1, name.data(), name.size());
+  const auto len = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + name.size());
+  if (ls < 0 || bind(ls, reinterpret_cast<sockaddr*>(&a), len) != 0 || listen(ls, 1) != 0)
+    fail("<runner>", spec.name, name,
+         std::string("cannot open the server socket: ") + std::strerror(errno));
+  const std::string exe = server_executable();
+  const std::string out = spec.log_path + ".mpirun";
+  std::vector<std::string> args = {"mpirun", "-np", std::to_string(spec.ranks), "--bind-to", "none",
+                                   exe,      name};
+  args.insert(args.end(), lammps_args.begin(), lammps_args.end());
+  std::fflush(nullptr);
+  mpirun_pid = fork();
+  if (mpirun_pid < 0) fail("<runner>", spec.name, "", "fork() failed");
+  if (mpirun_pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM); // mpirun forwards SIGTERM to its ranks
+    // a clean launcher environment: drop what an outer mpirun set for this process
+    std::vector<std::string> drop;
+    for (char** e = environ; *e; ++e) {
+      const std::string kv = *e;
+      for (const char* pre : {"OMPI_", "PMIX_", "OPAL_", "ORTE_", "PMI_", "HYDRA_"})
+        if (kv.rfind(pre, 0) == 0) drop.push_back(kv.substr(0, kv.find('=')));
+    }
+    for (const auto& d : drop)
+      unsetenv(d.c_str());
+    if (getuid() == 0) { // Open MPI refuses root without these; CI containers run as root
+      setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+      setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    }
+    cpu_set_t all; // an outer mpirun may have bound this process to one core
+    CPU_ZERO(&all);
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+      CPU_SET(c, &all);
+    sched_setaffinity(0, sizeof(all), &all);
+    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+    }
+    std::vector<char*> argv;
+    for (auto& s : args)
+      argv.push_back(s.data());
+    argv.push_back(nullptr);
+    execvp("mpirun", argv.data());
+    std::fprintf(stderr, "pnc: cannot run mpirun: %s\n", std::strerror(errno));
+    _exit(127);
+  }
+  for (;;) { // accept, giving up when mpirun ends before its rank 0 connects
+    pollfd p{ls, POLLIN, 0};
+    if (poll(&p, 1, 200) > 0) {
+      const int fd = accept4(ls, nullptr, nullptr, SOCK_CLOEXEC);
+      if (fd >= 0) {
+        close(ls);
+        return fd;
+      }
+    }
+    int status = 0;
+    if (waitpid(mpirun_pid, &status, WNOHANG) == mpirun_pid) {
+      close(ls);
+      std::ifstream f(out);
+      std::string line, last;
+      while (std::getline(f, line))
+        if (!line.empty()) last = line;
+      fail(out, spec.name, fmt::format("mpirun -np {}", spec.ranks),
+           fmt::format("mpirun ended (status {}) before the LAMMPS server started: {}",
+                       WIFEXITED(status) ? WEXITSTATUS(status) : -1, last));
+    }
+  }
+}
+
 [[noreturn]] void child_main(const StageSpec& spec, const StageBody& body) {
   std::vector<std::string> args = {"pnc", "-log", spec.log_path, "-screen", "none", "-nocite"};
+  for (const auto& a : spec.extra_args)
+    args.push_back(a);
+  if (spec.ranks > 1) {
+    int code = 0;
+    try {
+      pid_t mp = -1;
+      const int fd = start_server(spec, {args.begin() + 1, args.end()}, mp);
+      {
+        Lammps lmp(fd, spec.log_path);
+        body(lmp);
+        lmp.quit();
+      }
+      close(fd);
+      int status = 0;
+      while (waitpid(mp, &status, 0) < 0) {
+      }
+    } catch (const std::exception& e) {
+      std::ofstream(error_file(spec.log_path)) << e.what() << "\n";
+      code = 3;
+    }
+    std::fflush(nullptr);
+    _exit(code);
+  }
   for (const auto& a : spec.extra_args)
     args.push_back(a);
   std::vector<char*> argv;

@@ -72,7 +72,7 @@ struct CaseResult {
 StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume);
 /// The body that run_case runs in the child (exposed for run_stages / --jobs).
 StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume);
-StageSpec case_stage(const DeformSpec& spec, const std::string& dir);
+StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks = 1);
 
 /// Reads `dir`/checkpoint.h5. Throws InputError when absent or malformed.
 CaseResult read_case(const std::string& dir);

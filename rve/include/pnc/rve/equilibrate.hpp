@@ -75,9 +75,11 @@ struct EquilibratedState {
 /// stage "clay" minimises and runs the clay (NVE + Langevin at `temperature`, `clay_steps`)
 /// with the polymer fixed; cool/langevin/final move everything, and the NPT barostat acts on
 /// x2 and x3 only (coupled), x1 (along the platelet) keeps its build length (decision D24).
+/// `ranks`: MPI ranks of LAMMPS per stage (StageSpec::ranks).
 EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
                               const EquilibrateSpec& spec, const std::string& dir, bool resume,
-                              const std::string& recipe_json, bool with_clay = false);
+                              const std::string& recipe_json, bool with_clay = false,
+                              int ranks = 1);
 
 /// Reads `dir`/final.h5.
 EquilibratedState read_equilibrated(const std::string& dir);

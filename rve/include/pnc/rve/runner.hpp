@@ -14,20 +14,27 @@
 // The parent must not have initialised MPI (the child does, through lammps_open_no_mpi).
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pnc::rve {
 
-/// A LAMMPS instance inside a stage child. `cmd` runs one command; a LAMMPS error in it
-/// terminates the child (reported by the parent from the log).
+/// A LAMMPS instance inside a stage child: in the child's own process (1 rank), or the
+/// LAMMPS server on K ranks (lammps_server.hpp) behind the same calls. `cmd` runs one
+/// command; a LAMMPS error in it terminates the child (or the server; then the next call
+/// throws with LAMMPS's ERROR line from the log), and the parent reports it from the log.
 class Lammps {
 public:
   explicit Lammps(void* handle) : h_(handle) {}
+  /// Remote instance: `fd` is the connected socket to the server's rank 0; `log_path` is the
+  /// server's LAMMPS log (for the error message when the server ends).
+  Lammps(int fd, std::string log_path) : fd_(fd), log_(std::move(log_path)) {}
   void cmd(const std::string& command);
   void cmds(const std::vector<std::string>& commands);
   /// Runs a LAMMPS input file (lammps_file).
   void file(const std::string& path);
   double thermo(const char* keyword);
+  /// nullptr for a remote instance.
   void* handle() const { return h_; }
   long natoms();
   /// Element of a global vector (i) or array (i, j) of a fix; throws if absent.
@@ -38,15 +45,27 @@ public:
   std::vector<double> gather(const std::string& name, int count);
   /// Box: lo[3], hi[3], xy, yz, xz (LAMMPS order).
   void box(double lo[3], double hi[3], double& xy, double& yz, double& xz);
+  /// Remote: asks the server to close LAMMPS and end; no-op in-process.
+  void quit();
 
 private:
-  void* h_;
+  /// Remote call: sends the request, returns the answer's doubles; `found` (if given) gets
+  /// whether the server found the fix/compute.
+  std::vector<double> call(char op, const std::string& text, int i = 0, int j = 0,
+                           bool* found = nullptr);
+  void* h_ = nullptr;
+  int fd_ = -1;
+  std::string log_;
 };
 
 struct StageSpec {
   std::string name;                    ///< for messages, e.g. "equilibrate/hot"
   std::string log_path;                ///< LAMMPS log of this stage (overwritten)
   std::vector<std::string> extra_args; ///< extra LAMMPS command-line args, e.g. {"-sf","opt"}
+  /// MPI ranks of LAMMPS for this stage. 1: LAMMPS inside the stage child. K > 1: the child
+  /// starts `mpirun -np K pnc_lammps_server` (lammps_server.hpp) and drives it; the mpirun's
+  /// own output goes to `<log_path>.mpirun`.
+  int ranks = 1;
 };
 
 struct StageOutcome {
