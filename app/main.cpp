@@ -102,6 +102,9 @@ int main(int argc, char** argv) {
 #ifdef PNC_HAVE_GIMP_COMMANDS
   register_gimp(app, action);
 #endif
+#ifdef PNC_HAVE_THERMO_COMMANDS
+  register_thermo(app, action);
+#endif
 
   try {
     app.parse(argc, argv);

@@ -12,4 +12,5 @@ namespace pnc::app {
 using Action = std::function<int()>;
 void register_rve(CLI::App& app, Action& action);  // app/cmd_rve.cpp     (issue #3)
 void register_gimp(CLI::App& app, Action& action); // app/cmd_gimp.cpp    (issue #5)
+void register_thermo(CLI::App& app, Action& action); // app/cmd_thermo.cpp (issue #4)
 } // namespace pnc::app

@@ -1,0 +1,456 @@
+// pnc thermo ti | pnc thermo persistence: free energy of deformation by thermodynamic
+// integration and persistence length by steered bending (issue #4). Units: LAMMPS real
+// (kcal/mol, A, fs, K) inside thermo/; moduli in Pa and EI also in N m^2 where named.
+#include "registrars.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/version.hpp"
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/recipe.hpp"
+#include "pnc/thermo/persistence.hpp"
+#include "pnc/thermo/ti.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#ifndef PNC_PYTHON
+#define PNC_PYTHON "/usr/bin/python3"
+#endif
+#ifndef PNC_SCRIPTS_DIR
+#define PNC_SCRIPTS_DIR "scripts"
+#endif
+
+namespace pnc::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json jnum(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+std::vector<std::string> run_plot(const std::vector<std::string>& args) {
+  const char* env_py = std::getenv("PNC_PYTHON");
+  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
+  const std::string py = env_py ? env_py : PNC_PYTHON;
+  const std::string script =
+      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / "plot_thermo.py").string();
+  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
+  auto quote = [](const std::string& s) {
+    std::string q = "'";
+    for (char ch : s)
+      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+  };
+  std::string cmd = quote(py) + " " + quote(script);
+  for (const auto& a : args)
+    cmd += " " + quote(a);
+  cmd += " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, pipe))
+    out += buf;
+  if (::pclose(pipe) != 0)
+    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  std::vector<std::string> pngs;
+  std::istringstream lines(out);
+  std::string line;
+  while (std::getline(lines, line))
+    if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
+  return pngs;
+}
+
+void print_progress(const std::string& what, int done, int total, double el, double eta) {
+  std::cerr << fmt::format("  [{}/{}] {}  (elapsed {:.0f} s, ETA {:.0f} s)\n", done, total, what,
+                           el, eta)
+            << std::flush;
+}
+
+// ------------------------------------------------------------------------------- ti
+
+struct TiArgs {
+  thermo::TiSpec spec;
+  std::string from, restart, out, vol = "0,0.00125,0.0025,0.00375,0.005",
+                                  dev = "0,0.00125,0.0025,0.00375,0.005";
+  bool demo = false, resume = false, json = false, no_plots = false;
+};
+
+std::vector<double> parse_list(const std::string& text, const char* field) {
+  std::vector<double> v;
+  if (text == "none" || text.empty()) return v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t pos = 0;
+      v.push_back(std::stod(item, &pos));
+      if (pos != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      fail("<command line>", field, item, "must be a comma-separated list of numbers (or none)");
+    }
+  }
+  return v;
+}
+
+/// The equilibrated start state and the force-field commands.
+std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
+  const int given = (a.from.empty() ? 0 : 1) + (a.restart.empty() ? 0 : 1) + (a.demo ? 1 : 0);
+  if (given != 1)
+    fail("<command line>", "--from/--restart/--demo", "",
+         "give exactly one source of the equilibrated RVE");
+  if (!a.restart.empty()) {
+    if (!fs::is_regular_file(a.restart))
+      fail(a.restart, "--restart", a.restart, "no such LAMMPS restart file");
+    return {a.restart, rve::polymer_forcefield_commands({})};
+  }
+  if (!a.from.empty()) {
+    const std::string rp = (fs::path(a.from) / "recipe.json").string();
+    const std::string rs = (fs::path(a.from) / "equilibrate" / "final.restart").string();
+    if (!fs::is_regular_file(rp))
+      fail(a.from, "--from", a.from, "is not a `pnc characterize` output (no recipe.json)");
+    if (!fs::is_regular_file(rs))
+      fail(rs, "--from", a.from, "has no equilibrated state (equilibrate/final.restart)");
+    const rve::Recipe r = rve::read_recipe(rp);
+    if (r.model != "pp")
+      fail(rp, "model", r.model,
+           "thermo ti ramps a single-type LJ; the nanocomposite (model pnc) is not supported yet");
+    return {rs, rve::polymer_forcefield_commands(r.ff)};
+  }
+  // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve
+  const rve::Recipe r = rve::parse_recipe(rve::preset_json("demo"), "preset demo");
+  const fs::path d = fs::path(a.out) / "rve";
+  fs::create_directories(d);
+  const std::string data = (d / "rve.data").string();
+  if (!(a.resume && fs::exists(data))) {
+    std::cerr << fmt::format("pnc thermo ti [demo RVE] building {} chains x {} beads\n",
+                             r.build.chains, r.build.beads_per_chain);
+    const rve::System s = rve::build_polymer(r.build, r.ff);
+    rve::write_data_file(data, s, "pnc thermo ti demo");
+  }
+  std::cerr << "pnc thermo ti [demo RVE] equilibrating (recipe demo)\n";
+  const auto e = rve::equilibrate(data, r.ff, r.equilibrate, (d / "equilibrate").string(), a.resume,
+                                  rve::expanded_json(r).dump(), false);
+  std::cerr << fmt::format("  equilibrated: density {:.4f} g/cm3, P {:.0f} atm\n", e.density,
+                           e.pressure_total);
+  return {e.restart, rve::polymer_forcefield_commands(r.ff)};
+}
+
+nlohmann::json spec_json(const thermo::TiSpec& s) {
+  return {{"rule", s.rule},
+          {"points", s.points},
+          {"vol", s.vol},
+          {"dev", s.dev},
+          {"eps0_kcal_mol", s.path.eps0},
+          {"eps1_kcal_mol", s.path.eps1},
+          {"sig0_A", s.path.sig0},
+          {"sig1_A", s.path.sig1},
+          {"cutoff_A", s.path.cutoff},
+          {"timestep_fs", s.sampling.timestep_fs},
+          {"equil_steps", s.sampling.equil_steps},
+          {"prod_steps", s.sampling.prod_steps},
+          {"sample_every", s.sampling.sample_every},
+          {"blocks", s.sampling.blocks},
+          {"temperature_K", s.sampling.temperature},
+          {"damp_fs", s.damp_fs},
+          {"seed", s.seed},
+          {"fd_h", s.fd_h},
+          {"dhdl_method", s.dhdl_method}};
+}
+
+int run_thermo_ti(TiArgs a) {
+  a.spec.vol = parse_list(a.vol, "--vol");
+  a.spec.dev = parse_list(a.dev, "--dev");
+  a.spec.validate("<command line>");
+  fs::create_directories(a.out);
+  // one spec per output directory: --resume must not mix protocols
+  const std::string sj = spec_json(a.spec).dump(2) + "\n";
+  const std::string sp = (fs::path(a.out) / "ti_spec.json").string();
+  if (fs::exists(sp)) {
+    std::ifstream f(sp);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (ss.str() != sj)
+      fail(sp, "--out", a.out,
+           "holds a TI with other settings; use a new --out directory (or the same settings)");
+    if (!a.resume)
+      fail(a.out, "--out", a.out, "already holds this TI: add --resume to continue it");
+  }
+  const auto [restart, ff] = start_state(a);
+  write_text_atomically(sp, sj);
+  const auto states = thermo::ti_states(a.spec);
+  std::cerr << fmt::format("pnc thermo ti: {} state(s) x {} lambda point(s) ({} rule), {} + {} "
+                           "steps of {} fs per point, dH/dl every {} steps; start state {}\n",
+                           states.size(), a.spec.points, a.spec.rule, a.spec.sampling.equil_steps,
+                           a.spec.sampling.prod_steps, a.spec.sampling.timestep_fs,
+                           a.spec.sampling.sample_every, restart);
+  const thermo::TiResult r =
+      thermo::run_ti(a.spec, restart, ff, a.out, a.resume, sj, print_progress);
+
+  // --- report
+  const double kT = thermo::kB_kcal_mol_K * a.spec.sampling.temperature;
+  std::cerr << "\n  state            dA = A(1) - A(0) (kcal/mol)     <dH/dl> at the nodes\n";
+  double a0 = std::nan(""), s0 = 0;
+  for (const auto& st : r.states)
+    if (st.state.kind == "ref") {
+      a0 = st.ti.dA.value;
+      s0 = st.ti.dA.se;
+    }
+  double worst_fd = 0;
+  for (const auto& st : r.states) {
+    std::string nodes;
+    for (const auto& p : st.ti.points) {
+      nodes += fmt::format(" {:.3f}+-{:.3f}", p.dhdl.value, p.dhdl.se);
+      if (p.checks.count("fd_dhdl_lammps"))
+        worst_fd =
+            std::max(worst_fd, std::fabs(p.checks.at("fd_dhdl_lammps") - p.checks.at("dhdl_pnc")) /
+                                   std::max(1e-12, std::fabs(p.checks.at("dhdl_pnc"))));
+    }
+    std::cerr << fmt::format("  {:<14} {:>10.4f} +- {:.4f}          {}\n", st.state.id,
+                             st.ti.dA.value, st.ti.dA.se, nodes);
+  }
+  std::cerr << fmt::format("  finite-difference check of dH/dl against LAMMPS's pair energy: "
+                           "largest relative difference {:.2e}\n",
+                           worst_fd);
+  for (const auto& f : r.fits)
+    if (std::isfinite(f.modulus))
+      std::cerr << fmt::format("  {} response (appendix A, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
+                               "GPa (quadratic fit, V0 {:.0f} A^3)\n",
+                               f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9,
+                               f.modulus_se * 1e-9, f.v0);
+  std::vector<std::string> pngs;
+  if (!a.no_plots) {
+    std::ostringstream c1, c2;
+    c1.precision(12);
+    c2.precision(12);
+    c1 << "state,lambda,dhdl,dhdl_se\n";
+    c2 << "kind,strain,strain_measure,dA,dA_se\n";
+    for (const auto& st : r.states) {
+      for (const auto& p : st.ti.points)
+        c1 << st.state.id << ',' << p.lambda << ',' << p.dhdl.value << ',' << p.dhdl.se << '\n';
+      for (const char* k : {"vol", "dev"})
+        if (st.state.kind == k || st.state.kind == "ref") {
+          const bool in = st.state.kind == "ref"
+                              ? !(std::string(k) == "vol" ? a.spec.vol : a.spec.dev).empty()
+                              : true;
+          if (!in) continue;
+          const double m = std::string(k) == "vol" ? 3 * st.state.strain : st.state.strain;
+          c2 << k << ',' << st.state.strain << ',' << m << ',' << st.ti.dA.value << ','
+             << st.ti.dA.se << '\n';
+        }
+    }
+    const fs::path pd = fs::path(a.out) / "plots";
+    fs::create_directories(pd);
+    write_text_atomically((pd / "dhdl.csv").string(), c1.str());
+    write_text_atomically((pd / "dA.csv").string(), c2.str());
+    pngs = run_plot({"ti", (pd / "dhdl.csv").string(), (pd / "dA.csv").string(), pd.string()});
+  }
+  std::cerr << "  results: " << r.h5 << "\n";
+  for (const auto& p : pngs)
+    std::cerr << "  plot: " << p << "\n";
+  std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "thermo ti";
+    j["out"] = a.out;
+    j["h5"] = r.h5;
+    j["plots"] = pngs;
+    j["rule"] = a.spec.rule;
+    j["kT_kcal_mol"] = kT;
+    j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
+    j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
+    nlohmann::json sts = nlohmann::json::array();
+    for (const auto& st : r.states) {
+      nlohmann::json o;
+      o["id"] = st.state.id;
+      o["kind"] = st.state.kind;
+      o["strain"] = st.state.strain;
+      o["volume_A3"] = jnum(st.volume);
+      o["dA_kcal_mol"] = jnum(st.ti.dA.value);
+      o["dA_stderr_kcal_mol"] = jnum(st.ti.dA.se);
+      o["dA_minus_ref_kcal_mol"] = jnum(st.ti.dA.value - a0);
+      o["dA_minus_ref_stderr_kcal_mol"] =
+          jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0));
+      std::vector<double> m, se;
+      for (const auto& p : st.ti.points) {
+        m.push_back(p.dhdl.value);
+        se.push_back(p.dhdl.se);
+      }
+      o["dhdl_kcal_mol"] = m;
+      o["dhdl_stderr_kcal_mol"] = se;
+      sts.push_back(o);
+    }
+    j["states"] = sts;
+    j["fd_check_max_relative_difference"] = worst_fd;
+    nlohmann::json fits;
+    for (const auto& f : r.fits)
+      fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
+    j["response"] = fits;
+    j["seconds"] = r.seconds;
+    std::cout << j.dump() << std::endl;
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------- persistence
+
+struct PersistenceArgs {
+  thermo::PersistenceSpec spec;
+  std::string out, rates = "0.01,0.025,0.05,0.075,0.1";
+  bool resume = false, json = false, no_plots = false;
+};
+
+int run_thermo_persistence(PersistenceArgs a) {
+  a.spec.rates = parse_list(a.rates, "--rates");
+  a.spec.validate("<command line>");
+  std::cerr << fmt::format("pnc thermo persistence: {} chain of {} beads, supports {}, spring {} "
+                           "kcal/mol/A^2, {} rates, pull {} A at {} fs steps, T {} K\n",
+                           a.spec.chain, a.spec.beads, a.spec.supports, a.spec.spring_k,
+                           a.spec.rates.size(), a.spec.pull_distance, a.spec.timestep_fs,
+                           a.spec.temperature);
+  const thermo::PersistenceResult r =
+      thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
+  const double si = thermo::nm2_per_kcal_mol_A;
+  std::cerr << fmt::format(
+      "  L = {:.3f} A; EI(rate) = {:.4g} + {:.4g} rate (kcal/mol A, rate A/fs)\n", r.length,
+      r.line.c[0], r.line.c[1]);
+  std::cerr << fmt::format("  EI(0) = {:.4g} +- {:.2g} kcal/mol A (95 % CI), = {:.4g} +- {:.2g} N "
+                           "m^2; xi_p = EI/kT = {:.2f} +- {:.2f} A at {} K\n",
+                           r.ei0.value, r.ei0_ci95, r.ei0.value * si, r.ei0_ci95 * si, r.xi_p,
+                           r.xi_p_ci95, a.spec.temperature);
+  if (a.spec.chain == "harmonic")
+    std::cerr << fmt::format("  by construction: EI = {:.4g} (discrete chain, this loading), "
+                             "{:.4g} (continuum k_theta l0) kcal/mol A\n",
+                             r.expected_ei, r.expected_ei_continuum);
+  else
+    std::cerr << "  dissertation (section 6.2.1): EI(0) = 2.433e-29 N m^2, xi_p = 58.74 A\n";
+  std::vector<std::string> pngs;
+  if (!a.no_plots) {
+    std::ostringstream c;
+    c.precision(12);
+    c << "kind,rate,EI,EI_se,EI_end\n";
+    for (const auto& rr : r.rates)
+      c << "rate," << rr.rate << ',' << rr.ei.value << ',' << rr.ei.se << ',' << rr.ei_end << '\n';
+    c << "fit,0," << r.line.c[0] << ',' << r.ei0_ci95 << ',' << r.line.c[1] << '\n';
+    const std::string csv = (fs::path(a.out) / "EI_vs_rate.csv").string();
+    write_text_atomically(csv, c.str());
+    pngs = run_plot({"persistence", csv, a.out});
+  }
+  std::cerr << "  results: " << r.h5 << "\n";
+  for (const auto& p : pngs)
+    std::cerr << "  plot: " << p << "\n";
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "thermo persistence";
+    j["h5"] = r.h5;
+    j["plots"] = pngs;
+    j["chain"] = a.spec.chain;
+    j["length_A"] = r.length;
+    nlohmann::json rs = nlohmann::json::array();
+    for (const auto& rr : r.rates)
+      rs.push_back({{"rate_A_fs", rr.rate},
+                    {"EI_kcal_mol_A", jnum(rr.ei.value)},
+                    {"EI_stderr_kcal_mol_A", jnum(rr.ei.se)},
+                    {"EI_end_ratio_kcal_mol_A", jnum(rr.ei_end)}});
+    j["rates"] = rs;
+    j["EI0_kcal_mol_A"] = jnum(r.ei0.value);
+    j["EI0_ci95_kcal_mol_A"] = jnum(r.ei0_ci95);
+    j["EI0_N_m2"] = jnum(r.ei0.value * si);
+    j["xi_p_A"] = jnum(r.xi_p);
+    j["xi_p_ci95_A"] = jnum(r.xi_p_ci95);
+    j["expected_EI_kcal_mol_A"] = jnum(r.expected_ei);
+    j["expected_EI_continuum_kcal_mol_A"] = jnum(r.expected_ei_continuum);
+    std::cout << j.dump() << std::endl;
+  }
+  return 0;
+}
+
+} // namespace
+
+void register_thermo(CLI::App& app, Action& action) {
+  auto* th = app.add_subcommand(
+      "thermo", "Free energy of deformation (TI) and persistence length (LAMMPS, units real)");
+  th->require_subcommand(1);
+
+  auto ta = std::make_shared<TiArgs>();
+  auto* ti = th->add_subcommand(
+      "ti", "Thermodynamic integration of the LJ coupling over deformation states -> ti.h5");
+  ti->add_option("--from", ta->from, "`pnc characterize` output directory (pure polymer)");
+  ti->add_option("--restart", ta->restart, "Equilibrated LAMMPS restart (default PP force field)");
+  ti->add_flag("--demo", ta->demo, "Build and equilibrate the demo RVE (600 beads) under OUT/rve");
+  ti->add_option("--out", ta->out, "Output directory")->required();
+  ti->add_option("--rule", ta->spec.rule, "Quadrature: gauss (default) or trapezoid")
+      ->check(CLI::IsMember({"gauss", "trapezoid"}));
+  ti->add_option("--points", ta->spec.points, "Quadrature points (default 3, Table 6.1)")
+      ->check(CLI::Range(1, 64));
+  ti->add_option("--vol", ta->vol, "alpha values of F = (1+alpha) I, comma-separated, or none");
+  ti->add_option("--dev", ta->dev, "beta values of F = I + beta(1-delta_ij), or none");
+  ti->add_option("--eps0", ta->spec.path.eps0, "epsilon at lambda = 0 (kcal/mol)");
+  ti->add_option("--eps1", ta->spec.path.eps1, "epsilon at lambda = 1 (kcal/mol)");
+  ti->add_option("--sig0", ta->spec.path.sig0, "sigma at lambda = 0 (A)");
+  ti->add_option("--sig1", ta->spec.path.sig1, "sigma at lambda = 1 (A)");
+  ti->add_option("--cutoff", ta->spec.path.cutoff, "LJ cut-off at every lambda (A)");
+  ti->add_option("--dhdl", ta->spec.dhdl_method,
+                 "dH/dlambda sampler: virial (one run, energy + pair virial identity; default) "
+                 "or pairs (pair-distance sums after every sample interval)")
+      ->check(CLI::IsMember({"virial", "pairs"}));
+  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "fs (default 0.5)");
+  ti->add_option("--equil-steps", ta->spec.sampling.equil_steps,
+                 "Steps discarded per lambda point (default 60000 = 30 ps)");
+  ti->add_option("--prod-steps", ta->spec.sampling.prod_steps,
+                 "Steps averaged per lambda point (default 20000 = 10 ps)");
+  ti->add_option("--sample-every", ta->spec.sampling.sample_every,
+                 "Steps between dH/dlambda samples (default 20)");
+  ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)");
+  ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300)");
+  ti->add_option("--seed", ta->spec.seed, "Thermostat seed");
+  ti->add_option("--jobs", ta->spec.jobs, "Lambda points run at the same time")
+      ->check(CLI::Range(1, 64));
+  ti->add_flag("--resume", ta->resume, "Continue: finished (state, lambda) points are reused");
+  ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
+  ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
+  ti->callback([ta, &action] { action = [ta] { return run_thermo_ti(*ta); }; });
+
+  auto pa = std::make_shared<PersistenceArgs>();
+  auto* pe = th->add_subcommand(
+      "persistence", "Bending stiffness EI and persistence length by steered bending of a chain");
+  pe->add_option("--chain", pa->spec.chain,
+                 "pp (CG polypropylene, section 6.1) or harmonic (straight, angle harmonic)")
+      ->check(CLI::IsMember({"pp", "harmonic"}));
+  pe->add_option("--beads", pa->spec.beads, "Beads (default 4)");
+  pe->add_option("--angle-k", pa->spec.angle_K,
+                 "harmonic chain: LAMMPS angle K (kcal/mol/rad^2), k_theta = 2K");
+  pe->add_option("--bond-k", pa->spec.bond_K, "harmonic chain: LAMMPS bond K (kcal/mol/A^2)");
+  pe->add_option("--supports", pa->spec.supports, "pinned (both ends fixed) or roller")
+      ->check(CLI::IsMember({"pinned", "roller"}));
+  pe->add_option("--spring-k", pa->spec.spring_k, "Pulling spring (kcal/mol/A^2, default 10)");
+  pe->add_option("--rates", pa->rates, "Anchor speeds, A/fs, comma-separated");
+  pe->add_option("--pull-distance", pa->spec.pull_distance, "Anchor travel per pull (A)");
+  pe->add_option("--timestep", pa->spec.timestep_fs, "fs");
+  pe->add_option("--hold-steps", pa->spec.hold_steps, "Steps at zero force before each pull");
+  pe->add_option("--sample-every", pa->spec.sample_every, "Steps between samples of F and d");
+  pe->add_option("--blocks", pa->spec.blocks, "Blocks of the standard errors");
+  pe->add_option("--temperature", pa->spec.temperature, "K");
+  pe->add_option("--seed", pa->spec.seed, "Seed");
+  pe->add_option("--out", pa->out, "Output directory")->required();
+  pe->add_flag("--resume", pa->resume, "Reuse finished rates");
+  pe->add_flag("--no-plots", pa->no_plots, "Do not draw plots");
+  pe->add_flag("--json", pa->json, "Print one JSON object with the key numbers on stdout");
+  pe->callback([pa, &action] { action = [pa] { return run_thermo_persistence(*pa); }; });
+}
+
+} // namespace pnc::app

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Plots of `pnc thermo` (matplotlib). Units: kcal/mol, A, fs as in the CSV headers.
+
+usage: plot_thermo.py ti DHDL_CSV DA_CSV OUTDIR
+       plot_thermo.py persistence RATES_CSV OUTDIR
+Prints "wrote <png>" per figure.
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def ti(dhdl_csv, da_csv, out):
+    rows = read(dhdl_csv)
+    states = []
+    for r in rows:
+        if r["state"] not in states:
+            states.append(r["state"])
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for s in states:
+        rr = [r for r in rows if r["state"] == s]
+        ax.errorbar([float(r["lambda"]) for r in rr], [float(r["dhdl"]) for r in rr],
+                    yerr=[float(r["dhdl_se"]) for r in rr], marker="o", capsize=3, label=s)
+    ax.set_xlabel("lambda")
+    ax.set_ylabel("<dH/dlambda> (kcal/mol)")
+    ax.set_title("TI integrand per deformation state (error bars: 1 s.e.)")
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    p = os.path.join(out, "dhdl_vs_lambda.png")
+    fig.savefig(p, dpi=120)
+    print("wrote " + p)
+    rows = read(da_csv)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for ax, kind, lab in ((axes[0], "vol", "volumetric strain tr(eps) = 3 alpha"),
+                          (axes[1], "dev", "deviatoric strain eps12 = eps13 = eps23 = beta")):
+        rr = [r for r in rows if r["kind"] == kind]
+        if not rr:
+            ax.set_visible(False)
+            continue
+        x = [float(r["strain_measure"]) for r in rr]
+        ax.errorbar(x, [float(r["dA"]) for r in rr], yerr=[float(r["dA_se"]) for r in rr],
+                    marker="o", capsize=3, ls="-")
+        ax.set_xlabel(lab)
+        ax.set_ylabel("Delta A = A(lambda=1) - A(lambda=0) (kcal/mol)")
+        ax.set_title("figure 6.18" if kind == "vol" else "figure 6.19")
+    fig.tight_layout()
+    p = os.path.join(out, "dA_vs_strain.png")
+    fig.savefig(p, dpi=120)
+    print("wrote " + p)
+
+
+def persistence(rates_csv, out):
+    rows = read(rates_csv)
+    x = [float(r["rate"]) for r in rows if r["kind"] == "rate"]
+    y = [float(r["EI"]) for r in rows if r["kind"] == "rate"]
+    e = [float(r["EI_se"]) for r in rows if r["kind"] == "rate"]
+    ye = [float(r["EI_end"]) for r in rows if r["kind"] == "rate"]
+    fit = [r for r in rows if r["kind"] == "fit"][0]
+    c0, c1, ci = float(fit["EI"]), float(fit["EI_end"]), float(fit["EI_se"])
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.errorbar(x, y, yerr=e, marker="o", ls="none", capsize=3, label="EI = L^3/48 dF/dd")
+    ax.plot(x, ye, "s", mfc="none", label="EI = F L^3/(48 d), end of pull (eq. 6.9)")
+    xs = [0.0, max(x) * 1.05]
+    ax.plot(xs, [c0 + c1 * v for v in xs], "-", label="linear fit, extrapolated")
+    ax.errorbar([0.0], [c0], yerr=[ci], marker="D", color="k", capsize=4, label="EI(0), 95 % CI")
+    ax.set_xlabel("pulling rate (A/fs)")
+    ax.set_ylabel("EI (kcal/mol A)")
+    ax.set_title("bending stiffness vs rate (figure 6.16)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    p = os.path.join(out, "EI_vs_rate.png")
+    fig.savefig(p, dpi=120)
+    print("wrote " + p)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 5 and sys.argv[1] == "ti":
+        ti(sys.argv[2], sys.argv[3], sys.argv[4])
+    elif len(sys.argv) == 4 and sys.argv[1] == "persistence":
+        persistence(sys.argv[2], sys.argv[3])
+    else:
+        sys.exit(__doc__)
