@@ -2,11 +2,15 @@
 #include "registrars.hpp"
 
 #include "pnc/gimp_coupler/run.hpp"
+#ifdef PNC_GIMP_HAS_ESCM
+#include "pnc/gimp_coupler/escm_run.hpp"
+#endif
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -38,9 +42,13 @@ int run_gimp(const GimpRunArgs& a) {
                            s.steps, s.resumed ? " (resumed)" : "", s.time, s.wall_seconds,
                            s.particle_steps_per_second);
   std::cerr << fmt::format("  energies (J): kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
-                           "boundary work {:.6g}; energy error {:.3g} (max |error| {:.3g})\n",
+                           "boundary work {:.6g}, damping work {:.6g}; energy error {:.3g} "
+                           "(max |error| {:.3g})\n",
                            s.energy.kinetic, s.energy.strain, s.energy.external_work,
-                           s.energy.boundary_work, s.energy.balance(), s.max_abs_balance);
+                           s.energy.boundary_work, s.energy.damping_work, s.energy.balance(),
+                           s.max_abs_balance);
+  if (s.crack_increments > 0)
+    std::cerr << "  crack growth: " << s.crack_increments << " increments in this run\n";
   for (std::size_t i = 0; i < s.reactions.size(); ++i) {
     std::string r;
     for (double v : s.reactions[i])
@@ -50,6 +58,7 @@ int run_gimp(const GimpRunArgs& a) {
   std::cerr << "  frames: " << s.pvd << " (" << s.frames << ")\n";
   std::cerr << "  history: " << s.history_csv << "\n  checkpoint: " << s.checkpoint << "\n";
   if (!s.plot_png.empty()) std::cerr << "  plot: " << s.plot_png << "\n";
+  if (!s.plot_G_png.empty()) std::cerr << "  G plot: " << s.plot_G_png << "\n";
   if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
 
   if (a.json) {
@@ -71,6 +80,7 @@ int run_gimp(const GimpRunArgs& a) {
                      {"strain", s.energy.strain},
                      {"external_work", s.energy.external_work},
                      {"boundary_work", s.energy.boundary_work},
+                     {"damping_work", s.energy.damping_work},
                      {"balance", s.energy.balance()},
                      {"max_abs_balance", s.max_abs_balance}};
     nlohmann::json r = nlohmann::json::object();
@@ -82,11 +92,75 @@ int run_gimp(const GimpRunArgs& a) {
     j["history"] = s.history_csv;
     j["checkpoint"] = s.checkpoint;
     j["plot"] = s.plot_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_png);
+    j["plot_G"] = s.plot_G_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_G_png);
+    j["crack_increments"] = s.crack_increments;
     std::cout << j.dump() << std::endl;
   }
   return 0;
 }
 } // namespace
+
+#ifdef PNC_GIMP_HAS_ESCM
+namespace {
+// pnc gimp couple (issue #6, docs/escm.md): ESCM tension run of an LJ crystal MD region.
+struct GimpCoupleArgs {
+  std::string input, out;
+  bool json = false, short_mode = false, no_plot = false, quiet = false;
+};
+
+int run_gimp_couple(const GimpCoupleArgs& a) {
+  gimp::escm::CoupleOptions o;
+  o.input = a.input;
+  o.out_dir = a.out;
+  o.short_mode = a.short_mode;
+  o.progress = !a.quiet;
+  o.plot = !a.no_plot;
+  const gimp::escm::CoupleSummary s = gimp::escm::run_couple(o);
+  const auto& e = s.energy;
+  std::cerr << fmt::format("pnc gimp couple: {}{}: {} coupled steps to {:.4g} ps in {:.2f} s "
+                           "({:.1f} % outside LAMMPS)\n",
+                           a.input, a.short_mode ? " (short)" : "", s.steps, s.time_s * 1e12,
+                           s.wall_s, 100 * s.outside_share);
+  std::cerr << fmt::format("  atoms INT {} IVC {} SVC {}; continuum particles {}\n", s.atoms[0],
+                           s.atoms[1], s.atoms[2], s.particles);
+  std::cerr << fmt::format("  energies (J, slab): continuum KE {:.4g} SE {:.4g}; MD KE {:.4g} "
+                           "PE {:.4g}; work BC {:.4g}, continuum->MD {:.4g}, MD->continuum {:.4g}; "
+                           "heat out {:.4g}; balance {:.4g}\n",
+                           e.cont_kinetic, e.cont_strain, e.md_kinetic, e.md_potential,
+                           e.work_boundary, e.work_cont_on_md, e.work_md_on_cont,
+                           e.heat_removed_int + e.heat_removed_ivc + e.heat_removed_cont,
+                           e.balance());
+  std::cerr << "  energy log: " << s.energy_csv << "\n  profile: " << s.profile_csv
+            << "\n  summary: " << s.summary_json << "\n";
+  if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
+  if (a.json) {
+    std::ifstream f(s.summary_json);
+    nlohmann::json j = nlohmann::json::parse(f);
+    j["command"] = "gimp couple";
+    j["out"] = a.out;
+    j["energy_csv"] = s.energy_csv;
+    j["profile_csv"] = s.profile_csv;
+    j["frames"] = s.frames;
+    j["plots"] = s.plots;
+    std::cout << j.dump() << std::endl;
+  }
+  return 0;
+}
+
+void register_gimp_couple(CLI::App* gimp, Action& action) {
+  auto args = std::make_shared<GimpCoupleArgs>();
+  auto* c = gimp->add_subcommand(
+      "couple", "ESCM GIMP-MD coupling: tension of an LJ crystal MD region (docs/escm.md)");
+  c->add_option("input", args->input, "Input file (JSON)")->required()->check(CLI::ExistingFile);
+  c->add_option("--out", args->out, "Output folder")->required();
+  c->add_flag("--short", args->short_mode, "Apply the input's \"short\" overrides");
+  c->add_flag("--no-plot", args->no_plot, "Do not draw profile.png, energy.png");
+  c->add_flag("--quiet", args->quiet, "No progress lines");
+  c->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
+  c->callback([args, &action] { action = [args] { return run_gimp_couple(*args); }; });
+}
+} // namespace
+#endif
 
 void register_gimp(CLI::App& app, Action& action) {
   auto args = std::make_shared<GimpRunArgs>();
@@ -107,6 +181,9 @@ void register_gimp(CLI::App& app, Action& action) {
   run->add_flag("--quiet", args->quiet, "No progress lines");
   run->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
   run->callback([args, &action] { action = [args] { return run_gimp(*args); }; });
+#ifdef PNC_GIMP_HAS_ESCM
+  register_gimp_couple(gimp, action); // issue #6
+#endif
 }
 
 } // namespace pnc::app

@@ -1,6 +1,7 @@
 // Benchmarks of the uGIMP step (gimp_coupler/bench/README.md): particle-steps per second for
 // 2-D and 3-D with the hyperelastic polymer law, 1e4..1e6 particles, 1 and 2 threads, and a
 // streaming loop over the same particle arrays (the memory-bandwidth ceiling).
+#include "pnc/gimp_coupler/fracture.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <benchmark/benchmark.h>
@@ -91,6 +92,31 @@ template <int D> void BM_Step(benchmark::State& st) {
       n / static_cast<double>(st.range(1)), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// One J / G_I / G_II evaluation (crack_tips, D38-D39) of the edge-cracked 2-D block of
+/// BM_Step/N/1/1 after a few steps: compare with its step time (evaluated every
+/// `fracture_every` = 10 steps by default).
+void BM_CrackTips(benchmark::State& st) {
+  auto s = make_block<2>(st.range(0), 1);
+  double xmax = 0, ymax = 0;
+  for (const auto& x : s->particles.x) {
+    xmax = std::max(xmax, x[0]);
+    ymax = std::max(ymax, x[1]);
+  }
+  Crack c;
+  c.points = {Eigen::Vector2d(0.4 * xmax + 1e-7, ymax + 1e-3),
+              Eigen::Vector2d(0.4 * xmax + 1e-7, 0.5 * ymax + 1e-7)};
+  s->cracks.push_back(c);
+  s->initialize();
+  const double dt = 0.5 * s->stable_dt();
+  for (int i = 0; i < 3; ++i)
+    s->step(dt);
+  for (auto _ : st) {
+    const auto tips = crack_tips(*s);
+    benchmark::DoNotOptimize(tips.data());
+  }
+  st.counters["particles"] = static_cast<double>(s->particles.size());
+}
+
 /// The bandwidth ceiling: one pass that reads and writes every particle array a step touches
 /// (x, v, F, sigma, W, V) with trivial arithmetic, no grid.
 template <int D> void BM_Stream(benchmark::State& st) {
@@ -139,6 +165,7 @@ BENCHMARK_TEMPLATE(BM_Step, 2)
     ->ArgsProduct({{10000, 100000}, {1}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_CrackTips)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Step, 3)
     ->ArgsProduct({{10000, 100000, 1000000}, {1, 2}, {0}})
     ->Unit(benchmark::kMillisecond)

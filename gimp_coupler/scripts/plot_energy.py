@@ -2,7 +2,8 @@
 """Energy balance of a pnc gimp run: plot_energy.py HISTORY.csv OUT.png [TITLE].
 
 Reads history.csv (time in s, energies in J) and draws kinetic, strain, external work,
-boundary work and the energy error KE + SE - E0 - W_ext - W_bc against time. Needs matplotlib
+boundary work, damping work (if present) and the energy error
+KE + SE - E0 - W_ext - W_bc - W_damp against time. Needs matplotlib
 (/usr/bin/python3 on the project machine).
 """
 import csv
@@ -29,7 +30,10 @@ def main():
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for key, label in [("kinetic", "kinetic"), ("strain", "strain energy"),
                        ("external_work", "external work"), ("boundary_work", "boundary work"),
-                       ("balance", "error: KE + SE - E0 - W_ext - W_bc")]:
+                       ("damping_work", "damping work"),
+                       ("balance", "error: KE + SE - E0 - W_ext - W_bc - W_damp")]:
+        if key not in rows[0]:  # histories written before damping existed
+            continue
         ax.plot(t, [r[key] for r in rows], label=label, lw=1.5 if key != "balance" else 2.0,
                 ls="-" if key != "balance" else "--")
     ax.set_xlabel("time (s)")

@@ -19,6 +19,7 @@ namespace {
 
 using json = nlohmann::json;
 namespace fs = std::filesystem;
+using Vec2 = Eigen::Vector2d;
 
 std::string show(const json& v) {
   std::string s = v.dump();
@@ -190,7 +191,8 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
   if (!doc.is_object()) fail(source, "", "", "the input must be one JSON object");
   const Node top{doc, "", source};
   top.allow({"dimension", "grid", "particles_per_cell", "materials", "bodies", "boundaries",
-             "cracks", "loads", "time", "output", "threads", "title", "units"});
+             "cracks", "loads", "time", "output", "threads", "title", "units", "damping",
+             "fracture_every"});
   RunConfig rc;
   rc.source = source;
   rc.dimension = static_cast<int>(top.integer("dimension", 0, 2, 3));
@@ -443,7 +445,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
     for (std::size_t k = 0; k < cs.size(); ++k) {
       const Node c{cs[k], "cracks[" + std::to_string(k) + "]", source};
       if (!c.j.is_object()) fail(source, c.path, show(c.j), "must be a JSON object");
-      c.allow({"name", "points"});
+      c.allow({"name", "points", "tips", "j_radius", "growth"});
       Crack cr;
       cr.name = c.has("name") ? c.str("name") : "crack" + std::to_string(k);
       const json& pts = c.at("points");
@@ -457,6 +459,49 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
       for (std::size_t i = 0; i + 1 < cr.points.size(); ++i)
         if ((cr.points[i + 1] - cr.points[i]).norm() <= 0.0)
           c.bad("points", pts, "consecutive points must differ");
+      if (c.has("tips")) { // D38
+        const std::string t = c.str("tips");
+        if (t == "auto")
+          cr.tip = {-1, -1};
+        else if (t == "start")
+          cr.tip = {1, 0};
+        else if (t == "end")
+          cr.tip = {0, 1};
+        else if (t == "both")
+          cr.tip = {1, 1};
+        else if (t == "none")
+          cr.tip = {0, 0};
+        else
+          c.bad("tips", c.at("tips"), "must be \"auto\", \"start\", \"end\", \"both\" or \"none\"");
+      }
+      if (c.has("j_radius")) {
+        const json& r = c.at("j_radius");
+        if (!r.is_array() || r.size() != 2 || !r[0].is_number() || !r[1].is_number() ||
+            !(r[0].get<double>() >= 0) || !(r[1].get<double>() > r[0].get<double>()))
+          c.bad("j_radius", r, "must be [r_inner, r_outer] in m with 0 <= r_inner < r_outer");
+        cr.j_inner = r[0].get<double>();
+        cr.j_outer = r[1].get<double>();
+      }
+      if (c.has("growth")) { // D40
+        const Node gr = c.child("growth");
+        gr.allow({"Gc", "GIIc", "increment", "direction", "max_increments"});
+        cr.growth.Gc = gr.positive("Gc");
+        if (gr.has("GIIc")) cr.growth.GIIc = gr.positive("GIIc");
+        cr.growth.increment = gr.has("increment") ? gr.positive("increment") : s.grid.h;
+        if (gr.has("direction")) {
+          const json& dj = gr.at("direction");
+          if (dj.is_string() && dj.get<std::string>() == "hoop") {
+            cr.growth.prescribed = false;
+          } else {
+            const Vec2 v = gr.vec<2>("direction");
+            if (!(v.norm() > 0)) gr.bad("direction", dj, "must be \"hoop\" or a non-zero [dx, dy]");
+            cr.growth.prescribed = true;
+            cr.growth.direction = v.normalized();
+          }
+        }
+        cr.growth.max_increments =
+            static_cast<int>(gr.integer("max_increments", 1000000, 0, 1000000000L));
+      }
       s.cracks.push_back(cr);
     }
   }
@@ -517,6 +562,11 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
     rc.checkpoint_every = static_cast<int>(o.integer("checkpoint_every", 1, 1, 1000000L));
   }
   rc.threads = static_cast<int>(top.integer("threads", 1, 1, 256));
+  if (top.has("damping")) { // D41
+    s.damping = top.num("damping");
+    if (!(s.damping >= 0)) top.bad("damping", top.at("damping"), "must be >= 0 (1/s)");
+  }
+  rc.fracture_every = top.integer("fracture_every", 10, 1, 1000000000L);
   s.threads = rc.threads;
   s.cfl = rc.cfl;
   return rc;

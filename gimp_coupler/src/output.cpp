@@ -248,9 +248,26 @@ void write_checkpoint(const std::string& path, const Solver<D>& s, const Checkpo
     f.write_scalar("/energy/strain", s.energy.strain);
     f.write_scalar("/energy/external_work", s.energy.external_work);
     f.write_scalar("/energy/boundary_work", s.energy.boundary_work);
+    f.write_scalar("/energy/damping_work", s.energy.damping_work);
     for (const char* e : {"/energy/initial", "/energy/kinetic", "/energy/strain",
-                          "/energy/external_work", "/energy/boundary_work"})
+                          "/energy/external_work", "/energy/boundary_work", "/energy/damping_work"})
       f.set_attr(e, "units", "J");
+    // Cracks (they grow): points (m), tip flags, increments; the tips of t = 0.
+    for (std::size_t c = 0; c < s.cracks.size(); ++c) {
+      const Crack& cr = s.cracks[c];
+      const std::string g = "/cracks/" + std::to_string(c);
+      h5::RowMatrix pts(static_cast<Eigen::Index>(cr.points.size()), 2);
+      for (std::size_t k = 0; k < cr.points.size(); ++k)
+        pts.row(static_cast<Eigen::Index>(k)) = cr.points[k].transpose();
+      f.write_matrix(g + "/points", pts);
+      f.set_attr(g + "/points", "units", "m");
+      f.write_vector(g + "/tips_increments",
+                     {double(cr.tip[0]), double(cr.tip[1]), double(cr.increments)});
+    }
+    {
+      std::vector<double> it(x.initial_tips.begin(), x.initial_tips.end());
+      f.write_vector("/cracks_initial_tips", it.empty() ? std::vector<double>{-1.0} : it);
+    }
     auto vecs = [&](const std::string& name, const auto& v, const char* units) {
       h5::RowMatrix m(n, D);
       for (Eigen::Index p = 0; p < n; ++p)
@@ -352,6 +369,25 @@ template <int D> void read_checkpoint(const std::string& path, Solver<D>& s, Che
   s.energy.strain = f.read_scalar("/energy/strain");
   s.energy.external_work = f.read_scalar("/energy/external_work");
   s.energy.boundary_work = f.read_scalar("/energy/boundary_work");
+  s.energy.damping_work =
+      f.exists("/energy/damping_work") ? f.read_scalar("/energy/damping_work") : 0.0;
+  for (std::size_t c = 0; c < s.cracks.size(); ++c) {
+    const std::string g = "/cracks/" + std::to_string(c);
+    if (!f.exists(g + "/points"))
+      fail(path, g, "<missing>", "the input has " + std::to_string(s.cracks.size()) + " cracks");
+    const auto pts = f.read_matrix(g + "/points");
+    Crack& cr = s.cracks[c];
+    cr.points.clear();
+    for (Eigen::Index k = 0; k < pts.rows(); ++k)
+      cr.points.emplace_back(pts(k, 0), pts(k, 1));
+    const auto ti = f.read_vector(g + "/tips_increments");
+    cr.tip = {static_cast<int>(ti.at(0)), static_cast<int>(ti.at(1))};
+    cr.increments = static_cast<int>(ti.at(2));
+  }
+  x.initial_tips.clear();
+  if (f.exists("/cracks_initial_tips"))
+    for (double v : f.read_vector("/cracks_initial_tips"))
+      if (v >= 0) x.initial_tips.push_back(static_cast<int>(v));
   x.input_hash = hash;
   x.next_output_time = f.read_scalar("/output/next_time");
   x.frame_files = split(f.read_string("/output/frame_files"));

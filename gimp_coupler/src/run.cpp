@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/gimp_coupler/fracture.hpp"
 #include "pnc/gimp_coupler/input.hpp"
 #include "pnc/gimp_coupler/output.hpp"
 
@@ -38,12 +39,13 @@ std::string quote(const std::string& s) {
 }
 
 /// Draws energy.png from history.csv; returns a warning ("" on success).
-std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title) {
+std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title,
+                        const char* script_name = "plot_energy.py") {
   const char* env_py = std::getenv("PNC_PYTHON");
   const std::string py = env_py ? env_py : PNC_GIMP_PYTHON;
   const char* env_dir = std::getenv("PNC_GIMP_SCRIPTS_DIR");
   const std::string script =
-      (fs::path(env_dir ? env_dir : PNC_GIMP_SCRIPTS_DIR) / "plot_energy.py").string();
+      (fs::path(env_dir ? env_dir : PNC_GIMP_SCRIPTS_DIR) / script_name).string();
   if (!fs::exists(script)) return "plot script not found: " + script;
   const std::string cmd = quote(py) + " " + quote(script) + " " + quote(csv) + " " + quote(png) +
                           " " + quote(title) + " 2>&1";
@@ -53,7 +55,7 @@ std::string plot_energy(const std::string& csv, const std::string& png, const st
     while (fgets(buf, sizeof buf, p))
       out += buf;
     const int rc = pclose(p);
-    if (rc != 0) return "energy plot failed (" + py + "): " + out;
+    if (rc != 0) return std::string(script_name) + " failed (" + py + "): " + out;
   } else {
     return "cannot run " + py;
   }
@@ -72,6 +74,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
 
   CheckpointExtra x;
   x.input_hash = file_fnv1a64(o.input);
+  // Crack tips at the start ((crack, end), "<crack>_start|end"): fixed history columns.
+  std::vector<std::pair<std::pair<std::size_t, int>, std::string>> tip_ids;
   RunSummary sum;
   sum.dimension = D;
   if (o.resume && fs::exists(ckpt)) {
@@ -80,16 +84,33 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     s.initialize(false);
     // initialize() recomputes KE/SE from the particles; keep the works from the checkpoint.
     sum.resumed = true;
+    for (std::size_t c = 0; c < s.cracks.size(); ++c)
+      for (int e = 0; e < 2; ++e)
+        if (x.initial_tips.size() > 2 * c + static_cast<std::size_t>(e) &&
+            x.initial_tips[2 * c + static_cast<std::size_t>(e)])
+          tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
   } else {
     if (o.resume && o.progress)
       std::cerr << "pnc gimp: --resume: no checkpoint in " << o.out_dir << ", starting at t = 0\n";
     s.initialize(true);
+    x.initial_tips.clear();
+    for (std::size_t c = 0; c < s.cracks.size(); ++c)
+      for (int e = 0; e < 2; ++e) {
+        const bool is_tip = s.cracks[c].tip[static_cast<std::size_t>(e)] == 1;
+        x.initial_tips.push_back(is_tip ? 1 : 0);
+        if (is_tip) tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
+      }
     x.history.columns = {"step",          "time",          "dt",     "kinetic", "strain",
                          "external_work", "boundary_work", "balance"};
     static const char* ax[] = {"x", "y", "z"};
     for (const auto& bc : s.bcs)
       for (int a = 0; a < D; ++a)
         x.history.columns.push_back("reaction_" + bc.name + "_" + ax[a]);
+    x.history.columns.push_back("damping_work");
+    if constexpr (D == 2)
+      for (const auto& t : tip_ids)
+        for (const char* q : {"J_", "GI_", "GII_", "length_", "tipx_", "tipy_"})
+          x.history.columns.push_back(q + t.second);
   }
   auto record = [&](double dt) {
     std::vector<double> row = {static_cast<double>(s.steps),
@@ -103,6 +124,26 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     for (const auto& bc : s.bcs)
       for (int a = 0; a < D; ++a)
         row.push_back(bc.reaction[a]);
+    row.push_back(s.energy.damping_work);
+    if constexpr (D == 2) {
+      const auto tips = tip_ids.empty() ? std::vector<TipResult>{} : crack_tips(s);
+      for (const auto& t : tip_ids) {
+        const TipResult* r = nullptr;
+        for (const auto& q : tips)
+          if (q.crack == t.first.first && q.end == t.first.second) r = &q;
+        const double nan = std::nan("");
+        if (r) {
+          row.insert(row.end(), {r->J, r->GI, r->GII, r->length, r->tip[0], r->tip[1]});
+        } else { // the tip has left the material (crack through)
+          const Crack& c = s.cracks[t.first.first];
+          const Eigen::Vector2d q = t.first.second == 0 ? c.points.front() : c.points.back();
+          double L = 0.0;
+          for (std::size_t k = 0; k + 1 < c.points.size(); ++k)
+            L += (c.points[k + 1] - c.points[k]).norm();
+          row.insert(row.end(), {nan, nan, nan, L, q[0], q[1]});
+        }
+      }
+    }
     x.history.rows.push_back(row);
   };
   auto frame = [&]() {
@@ -133,6 +174,19 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     if (x.next_output_time > s.time + eps_t) dt = std::min(dt, x.next_output_time - s.time);
     s.step(dt);
     last_framed = false;
+    if constexpr (D == 2) { // D40: J and growth every fracture_every steps
+      if (!tip_ids.empty() && s.steps % rc.fracture_every == 0) {
+        const auto tips = crack_tips(s);
+        const int g = grow_cracks(s, tips);
+        sum.crack_increments += g;
+        if (g > 0 && o.progress)
+          for (const auto& c : s.cracks)
+            std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
+                                     "increments, tip at ({:.6g}, {:.6g}) m\n",
+                                     s.steps, s.time, c.name, c.increments, c.points.back()[0],
+                                     c.points.back()[1]);
+      }
+    }
     if (s.steps % rc.history_every == 0) record(dt);
     if (s.time >= x.next_output_time - eps_t) {
       if (s.steps % rc.history_every != 0) record(dt);
@@ -193,6 +247,15 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     const std::string png = (fs::path(o.out_dir) / "energy.png").string();
     sum.plot_warning = plot_energy(hist_csv, png, fs::path(o.input).filename().string());
     if (sum.plot_warning.empty()) sum.plot_png = png;
+    if (!tip_ids.empty()) {
+      const std::string gpng = (fs::path(o.out_dir) / "G.png").string();
+      const std::string w =
+          plot_energy(hist_csv, gpng, fs::path(o.input).filename().string(), "plot_G.py");
+      if (w.empty())
+        sum.plot_G_png = gpng;
+      else
+        sum.plot_warning += (sum.plot_warning.empty() ? "" : "; ") + w;
+    }
   }
   sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
 
@@ -211,6 +274,31 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                    {"balance", s.energy.balance()},
                    {"max_abs_balance", sum.max_abs_balance}};
   j["frames"] = sum.frames;
+  j["energy_J"]["damping_work"] = s.energy.damping_work;
+  if constexpr (D == 2) {
+    nlohmann::json cj = nlohmann::json::array();
+    const auto tips = crack_tips(s);
+    for (std::size_t c = 0; c < s.cracks.size(); ++c) {
+      nlohmann::json one;
+      one["name"] = s.cracks[c].name;
+      one["increments"] = s.cracks[c].increments;
+      nlohmann::json pts = nlohmann::json::array();
+      for (const auto& q : s.cracks[c].points)
+        pts.push_back({q[0], q[1]});
+      one["points_m"] = pts;
+      nlohmann::json tj = nlohmann::json::array();
+      for (const auto& t : tips)
+        if (t.crack == c)
+          tj.push_back({{"end", t.end == 0 ? "start" : "end"},
+                        {"J_J_per_m2", t.J},
+                        {"GI_J_per_m2", t.GI},
+                        {"GII_J_per_m2", t.GII},
+                        {"tip_m", {t.tip[0], t.tip[1]}}});
+      one["tips"] = tj;
+      cj.push_back(one);
+    }
+    j["cracks"] = cj;
+  }
   write_text_atomically((fs::path(o.out_dir) / "summary.json").string(), j.dump(2) + "\n");
   return sum;
 }

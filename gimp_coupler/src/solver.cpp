@@ -187,23 +187,10 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   const std::size_t nn = nnodes_ * static_cast<std::size_t>(nfields_);
   fmask_.assign(cracks.empty() ? 0 : n, 0u);
   gu_.assign(cracks.empty() ? 0 : nn, Vec::Zero());
-  crack_nodes_.clear();
-  if (!cracks.empty()) {
-    if constexpr (D == 2) {
-      crack_lo_ = Vec::Constant(1e300);
-      crack_hi_ = Vec::Constant(-1e300);
-      for (const auto& c : cracks)
-        for (const auto& q : c.points) {
-          crack_lo_ = crack_lo_.cwiseMin(q);
-          crack_hi_ = crack_hi_.cwiseMax(q);
-        }
-      crack_lo_.array() -= 2.0 * grid.h;
-      crack_hi_.array() += 2.0 * grid.h;
-    }
-    for (std::size_t i = 0; i < nnodes_; ++i)
-      if (near_crack(grid.position(static_cast<std::int64_t>(i)))) crack_nodes_.push_back(i);
-  }
+  update_crack_geometry();
+  if (!(damping >= 0.0)) throw std::runtime_error("gimp: damping must be >= 0");
   const double tol = 1e-9 * grid.h;
+  bcmask_.assign(nnodes_, 0);
   for (auto& bc : bcs) {
     bc.nodes.clear();
     for (std::size_t i = 0; i < nnodes_; ++i) {
@@ -211,7 +198,11 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
       bool in = true;
       for (int a = 0; a < D; ++a)
         in = in && X[a] >= bc.lo[a] - tol && X[a] <= bc.hi[a] + tol;
-      if (in) bc.nodes.push_back(static_cast<std::int64_t>(i));
+      if (in) {
+        bc.nodes.push_back(static_cast<std::int64_t>(i));
+        for (int a = 0; a < D; ++a)
+          if (bc.mask[a]) bcmask_[i] |= static_cast<unsigned char>(1u << a);
+      }
     }
   }
   gm_.assign(nn, 0.0);
@@ -236,8 +227,40 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   update_energies();
   if (fresh_state) {
     energy.initial = energy.kinetic + energy.strain;
-    energy.external_work = energy.boundary_work = 0.0;
+    energy.external_work = energy.boundary_work = energy.damping_work = 0.0;
   }
+}
+
+template <int D> void Solver<D>::update_crack_geometry() {
+  crack_nodes_.clear();
+  if (cracks.empty()) return;
+  if constexpr (D == 2) {
+    crack_lo_ = Vec::Constant(1e300);
+    crack_hi_ = Vec::Constant(-1e300);
+    for (const auto& c : cracks)
+      for (const auto& q : c.points) {
+        crack_lo_ = crack_lo_.cwiseMin(q);
+        crack_hi_ = crack_hi_.cwiseMax(q);
+      }
+    crack_lo_.array() -= 2.0 * grid.h;
+    crack_hi_.array() += 2.0 * grid.h;
+    // Tips marked -1: an end is a tip if material lies just ahead of it (D38).
+    const double h = grid.h;
+    for (auto& c : cracks)
+      for (int end = 0; end < 2; ++end) {
+        if (c.tip[static_cast<std::size_t>(end)] >= 0) continue;
+        const std::size_t m = c.points.size();
+        const Vec q = end == 0 ? c.points[0] : c.points[m - 1];
+        const Vec prev = end == 0 ? c.points[1] : c.points[m - 2];
+        const Vec probe = q + h * (q - prev).normalized();
+        bool inside = false;
+        for (std::size_t p = 0; p < particles.size() && !inside; ++p)
+          inside = (particles.x0[p] - probe).squaredNorm() <= h * h;
+        c.tip[static_cast<std::size_t>(end)] = inside ? 1 : 0;
+      }
+  }
+  for (std::size_t i = 0; i < nnodes_; ++i)
+    if (near_crack(grid.position(static_cast<std::int64_t>(i)))) crack_nodes_.push_back(i);
 }
 
 template <int D> double Solver<D>::stable_dt() const {
@@ -386,6 +409,10 @@ template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool
           if (bc.mask[a]) vel[i][a] = bc.velocity[a] * f;
       }
   }
+  for (std::size_t k = 0; k < prescribed_nodes.size(); ++k) // coupling hook (ESCM)
+    for (int fld = 0; fld < nfields_; ++fld)
+      vel[static_cast<std::size_t>(prescribed_nodes[k]) +
+          static_cast<std::size_t>(fld) * nnodes_] = prescribed_velocity[k];
 }
 
 template <int D> bool Solver<D>::crosses(const Vec& a, const Vec& b) const {
@@ -479,7 +506,8 @@ template <int D> void Solver<D>::step(double dt) {
       if (active_[i]) {
         gp_[i] /= gm_[i];
         gfi0_[i] = gfi_[i];
-        gvs_[i] = gp_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]);
+        gvs_[i] =
+            gp_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) - (0.5 * dt * damping) * gp_[i];
       } else {
         gp_[i].setZero();
         gvs_[i].setZero();
@@ -551,8 +579,33 @@ template <int D> void Solver<D>::step(double dt) {
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, nn);
     for (std::size_t i = b; i < e; ++i)
-      gvn_[i] = active_[i] ? Vec(gvs_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i])) : Vec::Zero();
+      gvn_[i] = active_[i] ? Vec(gvs_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) -
+                                 (0.5 * dt * damping) * gvs_[i])
+                           : Vec::Zero();
   });
+  // D41: work of the damping forces -alpha m v on the free components, v^t, v* and v^t+dt
+  // weighted as in the two half steps (the trapezoidal rule over the step).
+  double wdamp = 0.0;
+  if (damping > 0.0) {
+    auto dw = [&](std::size_t i) {
+      double w = 0.0;
+      const unsigned char bm = bcmask_[i % nnodes_];
+      for (int a = 0; a < D; ++a)
+        if (!(bm & (1u << a)))
+          w -= 0.5 * dt * damping * gm_[i] *
+               (0.5 * (gp_[i][a] + gvs_[i][a]) * gp_[i][a] +
+                0.5 * (gvs_[i][a] + gvn_[i][a]) * gvs_[i][a]);
+      return w;
+    };
+    for (std::size_t i = 0; i < nn; ++i)
+      if (active_[i]) wdamp += dw(i);
+    for (std::int64_t i0 : prescribed_nodes) // fully prescribed by a coupling: not damped
+      for (int fld = 0; fld < nfields_; ++fld) {
+        const std::size_t i =
+            static_cast<std::size_t>(i0) + static_cast<std::size_t>(fld) * nnodes_;
+        if (active_[i]) wdamp -= dw(i);
+      }
+  }
   if (nfields_ > 1) contact(gvn_);
   constrain(gvn_, t + dt, true);
   double wbc = 0.0;
@@ -572,6 +625,18 @@ template <int D> void Solver<D>::step(double dt) {
         }
     }
   }
+
+  // Reactions of the prescribed nodes (coupling hook, ESCM).
+  prescribed_reaction.assign(prescribed_nodes.size(), Vec::Zero());
+  for (std::size_t k = 0; k < prescribed_nodes.size(); ++k)
+    for (int fld = 0; fld < nfields_; ++fld) {
+      const std::size_t i = static_cast<std::size_t>(prescribed_nodes[k]) +
+                            static_cast<std::size_t>(fld) * nnodes_;
+      if (!active_[i]) continue;
+      const Vec R = gm_[i] * (gvn_[i] - gp_[i]) / dt - (0.5 * (gfi0_[i] + gfi_[i]) + gfe_[i]);
+      prescribed_reaction[k] += R;
+      prescribed_work += dt * R.dot(prescribed_velocity[k]);
+    }
 
   // 5. G2P: positions with v*, velocities with the nodal change (FLIP), energies.
   std::vector<std::array<double, 3>> part(static_cast<std::size_t>(T), {0.0, 0.0, 0.0});
@@ -612,6 +677,7 @@ template <int D> void Solver<D>::step(double dt) {
   }
   energy.external_work += wext;
   energy.boundary_work += wbc;
+  energy.damping_work += wdamp;
   energy.kinetic = ke;
   energy.strain = se;
   time = t + dt;

@@ -140,6 +140,69 @@ TEST(GimpInput, ErrorsNameKeyValueAndRule) {
   j = base_input();
   j["cracks"] = json::array({{{"name", "c"}, {"points", json::array({json::array({0.5, 0.1})})}}});
   expect_error(j, "cracks[0].points", ">= 2 points");
+  const json crack = {
+      {"name", "c"},
+      {"points", json::array({json::array({0.0, 0.2001}), json::array({0.5, 0.2001})})}};
+  j = base_input();
+  j["cracks"] = json::array({crack});
+  j["cracks"][0]["tips"] = "middle";
+  expect_error(j, "cracks[0].tips", "\"auto\", \"start\"");
+  j = base_input();
+  j["cracks"] = json::array({crack});
+  j["cracks"][0]["j_radius"] = json::array({0.2, 0.1});
+  expect_error(j, "cracks[0].j_radius", "r_inner < r_outer");
+  j = base_input();
+  j["cracks"] = json::array({crack});
+  j["cracks"][0]["growth"] = {{"Gc", -1}};
+  expect_error(j, "cracks[0].growth.Gc", "must be > 0");
+  j = base_input();
+  j["cracks"] = json::array({crack});
+  j["cracks"][0]["growth"] = {{"Gc", 1}, {"direction", json::array({0, 0})}};
+  expect_error(j, "cracks[0].growth.direction", "non-zero");
+  j = base_input();
+  j["cracks"] = json::array({crack});
+  j["cracks"][0]["growth"] = {{"Gc", 1}, {"speed", 1}};
+  expect_error(j, "cracks[0].growth.speed", "unknown key");
+  j = base_input();
+  j["damping"] = -1;
+  expect_error(j, "damping", "must be >= 0");
+  j = base_input();
+  j["fracture_every"] = 0;
+  expect_error(j, "fracture_every", "integer in [1,");
+}
+
+// The crack keys reach the solver: tips, J radii, growth controls, damping.
+TEST(GimpInput, CrackGrowthKeys) {
+  json j = base_input();
+  j["cracks"] = json::array(
+      {{{"name", "c"},
+        {"points", json::array({json::array({0.0, 0.2001}), json::array({0.5, 0.2001})})},
+        {"tips", "end"},
+        {"j_radius", json::array({0.0, 0.1})},
+        {"growth",
+         {{"Gc", 100.0},
+          {"GIIc", 300.0},
+          {"increment", 0.01},
+          {"direction", json::array({0, 2})},
+          {"max_increments", 7}}}}});
+  j["damping"] = 50.0;
+  j["fracture_every"] = 3;
+  Solver<2> s;
+  const RunConfig rc = load_input_text<2>(j.dump(), "in.json", "", s);
+  ASSERT_EQ(s.cracks.size(), 1u);
+  const Crack& c = s.cracks[0];
+  EXPECT_EQ(c.tip[0], 0);
+  EXPECT_EQ(c.tip[1], 1);
+  EXPECT_EQ(c.j_inner, 0.0);
+  EXPECT_EQ(c.j_outer, 0.1);
+  EXPECT_EQ(c.growth.Gc, 100.0);
+  EXPECT_EQ(c.growth.GIIc, 300.0);
+  EXPECT_EQ(c.growth.increment, 0.01);
+  EXPECT_TRUE(c.growth.prescribed);
+  EXPECT_EQ(c.growth.direction, Eigen::Vector2d(0, 1));
+  EXPECT_EQ(c.growth.max_increments, 7);
+  EXPECT_EQ(s.damping, 50.0);
+  EXPECT_EQ(rc.fracture_every, 3);
 }
 
 TEST(GimpInput, ParticleCsvAndDamageCard) {
@@ -252,6 +315,70 @@ TEST(GimpRun, ResumeContinuesBitForBit) {
   }
   EXPECT_EQ(xa.history.rows, xb.history.rows);
   EXPECT_EQ(xa.frame_times, xb.frame_times);
+}
+
+// A crack that grows before and after the interruption: the grown crack (points, tip flags,
+// increments), the damping work and the J columns of the history are restored, and the
+// resumed run matches the uninterrupted one bit for bit.
+TEST(GimpRun, ResumeWithGrowingCrackContinuesBitForBit) {
+  const fs::path d = tmpdir("resume_crack");
+  const json j = json::parse(R"({
+    "dimension": 2,
+    "grid": {"origin": [-0.25, -1.25], "cells": [10, 20], "cell_size": 0.125},
+    "materials": [{"name": "m", "type": "linear_elastic", "density": 1000, "E": 1e7, "nu": 0.3}],
+    "bodies": [{"material": "m", "shape": "box", "min": [0, -1], "max": [1, 1]}],
+    "cracks": [{"name": "c", "points": [[-0.1, 1e-7], [0.5625, 1e-7]],
+                "growth": {"Gc": 1e-12, "increment": 0.0625, "max_increments": 3}}],
+    "boundaries": [{"name": "sym", "min": [-1, -2], "max": [0, 2], "symmetry": "x"}],
+    "loads": {"tractions": [
+      {"name": "top", "min": [0, 0.95], "max": [1, 1], "axis": "y", "traction": [0, 1e4]},
+      {"name": "bottom", "min": [0, -1], "max": [1, -0.95], "axis": "y", "traction": [0, -1e4]}]},
+    "damping": 100,
+    "fracture_every": 5,
+    "time": {"end": 1, "max_steps": 40},
+    "output": {"interval": 0, "history_every": 4}
+  })");
+  {
+    std::ofstream f(d / "in.json");
+    f << j.dump(2);
+  }
+  RunOptions o;
+  o.input = (d / "in.json").string();
+  o.progress = false;
+  o.plot = false;
+  o.out_dir = (d / "straight").string();
+  const RunSummary a = run(o);
+  o.out_dir = (d / "split").string();
+  o.stop_after_steps = 12;
+  const RunSummary b1 = run(o);
+  o.stop_after_steps = 0;
+  o.resume = true;
+  const RunSummary b = run(o);
+  EXPECT_EQ(a.crack_increments, 3);
+  EXPECT_GT(b1.crack_increments, 0); // grew before the interruption ...
+  EXPECT_GT(b.crack_increments, 0);  // ... and after it
+  EXPECT_EQ(b1.crack_increments + b.crack_increments, 3);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
+  EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
+  EXPECT_LT(a.energy.damping_work, 0.0);
+  Solver<2> sa, sb;
+  load_input<2>(o.input, sa);
+  load_input<2>(o.input, sb);
+  sa.initialize();
+  sb.initialize();
+  CheckpointExtra xa, xb;
+  read_checkpoint<2>((d / "straight/checkpoint.h5").string(), sa, xa);
+  read_checkpoint<2>((d / "split/checkpoint.h5").string(), sb, xb);
+  ASSERT_EQ(sa.cracks[0].points.size(), 5u);
+  EXPECT_EQ(sa.cracks[0].points, sb.cracks[0].points);
+  EXPECT_EQ(sb.cracks[0].increments, 3);
+  for (std::size_t p = 0; p < sa.particles.size(); ++p)
+    EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
+  EXPECT_EQ(xa.history.columns, xb.history.columns);
+  EXPECT_NE(std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_end"),
+            xa.history.columns.end());
+  EXPECT_EQ(xa.history.rows, xb.history.rows);
 }
 
 namespace {

@@ -23,6 +23,7 @@ struct RunConfig {
   bool vtu_binary = false;      ///< base64 binary arrays instead of ASCII
   long history_every = 1;       ///< steps between history rows
   int checkpoint_every = 1;     ///< VTU frames between checkpoints
+  long fracture_every = 10;     ///< steps between J evaluations / crack growth checks (2-D)
   std::vector<std::string> material_names;
 };
 

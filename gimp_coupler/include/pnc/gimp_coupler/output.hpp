@@ -41,6 +41,7 @@ struct CheckpointExtra {
   std::vector<std::string> frame_files;
   std::vector<double> frame_times;
   History history;
+  std::vector<int> initial_tips; ///< 2 per crack: the ends that were tips at t = 0 (columns)
 };
 
 template <int D>

@@ -4,7 +4,9 @@
 // Writes into DIR: particles.pvd + frames/particles_NNNNNN.vtu (particle fields, SI),
 // history.csv (energies in J, reactions in N, per recorded step), checkpoint.h5 (restart),
 // energy.png (energy balance, drawn by gimp_coupler/scripts/plot_energy.py with
-// /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), summary.json.
+// /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), G.png (2-D runs with
+// crack tips: J, G_I, G_II in J/m^2 versus crack length and time, scripts/plot_G.py),
+// summary.json.
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <functional>
@@ -39,6 +41,8 @@ struct RunSummary {
   bool resumed = false;
   int frames = 0;
   std::string pvd, history_csv, checkpoint, plot_png, plot_warning;
+  std::string plot_G_png;   ///< G.png (runs with crack tips)
+  int crack_increments = 0; ///< crack growth increments in this run
   std::vector<std::string> reaction_names;
   std::vector<std::vector<double>> reactions; ///< last step, N, per boundary
 };

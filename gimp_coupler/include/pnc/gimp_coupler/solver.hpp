@@ -93,12 +93,37 @@ template <int D> struct Traction {
   Ramp ramp{0.0, 0.0};
 };
 
-/// A crack in 2-D (CRAMP, Nairn 2003): a polyline of points (m) through the body. Its faces
-/// are traction-free; where they touch they are in frictionless contact. Growth and energy
-/// release rates are not implemented.
+/// Crack growth controls (D40): the crack tip advances by `increment` when
+/// G = J >= Gc (GIIc = 0) or G_I/Gc + G_II/GIIc >= 1 (GIIc > 0), at most once per tip per
+/// fracture evaluation, in the maximum-hoop-stress direction of the mode mix or along a
+/// prescribed direction.
+struct CrackGrowth {
+  double Gc = 0.0;         ///< critical energy release rate (mode I or total), J/m^2; 0: no growth
+  double GIIc = 0.0;       ///< mode II critical value, J/m^2; 0: criterion on the total G
+  double increment = 0.0;  ///< crack advance per growth event, m
+  bool prescribed = false; ///< direction given (else maximum hoop stress)
+  Eigen::Vector2d direction{1.0, 0.0}; ///< prescribed direction (global frame, unit)
+  int max_increments = 1000000;        ///< stop growing after this many increments
+};
+
+/// A crack in 2-D (CRAMP, Nairn 2003): a polyline of points (m) through the body, fixed in
+/// space (given in the undeformed configuration). Its faces are traction-free; where they
+/// touch they are in frictionless contact. Energy release rates per tip by the J-integral
+/// (domain form on the particles, D38) split into G_I, G_II by the crack-opening displacements
+/// (D39); growth by `growth` (D40); functions in fracture.hpp.
 struct Crack {
   std::string name;
   std::vector<Eigen::Vector2d> points; ///< >= 2 points, m
+  /// Per end (0: points.front(), 1: points.back()): 1 = a crack tip inside the material,
+  /// 0 = not a tip (e.g. the mouth of an edge crack), -1 = decide in Solver::initialize()
+  /// (a tip if a particle centroid lies within h of end + h * outward tangent).
+  std::array<int, 2> tip{-1, -1};
+  /// J domain (D38): q = 1 within j_inner of the tip, 0 beyond j_outer, smooth in between, m.
+  /// j_outer = 0: the defaults j_inner = 1 h, j_outer = 4 h.
+  double j_inner = 0.0;
+  double j_outer = 0.0;
+  CrackGrowth growth;
+  int increments = 0; ///< growth increments so far
 };
 
 /// Energies and works since t = 0, J.
@@ -108,9 +133,13 @@ struct Energies {
   double strain = 0.0;        ///< sum V0 W (stored energy)
   double external_work = 0.0; ///< work of body forces and tractions
   double boundary_work = 0.0; ///< work of the reactions of velocity BCs
-  /// Energy error kinetic + strain - initial - external_work - boundary_work (0 for an exactly
-  /// conservative elastic run; negative when energy is dissipated, e.g. by damage).
-  double balance() const { return kinetic + strain - initial - external_work - boundary_work; }
+  double damping_work = 0.0;  ///< work of the grid damping forces (<= 0, D41)
+  /// Energy error kinetic + strain - initial - external_work - boundary_work - damping_work
+  /// (0 for an exactly conservative elastic run; negative when energy is dissipated, e.g. by
+  /// damage or crack growth).
+  double balance() const {
+    return kinetic + strain - initial - external_work - boundary_work - damping_work;
+  }
 };
 
 class ThreadPool; // solver.cpp: persistent worker threads with blocking hand-over
@@ -132,6 +161,9 @@ public:
   Ramp gravity_ramp{0.0, 0.0};
   int threads = 1;
   double cfl = 0.5; ///< safety factor on dt = h / (c_max + |v|_max)
+  /// Grid velocity damping alpha, 1/s (D41): nodal accelerations get -alpha v (0: none). For
+  /// quasi-static loading; its work is energy.damping_work.
+  double damping = 0.0;
 
   double time = 0.0; ///< s
   long steps = 0;
@@ -150,6 +182,22 @@ public:
   void update_energies();
   /// Total reaction of all BCs (N).
   Vec total_reaction() const;
+
+  // --- Coupling hooks (ESCM, issue #6, docs/escm.md) ---
+  /// Nodes whose velocity (all components, every velocity field) is prescribed to
+  /// prescribed_velocity[k] (m/s) at all three constraint stages of step() (after the NodeBCs).
+  /// After step(), prescribed_reaction[k] holds the mean force (N) the constraint exerted on the
+  /// body during the step, and prescribed_work accumulates its work (J).
+  std::vector<std::int64_t> prescribed_nodes;
+  std::vector<Vec> prescribed_velocity;
+  std::vector<Vec> prescribed_reaction;
+  double prescribed_work = 0.0;
+  /// Nodal velocities v* of the last step (m/s; they moved the particles from x^t to x^t+dt),
+  /// indexed by node (field 0 first); empty before initialize().
+  const std::vector<Vec>& grid_velocity_star() const { return gvs_; }
+  /// Recomputes the crack bounding box and the nodes near cracks after the crack polylines
+  /// changed (growth); decides tips marked -1. Called by initialize().
+  void update_crack_geometry();
 
 private:
   struct Buffer {
@@ -172,6 +220,7 @@ private:
   std::vector<Vec> gfi0_;      // f^int,t kept for the reaction and velocity update
   std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
   std::vector<unsigned char> active_;
+  std::vector<unsigned char> bcmask_; // per node: bit a = component a prescribed by a BC
   std::size_t nnodes_ = 0;           // grid nodes; arrays hold nfields_ x nnodes_ entries
   int nfields_ = 1;                  // 2 with cracks
   std::vector<std::uint32_t> fmask_; // per particle: bit k = stencil node k uses field 1

@@ -1,0 +1,42 @@
+#pragma once
+// pnc/gimp_coupler/escm_run.hpp: `pnc gimp couple INPUT --out DIR [--short]`: an ESCM tension
+// run (Case I analogue, docs/escm.md) of an LJ FCC crystal MD region at the centre of a 2-D
+// continuum calibrated to it, from a JSON input (keys in docs/escm.md, "Input file").
+// Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, lammps.log, summary.json and, with
+// /usr/bin/python3 + matplotlib, profile.png and energy.png. Units: input in LAMMPS real for
+// the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
+#include "pnc/gimp_coupler/escm.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace pnc::gimp::escm {
+
+struct CoupleOptions {
+  std::string input;
+  std::string out_dir;
+  bool short_mode = false; ///< apply the input's "short" overrides
+  bool progress = true;    ///< progress lines (step, time, ETA) on stderr
+  bool plot = true;
+};
+
+struct CoupleSummary {
+  long steps = 0;
+  double time_s = 0.0;
+  double wall_s = 0.0;
+  double outside_share = 0.0;     ///< of the coupled steps' wall time, outside LAMMPS
+  std::array<int, 3> atoms{};     ///< INT, IVC, SVC
+  std::size_t particles = 0;      ///< continuum particles (after removing INT)
+  EnergyRow energy;               ///< last row of the energy log
+  double reaction_left = 0.0;     ///< x reaction of the left edge, N per m (last step)
+  double strain_modulus_pa = 0.0; ///< C11 - C12^2/C11 of the crystal (expected slope)
+  std::string energy_csv, profile_csv, summary_json, lammps_log, plot_warning;
+  std::vector<std::string> frames, plots;
+};
+
+/// Validates the input (throws pnc::InputError naming file, key, value, rule) before LAMMPS
+/// starts, then runs. Throws std::runtime_error for failures during the run.
+CoupleSummary run_couple(const CoupleOptions& o);
+
+} // namespace pnc::gimp::escm

@@ -1,0 +1,564 @@
+// ESCM coupling (escm.hpp): LJ lattice sums, handshake invariants, LJ-crystal tension test
+// against the all-continuum model, wave transmission. Units: continuum SI, MD LAMMPS real.
+#include "pnc/gimp_coupler/escm.hpp"
+#include "pnc/gimp_coupler/escm_lj.hpp"
+
+#include "pnc/core/csv.hpp"
+
+#include <gtest/gtest.h>
+
+#include <lammps/library.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <sstream>
+
+using namespace pnc::gimp;
+using namespace pnc::gimp::escm;
+
+namespace {
+
+// Argon-like LJ (real units).
+constexpr double kEps = 0.2381, kSig = 3.405, kMass = 39.948;
+const double kRc = 2.5 * kSig;
+
+/// Specimen of ncx x ncy cells (size h = a0, one particle per cell) with the atom block of
+/// bnx x bny cells at cell (bx0, by0) and nz unit cells in z.
+struct Spec {
+  int ncx = 20, ncy = 12, bx0 = 6, by0 = 2, bnx = 8, bny = 8, nz = 3, svc_rings = 1;
+  bool pair_zero = false;
+};
+
+double h_of(const LjFcc& lj) {
+  return lj.a0_A * units::m_per_A;
+}
+
+void build_continuum(Solver<2>& s, const Spec& sp, const LjFcc& lj) {
+  const double h = h_of(lj);
+  s.grid.h = h;
+  s.grid.origin = Eigen::Vector2d(-2 * h, -2 * h);
+  s.grid.n = {sp.ncx + 5, sp.ncy + 5};
+  s.materials.push_back(std::make_shared<LinearElastic>(lj.density, lj.E(), lj.nu()));
+  for (int j = 0; j < sp.ncy; ++j)
+    for (int i = 0; i < sp.ncx; ++i)
+      s.particles.add(Eigen::Vector2d((i + 0.5) * h, (j + 0.5) * h),
+                      Eigen::Vector2d::Constant(0.5 * h), lj.density * h * h, h * h, 0);
+}
+
+Config md_config(const Spec& sp, const LjFcc& lj) {
+  const double h = h_of(lj);
+  Config c;
+  std::ostringstream s;
+  s.precision(12);
+  c.md_setup = {"units real", "atom_style atomic", "boundary s s p"};
+  s << "lattice fcc " << lj.a0_A;
+  c.md_setup.push_back(s.str());
+  s.str("");
+  s << "region escm_box block -0.25 " << sp.bnx - 0.25 << " -0.25 " << sp.bny - 0.25 << " 0 "
+    << sp.nz << " units lattice";
+  c.md_setup.push_back(s.str());
+  c.md_setup.push_back("create_box 1 escm_box");
+  c.md_setup.push_back("create_atoms 1 box");
+  s.str("");
+  s << "mass 1 " << kMass;
+  c.md_setup.push_back(s.str());
+  if (sp.pair_zero) {
+    c.md_setup.push_back("pair_style zero 6.0");
+    c.md_setup.push_back("pair_coeff * *");
+  } else {
+    s.str("");
+    s << "pair_style lj/cut " << kRc;
+    c.md_setup.push_back(s.str());
+    s.str("");
+    s << "pair_coeff 1 1 " << kEps << ' ' << kSig;
+    c.md_setup.push_back(s.str());
+  }
+  // LAMMPS site (i + b) a0 lies in continuum cell bx0 + i: origin shifted by a0/4.
+  c.md_offset = Eigen::Vector2d(sp.bx0 * h + 0.25 * h, sp.by0 * h + 0.25 * h);
+  return c;
+}
+
+} // namespace
+
+// Lattice sums against independent facts: the Cauchy relation C12 = C44 of a central pair
+// potential at zero stress (exact), the bulk modulus from a finite difference of the
+// cohesive energy E(a) (independent route, agreement to the FD truncation error ~1e-5), and
+// the long-range LJ FCC nearest-neighbour distance 1.09017 sigma (tabulated, e.g. Kittel).
+TEST(Escm, LjFccLatticeSums) {
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  std::printf("LJ FCC rc 2.5 sigma: a0 %.5f A C11 %.4e C12 %.4e C44 %.4e Pa rho %.2f kg/m3 E %.4e "
+              "nu %.4f\n",
+              lj.a0_A, lj.C11, lj.C12, lj.C44, lj.density, lj.E(), lj.nu());
+  EXPECT_NEAR(lj.C12 / lj.C44, 1.0, 1e-10);
+  // E per atom (kcal/mol) at lattice constant a.
+  auto energy = [&](double a, double rc) {
+    double e = 0;
+    const int n = static_cast<int>(std::ceil(rc / a)) + 1;
+    const double b[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    for (int i = -n; i <= n; ++i)
+      for (int j = -n; j <= n; ++j)
+        for (int k = -n; k <= n; ++k)
+          for (const auto& q : b) {
+            const double r = a * std::sqrt(std::pow(i + q[0], 2) + std::pow(j + q[1], 2) +
+                                           std::pow(k + q[2], 2));
+            if (r > 1e-9 && r < rc)
+              e += 2 * kEps * (std::pow(kSig / r, 12) - std::pow(kSig / r, 6));
+          }
+    return e;
+  };
+  // B = V d2E/dV2 with V = a^3/4 at the minimum (dE/dV = 0): d2E/dV2 = E''(a) / (dV/da)^2.
+  const double a = lj.a0_A, da = 1e-4 * a;
+  const double e2 = (energy(a + da, kRc) - 2 * energy(a, kRc) + energy(a - da, kRc)) / (da * da);
+  const double V = a * a * a / 4, dVda = 3 * a * a / 4;
+  const double B = V * e2 / (dVda * dVda) * units::J_per_kcalmol / std::pow(units::m_per_A, 3);
+  EXPECT_NEAR((lj.C11 + 2 * lj.C12) / 3 / B, 1.0, 1e-4);
+  const LjFcc far = lj_fcc(kEps, kSig, 8 * kSig, kMass);
+  EXPECT_NEAR(far.a0_A / std::sqrt(2.0) / kSig, 1.09017, 2e-4);
+  EXPECT_THROW(lj_fcc(-1, kSig, kRc, kMass), std::invalid_argument);
+}
+
+// Invariants of one coupled step (issue #6, validation (c)), with pair forces off so that the
+// force LAMMPS holds on the atoms is the coupling force alone:
+//  - the continuum is pre-strained uniformly (eps_xx = 1e-3): the x force of the continuum on
+//    the right-hand IVC cells is P_xx = J sigma_xx times the height of the edge of the
+//    stress-carrying continuum (the SVC/IVC boundary, 6 h) per metre
+//    (statics of a uniform stress field, independent of the coupler's weights), and the
+//    cell forces sum to zero;
+//  - the forces LAMMPS applied to the IVC atoms (compute reduce over a region) sum to that
+//    force converted to the slab;
+//  - the time-averaged IVC centroid (eq. 4.11) equals LAMMPS's own fix ave/time of compute com
+//    over the same N substeps (round-off tolerance).
+TEST(Escm, HandshakeInvariants) {
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  Spec sp;
+  sp.pair_zero = true;
+  Solver<2> s;
+  build_continuum(s, sp, lj);
+  const double eps = 1e-3;
+  for (std::size_t p = 0; p < s.particles.size(); ++p) // uniform F, particles left in place
+    s.particles.F[p](0, 0) = 1 + eps;
+  Config c = md_config(sp, lj);
+  c.substeps = 10;
+  c.dt = 10 * 2.0e-15;
+  c.ivc_damp_fs = 1e12; // no damping force in the force sum
+  c.interior_damp_fs = 0;
+  Coupler cp(s, c);
+  cp.setup();
+  const auto zc = cp.zone_counts();
+  const int per_cell = 4 * sp.nz;
+  EXPECT_EQ(zc[0], 4 * 4 * per_cell);
+  EXPECT_EQ(zc[1], (6 * 6 - 4 * 4) * per_cell);
+  EXPECT_EQ(zc[2], (8 * 8 - 6 * 6) * per_cell);
+  // Right-hand IVC column: cells with i = bx0 + bnx - 2; region in the LAMMPS frame.
+  const double a = lj.a0_A;
+  void* L = cp.lammps();
+  std::ostringstream r;
+  r.precision(12);
+  r << "region rcol block " << (sp.bnx - 2) * a - 0.25 * a << ' ' << (sp.bnx - 1) * a - 0.25 * a
+    << ' ' << 0.75 * a << ' ' << (sp.bny - 1) * a - 0.25 * a << " INF INF units box";
+  lammps_command(L, r.str().c_str());
+  lammps_command(L, "group rcol region rcol");
+  lammps_command(L, "compute rf rcol reduce sum fx fy");
+  // One IVC cell (bottom-left IVC corner, cell (1, 1) of the block).
+  r.str("");
+  r << "region c11 block " << 0.75 * a << ' ' << 1.75 * a << ' ' << 0.75 * a << ' ' << 1.75 * a
+    << " INF INF units box";
+  lammps_command(L, r.str().c_str());
+  lammps_command(L, "group c11 region c11");
+  lammps_command(L, "compute com11 c11 com");
+  lammps_command(L, "fix avecom all ave/time 1 10 10 c_com11[1] c_com11[2]");
+  lammps_command(L, "run 0");
+  cp.step();
+  const double sigma =
+      s.materials[0]->youngs_modulus() * (1 - s.materials[0]->poisson_ratio()) /
+      ((1 + s.materials[0]->poisson_ratio()) * (1 - 2 * s.materials[0]->poisson_ratio())) *
+      (eps + 0.5 * eps * eps); // SVK: S = (lambda + 2 mu) E_xx, E_xx = eps + eps^2/2
+  const double sigma_cauchy = sigma * (1 + eps); // J^-1 F S F^T for F = diag(1 + eps, 1)
+  Eigen::Vector2d fr = Eigen::Vector2d::Zero(), ftot = Eigen::Vector2d::Zero();
+  for (const auto& cell : cp.cells()) {
+    if (cell.zone != Zone::ivc) continue;
+    ftot += cell.force_N;
+    if (cell.ij[0] == 2 + sp.bx0 + sp.bnx - 2) fr += cell.force_N; // grid cell = 2 + cell
+  }
+  const double h = h_of(lj);
+  // The SVC/IVC edge (6 h) carries J sigma_xx (V = J V0); 1e-3: one step of motion of the
+  // free outer boundary does not reach the handshake, the change of f_int during the step is
+  // O(dt c / h * strain) of the dynamic start-up.
+  EXPECT_NEAR(fr[0] / ((1 + eps) * sigma_cauchy * 6 * h), 1.0, 1e-3);
+  EXPECT_NEAR(ftot.norm() / (sigma_cauchy * 6 * h), 0.0, 1e-6);
+  auto* rf =
+      static_cast<double*>(lammps_extract_compute(L, "rf", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR));
+  ASSERT_NE(rf, nullptr);
+  const double conv = cp.slab_thickness_A() * units::m_per_A / units::N_per_kcalmolA;
+  EXPECT_NEAR(rf[0] / (fr[0] * conv), 1.0, 1e-9);
+  EXPECT_NEAR(rf[1], fr[1] * conv, 1e-9 * std::abs(fr[0] * conv));
+  // Mean IVC position of cell (1, 1) vs LAMMPS's time average.
+  const Cell* c11 = nullptr;
+  for (const auto& cell : cp.cells())
+    if (cell.ij[0] == 2 + sp.bx0 + 1 && cell.ij[1] == 2 + sp.by0 + 1) c11 = &cell;
+  ASSERT_NE(c11, nullptr);
+  ASSERT_EQ(c11->zone, Zone::ivc);
+  auto* av0 = static_cast<double*>(
+      lammps_extract_fix(L, "avecom", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 0, 0));
+  auto* av1 = static_cast<double*>(
+      lammps_extract_fix(L, "avecom", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1, 0));
+  ASSERT_NE(av0, nullptr);
+  ASSERT_NE(av1, nullptr);
+  EXPECT_NEAR(c11->mean_A[0], *av0, 1e-9);
+  EXPECT_NEAR(c11->mean_A[1], *av1, 1e-9);
+  // The atoms moved under the force: the average is not trivially the start position.
+  EXPECT_GT(std::abs(c11->mean_A[0] - c11->c0_A[0]) + std::abs(c11->mean_A[1] - c11->c0_A[1]),
+            1e-9);
+  lammps_free(av0);
+  lammps_free(av1);
+}
+
+// Bad configuration is rejected before LAMMPS sees it.
+TEST(Escm, ConfigValidation) {
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  Spec sp;
+  Solver<2> s;
+  build_continuum(s, sp, lj);
+  Config c = md_config(sp, lj);
+  c.dt = 1e-14;
+  c.substeps = 0;
+  Coupler a(s, c);
+  EXPECT_THROW(a.setup(), std::runtime_error);
+  c.substeps = 10;
+  c.md_setup.push_back("run 100");
+  Coupler b(s, c);
+  EXPECT_THROW(b.setup(), std::runtime_error);
+}
+
+namespace {
+
+/// Tension specimen: 20 x 14 cells, atom block 10 x 10 cells with two SVC rings (10.6 A, more
+/// than the 8.5 A cutoff, so IVC atoms have a full neighbour shell: D72), one IVC ring, INT
+/// 4 x 4 cells; 1200 atoms.
+Spec tension_spec() {
+  Spec sp;
+  sp.ncx = 20;
+  sp.ncy = 14;
+  sp.bx0 = 5;
+  sp.by0 = 2;
+  sp.bnx = 10;
+  sp.bny = 10;
+  sp.svc_rings = 2;
+  return sp;
+}
+
+struct TensionResult {
+  double u_right = 0;                   // time-mean x displacement of the right column, m
+  double reaction = 0;                  // time-mean reaction of the left edge, N per m
+  std::vector<Eigen::Vector2d> u_cells; // time-mean displacement per block cell, m
+  EnergyRow energy;
+  double outside_share = 0;
+};
+
+/// Tension of the specimen by a traction on its right column, ramped over t_load after a
+/// zero-load settling phase (coupled only), then held; left edge x-fixed, corner y-fixed, no
+/// continuum damping. Returned displacements are time means over the hold window (two
+/// periods of the fundamental mode), measured from the end of the settling phase, so that
+/// they are the static response (D77). coupled = false: the all-continuum reference.
+TensionResult tension(bool coupled, double strain, Mode mode) {
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  const Spec sp = tension_spec();
+  const double h = h_of(lj);
+  Solver<2> s;
+  build_continuum(s, sp, lj);
+  NodeBC<2> left, corner, rbc;
+  left.lo = Eigen::Vector2d(-0.1 * h, -10 * h);
+  left.hi = Eigen::Vector2d(0.1 * h, 100 * h);
+  left.mask = {true, false};
+  corner.lo = Eigen::Vector2d(-0.1 * h, -0.1 * h);
+  corner.hi = Eigen::Vector2d(0.1 * h, 0.1 * h);
+  corner.mask = {false, true};
+  // The right edge and the padding node column beyond it: a particle that moves right
+  // touches that column with a vanishing weight; left free, its tiny nodal mass makes the
+  // edge unstable (D77).
+  rbc.lo = Eigen::Vector2d((sp.ncx - 0.1) * h, -10 * h);
+  rbc.hi = Eigen::Vector2d((sp.ncx + 1.1) * h, 100 * h);
+  rbc.mask = {true, false};
+  s.bcs = {left, corner, rbc};
+  const int N = 20;
+  const double dtau = 4e-15, dt = N * dtau;
+  const double t_settle = coupled ? 10e-12 : 0.0, t_load = 20e-12;
+  // Mass-proportional damping of both models at 0.7 of critical for the fundamental mode of
+  // the fixed-fixed strip (omega_1 = pi c_bar / L): continuum particle velocities and, in the
+  // MD, Langevin drag with damp = 1 / c (the same m v / tau force law, D75). Every mode decays
+  // at least at 0.7 omega_1 (3.9 ps); the hold lasts 30 ps and is averaged over its last 10 ps.
+  const double L = sp.ncx * h;
+  const double omega1 = M_PI * std::sqrt(lj.strip_modulus() / lj.density) / L;
+  const double damping = 2 * 0.7 * omega1;
+  const double t_hold = 30e-12, t_avg = 10e-12;
+  const double u_target = strain * L;
+  Config cfg = md_config(sp, lj);
+  cfg.svc_rings = sp.svc_rings;
+  cfg.substeps = N;
+  cfg.dt = dt;
+  cfg.interior_damp_fs = 1.0 / damping / units::s_per_fs;
+  cfg.ivc_damp_fs = cfg.interior_damp_fs;
+  cfg.continuum_damping = damping;
+  cfg.mode = mode;
+  std::unique_ptr<Coupler> cp;
+  std::vector<std::size_t> right; // right-column particles (indices change in setup)
+  if (coupled) {
+    cp = std::make_unique<Coupler>(s, cfg);
+    cp->setup();
+  } else {
+    s.initialize();
+  }
+  for (std::size_t p = 0; p < s.particles.size(); ++p)
+    if (s.particles.x0[p][0] > (sp.ncx - 1) * h) right.push_back(p);
+  auto cell_positions = [&](std::vector<Eigen::Vector2d>& out) {
+    out.clear();
+    if (!coupled) {
+      for (int j = sp.by0; j < sp.by0 + sp.bny; ++j)
+        for (int i = sp.bx0; i < sp.bx0 + sp.bnx; ++i)
+          out.push_back(s.particles.x[static_cast<std::size_t>(j * sp.ncx + i)]);
+      return;
+    }
+    std::vector<int> ids;
+    std::vector<Eigen::Vector3d> x, v;
+    cp->atoms(ids, x, v);
+    const auto& x0 = cp->atoms_initial();
+    std::map<std::pair<int, int>, std::pair<Eigen::Vector2d, int>> acc;
+    for (int j = sp.by0; j < sp.by0 + sp.bny; ++j)
+      for (int i = sp.bx0; i < sp.bx0 + sp.bnx; ++i)
+        acc[{i, j}] = {Eigen::Vector2d::Zero(), 0};
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const Eigen::Vector2d xc = cp->to_continuum(x0[k]);
+      auto& a =
+          acc[{static_cast<int>(std::floor(xc[0] / h)), static_cast<int>(std::floor(xc[1] / h))}];
+      a.first += cp->to_continuum(x[k]);
+      a.second += 1;
+    }
+    for (int j = sp.by0; j < sp.by0 + sp.bny; ++j)
+      for (int i = sp.bx0; i < sp.bx0 + sp.bnx; ++i) {
+        const auto& a = acc[{i, j}];
+        out.push_back(a.first / a.second);
+      }
+  };
+  auto right_mean = [&] {
+    double u = 0;
+    for (auto p : right)
+      u += s.particles.x[p][0] - s.particles.x0[p][0];
+    return u / static_cast<double>(right.size());
+  };
+  auto one = [&] {
+    const double tl = s.time + 0.5 * dt - t_settle;
+    s.bcs[2].velocity[0] =
+        (tl > 0 && tl < t_load) ? u_target / t_load * (1 - std::cos(2 * M_PI * tl / t_load)) : 0.0;
+    if (coupled) {
+      cp->step();
+    } else {
+      s.step(dt);
+      const double f = std::exp(-damping * dt);
+      for (auto& v : s.particles.v)
+        v *= f;
+    }
+  };
+  while (s.time < t_settle - 0.5 * dt)
+    one();
+  std::vector<Eigen::Vector2d> base, now, sum;
+  cell_positions(base);
+  const double u0 = right_mean();
+  while (s.time < t_settle + t_load - 0.5 * dt)
+    one();
+  TensionResult r;
+  int n = 0;
+  sum.assign(base.size(), Eigen::Vector2d::Zero());
+  while (s.time < t_settle + t_load + t_hold - 0.5 * dt) {
+    one();
+    if (s.steps % 5 || s.time < t_settle + t_load + t_hold - t_avg) continue;
+    cell_positions(now);
+    for (std::size_t k = 0; k < now.size(); ++k)
+      sum[k] += now[k] - base[k];
+    r.u_right += right_mean() - u0;
+    r.reaction += s.bcs[0].reaction[0];
+    ++n;
+  }
+  r.u_right /= n;
+  r.reaction /= n;
+  for (auto& v : sum)
+    r.u_cells.push_back(v / n);
+  if (coupled) {
+    // Outputs: the energy CSV reads back with the strict core reader, one row per step.
+    const std::string dir = ::testing::TempDir();
+    cp->write_energy_csv(dir + "escm_energy.csv");
+    cp->write_atoms_vtu(dir + "escm_atoms.vtu");
+    const pnc::CsvTable tab = pnc::read_csv(dir + "escm_energy.csv");
+    EXPECT_EQ(tab.rows.size(), static_cast<std::size_t>(s.steps));
+    EXPECT_EQ(tab.header.size(), 13u);
+    r.energy = cp->energy_log().back();
+    r.outside_share = cp->timing().outside_share();
+    const auto& e = r.energy;
+    std::printf("energy [J]: cont KE %.3e SE %.3e | MD KE %.3e PE %.3e | W_bc %.3e W_c->md %.3e "
+                "W_md->c %.3e | heat int %.3e ivc %.3e | balance %.3e\n",
+                e.cont_kinetic, e.cont_strain, e.md_kinetic, e.md_potential, e.work_boundary,
+                e.work_cont_on_md, e.work_md_on_cont, e.heat_removed_int, e.heat_removed_ivc,
+                e.balance());
+    const auto& t = cp->timing();
+    std::printf("timing [s]: lammps %.3f callback %.3f continuum %.3f coupling %.3f\n", t.lammps,
+                t.callback, t.continuum, t.coupling);
+  }
+  return r;
+}
+
+} // namespace
+
+// Validation (a): LJ FCC crystal MD region (1200 atoms), continuum calibrated to its C11, C12
+// (D76); neumann mode (the dissertation's algorithm). Quasi-static tension to 0.2 % strain.
+// Checks:
+//  - the all-continuum reference against the analytic strip, F = (C11 - C12^2/C11) eps H:
+//    5 % (the finite strain of the SVK law, ~0.3 %, and the residual of the damped
+//    oscillation in the averaging window, measured ~1-3 %);
+//  - overall stiffness (left-edge reaction) of the coupled model against the reference: 6 %
+//    (measured 4.5 %, softer: the LJ crystal's anharmonicity, C111 ~ -10 C11, gives ~2 % in
+//    the MD region at 0.2 % strain; the rest is the compliance of the handshake itself, the
+//    free MD surface at the IVC and the lagged IVC averages, plus the reference's own 1 %);
+//  - displacement continuity: the cell-mean displacement of every cell of the atom block (SVC,
+//    IVC, INT atoms) against the reference continuum's particle in the same cell, max error
+//    < 15 % of strain x block width (the MD free surface and lattice-scale relaxation at the
+//    IVC, and the lag of 1.5 continuum steps of the IVC averages; measured 11 %).
+TEST(Escm, LjCrystalTensionMatchesContinuum) {
+  const double strain = 2e-3;
+  const TensionResult ref = tension(false, strain, Mode::neumann);
+  const TensionResult cpl = tension(true, strain, Mode::neumann);
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  const Spec sp = tension_spec();
+  const double h = h_of(lj);
+  const double F_analytic = -lj.strip_modulus() * strain * sp.ncy * h;
+  std::printf("left reaction [N/m]: analytic %.5e reference %.5e coupled %.5e\n", F_analytic,
+              ref.reaction, cpl.reaction);
+  double emax = 0;
+  for (std::size_t k = 0; k < ref.u_cells.size(); ++k)
+    emax = std::max(emax, (cpl.u_cells[k] - ref.u_cells[k]).norm());
+  const double scale = strain * sp.bnx * h;
+  std::printf("max |u_coupled - u_ref| over block cells: %.3e m = %.3f of strain * block width\n",
+              emax, emax / scale);
+  EXPECT_NEAR(ref.reaction / F_analytic, 1.0, 0.05);
+  EXPECT_NEAR(cpl.reaction / ref.reaction, 1.0, 0.06);
+  EXPECT_LT(emax / scale, 0.15);
+  // Energy log: the thermostats removed heat and the log is complete.
+  EXPECT_GT(cpl.energy.heat_removed_ivc, 0.0);
+  const auto& e = cpl.energy;
+  std::printf("handshake energy created %.4e J, balance %.4e J, heat cont %.4e J\n",
+              e.work_cont_on_md + e.work_md_on_cont, e.balance(), e.heat_removed_cont);
+  // The log closes: energy now - at start - work in + heat out (balance) equals the energy the
+  // handshake created (the two handshake works) up to the time-integration errors of both
+  // solvers and the half MD step by which the IVC force of a block outlasts it in the work
+  // tally; 15 % of the created energy (measured 9 %).
+  const double created = e.work_cont_on_md + e.work_md_on_cont;
+  EXPECT_NEAR(e.balance() / created, 1.0, 0.15);
+}
+
+namespace {
+
+struct WaveRun {
+  std::vector<Eigen::Vector2d> v_left; // velocities of the particles left of the block, m/s
+  std::vector<double> m_left;          // their masses, kg
+  double incident = 0;                 // energy put in by the pulse (reference only), J/m
+};
+
+/// A longitudinal pulse sent from the left edge of a long strip (50 x 14 cells, atom block
+/// 10 x 10 cells at cell 30): left-edge velocity v0 sin^2(pi t / T) for t < T, then held.
+/// The coupled model first settles for t_settle with damping (the MD surface relaxes), then
+/// runs undamped. pulse = false: the same run without the pulse (its field is subtracted).
+WaveRun wave(bool coupled, bool pulse) {
+  const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
+  Spec sp;
+  sp.ncx = 50;
+  sp.ncy = 14;
+  sp.bx0 = 30;
+  sp.by0 = 2;
+  sp.bnx = 10;
+  sp.bny = 10;
+  sp.svc_rings = 2;
+  const double h = h_of(lj);
+  Solver<2> s;
+  build_continuum(s, sp, lj);
+  NodeBC<2> left;
+  left.lo = Eigen::Vector2d(-2.1 * h, -10 * h);
+  left.hi = Eigen::Vector2d(0.1 * h, 100 * h);
+  left.mask = {true, false};
+  s.bcs = {left};
+  const int N = 20;
+  const double dt = N * 4e-15;
+  const double c = std::sqrt(lj.strip_modulus() / lj.density);
+  const double T = 3e-12, v0 = 2e-3 * c; // peak strain 2e-3
+  const double t_settle = coupled ? 8e-12 : 0.0, t_end = t_settle + 24e-12;
+  const double damping = 2 * 0.7 * M_PI * c / (sp.ncx * h);
+  Config cfg = md_config(sp, lj);
+  cfg.svc_rings = sp.svc_rings;
+  cfg.substeps = N;
+  cfg.dt = dt;
+  cfg.interior_damp_fs = 0; // INT: plain NVE, it must not absorb the wave
+  cfg.ivc_damp_fs = 1.0 / damping / units::s_per_fs;
+  std::unique_ptr<Coupler> cp;
+  if (coupled) {
+    cp = std::make_unique<Coupler>(s, cfg);
+    cp->setup();
+  } else {
+    s.initialize();
+  }
+  WaveRun r;
+  while (s.time < t_end - 0.5 * dt) {
+    const double tl = s.time + 0.5 * dt - t_settle;
+    s.bcs[0].velocity[0] =
+        (pulse && tl > 0 && tl < T) ? v0 * std::pow(std::sin(M_PI * tl / T), 2) : 0.0;
+    if (coupled) {
+      cp->step();
+    } else {
+      s.step(dt);
+    }
+    if (s.time < t_settle) {
+      const double f = std::exp(-damping * dt);
+      for (auto& v : s.particles.v)
+        v *= f;
+    }
+    if (!coupled && r.incident == 0 && tl > T + 1e-12)
+      r.incident = s.energy.kinetic + s.energy.strain;
+  }
+  for (std::size_t p = 0; p < s.particles.size(); ++p)
+    if (s.particles.x0[p][0] < (sp.bx0 - 4) * h) {
+      r.v_left.push_back(s.particles.v[p]);
+      r.m_left.push_back(s.particles.m[p]);
+    }
+  return r;
+}
+
+} // namespace
+
+// Validation (b): a pulse (length ~37 A, 7 cells; peak strain 2e-3) runs from the continuum
+// into the LJ crystal region and back out of it. 24 ps after it was sent, the pulse has
+// crossed the block (its front reaches it at ~13 ps) and whatever the two handshakes
+// reflected is in the left region (cells 0-25), not yet back at the left edge (~26 ps).
+// Reflected energy = 2 x kinetic energy (a travelling wave carries equal kinetic and strain
+// energy) of the scattered velocity field in that region: the coupled pulse response (pulse
+// run minus the run without pulse, removing the MD surface relaxation) minus the
+// all-continuum response; over the incident energy. Stated bound: 2 % (measured 0.5 %)
+// reflected (the dissertation gives no number).
+TEST(Escm, WaveCrossesHandshakeWithSmallReflection) {
+  const WaveRun ref = wave(false, true);
+  const WaveRun cp1 = wave(true, true);
+  const WaveRun cp0 = wave(true, false);
+  ASSERT_GT(ref.incident, 0);
+  // Scattered field = coupled pulse response minus the all-continuum response (the system is
+  // linear at this amplitude): what the handshake reflects, without the grid's own dispersive
+  // tail, which the plain energy in the region also holds (printed for comparison).
+  double ke_ref = 0, ke_cpl = 0, ke_scat = 0;
+  for (std::size_t k = 0; k < ref.v_left.size(); ++k) {
+    const Eigen::Vector2d resp = cp1.v_left[k] - cp0.v_left[k];
+    ke_ref += 0.5 * ref.m_left[k] * ref.v_left[k].squaredNorm();
+    ke_cpl += 0.5 * ref.m_left[k] * resp.squaredNorm();
+    ke_scat += 0.5 * ref.m_left[k] * (resp - ref.v_left[k]).squaredNorm();
+  }
+  const double R_cpl = 2 * ke_scat / ref.incident;
+  std::printf("energy left of the block / incident: all-continuum %.4f coupled %.4f; "
+              "scattered by the handshake %.4f\n",
+              2 * ke_ref / ref.incident, 2 * ke_cpl / ref.incident, R_cpl);
+  EXPECT_LT(R_cpl, 0.02);
+}
