@@ -50,7 +50,8 @@ def main():
 
 
 def damage_map(path, png):
-    """Cell-averaged damage of the last converged state (largest D_k per cell)."""
+    """Cell-averaged damage (largest D_k per cell) of the last converged state, and, when the
+    CSV has it, the fracture variable omega of the closure (D54) next to it."""
     if not os.path.exists(path):
         return
     with open(path) as f:
@@ -61,27 +62,32 @@ def damage_map(path, png):
     x = [float(r["x_mm"]) for r in rows]
     y = [float(r["y_mm"]) for r in rows]
     h = [float(r["h_mm"]) for r in rows]
-    d = [max(float(r[k]) for k in dk) for r in rows]
+    fields = [("max_k D_k", [max(float(r[k]) for k in dk) for r in rows], None)]
+    if "omega" in rows[0] and max(float(r["omega"]) for r in rows) > 0:
+        fields.append(("fracture omega (D54)", [float(r["omega"]) for r in rows], (0, 1)))
     from matplotlib.collections import PatchCollection
     from matplotlib.patches import Rectangle
 
-    fig, ax = plt.subplots(figsize=(4, 6))
-    # Cells are axis-aligned squares of side h on these meshes (2-D; in 3-D all layers overlap).
-    pc = PatchCollection([Rectangle((xx - hh / 2, yy - hh / 2), hh, hh) for xx, yy, hh in zip(x, y, h)],
-                         cmap="inferno_r", linewidths=0, antialiased=False)
-    pc.set_array(d)
-    pc.set_clim(0, max(d) if max(d) > 0 else 1)
-    ax.add_collection(pc)
-    ax.set_xlim(min(x) - h[0], max(x) + h[0])
-    ax.set_ylim(min(y) - h[0], max(y) + h[0])
-    sc = pc
-    ax.set_aspect("equal")
-    ax.set_xlabel("x1 (mm)")
-    ax.set_ylabel("x2 (mm)")
+    fig, axes = plt.subplots(1, len(fields), figsize=(4 * len(fields), 6), squeeze=False)
     peak = {k: max(float(r[k]) for r in rows) for k in dk}
-    ax.set_title("max_k D_k, last step\n" + ", ".join("max %s = %.3f" % kv for kv in peak.items()),
-                 fontsize=9)
-    fig.colorbar(sc, ax=ax)
+    for ax, (name, d, lim) in zip(axes[0], fields):
+        # Cells are axis-aligned squares of side h on these meshes (2-D; in 3-D layers overlap).
+        pc = PatchCollection(
+            [Rectangle((xx - hh / 2, yy - hh / 2), hh, hh) for xx, yy, hh in zip(x, y, h)],
+            cmap="inferno_r", linewidths=0, antialiased=False)
+        pc.set_array(d)
+        pc.set_clim(*(lim or (0, max(d) if max(d) > 0 else 1)))
+        ax.add_collection(pc)
+        ax.set_xlim(min(x) - h[0], max(x) + h[0])
+        ax.set_ylim(min(y) - h[0], max(y) + h[0])
+        ax.set_aspect("equal")
+        ax.set_xlabel("x1 (mm)")
+        ax.set_ylabel("x2 (mm)")
+        title = name + ", last step"
+        if name.startswith("max_k"):
+            title += "\n" + ", ".join("max %s = %.3f" % kv for kv in peak.items())
+        ax.set_title(title, fontsize=9)
+        fig.colorbar(pc, ax=ax)
     fig.tight_layout()
     fig.savefig(png, dpi=120)
 

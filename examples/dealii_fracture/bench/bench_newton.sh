@@ -3,7 +3,11 @@
 # of the assembly spent inside the material plugin (issue #7; goal: plugin <= 10 % of the
 # assembly).
 #
-#   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none]
+#   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none] [TIMEOUT_S=900]
+#
+# First prints the cost of one plugin call alone (dealii_fracture --bench-plugin), so the
+# share can be read against the kernel's own cost. A mesh that does not finish within
+# TIMEOUT_S prints "timeout" and ends the scan.
 #
 # Single-edge notch (coarse cell 0.5 mm, 128 cells) refined uniformly r = 2..MAX times
 # (r = 4: 69k dofs, 5: 0.27M, 6: 1.05M); two load steps, to u = 0.2 mm (damage onset at
@@ -18,20 +22,31 @@ BUILD=${1:?build dir}
 CARD=${2:?card}
 MAX=${3:-6}
 REG=${4:-none}
+TMO=${5:-900}
 EXE=$BUILD/examples/dealii_fracture/dealii_fracture
 SRC=$(dirname "$0")/..
-echo "dofs,newton_iterations,assembly_s_per_iteration,solve_s_per_iteration,plugin_share_of_assembly,nonlocal_s"
+"$EXE" --bench-plugin --card "$CARD" | /usr/bin/python3 -c '
+import json, sys
+j = json.load(sys.stdin)
+print("# plugin call alone: %.0f ns (elastic point), %.0f ns (damaging point), steady_clock %.0f ns"
+      % (j["elastic_point"]["ns_per_call_with_tangent"],
+         j["damaging_point"]["ns_per_call_with_tangent"], j["steady_clock_now_ns"]))'
+echo "dofs,newton_iterations,assembly_s_per_iteration,solve_s_per_iteration,plugin_share_of_assembly,nonlocal_s,assembly_ns_per_point,wall_s"
 r=2
 while [ "$r" -le "$MAX" ]; do
-  "$EXE" "$SRC/short.prm" --json --set "Material/Card=$CARD" --set "Mesh/Adaptive=false" \
+  timeout "$TMO" "$EXE" "$SRC/short.prm" --json --set "Material/Card=$CARD" --set "Mesh/Adaptive=false" \
     --set "Mesh/Global refinements=$r" --set "Loading/Path=0, 0.2, 0.25" --set "Loading/Step=0.2" \
     --set "Regularisation/Type=$REG" --set "Output/VTU every=0" --set "Output/Plot=false" \
-    --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" 2>/dev/null |
-    /usr/bin/python3 -c '
+    --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" 2>/dev/null >/tmp/bench_newton_$$.json ||
+    { echo "refinement $r: timeout or failure (limit ${TMO} s)"; break; }
+  /usr/bin/python3 -c '
 import json, sys
-j = json.load(sys.stdin); t = j["timing"]
-print("%d,%d,%.4g,%.4g,%.3f,%.3g" % (j["dofs"], t["newton_iterations"],
+j = json.load(open(sys.argv[1])); t = j["timing"]
+pts = j["cells"] * (4 if j["dimension"] == 2 else 8)
+print("%d,%d,%.4g,%.4g,%.3f,%.3g,%.0f,%.1f" % (j["dofs"], t["newton_iterations"],
       t["assembly_s"] / t["assemblies"], t["solve_s"] / max(1, t["newton_iterations"]),
-      t["plugin_share_of_assembly"], t["nonlocal_s"]))'
+      t["plugin_share_of_assembly"], t["nonlocal_s"],
+      1e9 * t["assembly_s"] / t["assemblies"] / pts, j["wall_time_s"]))' /tmp/bench_newton_$$.json
   r=$((r + 1))
 done
+rm -f /tmp/bench_newton_$$.json
