@@ -1,6 +1,7 @@
 // pnc thermo ti | pnc thermo persistence: free energy of deformation by thermodynamic
 // integration and persistence length by steered bending (issue #4). Units: LAMMPS real
 // (kcal/mol, A, fs, K) inside thermo/; moduli in Pa and EI also in N m^2 where named.
+#include "plot.hpp"
 #include "registrars.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -25,13 +26,6 @@
 #include <memory>
 #include <sstream>
 
-#ifndef PNC_PYTHON
-#define PNC_PYTHON "/usr/bin/python3"
-#endif
-#ifndef PNC_SCRIPTS_DIR
-#define PNC_SCRIPTS_DIR "scripts"
-#endif
-
 namespace pnc::app {
 
 namespace {
@@ -43,36 +37,7 @@ nlohmann::json jnum(double v) {
 }
 
 std::vector<std::string> run_plot(const std::vector<std::string>& args) {
-  const char* env_py = std::getenv("PNC_PYTHON");
-  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
-  const std::string py = env_py ? env_py : PNC_PYTHON;
-  const std::string script =
-      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / "plot_thermo.py").string();
-  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
-  auto quote = [](const std::string& s) {
-    std::string q = "'";
-    for (char ch : s)
-      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    return q + "'";
-  };
-  std::string cmd = quote(py) + " " + quote(script);
-  for (const auto& a : args)
-    cmd += " " + quote(a);
-  cmd += " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, pipe))
-    out += buf;
-  if (::pclose(pipe) != 0)
-    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
-  std::vector<std::string> pngs;
-  std::istringstream lines(out);
-  std::string line;
-  while (std::getline(lines, line))
-    if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
-  return pngs;
+  return run_plot_script("plot_thermo.py", args);
 }
 
 void print_progress(const std::string& what, int done, int total, double el, double eta) {

@@ -21,6 +21,40 @@ namespace pnc::app {
 
 namespace fs = std::filesystem;
 
+std::vector<std::string> run_plot_script(const std::string& script_name,
+                                         const std::vector<std::string>& args) {
+  const char* env_py = std::getenv("PNC_PYTHON");
+  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
+  const std::string py = env_py ? env_py : PNC_PYTHON;
+  const std::string script =
+      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / script_name).string();
+  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
+  auto quote = [](const std::string& s) {
+    std::string q = "'";
+    for (char ch : s)
+      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+  };
+  std::string cmd = quote(py) + " " + quote(script);
+  for (const auto& a : args)
+    cmd += " " + quote(a);
+  cmd += " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, pipe))
+    out += buf;
+  if (::pclose(pipe) != 0)
+    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  std::vector<std::string> pngs;
+  std::istringstream lines(out);
+  std::string line;
+  while (std::getline(lines, line))
+    if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
+  return pngs;
+}
+
 std::vector<std::string> plot_fit(const damage::StressStrainData& data,
                                   const damage::NdmParameters& p, const std::string& dir,
                                   const std::string& title) {
@@ -50,34 +84,7 @@ std::vector<std::string> plot_fit(const damage::StressStrainData& data,
   const std::string curves = (fs::path(dir) / "curves.csv").string();
   write_text_atomically(curves, csv.str());
 
-  const char* env_py = std::getenv("PNC_PYTHON");
-  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
-  const std::string py = env_py ? env_py : PNC_PYTHON;
-  const std::string script =
-      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / "plot_fit.py").string();
-  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
-  auto quote = [](const std::string& s) {
-    std::string q = "'";
-    for (char ch : s)
-      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    return q + "'";
-  };
-  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(curves) + " " + quote(dir) +
-                          " " + quote(title) + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, pipe))
-    out += buf;
-  const int rc = ::pclose(pipe);
-  if (rc != 0) fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
-  std::vector<std::string> pngs;
-  std::istringstream lines(out);
-  std::string line;
-  while (std::getline(lines, line))
-    if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
-  return pngs;
+  return run_plot_script("plot_fit.py", {curves, dir, title});
 }
 
 } // namespace pnc::app

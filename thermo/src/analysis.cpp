@@ -2,6 +2,7 @@
 #include "pnc/thermo/analysis.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/rve/deform.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -89,33 +90,12 @@ Estimate integrate(const Quadrature& q, const std::vector<double>& means,
 }
 
 Estimate block_mean(const std::vector<double>& x, int blocks) {
+  if (x.empty()) fail("<block average>", "samples", "0", "needs at least one sample");
+  // the same estimator as the deformation driver's stress points (NaN s.e. below 2 blocks)
+  const auto [mean, se] = rve::block_mean_se(x, std::max(blocks, 0));
   Estimate e;
-  const std::size_t n = x.size();
-  if (n == 0) fail("<block average>", "samples", "0", "needs at least one sample");
-  for (double v : x)
-    e.value += v;
-  e.value /= static_cast<double>(n);
-  const std::size_t nb = std::min<std::size_t>(static_cast<std::size_t>(std::max(blocks, 0)), n);
-  if (nb < 2) {
-    e.se = std::nan("");
-    return e;
-  }
-  const std::size_t per = n / nb;
-  std::vector<double> bm(nb, 0.0);
-  for (std::size_t b = 0; b < nb; ++b) {
-    for (std::size_t i = 0; i < per; ++i)
-      bm[b] += x[b * per + i];
-    bm[b] /= static_cast<double>(per);
-  }
-  double m = 0;
-  for (double v : bm)
-    m += v;
-  m /= static_cast<double>(nb);
-  double var = 0;
-  for (double v : bm)
-    var += (v - m) * (v - m);
-  var /= static_cast<double>(nb - 1);
-  e.se = std::sqrt(var / static_cast<double>(nb));
+  e.value = mean;
+  e.se = se;
   return e;
 }
 
