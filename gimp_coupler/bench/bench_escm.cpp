@@ -46,26 +46,7 @@ int main(int argc, char** argv) {
   right.velocity[0] = 0.5; // m/s, a slow pull
   s.bcs = {left, right};
   Config c;
-  std::ostringstream o;
-  o.precision(12);
-  c.md_setup = {"units real", "atom_style atomic", "boundary s s p"};
-  o << "lattice fcc " << lj.a0_A;
-  c.md_setup.push_back(o.str());
-  o.str("");
-  o << "region escm_box block -0.25 " << nb - 0.25 << " -0.25 " << nb - 0.25 << " 0 " << nz
-    << " units lattice";
-  c.md_setup.push_back(o.str());
-  c.md_setup.push_back("create_box 1 escm_box");
-  c.md_setup.push_back("create_atoms 1 box");
-  o.str("");
-  o << "mass 1 " << mass;
-  c.md_setup.push_back(o.str());
-  o.str("");
-  o << "pair_style lj/cut " << rc;
-  c.md_setup.push_back(o.str());
-  o.str("");
-  o << "pair_coeff 1 1 " << eps << ' ' << sig;
-  c.md_setup.push_back(o.str());
+  c.md_setup = lj_fcc_block_commands(lj, nb, nb, nz, mass, eps, sig, rc);
   c.md_offset = Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
   c.svc_rings = 2;
   c.substeps = N;

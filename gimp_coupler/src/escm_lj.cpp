@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -88,6 +89,32 @@ LjFcc lj_fcc(double eps, double sig, double rc, double mass) {
   out.C44 = c44 / (2.0 * omega) * conv;
   out.density = mass * units::kg_per_gmol / (omega * std::pow(units::m_per_A, 3));
   return out;
+}
+
+std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, int nz,
+                                               double mass_gmol, double eps_kcalmol, double sigma_A,
+                                               double rc_A) {
+  std::vector<std::string> c = {"units real", "atom_style atomic", "boundary s s p"};
+  std::ostringstream s;
+  s.precision(12);
+  auto flush = [&] {
+    c.push_back(s.str());
+    s.str("");
+  };
+  s << "lattice fcc " << lj.a0_A;
+  flush();
+  s << "region escm_box block -0.25 " << nx - 0.25 << " -0.25 " << ny - 0.25 << " 0 " << nz
+    << " units lattice";
+  flush();
+  c.push_back("create_box 1 escm_box");
+  c.push_back("create_atoms 1 box");
+  s << "mass 1 " << mass_gmol;
+  flush();
+  s << "pair_style lj/cut " << rc_A;
+  flush();
+  s << "pair_coeff 1 1 " << eps_kcalmol << ' ' << sigma_A;
+  flush();
+  return c;
 }
 
 } // namespace pnc::gimp::escm

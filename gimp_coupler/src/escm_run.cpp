@@ -183,26 +183,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   const double omega1 = M_PI * std::sqrt(lj.strip_modulus() / lj.density) / L;
   const double damping = 2 * p.damping_fraction * omega1; // D75
   Config c;
-  std::ostringstream q;
-  q.precision(12);
-  c.md_setup = {"units real", "atom_style atomic", "boundary s s p"};
-  q << "lattice fcc " << lj.a0_A;
-  c.md_setup.push_back(q.str());
-  q.str("");
-  q << "region escm_box block -0.25 " << p.nbx - 0.25 << " -0.25 " << p.nby - 0.25 << " 0 " << p.nz
-    << " units lattice";
-  c.md_setup.push_back(q.str());
-  c.md_setup.push_back("create_box 1 escm_box");
-  c.md_setup.push_back("create_atoms 1 box");
-  q.str("");
-  q << "mass 1 " << p.mass;
-  c.md_setup.push_back(q.str());
-  q.str("");
-  q << "pair_style lj/cut " << p.rc;
-  c.md_setup.push_back(q.str());
-  q.str("");
-  q << "pair_coeff 1 1 " << p.eps << ' ' << p.sig;
-  c.md_setup.push_back(q.str());
+  c.md_setup = lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc);
   c.md_offset = Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
   c.svc_rings = p.svc;
   c.ivc_rings = p.ivc;

@@ -50,30 +50,11 @@ void build_continuum(Solver<2>& s, const Spec& sp, const LjFcc& lj) {
 Config md_config(const Spec& sp, const LjFcc& lj) {
   const double h = h_of(lj);
   Config c;
-  std::ostringstream s;
-  s.precision(12);
-  c.md_setup = {"units real", "atom_style atomic", "boundary s s p"};
-  s << "lattice fcc " << lj.a0_A;
-  c.md_setup.push_back(s.str());
-  s.str("");
-  s << "region escm_box block -0.25 " << sp.bnx - 0.25 << " -0.25 " << sp.bny - 0.25 << " 0 "
-    << sp.nz << " units lattice";
-  c.md_setup.push_back(s.str());
-  c.md_setup.push_back("create_box 1 escm_box");
-  c.md_setup.push_back("create_atoms 1 box");
-  s.str("");
-  s << "mass 1 " << kMass;
-  c.md_setup.push_back(s.str());
-  if (sp.pair_zero) {
+  c.md_setup = lj_fcc_block_commands(lj, sp.bnx, sp.bny, sp.nz, kMass, kEps, kSig, kRc);
+  if (sp.pair_zero) { // no forces: the last two commands (pair_style, pair_coeff) replaced
+    c.md_setup.resize(c.md_setup.size() - 2);
     c.md_setup.push_back("pair_style zero 6.0");
     c.md_setup.push_back("pair_coeff * *");
-  } else {
-    s.str("");
-    s << "pair_style lj/cut " << kRc;
-    c.md_setup.push_back(s.str());
-    s.str("");
-    s << "pair_coeff 1 1 " << kEps << ' ' << kSig;
-    c.md_setup.push_back(s.str());
   }
   // LAMMPS site (i + b) a0 lies in continuum cell bx0 + i: origin shifted by a0/4.
   c.md_offset = Eigen::Vector2d(sp.bx0 * h + 0.25 * h, sp.by0 * h + 0.25 * h);

@@ -10,6 +10,9 @@
 // Omega = a0^3 / 4 the volume per atom.
 // Units: input LAMMPS real (kcal/mol, Angstrom, g/mol); output Pa, Angstrom, kg/m^3.
 
+#include <string>
+#include <vector>
+
 namespace pnc::gimp::escm {
 
 struct LjFcc {
@@ -30,5 +33,13 @@ struct LjFcc {
 /// Lattice sums for the FCC crystal (throws std::invalid_argument for non-positive input or
 /// rc below the nearest-neighbour distance).
 LjFcc lj_fcc(double eps_kcalmol, double sigma_A, double rc_A, double mass_gmol);
+
+/// LAMMPS commands (units real) that create an nx x ny x nz block of FCC unit cells of lattice
+/// constant `lj.a0_A`, sites from -a0/4 on x and y (shrink-wrapped x, y; periodic z, D78),
+/// atom mass `mass_gmol` and lj/cut with `eps_kcalmol`, `sigma_A`, `rc_A`. The commands for
+/// the Coupler's `Config::md_setup`; the caller may replace the pair commands.
+std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, int nz,
+                                               double mass_gmol, double eps_kcalmol, double sigma_A,
+                                               double rc_A);
 
 } // namespace pnc::gimp::escm
