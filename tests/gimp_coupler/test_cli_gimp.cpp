@@ -1,4 +1,6 @@
 // `pnc gimp run` end to end: --json on stdout, exit codes, bad input naming the key.
+#include "common/run_command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -11,19 +13,9 @@
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = pnc::test::CommandResult;
 Result sh(const std::string& cmd) {
-  Result r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p))
-    r.out += buf.data();
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return pnc::test::run_command(cmd);
 }
 } // namespace
 

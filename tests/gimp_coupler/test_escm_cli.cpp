@@ -1,5 +1,7 @@
 // `pnc gimp couple` end to end (issue #6): the Case I example in short mode, --json on stdout,
 // bad input exits with 1 and names the key before LAMMPS starts.
+#include "common/run_command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -13,19 +15,9 @@
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = pnc::test::CommandResult;
 Result sh(const std::string& cmd) {
-  Result r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p))
-    r.out += buf.data();
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return pnc::test::run_command(cmd);
 }
 } // namespace
 

@@ -2,6 +2,8 @@
 // recomputation, and a bad recipe's error line.
 #include "pnc/damage/data.hpp"
 
+#include "common/run_command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -16,19 +18,9 @@
 namespace fs = std::filesystem;
 
 namespace {
-struct Proc {
-  int code;
-  std::string out;
-};
+using Proc = pnc::test::CommandResult;
 Proc run(const std::string& args) {
-  const std::string cmd = std::string(PNC_EXE) + " " + args;
-  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p.get()))
-    out += buf.data();
-  const int st = pclose(p.release());
-  return {WEXITSTATUS(st), out};
+  return pnc::test::run_command(std::string(PNC_EXE) + " " + args);
 }
 const char* tiny = R"({
   "name": "tiny", "seed": 3,

@@ -1,5 +1,7 @@
 // The `pnc thermo` subcommands end to end on tiny inputs: outputs, --json, --resume, and
 // errors that name the input (a LAMMPS error with LAMMPS's message).
+#include "common/run_command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -13,30 +15,12 @@
 namespace fs = std::filesystem;
 
 namespace {
-struct CmdRun {
-  int code = 0;
-  std::string out;
-};
+using CmdRun = pnc::test::CommandResult;
 CmdRun run(const std::string& args) {
-  const std::string cmd = std::string(PNC_EXE) + " " + args + " 2>/dev/null";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  CmdRun r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p))
-    r.out += buf.data();
-  const int st = ::pclose(p);
-  r.code = WEXITSTATUS(st);
-  return r;
+  return pnc::test::run_command(std::string(PNC_EXE) + " " + args + " 2>/dev/null");
 }
-CmdRun run_err(const std::string& args) {
-  const std::string cmd = std::string(PNC_EXE) + " " + args + " 2>&1 >/dev/null";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  CmdRun r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p))
-    r.out += buf.data();
-  r.code = WEXITSTATUS(::pclose(p));
-  return r;
+CmdRun run_err(const std::string& args) { // stderr only
+  return pnc::test::run_command(std::string(PNC_EXE) + " " + args + " 2>&1 >/dev/null");
 }
 fs::path tmp(const std::string& tag) {
   const auto d = fs::temp_directory_path() / ("pnc_test_thermo_cli_" + tag);
