@@ -379,7 +379,7 @@ void register_thermo(CLI::App& app, Action& action) {
   ti->add_option("--prod-steps", ta->spec.sampling.prod_steps,
                  "Steps averaged per lambda point (default 20000 = 10 ps)");
   ti->add_option("--sample-every", ta->spec.sampling.sample_every,
-                 "Steps between dH/dlambda samples (default 20)");
+                 "Steps between dH/dlambda samples (default 100, D64)");
   ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)");
   ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300)");
   ti->add_option("--seed", ta->spec.seed, "Thermostat seed");

@@ -144,15 +144,17 @@ void define_measures(Lammps& l) {
 }
 
 /// `whole_ramp`: thermostat ramps (Tstart -> Tstop) span all chunks (run ... start/stop),
-/// not each chunk; assumes the timestep counter is 0 at the call.
-void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false) {
+/// not each chunk; assumes the timestep counter is 0 at the call. `temp`: the temperature
+/// compute traced (thermo_temp = all atoms; a group's when part of the system is frozen).
+void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false,
+                const std::string& temp = "thermo_temp") {
   if (steps <= 0) return;
   long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
   const int n = static_cast<int>((steps + chunk - 1) / chunk);
   l.cmd(fmt::format("thermo {}", chunk));
-  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {} {} c_thermo_temp c_thermo_pe c_thermo_press "
+  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {} {} c_{} c_thermo_pe c_thermo_press "
                     "c_pnc_pv v_pnc_rho v_pnc_vol",
-                    chunk / 10, chunk));
+                    chunk / 10, chunk, temp));
   for (int i = 0; i < n; ++i) {
     if (whole_ramp)
       l.cmd(fmt::format("run {} start 0 stop {}", chunk, chunk * n));
@@ -314,16 +316,21 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
     l.cmd(fmt::format("fix pnc_rs {} temp/rescale 10 {:.10g} {:.10g} 10.0 1.0", mob,
                       s.hot_temperature, s.hot_temperature));
+    // with the clay frozen the traced temperature is the polymer's (all atoms would dilute it
+    // by the clay's zero velocities)
+    const std::string temp = with_clay ? "pnc_tmob" : "thermo_temp";
+    if (with_clay) l.cmd("compute pnc_tmob " + mob + " temp");
     Trace t;
-    run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t); // limited displacement first
+    run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t, false, temp); // limited displacement
     l.cmd("unfix pnc_lim");
     l.cmd("fix pnc_nve " + mob + " nve");
-    run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t);
+    run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t, false, temp);
     l.cmd("write_restart " + p(dir, "hot", ".restart"));
     write_stage(p(dir, "hot", ".h5"), "hot",
-                fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T of the second half "
-                            "{:.1f} K",
-                            s.hot_steps, s.hot_temperature, t.mean(0, t.rows.size() / 2)),
+                fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T{} of the second "
+                            "half {:.1f} K",
+                            s.hot_steps, s.hot_temperature, with_clay ? " (polymer)" : "",
+                            t.mean(0, t.rows.size() / 2)),
                 t, recipe_json);
   });
 

@@ -7,7 +7,7 @@
 //   t_virial: the N steps as lj_sampling method "virial" runs them (the default, D64):
 //             one run (in 5 pieces) with fix vector of the pair energy and pair virial
 // and prints the overheads relative to t_plain. Units: LAMMPS real.
-// usage: bench_thermo RESTART [steps=10000] [every=20] [repetitions=3]
+// usage: bench_thermo RESTART [steps=10000] [every=100, the TI default] [repetitions=3]
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/runner.hpp"
 #include "pnc/thermo/ti.hpp"
@@ -22,12 +22,12 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_thermo RESTART [steps=10000] [every=20]\n");
+    std::fprintf(stderr, "usage: bench_thermo RESTART [steps=10000] [every=100] [repetitions=3]\n");
     return 1;
   }
   const std::string restart = argv[1];
   const long steps = argc > 2 ? std::atol(argv[2]) : 10000;
-  const int every = argc > 3 ? std::atoi(argv[3]) : 20;
+  const int every = argc > 3 ? std::atoi(argv[3]) : 100;
   const int reps = argc > 4 ? std::atoi(argv[4]) : 3;
   const auto o = pnc::rve::run_stage({"bench", "bench_thermo.log", {}}, [&](pnc::rve::Lammps& l) {
     using clk = std::chrono::steady_clock;

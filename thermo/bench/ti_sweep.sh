@@ -2,7 +2,7 @@
 # Wall time of the default TI sweep on the demo RVE (issue #4 "Speed"): builds and
 # equilibrates the demo RVE (600 beads, rve/ API), then runs `pnc thermo ti` with the
 # dissertation's defaults (9 deformation states x 3 Gauss points, 60000 + 20000 steps of
-# 0.5 fs per point, dH/dlambda every 20 steps), 2 points at a time on 2 cores.
+# 0.5 fs per point, dH/dlambda every 100 steps (D64)), 2 points at a time on 2 cores.
 # usage: thermo/bench/ti_sweep.sh [PNC_EXE] [OUT_DIR]
 set -euo pipefail
 PNC=${1:-build/app/pnc}

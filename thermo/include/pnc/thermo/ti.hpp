@@ -94,7 +94,7 @@ struct SamplingSpec {
   double timestep_fs = 0.5; ///< dissertation 0.5 fs
   long equil_steps = 60000; ///< 30 ps discarded (dissertation: 40 ps per lambda ...)
   long prod_steps = 20000;  ///< ... of which the last 10 ps are averaged
-  int sample_every = 20;    ///< steps between samples of dH/dlambda
+  int sample_every = 100;   ///< steps between samples of dH/dlambda (D64: ~1/3 of its tau_int)
   int blocks = 10;          ///< blocks for the standard errors
   double temperature = 300; ///< K (kT of the FEP estimates)
   void validate(const std::string& source) const;
