@@ -89,6 +89,25 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kPaToMPa = 1e-6;
 
+// Row of the strain-displacement matrix of a vector shape function with nonzero component
+// `ci` and gradient g: its contribution to the Voigt strain (11 22 33 23 13 12, engineering
+// shear). Writes only the nonzero entries of b[0..5] (the caller zeroes the rest).
+template <int dim> void strain_row(unsigned ci, const Tensor<1, dim>& g, double* b) {
+  if (ci == 0) {
+    b[0] = g[0];
+    b[5] = g[1];
+    if constexpr (dim == 3) b[4] = g[2];
+  } else if (ci == 1) {
+    b[1] = g[1];
+    b[5] = g[0];
+    if constexpr (dim == 3) b[3] = g[2];
+  } else {
+    b[2] = g[dim - 1];
+    b[3] = g[1];
+    b[4] = g[0];
+  }
+}
+
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -830,20 +849,7 @@ template <int dim> void FractureProblem<dim>::setup_system() {
       for (unsigned i = 0; i < ndofs; ++i) {
         const unsigned ci = fe.system_to_component_index(i).first;
         const Tensor<1, dim> g = fv.shape_grad(i, q);
-        double* b = &Bstore[((c * nq + q) * ndofs + i) * 6];
-        if (ci == 0) {
-          b[0] = g[0];
-          b[5] = g[1];
-          if constexpr (dim == 3) b[4] = g[2];
-        } else if (ci == 1) {
-          b[1] = g[1];
-          b[5] = g[0];
-          if constexpr (dim == 3) b[3] = g[2];
-        } else {
-          b[2] = g[dim - 1];
-          b[3] = g[1];
-          b[4] = g[0];
-        }
+        strain_row<dim>(ci, g, &Bstore[((c * nq + q) * ndofs + i) * 6]);
       }
     }
   }
@@ -1233,21 +1239,8 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
       for (unsigned i = 0; i < ndofs; ++i) {
         const unsigned ci = fe.system_to_component_index(i).first;
         const Tensor<1, dim> g = fv.shape_grad(i, q);
-        Voigt6& b = B[i];
-        b.fill(0);
-        if (ci == 0) {
-          b[0] = g[0];
-          b[5] = g[1];
-          if constexpr (dim == 3) b[4] = g[2];
-        } else if (ci == 1) {
-          b[1] = g[1];
-          b[5] = g[0];
-          if constexpr (dim == 3) b[3] = g[2];
-        } else {
-          b[2] = g[dim - 1];
-          b[3] = g[1];
-          b[4] = g[0];
-        }
+        B[i].fill(0);
+        strain_row<dim>(ci, g, B[i].data());
       }
       const double jw = fv.JxW(q);
       const Tangent36& K = Kq[q];
