@@ -437,43 +437,111 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
     }
   }
 
-  // cracks (2-D polylines)
+  // cracks (2-D polylines, 3-D planar polygons: D42)
   if (top.has("cracks")) {
     const json& cs = top.at("cracks");
     if (!cs.is_array()) top.bad("cracks", cs, "must be an array");
-    if (D != 2 && !cs.empty()) top.bad("cracks", cs, "cracks are implemented in 2-D only");
     for (std::size_t k = 0; k < cs.size(); ++k) {
       const Node c{cs[k], "cracks[" + std::to_string(k) + "]", source};
       if (!c.j.is_object()) fail(source, c.path, show(c.j), "must be a JSON object");
-      c.allow({"name", "points", "tips", "j_radius", "growth"});
       Crack cr;
       cr.name = c.has("name") ? c.str("name") : "crack" + std::to_string(k);
-      const json& pts = c.at("points");
-      if (!pts.is_array() || pts.size() < 2)
-        c.bad("points", pts, "must be an array of >= 2 points [x, y]");
-      for (const auto& q : pts) {
-        if (!q.is_array() || q.size() != 2 || !q[0].is_number() || !q[1].is_number())
-          c.bad("points", pts, "every point must be [x, y] (m)");
-        cr.points.emplace_back(q[0].get<double>(), q[1].get<double>());
-      }
-      for (std::size_t i = 0; i + 1 < cr.points.size(); ++i)
-        if ((cr.points[i + 1] - cr.points[i]).norm() <= 0.0)
-          c.bad("points", pts, "consecutive points must differ");
-      if (c.has("tips")) { // D38
-        const std::string t = c.str("tips");
-        if (t == "auto")
-          cr.tip = {-1, -1};
-        else if (t == "start")
-          cr.tip = {1, 0};
-        else if (t == "end")
-          cr.tip = {0, 1};
-        else if (t == "both")
-          cr.tip = {1, 1};
-        else if (t == "none")
-          cr.tip = {0, 0};
-        else
-          c.bad("tips", c.at("tips"), "must be \"auto\", \"start\", \"end\", \"both\" or \"none\"");
-      }
+      if constexpr (D == 3) {
+        if (c.has("points"))
+          c.bad("points", c.at("points"),
+                "in 3-D a crack is a planar polygon: give \"corners\" [[x, y, z], ...]");
+        if (c.has("tips"))
+          c.bad("tips", c.at("tips"), "in 3-D the fronts are edges: give \"front\"");
+        if (c.has("growth"))
+          c.bad("growth", c.at("growth"), "crack growth is implemented in 2-D only (D42)");
+        c.allow({"name", "corners", "front", "j_radius"});
+        const json& cj = c.at("corners");
+        if (!cj.is_array() || cj.size() < 3)
+          c.bad("corners", cj, "must be an array of >= 3 corners [x, y, z] (m)");
+        for (const auto& q : cj) {
+          if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() ||
+              !q[2].is_number())
+            c.bad("corners", cj, "every corner must be [x, y, z] (m)");
+          cr.corners.emplace_back(q[0].get<double>(), q[1].get<double>(), q[2].get<double>());
+        }
+        const std::string why = check_planar_crack(cr);
+        if (!why.empty()) c.bad("corners", cj, why);
+        const std::size_t m = cr.corners.size();
+        if (c.has("front")) {
+          const json& fj = c.at("front");
+          const std::string rule = "must be \"auto\" or an array of edge indices in [0, " +
+                                   std::to_string(m - 1) +
+                                   "] (edge k runs from corners[k] to corners[k+1]; a front is "
+                                   "one straight edge)";
+          if (fj.is_string() && fj.get<std::string>() == "auto") {
+            cr.front.assign(m, -1);
+          } else if (fj.is_array()) {
+            cr.front.assign(m, 0);
+            for (const auto& e : fj) {
+              if (!e.is_number_integer() || e.get<long>() < 0 || e.get<long>() >= long(m))
+                c.bad("front", fj, rule);
+              cr.front[static_cast<std::size_t>(e.get<long>())] = 1;
+            }
+          } else {
+            c.bad("front", fj, rule);
+          }
+        }
+        const std::string w = resolve_fronts(cr, s.particles, s.grid.h);
+        if (!w.empty()) {
+          const std::string key = c.has("front") ? "front" : "corners";
+          c.bad(key, c.at(key), w);
+        }
+      } else {
+        c.allow({"name", "points", "tips", "j_radius", "growth"});
+        const json& pts = c.at("points");
+        if (!pts.is_array() || pts.size() < 2)
+          c.bad("points", pts, "must be an array of >= 2 points [x, y]");
+        for (const auto& q : pts) {
+          if (!q.is_array() || q.size() != 2 || !q[0].is_number() || !q[1].is_number())
+            c.bad("points", pts, "every point must be [x, y] (m)");
+          cr.points.emplace_back(q[0].get<double>(), q[1].get<double>());
+        }
+        for (std::size_t i = 0; i + 1 < cr.points.size(); ++i)
+          if ((cr.points[i + 1] - cr.points[i]).norm() <= 0.0)
+            c.bad("points", pts, "consecutive points must differ");
+        if (c.has("tips")) { // D38
+          const std::string t = c.str("tips");
+          if (t == "auto")
+            cr.tip = {-1, -1};
+          else if (t == "start")
+            cr.tip = {1, 0};
+          else if (t == "end")
+            cr.tip = {0, 1};
+          else if (t == "both")
+            cr.tip = {1, 1};
+          else if (t == "none")
+            cr.tip = {0, 0};
+          else
+            c.bad("tips", c.at("tips"),
+                  "must be \"auto\", \"start\", \"end\", \"both\" or \"none\"");
+        }
+        if (c.has("growth")) { // D40
+          const Node gr = c.child("growth");
+          gr.allow({"Gc", "GIIc", "increment", "direction", "max_increments"});
+          cr.growth.Gc = gr.positive("Gc");
+          if (gr.has("GIIc")) cr.growth.GIIc = gr.positive("GIIc");
+          cr.growth.increment = gr.has("increment") ? gr.positive("increment") : s.grid.h;
+          if (gr.has("direction")) {
+            const json& dj = gr.at("direction");
+            if (dj.is_string() && dj.get<std::string>() == "hoop") {
+              cr.growth.prescribed = false;
+            } else {
+              const Vec2 v = gr.vec<2>("direction");
+              if (!(v.norm() > 0))
+                gr.bad("direction", dj, "must be \"hoop\" or a non-zero [dx, dy]");
+              cr.growth.prescribed = true;
+              cr.growth.direction = v.normalized();
+            }
+          }
+          cr.growth.max_increments =
+              static_cast<int>(gr.integer("max_increments", 1000000, 0, 1000000000L));
+        }
+      } // D == 2
       if (c.has("j_radius")) {
         const json& r = c.at("j_radius");
         if (!r.is_array() || r.size() != 2 || !r[0].is_number() || !r[1].is_number() ||
@@ -481,26 +549,6 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
           c.bad("j_radius", r, "must be [r_inner, r_outer] in m with 0 <= r_inner < r_outer");
         cr.j_inner = r[0].get<double>();
         cr.j_outer = r[1].get<double>();
-      }
-      if (c.has("growth")) { // D40
-        const Node gr = c.child("growth");
-        gr.allow({"Gc", "GIIc", "increment", "direction", "max_increments"});
-        cr.growth.Gc = gr.positive("Gc");
-        if (gr.has("GIIc")) cr.growth.GIIc = gr.positive("GIIc");
-        cr.growth.increment = gr.has("increment") ? gr.positive("increment") : s.grid.h;
-        if (gr.has("direction")) {
-          const json& dj = gr.at("direction");
-          if (dj.is_string() && dj.get<std::string>() == "hoop") {
-            cr.growth.prescribed = false;
-          } else {
-            const Vec2 v = gr.vec<2>("direction");
-            if (!(v.norm() > 0)) gr.bad("direction", dj, "must be \"hoop\" or a non-zero [dx, dy]");
-            cr.growth.prescribed = true;
-            cr.growth.direction = v.normalized();
-          }
-        }
-        cr.growth.max_increments =
-            static_cast<int>(gr.integer("max_increments", 1000000, 0, 1000000000L));
       }
       s.cracks.push_back(cr);
     }

@@ -256,11 +256,20 @@ void write_checkpoint(const std::string& path, const Solver<D>& s, const Checkpo
     for (std::size_t c = 0; c < s.cracks.size(); ++c) {
       const Crack& cr = s.cracks[c];
       const std::string g = "/cracks/" + std::to_string(c);
-      h5::RowMatrix pts(static_cast<Eigen::Index>(cr.points.size()), 2);
-      for (std::size_t k = 0; k < cr.points.size(); ++k)
-        pts.row(static_cast<Eigen::Index>(k)) = cr.points[k].transpose();
-      f.write_matrix(g + "/points", pts);
-      f.set_attr(g + "/points", "units", "m");
+      if constexpr (D == 3) { // D42: planar polygon, front flags
+        h5::RowMatrix pts(static_cast<Eigen::Index>(cr.corners.size()), 3);
+        for (std::size_t k = 0; k < cr.corners.size(); ++k)
+          pts.row(static_cast<Eigen::Index>(k)) = cr.corners[k].transpose();
+        f.write_matrix(g + "/corners", pts);
+        f.set_attr(g + "/corners", "units", "m");
+        f.write_vector(g + "/front", std::vector<double>(cr.front.begin(), cr.front.end()));
+      } else {
+        h5::RowMatrix pts(static_cast<Eigen::Index>(cr.points.size()), 2);
+        for (std::size_t k = 0; k < cr.points.size(); ++k)
+          pts.row(static_cast<Eigen::Index>(k)) = cr.points[k].transpose();
+        f.write_matrix(g + "/points", pts);
+        f.set_attr(g + "/points", "units", "m");
+      }
       f.write_vector(g + "/tips_increments",
                      {double(cr.tip[0]), double(cr.tip[1]), double(cr.increments)});
     }
@@ -373,13 +382,26 @@ template <int D> void read_checkpoint(const std::string& path, Solver<D>& s, Che
       f.exists("/energy/damping_work") ? f.read_scalar("/energy/damping_work") : 0.0;
   for (std::size_t c = 0; c < s.cracks.size(); ++c) {
     const std::string g = "/cracks/" + std::to_string(c);
-    if (!f.exists(g + "/points"))
-      fail(path, g, "<missing>", "the input has " + std::to_string(s.cracks.size()) + " cracks");
-    const auto pts = f.read_matrix(g + "/points");
+    const std::string key = D == 3 ? g + "/corners" : g + "/points";
+    if (!f.exists(key))
+      fail(path, key, "<missing>", "the input has " + std::to_string(s.cracks.size()) + " cracks");
+    const auto pts = f.read_matrix(key);
     Crack& cr = s.cracks[c];
-    cr.points.clear();
-    for (Eigen::Index k = 0; k < pts.rows(); ++k)
-      cr.points.emplace_back(pts(k, 0), pts(k, 1));
+    if constexpr (D == 3) { // D42
+      cr.corners.clear();
+      for (Eigen::Index k = 0; k < pts.rows(); ++k)
+        cr.corners.emplace_back(pts(k, 0), pts(k, 1), pts(k, 2));
+      const auto fr = f.read_vector(g + "/front");
+      cr.front.assign(fr.size(), 0);
+      for (std::size_t k = 0; k < fr.size(); ++k)
+        cr.front[k] = static_cast<int>(fr[k]);
+      const std::string why = check_planar_crack(cr);
+      if (!why.empty()) fail(path, key, "<corners>", why);
+    } else {
+      cr.points.clear();
+      for (Eigen::Index k = 0; k < pts.rows(); ++k)
+        cr.points.emplace_back(pts(k, 0), pts(k, 1));
+    }
     const auto ti = f.read_vector(g + "/tips_increments");
     cr.tip = {static_cast<int>(ti.at(0)), static_cast<int>(ti.at(1))};
     cr.increments = static_cast<int>(ti.at(2));

@@ -76,6 +76,14 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   x.input_hash = file_fnv1a64(o.input);
   // Crack tips at the start ((crack, end), "<crack>_start|end"): fixed history columns.
   std::vector<std::pair<std::pair<std::size_t, int>, std::string>> tip_ids;
+  // 3-D (D42): the straight fronts ((crack, edge), "<crack>_front<edge>"); they do not grow.
+  std::vector<std::pair<std::pair<std::size_t, std::size_t>, std::string>> front_ids;
+  auto find_fronts = [&]() {
+    for (std::size_t c = 0; c < s.cracks.size(); ++c)
+      for (std::size_t e = 0; e < s.cracks[c].front.size(); ++e)
+        if (s.cracks[c].front[e] == 1)
+          front_ids.push_back({{c, e}, s.cracks[c].name + "_front" + std::to_string(e)});
+  };
   RunSummary sum;
   sum.dimension = D;
   if (o.resume && fs::exists(ckpt)) {
@@ -84,6 +92,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     s.initialize(false);
     // initialize() recomputes KE/SE from the particles; keep the works from the checkpoint.
     sum.resumed = true;
+    find_fronts();
     for (std::size_t c = 0; c < s.cracks.size(); ++c)
       for (int e = 0; e < 2; ++e)
         if (x.initial_tips.size() > 2 * c + static_cast<std::size_t>(e) &&
@@ -93,6 +102,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     if (o.resume && o.progress)
       std::cerr << "pnc gimp: --resume: no checkpoint in " << o.out_dir << ", starting at t = 0\n";
     s.initialize(true);
+    find_fronts();
     x.initial_tips.clear();
     for (std::size_t c = 0; c < s.cracks.size(); ++c)
       for (int e = 0; e < 2; ++e) {
@@ -110,6 +120,10 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     if constexpr (D == 2)
       for (const auto& t : tip_ids)
         for (const char* q : {"J_", "GI_", "GII_", "length_", "tipx_", "tipy_"})
+          x.history.columns.push_back(q + t.second);
+    if constexpr (D == 3)
+      for (const auto& t : front_ids)
+        for (const char* q : {"J_", "GI_", "GII_", "length_", "frontlength_"})
           x.history.columns.push_back(q + t.second);
   }
   auto record = [&](double dt) {
@@ -143,6 +157,13 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
           row.insert(row.end(), {nan, nan, nan, L, q[0], q[1]});
         }
       }
+    }
+    if constexpr (D == 3) {
+      const auto fronts = front_ids.empty() ? std::vector<FrontResult>{} : crack_fronts(s);
+      for (const auto& t : front_ids)
+        for (const auto& r : fronts)
+          if (r.crack == t.first.first && r.edge == t.first.second)
+            row.insert(row.end(), {r.J, r.GI, r.GII, r.depth, r.length});
     }
     x.history.rows.push_back(row);
   };
@@ -247,7 +268,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     const std::string png = (fs::path(o.out_dir) / "energy.png").string();
     sum.plot_warning = plot_energy(hist_csv, png, fs::path(o.input).filename().string());
     if (sum.plot_warning.empty()) sum.plot_png = png;
-    if (!tip_ids.empty()) {
+    if (!tip_ids.empty() || !front_ids.empty()) {
       const std::string gpng = (fs::path(o.out_dir) / "G.png").string();
       const std::string w =
           plot_energy(hist_csv, gpng, fs::path(o.input).filename().string(), "plot_G.py");
@@ -295,6 +316,30 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                         {"GII_J_per_m2", t.GII},
                         {"tip_m", {t.tip[0], t.tip[1]}}});
       one["tips"] = tj;
+      cj.push_back(one);
+    }
+    j["cracks"] = cj;
+  }
+  if constexpr (D == 3) { // D42
+    nlohmann::json cj = nlohmann::json::array();
+    const auto fronts = crack_fronts(s);
+    for (std::size_t c = 0; c < s.cracks.size(); ++c) {
+      nlohmann::json one;
+      one["name"] = s.cracks[c].name;
+      nlohmann::json pts = nlohmann::json::array();
+      for (const auto& q : s.cracks[c].corners)
+        pts.push_back({q[0], q[1], q[2]});
+      one["corners_m"] = pts;
+      nlohmann::json fj = nlohmann::json::array();
+      for (const auto& r : fronts)
+        if (r.crack == c)
+          fj.push_back({{"edge", r.edge},
+                        {"J_J_per_m2", r.J},
+                        {"GI_J_per_m2", r.GI},
+                        {"GII_J_per_m2", r.GII},
+                        {"front_length_m", r.length},
+                        {"mid_m", {r.mid[0], r.mid[1], r.mid[2]}}});
+      one["fronts"] = fj;
       cj.push_back(one);
     }
     j["cracks"] = cj;

@@ -179,10 +179,17 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     if (!compute_stencil(grid, P.x[p], P.l[p], st)) left_grid(p);
   }
   nnodes_ = static_cast<std::size_t>(grid.nodes());
-  if (!cracks.empty() && D != 2) throw std::runtime_error("gimp: cracks are 2-D only");
-  for (const auto& c : cracks)
-    if (c.points.size() < 2)
-      throw std::runtime_error("gimp: crack '" + c.name + "' needs at least 2 points");
+  for (auto& c : cracks) {
+    if constexpr (D == 2) {
+      if (c.points.size() < 2)
+        throw std::runtime_error("gimp: crack '" + c.name + "' needs at least 2 points");
+    } else {
+      const std::string why = check_planar_crack(c);
+      if (!why.empty()) throw std::runtime_error("gimp: crack '" + c.name + "': " + why);
+      if (c.growth.Gc > 0.0)
+        throw std::runtime_error("gimp: crack '" + c.name + "': growth is 2-D only (D42)");
+    }
+  }
   nfields_ = cracks.empty() ? 1 : 2;
   const std::size_t nn = nnodes_ * static_cast<std::size_t>(nfields_);
   fmask_.assign(cracks.empty() ? 0 : n, 0u);
@@ -234,19 +241,18 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
 template <int D> void Solver<D>::update_crack_geometry() {
   crack_nodes_.clear();
   if (cracks.empty()) return;
-  if constexpr (D == 2) {
-    crack_lo_ = Vec::Constant(1e300);
-    crack_hi_ = Vec::Constant(-1e300);
-    for (const auto& c : cracks)
-      for (const auto& q : c.points) {
-        crack_lo_ = crack_lo_.cwiseMin(q);
-        crack_hi_ = crack_hi_.cwiseMax(q);
-      }
-    crack_lo_.array() -= 2.0 * grid.h;
-    crack_hi_.array() += 2.0 * grid.h;
-    // Tips marked -1: an end is a tip if material lies just ahead of it (D38).
-    const double h = grid.h;
-    for (auto& c : cracks)
+  const double h = grid.h;
+  crack_lo_ = Vec::Constant(1e300);
+  crack_hi_ = Vec::Constant(-1e300);
+  auto extend = [&](const Vec& q) {
+    crack_lo_ = crack_lo_.cwiseMin(q);
+    crack_hi_ = crack_hi_.cwiseMax(q);
+  };
+  for (auto& c : cracks) {
+    if constexpr (D == 2) {
+      for (const auto& q : c.points)
+        extend(q);
+      // Tips marked -1: an end is a tip if material lies just ahead of it (D38).
       for (int end = 0; end < 2; ++end) {
         if (c.tip[static_cast<std::size_t>(end)] >= 0) continue;
         const std::size_t m = c.points.size();
@@ -258,7 +264,15 @@ template <int D> void Solver<D>::update_crack_geometry() {
           inside = (particles.x0[p] - probe).squaredNorm() <= h * h;
         c.tip[static_cast<std::size_t>(end)] = inside ? 1 : 0;
       }
+    } else {
+      for (const auto& q : c.corners)
+        extend(q);
+      const std::string why = resolve_fronts(c, particles, h); // D42
+      if (!why.empty()) throw std::runtime_error("gimp: crack '" + c.name + "': " + why);
+    }
   }
+  crack_lo_.array() -= 2.0 * h;
+  crack_hi_.array() += 2.0 * h;
   for (std::size_t i = 0; i < nnodes_; ++i)
     if (near_crack(grid.position(static_cast<std::int64_t>(i)))) crack_nodes_.push_back(i);
 }
@@ -411,14 +425,12 @@ template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool
   }
   for (std::size_t k = 0; k < prescribed_nodes.size(); ++k) // coupling hook (ESCM)
     for (int fld = 0; fld < nfields_; ++fld)
-      vel[static_cast<std::size_t>(prescribed_nodes[k]) +
-          static_cast<std::size_t>(fld) * nnodes_] = prescribed_velocity[k];
+      vel[static_cast<std::size_t>(prescribed_nodes[k]) + static_cast<std::size_t>(fld) * nnodes_] =
+          prescribed_velocity[k];
 }
 
 template <int D> bool Solver<D>::crosses(const Vec& a, const Vec& b) const {
-  if constexpr (D != 2) {
-    return false;
-  } else {
+  if constexpr (D == 2) {
     auto orient = [](const Vec& p, const Vec& q, const Vec& r) {
       return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
     };
@@ -433,7 +445,70 @@ template <int D> bool Solver<D>::crosses(const Vec& a, const Vec& b) const {
           return true;
       }
     return false;
+  } else {
+    // D42: a and b strictly on opposite sides of the plane, and the piercing point strictly
+    // inside the convex polygon (ties count as no crossing, as in 2-D).
+    for (const auto& c : cracks) {
+      const Vec& n = c.normal;
+      const double da = n.dot(a - c.corners[0]), db = n.dot(b - c.corners[0]);
+      if (!((da > 0 && db < 0) || (da < 0 && db > 0))) continue;
+      const Vec x = a + (da / (da - db)) * (b - a);
+      const std::size_t m = c.corners.size();
+      bool in = true;
+      for (std::size_t k = 0; k < m && in; ++k) {
+        const Vec& p = c.corners[k];
+        in = (c.corners[(k + 1) % m] - p).cross(x - p).dot(n) > 0.0;
+      }
+      if (in) return true;
+    }
+    return false;
   }
+}
+
+template <int D> typename Solver<D>::Vec Solver<D>::crack_normal(const Vec& X) const {
+  double best = 1e300;
+  Vec n = Vec::Zero();
+  // Squared distance from X to segment p-q and the closest point.
+  auto seg = [&](const Vec& p, const Vec& q, Vec& cp) {
+    const Vec d = q - p;
+    const double tt = std::clamp((X - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    cp = p + tt * d;
+    return (X - cp).squaredNorm();
+  };
+  for (const auto& c : cracks) {
+    if constexpr (D == 2) {
+      for (std::size_t k = 0; k + 1 < c.points.size(); ++k) {
+        Vec cp;
+        const double dist = seg(c.points[k], c.points[k + 1], cp);
+        if (dist < best) {
+          best = dist;
+          const Vec d = c.points[k + 1] - c.points[k];
+          n = Vec(-d[1], d[0]).normalized();
+          if ((X - cp).dot(n) > 0) n = -n;
+        }
+      }
+    } else {
+      // Distance to the polygon: to its plane if X projects inside, else to the nearest edge.
+      const double dn = c.normal.dot(X - c.corners[0]);
+      const Vec xp = X - dn * c.normal;
+      const std::size_t m = c.corners.size();
+      bool in = true;
+      double dist = 1e300;
+      for (std::size_t k = 0; k < m; ++k) {
+        const Vec& p = c.corners[k];
+        const Vec& q = c.corners[(k + 1) % m];
+        in = in && (q - p).cross(xp - p).dot(c.normal) >= 0.0;
+        Vec cp;
+        dist = std::min(dist, seg(p, q, cp));
+      }
+      if (in) dist = dn * dn;
+      if (dist < best) {
+        best = dist;
+        n = dn > 0 ? Vec(-c.normal) : Vec(c.normal);
+      }
+    }
+  }
+  return n;
 }
 
 // With cracks: node indices of the stencil entries that use field 1 are shifted by nnodes_.
@@ -449,36 +524,17 @@ template <int D> void Solver<D>::apply_fields(std::size_t p, Stencil<D>& st) con
 // get the normal velocity of their centre of mass; tangential velocities are left free.
 // n: unit normal of the nearest crack segment, pointing from the node's side across it.
 template <int D> void Solver<D>::contact(std::vector<Vec>& vel) const {
-  if constexpr (D == 2) {
-    for (std::size_t i : crack_nodes_) {
-      const std::size_t j = i + nnodes_;
-      if (!active_[i] || !active_[j]) continue;
-      const Vec X = grid.position(static_cast<std::int64_t>(i));
-      double best = 1e300;
-      Vec n = Vec::Zero();
-      for (const auto& c : cracks)
-        for (std::size_t k = 0; k + 1 < c.points.size(); ++k) {
-          const Vec& p = c.points[k];
-          const Vec d = c.points[k + 1] - p;
-          const double tt = std::clamp((X - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
-          const Vec cp = p + tt * d;
-          const double dist = (X - cp).squaredNorm();
-          if (dist < best) {
-            best = dist;
-            n = Vec(-d[1], d[0]).normalized();
-            if ((X - cp).dot(n) > 0) n = -n;
-          }
-        }
-      const Vec u0 = gu_[i] / gm_[i], u1 = gu_[j] / gm_[j];
-      if ((u0 - u1).dot(n) < -1e-6 * grid.h) continue; // open
-      const double rel = (vel[i] - vel[j]).dot(n);
-      if (rel <= 0.0) continue; // separating
-      const double vn = (gm_[i] * vel[i].dot(n) + gm_[j] * vel[j].dot(n)) / (gm_[i] + gm_[j]);
-      vel[i] += (vn - vel[i].dot(n)) * n;
-      vel[j] += (vn - vel[j].dot(n)) * n;
-    }
-  } else {
-    (void)vel;
+  for (std::size_t i : crack_nodes_) {
+    const std::size_t j = i + nnodes_;
+    if (!active_[i] || !active_[j]) continue;
+    const Vec n = crack_normal(grid.position(static_cast<std::int64_t>(i)));
+    const Vec u0 = gu_[i] / gm_[i], u1 = gu_[j] / gm_[j];
+    if ((u0 - u1).dot(n) < -1e-6 * grid.h) continue; // open
+    const double rel = (vel[i] - vel[j]).dot(n);
+    if (rel <= 0.0) continue; // separating
+    const double vn = (gm_[i] * vel[i].dot(n) + gm_[j] * vel[j].dot(n)) / (gm_[i] + gm_[j]);
+    vel[i] += (vn - vel[i].dot(n)) * n;
+    vel[j] += (vn - vel[j].dot(n)) * n;
   }
 }
 
@@ -630,8 +686,8 @@ template <int D> void Solver<D>::step(double dt) {
   prescribed_reaction.assign(prescribed_nodes.size(), Vec::Zero());
   for (std::size_t k = 0; k < prescribed_nodes.size(); ++k)
     for (int fld = 0; fld < nfields_; ++fld) {
-      const std::size_t i = static_cast<std::size_t>(prescribed_nodes[k]) +
-                            static_cast<std::size_t>(fld) * nnodes_;
+      const std::size_t i =
+          static_cast<std::size_t>(prescribed_nodes[k]) + static_cast<std::size_t>(fld) * nnodes_;
       if (!active_[i]) continue;
       const Vec R = gm_[i] * (gvn_[i] - gp_[i]) / dt - (0.5 * (gfi0_[i] + gfi_[i]) + gfe_[i]);
       prescribed_reaction[k] += R;
@@ -700,6 +756,89 @@ template <int D> typename Solver<D>::Vec Solver<D>::total_reaction() const {
   for (const auto& bc : bcs)
     r += bc.reaction;
   return r;
+}
+
+std::string check_planar_crack(Crack& c) {
+  using V3 = Eigen::Vector3d;
+  const std::size_t m = c.corners.size();
+  if (m < 3) return "needs >= 3 corners [x, y, z] (a planar polygon)";
+  double size = 0.0;
+  for (std::size_t k = 0; k < m; ++k)
+    for (std::size_t l = k + 1; l < m; ++l)
+      size = std::max(size, (c.corners[k] - c.corners[l]).norm());
+  for (std::size_t k = 0; k < m; ++k)
+    if (!((c.corners[(k + 1) % m] - c.corners[k]).norm() > 1e-12 * size))
+      return "degenerate: corners " + std::to_string(k) + " and " + std::to_string((k + 1) % m) +
+             " coincide (consecutive corners must differ)";
+  // Newell's normal: twice the vector area.
+  V3 a = V3::Zero();
+  V3 ctr = V3::Zero();
+  for (std::size_t k = 0; k < m; ++k) {
+    a += c.corners[k].cross(c.corners[(k + 1) % m]);
+    ctr += c.corners[k] / static_cast<double>(m);
+  }
+  if (!(a.norm() > 1e-12 * size * size))
+    return "degenerate: the polygon has zero area (or crosses itself)";
+  const V3 n = a.normalized();
+  for (std::size_t k = 0; k < m; ++k) {
+    const double off = std::abs(n.dot(c.corners[k] - ctr));
+    if (off > 1e-9 * size) {
+      std::ostringstream o;
+      o << "non-planar: corner " << k << " is " << off
+        << " m off the polygon's mean plane (a crack must be planar, to 1e-9 of its size)";
+      return o.str();
+    }
+  }
+  double turn = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const V3 e0 = c.corners[k] - c.corners[(k + m - 1) % m];
+    const V3 e1 = c.corners[(k + 1) % m] - c.corners[k];
+    const double s = e0.cross(e1).dot(n);
+    if (std::abs(s) <= 1e-9 * e0.norm() * e1.norm())
+      return "degenerate: corner " + std::to_string(k) +
+             " is collinear with its neighbours (a straight edge or front is one edge: give "
+             "its two end corners only)";
+    if (s < 0)
+      return "not convex: the polygon turns the other way at corner " + std::to_string(k) +
+             " (give a convex polygon, corners in order)";
+    turn += std::atan2(s, e0.dot(e1));
+  }
+  if (std::abs(turn - 2.0 * 3.14159265358979323846) > 1e-6)
+    return "self-intersecting: the corners must go once around a convex polygon";
+  c.normal = n;
+  if (c.front.size() != m) c.front.assign(m, -1);
+  return "";
+}
+
+Eigen::Vector3d edge_outward(const Crack& c, std::size_t k) {
+  const std::size_t m = c.corners.size();
+  const Eigen::Vector3d e = c.corners[(k + 1) % m] - c.corners[k];
+  return e.cross(c.normal).normalized(); // counter-clockwise corners about n: e x n points out
+}
+
+std::string resolve_fronts(Crack& c, const Particles<3>& P, double h) {
+  const std::size_t m = c.corners.size();
+  auto material_near = [&](const Eigen::Vector3d& probe) {
+    for (std::size_t p = 0; p < P.size(); ++p)
+      if ((P.x0[p] - probe).squaredNorm() <= h * h) return true;
+    return false;
+  };
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Vector3d a = c.corners[k], b = c.corners[(k + 1) % m];
+    if (c.front[k] < 0) c.front[k] = material_near(0.5 * (a + b) + h * edge_outward(c, k)) ? 1 : 0;
+    if (c.front[k] != 1) continue;
+    const Eigen::Vector3d e = (b - a).normalized();
+    for (const Eigen::Vector3d& end : {Eigen::Vector3d(a - h * e), Eigen::Vector3d(b + h * e)})
+      if (material_near(end)) {
+        std::ostringstream o;
+        o << "front edge " << k << " (corners " << k << " to " << (k + 1) % m
+          << ") ends inside the material near (" << end[0] << ", " << end[1] << ", " << end[2]
+          << ") m: only straight fronts that cross the whole body are supported (extend the "
+             "polygon beyond the body's faces; D42)";
+        return o.str();
+      }
+  }
+  return "";
 }
 
 template struct Particles<2>;

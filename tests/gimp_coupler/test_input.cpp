@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -465,4 +466,166 @@ TEST(GimpOutput, VtuAsciiAndBinaryHoldTheParticleData) {
       EXPECT_EQ(pts[3 * p + 2], 0.0);
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3-D planar cracks (D42): input, errors, checkpoint/resume.
+
+namespace {
+/// A slab x in [0, 1], y in [-1, 1], z in [0, 0.25] (two cells thick) with a through-thickness
+/// edge crack in the plane y = 1e-7 from outside the body to the straight front x = 0.5625,
+/// plane strain (u_z = 0 on and beyond both z faces), x-symmetry at x = 0, tension in y.
+json slab3d() {
+  return json::parse(R"({
+    "dimension": 3,
+    "grid": {"origin": [-0.25, -1.25, -0.25], "cells": [10, 20, 6], "cell_size": 0.125},
+    "materials": [{"name": "m", "type": "linear_elastic", "density": 1000, "E": 1e7, "nu": 0.3}],
+    "bodies": [{"material": "m", "shape": "box", "min": [0, -1, 0], "max": [1, 1, 0.25]}],
+    "cracks": [{"name": "c", "corners": [[-0.1, 1e-7, -0.1], [0.5625, 1e-7, -0.1],
+                                         [0.5625, 1e-7, 0.35], [-0.1, 1e-7, 0.35]]}],
+    "boundaries": [{"name": "sym", "min": [-1, -2, -1], "max": [0, 2, 1], "symmetry": "x"},
+                   {"name": "z0", "min": [-1, -2, -1], "max": [2, 2, 0], "symmetry": "z"},
+                   {"name": "z1", "min": [-1, -2, 0.25], "max": [2, 2, 1], "symmetry": "z"}],
+    "loads": {"tractions": [
+      {"name": "top", "min": [0, 0.95, 0], "max": [1, 1, 1], "axis": "y", "traction": [0, 1e4, 0]},
+      {"name": "bottom", "min": [0, -1, 0], "max": [1, -0.95, 1], "axis": "y",
+       "traction": [0, -1e4, 0]}]},
+    "damping": 100,
+    "time": {"end": 1, "max_steps": 30},
+    "output": {"interval": 0, "history_every": 4}
+  })");
+}
+} // namespace
+
+// The crack keys of 3-D: corners, automatic and explicit fronts, J radii; every rule broken
+// is an input error naming the key and the rule.
+TEST(GimpInput, PlanarCrack3DKeysAndErrors) {
+  {
+    Solver<3> s;
+    load_input_text<3>(slab3d().dump(), "in.json", "", s);
+    ASSERT_EQ(s.cracks.size(), 1u);
+    EXPECT_EQ(s.cracks[0].corners.size(), 4u);
+    EXPECT_EQ(s.cracks[0].front, (std::vector<int>{0, 1, 0, 0})); // auto: material ahead
+    EXPECT_NEAR(std::abs(s.cracks[0].normal[1]), 1.0, 1e-15);
+    json j = slab3d();
+    j["cracks"][0]["front"] = json::array({1});
+    j["cracks"][0]["j_radius"] = json::array({0.1, 0.3});
+    Solver<3> s2;
+    load_input_text<3>(j.dump(), "in.json", "", s2);
+    EXPECT_EQ(s2.cracks[0].front, (std::vector<int>{0, 1, 0, 0}));
+    EXPECT_EQ(s2.cracks[0].j_outer, 0.3);
+  }
+  auto expect_error = [](const json& j, const std::string& key, const std::string& rule) {
+    Solver<3> s;
+    std::string msg;
+    try {
+      load_input_text<3>(j.dump(), "in.json", "", s);
+    } catch (const pnc::InputError& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find("in.json"), std::string::npos) << key << ": " << msg;
+    EXPECT_NE(msg.find("'" + key + "'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(rule), std::string::npos) << msg;
+  };
+  json j = slab3d();
+  j["cracks"][0]["corners"][2][1] = 0.01; // one corner off the plane
+  expect_error(j, "cracks[0].corners", "non-planar: corner");
+  j = slab3d();
+  j["cracks"][0]["corners"] = json::array({json::array({0, 0, 0}), json::array({1, 0, 0})});
+  expect_error(j, "cracks[0].corners", ">= 3 corners");
+  j = slab3d();
+  j["cracks"][0]["corners"][1] = json::array({0.2, 1e-7, -0.1}); // collinear with 0 and ...
+  j["cracks"][0]["corners"].insert(j["cracks"][0]["corners"].begin() + 2,
+                                   json::array({0.5625, 1e-7, -0.1}));
+  expect_error(j, "cracks[0].corners", "collinear");
+  j = slab3d();
+  j["cracks"][0]["corners"][1] = j["cracks"][0]["corners"][0];
+  expect_error(j, "cracks[0].corners", "degenerate");
+  j = slab3d();
+  std::swap(j["cracks"][0]["corners"][1], j["cracks"][0]["corners"][2]); // a bow tie
+  expect_error(j, "cracks[0].corners", "crosses itself");
+  j = slab3d();
+  j["cracks"][0]["corners"].insert(j["cracks"][0]["corners"].begin() + 2,
+                                   json::array({0.2, 1e-7, 0.1})); // a dent in the front
+  expect_error(j, "cracks[0].corners", "not convex: the polygon turns the other way at corner 2");
+  j = slab3d();
+  j["cracks"][0]["corners"][2][2] = 0.1; // the front ends inside the slab
+  j["cracks"][0]["corners"][3][2] = 0.1;
+  expect_error(j, "cracks[0].corners", "front edge 1");
+  j = slab3d();
+  j["cracks"][0]["front"] = json::array({4});
+  expect_error(j, "cracks[0].front", "edge indices in [0, 3]");
+  j = slab3d();
+  j["cracks"][0]["front"] = "left";
+  expect_error(j, "cracks[0].front", "\"auto\" or an array");
+  j = slab3d();
+  j["cracks"][0]["front"] = json::array({0}); // a front outside the body: allowed (J = 0)
+  {
+    Solver<3> s;
+    EXPECT_NO_THROW(load_input_text<3>(j.dump(), "in.json", "", s));
+  }
+  j = slab3d();
+  j["cracks"][0]["growth"] = {{"Gc", 1}};
+  expect_error(j, "cracks[0].growth", "2-D only");
+  j = slab3d();
+  j["cracks"][0]["points"] = json::array({json::array({0, 0, 0}), json::array({1, 0, 0})});
+  expect_error(j, "cracks[0].points", "planar polygon");
+  j = slab3d();
+  j["cracks"][0]["tips"] = "end";
+  expect_error(j, "cracks[0].tips", "front");
+  j = slab3d();
+  j["cracks"][0]["normal"] = json::array({0, 1, 0});
+  expect_error(j, "cracks[0].normal", "unknown key");
+}
+
+// A 3-D run with a planar crack: the front-averaged J columns are in the history, the crack is
+// saved in and restored from the checkpoint, and the resumed run matches the uninterrupted one
+// bit for bit.
+TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
+  const fs::path d = tmpdir("resume_crack3d");
+  {
+    std::ofstream f(d / "in.json");
+    f << slab3d().dump(2);
+  }
+  RunOptions o;
+  o.input = (d / "in.json").string();
+  o.progress = false;
+  o.plot = false;
+  o.out_dir = (d / "straight").string();
+  const RunSummary a = run(o);
+  o.out_dir = (d / "split").string();
+  o.stop_after_steps = 12;
+  run(o);
+  o.stop_after_steps = 0;
+  o.resume = true;
+  const RunSummary b = run(o);
+  EXPECT_TRUE(b.resumed);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
+  EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
+  Solver<3> sa, sb;
+  load_input<3>(o.input, sa);
+  load_input<3>(o.input, sb);
+  sa.initialize();
+  sb.initialize();
+  sb.cracks[0].corners.clear(); // must come back from the checkpoint
+  sb.cracks[0].front.clear();
+  CheckpointExtra xa, xb;
+  read_checkpoint<3>((d / "straight/checkpoint.h5").string(), sa, xa);
+  read_checkpoint<3>((d / "split/checkpoint.h5").string(), sb, xb);
+  EXPECT_EQ(sa.cracks[0].corners, sb.cracks[0].corners);
+  EXPECT_EQ(sb.cracks[0].corners.size(), 4u);
+  EXPECT_EQ(sb.cracks[0].front, (std::vector<int>{0, 1, 0, 0}));
+  for (std::size_t p = 0; p < sa.particles.size(); ++p)
+    EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
+  EXPECT_EQ(xa.history.columns, xb.history.columns);
+  const auto col = std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_front1");
+  ASSERT_NE(col, xa.history.columns.end());
+  EXPECT_EQ(xa.history.rows, xb.history.rows);
+  const auto k = static_cast<std::size_t>(col - xa.history.columns.begin());
+  EXPECT_GT(xa.history.rows.back()[k], 0.0); // loaded: J > 0
+  std::ifstream sj(d / "straight/summary.json");
+  const json summary = json::parse(sj);
+  EXPECT_EQ(summary["cracks"][0]["fronts"][0]["edge"], 1);
+  EXPECT_NEAR(summary["cracks"][0]["fronts"][0]["front_length_m"].get<double>(), 0.25, 1e-12);
 }

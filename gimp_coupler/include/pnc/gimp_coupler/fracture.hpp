@@ -1,5 +1,6 @@
 #pragma once
-// pnc/gimp_coupler/fracture.hpp: energy release rates and growth of 2-D cracks (CRAMP).
+// pnc/gimp_coupler/fracture.hpp: energy release rates and growth of 2-D cracks (CRAMP), and
+// the front-averaged energy release rate of straight fronts of 3-D planar cracks (D42).
 //
 // Units: SI. Positions, lengths m; energy release rates J/m^2 (= N/m, per unit crack area;
 // in 2-D per metre of thickness and metre of crack advance); angles rad.
@@ -21,6 +22,11 @@
 // (dn <= 0) has G_I = 0.
 // Growth (D40): see CrackGrowth in solver.hpp; direction by the maximum hoop stress
 // criterion theta = 2 atan((1 - sqrt(1 + 8 R^2)) / (4 R)), R = K_II/K_I.
+// 3-D (D42): for a straight front edge, the same domain integral with q a function of the
+// in-plane distance from the front line only (constant along the front, over the whole body,
+// which the front must cross), divided by the front length in the material: the front-averaged
+// (plane-strain-equivalent) J per unit front length; the split uses the same faces behind the
+// front (its whole length). Mode III (tearing) is reported as a displacement, not split off.
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <string>
@@ -47,6 +53,31 @@ struct TipResult {
 
 /// J, G_I, G_II of every crack tip (ends with Crack::tip == 1) of an initialised solver.
 std::vector<TipResult> crack_tips(const Solver<2>& s);
+
+/// One straight front of a 3-D planar crack (D42): front-averaged quantities.
+struct FrontResult {
+  std::size_t crack = 0; ///< index into Solver::cracks
+  std::size_t edge = 0;  ///< front edge: corners[edge] -> corners[(edge + 1) % n]
+  Eigen::Vector3d mid = Eigen::Vector3d::Zero(); ///< midpoint of the front edge, m
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(); ///< unit direction ahead (in the crack plane)
+  Eigen::Vector3d e2 = Eigen::Vector3d::UnitY(); ///< crack normal (upper face: xi2 > 0)
+  Eigen::Vector3d e3 = Eigen::Vector3d::UnitZ(); ///< along the front, e1 x e2
+  double J = 0.0;                                ///< front-averaged J per unit front length, J/m^2
+  double GI = 0.0;                               ///< mode I part, J/m^2
+  double GII = 0.0;     ///< mode II part (in-plane sliding normal to the front), J/m^2
+  double opening = 0.0; ///< mean opening behind the front (upper - lower, along e2), m
+  double sliding = 0.0; ///< mean sliding along e1, m
+  double tearing = 0.0; ///< mean sliding along the front (mode III, not split off), m
+  double length = 0.0;  ///< front length inside the material (J is divided by it), m
+  double depth = 0.0;   ///< crack length normal to the front (polygon extent along -e1), m
+  int particles = 0;    ///< particles in the J domain
+  /// "<crack>_front<edge>" (history column suffix).
+  std::string label(const Solver<3>& s) const;
+};
+
+/// Front-averaged J, G_I, G_II of every front edge (Crack::front == 1) of the 3-D cracks of an
+/// initialised solver.
+std::vector<FrontResult> crack_fronts(const Solver<3>& s);
 
 /// Kink angle (rad, counter-clockwise from e1 toward the upper face normal e2) of the maximum
 /// hoop stress criterion for the mode ratio K_II/K_I = sliding/opening. Pure mode I: 0; pure

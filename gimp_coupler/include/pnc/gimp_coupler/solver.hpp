@@ -106,8 +106,9 @@ struct CrackGrowth {
   int max_increments = 1000000;        ///< stop growing after this many increments
 };
 
-/// A crack in 2-D (CRAMP, Nairn 2003): a polyline of points (m) through the body, fixed in
-/// space (given in the undeformed configuration). Its faces are traction-free; where they
+/// A crack (CRAMP, Nairn 2003). 2-D: a polyline of points (m) through the body; 3-D (D42): a
+/// planar convex polygon (`corners`) whose front edges are straight. Fixed in space (given in
+/// the undeformed configuration). Its faces are traction-free; where they
 /// touch they are in frictionless contact. Energy release rates per tip by the J-integral
 /// (domain form on the particles, D38) split into G_I, G_II by the crack-opening displacements
 /// (D39); growth by `growth` (D40); functions in fracture.hpp.
@@ -124,7 +125,35 @@ struct Crack {
   double j_outer = 0.0;
   CrackGrowth growth;
   int increments = 0; ///< growth increments so far
+
+  // --- 3-D (D42): a planar convex polygon with straight-edge fronts; `points`, `tip` and
+  // `growth` are not used. ---
+  /// Corners (m, >= 3, in order around the polygon, one plane, convex); edge k runs from
+  /// corners[k] to corners[(k + 1) % n].
+  std::vector<Eigen::Vector3d> corners;
+  /// Per edge: 1 = a crack front (straight, crossing the whole body), 0 = not a front,
+  /// -1 = decide in resolve_fronts() (a front if a particle centroid lies within h of the
+  /// edge midpoint + h * the outward in-plane normal).
+  std::vector<int> front;
+  /// Unit normal (right-hand rule of the corner order; set by check_planar_crack()).
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
 };
+
+/// Checks a 3-D crack polygon (D42) and sets its unit normal: >= 3 corners, consecutive
+/// corners distinct, no three consecutive corners collinear (a straight edge is one edge),
+/// non-zero area, all corners in one plane (to 1e-9 of the polygon's size), convex and simple.
+/// Returns "" or the rule broken (e.g. "non-planar: corner 3 is 0.01 m off the plane ...").
+std::string check_planar_crack(Crack& c);
+
+/// Unit in-plane normal of edge k of a checked 3-D crack, pointing out of the polygon.
+Eigen::Vector3d edge_outward(const Crack& c, std::size_t k);
+
+/// Resolves 3-D front flags marked -1 (a front if material lies just ahead, as the 2-D tip
+/// detection) and checks that every front crosses the whole body: returns "" or the rule
+/// broken ("front edge k ends inside the material ..."): the front-averaged J (D42) uses a
+/// weight constant along the front, which is only valid for fronts that end outside the
+/// material (free faces or symmetry planes normal to the front).
+std::string resolve_fronts(Crack& c, const Particles<3>& particles, double h);
 
 /// Energies and works since t = 0, J.
 struct Energies {
@@ -154,8 +183,9 @@ public:
   std::vector<std::shared_ptr<const Material>> materials;
   std::vector<NodeBC<D>> bcs;
   std::vector<Traction<D>> tractions;
-  /// Cracks (2-D only): nodes whose support a crack cuts carry a second velocity field; a
-  /// particle uses field 1 of a node when the segment particle -> node crosses a crack.
+  /// Cracks (2-D polylines, 3-D planar polygons, D42): nodes whose support a crack cuts carry a
+  /// second velocity field; a particle uses field 1 of a node when the segment particle -> node
+  /// crosses a crack (segment or polygon).
   std::vector<Crack> cracks;
   Vec gravity = Vec::Zero(); ///< body acceleration, m/s^2
   Ramp gravity_ramp{0.0, 0.0};
@@ -211,6 +241,8 @@ private:
   void apply_fields(std::size_t p, Stencil<D>& st) const;
   void contact(std::vector<Vec>& vel) const;
   bool crosses(const Vec& a, const Vec& b) const;
+  /// Unit normal of the crack nearest to node position X, pointing from X's side across it.
+  Vec crack_normal(const Vec& X) const;
   [[noreturn]] void left_grid(std::size_t p) const;
 
   std::vector<Buffer> buf_;    // per-thread grid copies
@@ -221,10 +253,10 @@ private:
   std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
   std::vector<unsigned char> active_;
   std::vector<unsigned char> bcmask_; // per node: bit a = component a prescribed by a BC
-  std::size_t nnodes_ = 0;           // grid nodes; arrays hold nfields_ x nnodes_ entries
-  int nfields_ = 1;                  // 2 with cracks
-  std::vector<std::uint32_t> fmask_; // per particle: bit k = stencil node k uses field 1
-  std::vector<Vec> gu_;              // nodal displacement per field (contact gap test), m
+  std::size_t nnodes_ = 0;            // grid nodes; arrays hold nfields_ x nnodes_ entries
+  int nfields_ = 1;                   // 2 with cracks
+  std::vector<std::uint32_t> fmask_;  // per particle: bit k = stencil node k uses field 1
+  std::vector<Vec> gu_;               // nodal displacement per field (contact gap test), m
   Vec crack_lo_ = Vec::Zero(), crack_hi_ = Vec::Zero(); // crack bounding box + 2 h
   std::vector<std::size_t> crack_nodes_;                // nodes inside that box
   bool near_crack(const Vec& x) const {
