@@ -619,7 +619,7 @@ void Coupler::write_energy_csv(const std::string& path) const {
   pnc::write_text_atomically(path, o.str());
 }
 
-void Coupler::write_atoms_vtu(const std::string& path) const {
+void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra) const {
   std::vector<int> ids;
   std::vector<Eigen::Vector3d> x, v;
   atoms(ids, x, v);
@@ -655,6 +655,21 @@ void Coupler::write_atoms_vtu(const std::string& path) const {
        "NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& q : v)
     o << q[0] << ' ' << q[1] << ' ' << q[2] << '\n';
+  for (const PointArray& a : extra) {
+    if (a.components < 1 || a.values.size() != n * static_cast<std::size_t>(a.components))
+      throw std::invalid_argument("write_atoms_vtu: array '" + a.name + "' has " +
+                                  std::to_string(a.values.size()) + " values for " +
+                                  std::to_string(n) + " atoms x " + std::to_string(a.components) +
+                                  " components");
+    o << "</DataArray><DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
+      << a.components << "\" format=\"ascii\">\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < a.components; ++c)
+        o << (c ? " " : "")
+          << a.values[i * static_cast<std::size_t>(a.components) + static_cast<std::size_t>(c)];
+      o << '\n';
+    }
+  }
   o << "</DataArray></PointData>\n</Piece></UnstructuredGrid>\n</VTKFile>\n";
   pnc::write_text_atomically(path, o.str());
 }

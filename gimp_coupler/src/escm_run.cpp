@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/gimp_coupler/escm_lj.hpp"
 
 #include <nlohmann/json.hpp>
@@ -36,13 +37,28 @@ struct Params {
   double temperature = 0.0;
   double strain = 1e-2, settle_ps = 10, load_ps = 40, hold_ps = 30, damping_fraction = 0.7;
   int frames = 8;
+  double gradient_cells = 1.0; ///< background grid spacing of eqs. 6.3-6.7, in cell sizes
 };
 
-const std::set<std::string> kKeys = {
-    "lj",        "cells",     "block_cells",    "slab_cells", "svc_rings",
-    "ivc_rings", "substeps",  "md_timestep_fs", "mode",       "interior_temperature",
-    "strain",    "settle_ps", "load_ps",        "hold_ps",    "damping_fraction",
-    "frames",    "short",     "comment"};
+const std::set<std::string> kKeys = {"lj",
+                                     "cells",
+                                     "block_cells",
+                                     "slab_cells",
+                                     "svc_rings",
+                                     "ivc_rings",
+                                     "substeps",
+                                     "md_timestep_fs",
+                                     "mode",
+                                     "interior_temperature",
+                                     "strain",
+                                     "settle_ps",
+                                     "load_ps",
+                                     "hold_ps",
+                                     "damping_fraction",
+                                     "frames",
+                                     "short",
+                                     "comment",
+                                     "gradient_spacing_cells"};
 
 void apply(const json& j, Params& p, const std::string& src, const std::string& prefix) {
   auto num = [&](const std::string& k, double lo, double hi, const char* rule) {
@@ -117,6 +133,65 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
   if (j.contains("damping_fraction"))
     p.damping_fraction = num("damping_fraction", 0, 10, "a number in [0, 10] (of critical)");
   if (j.contains("frames")) p.frames = integer("frames", 0, 1000, "an integer in [0, 1000]");
+  if (j.contains("gradient_spacing_cells"))
+    p.gradient_cells =
+        num("gradient_spacing_cells", 0.5, 10,
+            "a number in [0.5, 10] (spacing of the gradient grid in continuum cell sizes)");
+}
+
+/// Continuum particles as a VTU point cloud (SI: m, m/s): zone (-1 ordinary continuum, 1 IVC
+/// probe, 2 SVC), displacement_m, velocity_m_per_s, F_solver (the GIMP solver's F11 F12 F21
+/// F22), then `extra`.
+void write_particles_vtu(const std::string& path, const Solver<2>& s, const std::vector<int>& zone,
+                         const std::vector<PointArray>& extra) {
+  const std::size_t n = s.particles.size();
+  std::ostringstream o;
+  o.precision(12);
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n"
+    << "<UnstructuredGrid><Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
+    << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const auto& x : s.particles.x)
+    o << x[0] << ' ' << x[1] << " 0\n";
+  o << "</DataArray></Points>\n<Cells><DataArray type=\"Int64\" Name=\"connectivity\" "
+       "format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i)
+    o << i << '\n';
+  o << "</DataArray><DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i)
+    o << i + 1 << '\n';
+  o << "</DataArray><DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i)
+    o << "1\n";
+  o << "</DataArray></Cells>\n<PointData><DataArray type=\"Int32\" Name=\"zone\" "
+       "format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i)
+    o << zone[i] << '\n';
+  o << "</DataArray><DataArray type=\"Float64\" Name=\"displacement_m\" "
+       "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d u = s.particles.x[i] - s.particles.x0[i];
+    o << u[0] << ' ' << u[1] << " 0\n";
+  }
+  o << "</DataArray><DataArray type=\"Float64\" Name=\"velocity_m_per_s\" "
+       "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const auto& v : s.particles.v)
+    o << v[0] << ' ' << v[1] << " 0\n";
+  o << "</DataArray><DataArray type=\"Float64\" Name=\"F_solver\" "
+       "NumberOfComponents=\"4\" format=\"ascii\">\n";
+  for (const auto& F : s.particles.F)
+    o << F(0, 0) << ' ' << F(0, 1) << ' ' << F(1, 0) << ' ' << F(1, 1) << '\n';
+  for (const PointArray& a : extra) {
+    o << "</DataArray><DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
+      << a.components << "\" format=\"ascii\">\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < a.components; ++c)
+        o << (c ? " " : "")
+          << a.values[i * static_cast<std::size_t>(a.components) + static_cast<std::size_t>(c)];
+      o << '\n';
+    }
+  }
+  o << "</DataArray></PointData>\n</Piece></UnstructuredGrid>\n</VTKFile>\n";
+  pnc::write_text_atomically(path, o.str());
 }
 
 } // namespace
@@ -204,6 +279,52 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   Coupler cp(s, c);
   cp.setup();
 
+  // Displacement gradients of eqs. 6.3-6.7 (D79): all continuum particles and all atoms
+  // (projected on x, y) on a bilinear grid aligned with the continuum grid, updated at every
+  // coupled step. IVC probes receive gradients but do not enter the nodal fit (their position
+  // is a block-averaged copy of their atoms, D73).
+  const std::size_t ncont = s.particles.size();
+  std::vector<int> pzone(ncont, static_cast<int>(Zone::none));
+  for (const Cell& cell : cp.cells())
+    pzone[cell.particle] = static_cast<int>(cell.zone);
+  GradientTracker grad(s.grid.origin, p.gradient_cells * h);
+  std::vector<Eigen::Vector2d> gx;
+  std::vector<int> gids;
+  std::vector<Eigen::Vector3d> gax, gav;
+  auto gather = [&] {
+    cp.atoms(gids, gax, gav);
+    gx.resize(ncont + gax.size());
+    for (std::size_t k = 0; k < ncont; ++k)
+      gx[k] = s.particles.x[k];
+    for (std::size_t k = 0; k < gax.size(); ++k)
+      gx[ncont + k] = cp.to_continuum(gax[k]);
+  };
+  gather();
+  {
+    std::vector<char> contributes(gx.size(), 1);
+    for (std::size_t k = 0; k < ncont; ++k)
+      contributes[k] = pzone[k] != static_cast<int>(Zone::ivc);
+    grad.reset(gx, contributes);
+  }
+  double grad_wall = 0.0;
+  // The four components and the support flag of particles [b, e) as VTU point arrays.
+  auto grad_arrays = [&](std::size_t b, std::size_t e) {
+    std::vector<PointArray> a = {{"du_dX", 1, {}},
+                                 {"du_dY", 1, {}},
+                                 {"dv_dX", 1, {}},
+                                 {"dv_dY", 1, {}},
+                                 {"gradient_supported", 1, {}}};
+    for (std::size_t k = b; k < e; ++k) {
+      const Eigen::Matrix2d H = grad.H(k);
+      a[0].values.push_back(H(0, 0));
+      a[1].values.push_back(H(0, 1));
+      a[2].values.push_back(H(1, 0));
+      a[3].values.push_back(H(1, 1));
+      a[4].values.push_back(grad.supported()[k]);
+    }
+    return a;
+  };
+
   const double ps = 1e-12;
   const double t_settle = p.settle_ps * ps, t_load = p.load_ps * ps;
   const double t_end = t_settle + t_load + p.hold_ps * ps;
@@ -212,18 +333,19 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   CoupleSummary r;
   std::ostringstream prof;
   prof.precision(10);
-  prof << "time_s,x_m,ux_m,source\n";
+  prof << "time_s,x_m,ux_m,source,dux_dX\n";
   const int jmid = by0 + p.nby / 2;
   auto profile = [&] {
     for (std::size_t k = 0; k < s.particles.size(); ++k) {
       const auto& x0 = s.particles.x0[k];
       if (static_cast<int>(std::floor(x0[1] / h)) != jmid) continue;
-      prof << s.time << ',' << x0[0] << ',' << s.particles.x[k][0] - x0[0] << ",continuum\n";
+      prof << s.time << ',' << x0[0] << ',' << s.particles.x[k][0] - x0[0] << ",continuum,"
+           << grad.H(k)(0, 0) << '\n';
     }
     std::vector<int> ids;
     std::vector<Eigen::Vector3d> x, v;
     cp.atoms(ids, x, v);
-    std::map<int, std::array<double, 3>> acc; // cell i -> (x0 sum, u sum, n)
+    std::map<int, std::array<double, 4>> acc; // cell i -> (x0 sum, u sum, n, du/dX sum)
     for (std::size_t k = 0; k < x.size(); ++k) {
       const Eigen::Vector2d x0 = cp.to_continuum(cp.atoms_initial()[k]);
       if (static_cast<int>(std::floor(x0[1] / h)) != jmid) continue;
@@ -231,9 +353,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
       a[0] += x0[0];
       a[1] += (cp.to_continuum(x[k]) - x0)[0];
       a[2] += 1;
+      a[3] += grad.H(ncont + k)(0, 0);
     }
     for (const auto& [i, a] : acc)
-      prof << s.time << ',' << a[0] / a[2] << ',' << a[1] / a[2] << ",md\n";
+      prof << s.time << ',' << a[0] / a[2] << ',' << a[1] / a[2] << ",md," << a[3] / a[2] << '\n';
   };
   const auto w0 = std::chrono::steady_clock::now();
   auto last = w0;
@@ -243,10 +366,20 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                                ? p.strain * L / t_load * (1 - std::cos(2 * M_PI * tl / t_load))
                                : 0.0;
     cp.step();
+    {
+      const auto g0 = std::chrono::steady_clock::now();
+      gather();
+      grad.update(gx);
+      grad_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - g0).count();
+    }
     if ((k + 1) % frame_every == 0) {
-      const std::string f = out + "/atoms_" + std::to_string((k + 1) / frame_every) + ".vtu";
-      cp.write_atoms_vtu(f);
+      const std::string idx = std::to_string((k + 1) / frame_every);
+      const std::string f = out + "/atoms_" + idx + ".vtu";
+      cp.write_atoms_vtu(f, grad_arrays(ncont, gx.size()));
       r.frames.push_back(f);
+      const std::string fp = out + "/particles_" + idx + ".vtu";
+      write_particles_vtu(fp, s, pzone, grad_arrays(0, ncont));
+      r.particle_frames.push_back(fp);
       profile();
     }
     const auto now = std::chrono::steady_clock::now();
@@ -285,6 +418,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   sj["lj_fcc"] = {{"a0_A", lj.a0_A}, {"C11_Pa", lj.C11}, {"C12_Pa", lj.C12},     {"C44_Pa", lj.C44},
                   {"E_Pa", lj.E()},  {"nu", lj.nu()},    {"density", lj.density}};
   sj["reaction_left_N_per_m"] = r.reaction_left;
+  sj["gradient"] = {
+      {"spacing_m", grad.spacing()}, {"increments", grad.increments()}, {"wall_s", grad_wall}};
+  sj["particle_frames"] = r.particle_frames;
   sj["expected_reaction_N_per_m"] = -lj.strip_modulus() * p.strain * p.ncy * h;
   const EnergyRow& e = r.energy;
   sj["energy_J"] = {{"cont_kinetic", e.cont_kinetic},

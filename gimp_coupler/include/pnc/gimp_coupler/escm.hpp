@@ -123,6 +123,13 @@ struct EnergyRow {
   double initial = 0.0; ///< cont_kinetic + cont_strain + md_kinetic at setup
 };
 
+/// A named per-point array for the VTU writers: `components` values per point, point-major.
+struct PointArray {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
 /// Wall-clock split of the coupled steps so far, s.
 struct Timing {
   double lammps = 0.0;    ///< inside lammps_command("run ...") minus the callback time
@@ -174,8 +181,9 @@ public:
   /// Writes the energy log as CSV (columns in docs/formats.md, "ESCM energy log"), atomically.
   void write_energy_csv(const std::string& path) const;
   /// Writes the atoms as a VTU point cloud (Angstrom, LAMMPS frame) with point data zone
-  /// (0 INT, 1 IVC, 2 SVC), displacement (A) since setup and velocity (A/fs), atomically.
-  void write_atoms_vtu(const std::string& path) const;
+  /// (0 INT, 1 IVC, 2 SVC), displacement (A) since setup and velocity (A/fs), then the
+  /// `extra` arrays (Float64, one entry per atom in id order), atomically.
+  void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {}) const;
   /// Names of the LAMMPS groups: "escm_svc", "escm_ivc", "escm_int", "escm_free" (ivc + int).
   /// The fix IDs: escm_lint (INT Langevin, if any), escm_livc, escm_ext.
 

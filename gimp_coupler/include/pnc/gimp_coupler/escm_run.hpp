@@ -2,7 +2,8 @@
 // pnc/gimp_coupler/escm_run.hpp: `pnc gimp couple INPUT --out DIR [--short]`: an ESCM tension
 // run (Case I analogue, docs/escm.md) of an LJ FCC crystal MD region at the centre of a 2-D
 // continuum calibrated to it, from a JSON input (keys in docs/escm.md, "Input file").
-// Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, lammps.log, summary.json and, with
+// Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, particles_<k>.vtu (both with the
+// displacement gradients of eqs. 6.3-6.7, escm_gradient.hpp), lammps.log, summary.json and, with
 // /usr/bin/python3 + matplotlib, profile.png and energy.png. Units: input in LAMMPS real for
 // the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
 #include "pnc/gimp_coupler/escm.hpp"
@@ -33,6 +34,7 @@ struct CoupleSummary {
   double strain_modulus_pa = 0.0; ///< C11 - C12^2/C11 of the crystal (expected slope)
   std::string energy_csv, profile_csv, summary_json, lammps_log, plot_warning;
   std::vector<std::string> frames, plots;
+  std::vector<std::string> particle_frames; ///< particles_<k>.vtu (continuum particles)
 };
 
 /// Validates the input (throws pnc::InputError naming file, key, value, rule) before LAMMPS
