@@ -1,7 +1,8 @@
-// Energy release rates and growth of 2-D cracks (fracture.hpp). SI units.
+// Energy release rates and growth of cracks (fracture.hpp; 3-D: D42, D43). SI units.
 #include "pnc/gimp_coupler/fracture.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace pnc::gimp {
 
@@ -194,16 +195,20 @@ double hoop_angle(double opening, double sliding) {
   return 2.0 * std::atan((1.0 - std::sqrt(1.0 + 8.0 * R * R)) / (4.0 * R));
 }
 
+bool growth_due(const Crack& c, double J, double GI, double GII) {
+  const CrackGrowth& g = c.growth;
+  if (!(g.Gc > 0.0) || !(g.increment > 0.0) || c.increments >= g.max_increments) return false;
+  return g.GIIc > 0.0 ? GI / g.Gc + GII / g.GIIc >= 1.0 : J >= g.Gc;
+}
+
 int grow_cracks(Solver<2>& s, const std::vector<TipResult>& tips) {
   int grown = 0;
   const double h = s.grid.h;
   for (const TipResult& r : tips) {
     Crack& c = s.cracks[r.crack];
     const CrackGrowth& g = c.growth;
-    if (!(g.Gc > 0.0) || !(g.increment > 0.0) || c.increments >= g.max_increments) continue;
     if (c.tip[static_cast<std::size_t>(r.end)] != 1) continue;
-    const bool go = g.GIIc > 0.0 ? r.GI / g.Gc + r.GII / g.GIIc >= 1.0 : r.J >= g.Gc;
-    if (!go) continue;
+    if (!growth_due(c, r.J, r.GI, r.GII)) continue;
     V2 dir;
     if (g.prescribed) {
       dir = g.direction.normalized();
@@ -225,6 +230,35 @@ int grow_cracks(Solver<2>& s, const std::vector<TipResult>& tips) {
     for (std::size_t p = 0; p < s.particles.size() && !inside; ++p)
       inside = (s.particles.x0[p] - probe).squaredNorm() <= h * h;
     if (!inside) c.tip[static_cast<std::size_t>(r.end)] = 0;
+  }
+  if (grown) s.update_crack_geometry();
+  return grown;
+}
+
+int grow_cracks(Solver<3>& s, const std::vector<FrontResult>& fronts) {
+  int grown = 0;
+  for (const FrontResult& r : fronts) {
+    Crack& c = s.cracks[r.crack];
+    if (r.edge >= c.front.size() || c.front[r.edge] != 1) continue;
+    if (!growth_due(c, r.J, r.GI, r.GII)) continue;
+    // D43: translate the front edge in the crack plane, normal to itself (e1 = the edge's
+    // outward in-plane normal of the current polygon).
+    const std::size_t m = c.corners.size();
+    const Eigen::Vector3d step = c.growth.increment * edge_outward(c, r.edge);
+    Crack moved = c;
+    moved.corners[r.edge] += step;
+    moved.corners[(r.edge + 1) % m] += step;
+    const std::string why = check_planar_crack(moved);
+    if (!why.empty())
+      throw std::runtime_error("gimp: crack '" + c.name + "': growth of front edge " +
+                               std::to_string(r.edge) + " leaves no valid polygon: " + why);
+    c.corners = moved.corners;
+    c.normal = moved.normal;
+    // Still a front? Decided again by the automatic rule (material within h ahead of the
+    // midpoint, as the 2-D tip probe) in update_crack_geometry().
+    c.front[r.edge] = -1;
+    ++c.increments;
+    ++grown;
   }
   if (grown) s.update_crack_geometry();
   return grown;

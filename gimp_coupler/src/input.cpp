@@ -452,9 +452,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
                 "in 3-D a crack is a planar polygon: give \"corners\" [[x, y, z], ...]");
         if (c.has("tips"))
           c.bad("tips", c.at("tips"), "in 3-D the fronts are edges: give \"front\"");
-        if (c.has("growth"))
-          c.bad("growth", c.at("growth"), "crack growth is implemented in 2-D only (D42)");
-        c.allow({"name", "corners", "front", "j_radius"});
+        c.allow({"name", "corners", "front", "j_radius", "growth"});
         const json& cj = c.at("corners");
         if (!cj.is_array() || cj.size() < 3)
           c.bad("corners", cj, "must be an array of >= 3 corners [x, y, z] (m)");
@@ -520,28 +518,34 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
             c.bad("tips", c.at("tips"),
                   "must be \"auto\", \"start\", \"end\", \"both\" or \"none\"");
         }
-        if (c.has("growth")) { // D40
-          const Node gr = c.child("growth");
-          gr.allow({"Gc", "GIIc", "increment", "direction", "max_increments"});
-          cr.growth.Gc = gr.positive("Gc");
-          if (gr.has("GIIc")) cr.growth.GIIc = gr.positive("GIIc");
-          cr.growth.increment = gr.has("increment") ? gr.positive("increment") : s.grid.h;
-          if (gr.has("direction")) {
-            const json& dj = gr.at("direction");
-            if (dj.is_string() && dj.get<std::string>() == "hoop") {
-              cr.growth.prescribed = false;
-            } else {
-              const Vec2 v = gr.vec<2>("direction");
-              if (!(v.norm() > 0))
-                gr.bad("direction", dj, "must be \"hoop\" or a non-zero [dx, dy]");
-              cr.growth.prescribed = true;
-              cr.growth.direction = v.normalized();
-            }
-          }
-          cr.growth.max_increments =
-              static_cast<int>(gr.integer("max_increments", 1000000, 0, 1000000000L));
-        }
       } // D == 2
+
+      // D40; 3-D: D43 (the same keys; a 3-D front advances in its plane, normal to itself)
+      if (c.has("growth")) {
+        const Node gr = c.child("growth");
+        gr.allow({"Gc", "GIIc", "increment", "direction", "max_increments"});
+        cr.growth.Gc = gr.positive("Gc");
+        if (gr.has("GIIc")) cr.growth.GIIc = gr.positive("GIIc");
+        cr.growth.increment = gr.has("increment") ? gr.positive("increment") : s.grid.h;
+        if (gr.has("direction")) {
+          const json& dj = gr.at("direction");
+          if constexpr (D == 3) {
+            gr.bad("direction", dj,
+                   "in 3-D a front advances in the crack plane, normal to itself (D43): "
+                   "kinking out of the plane (\"hoop\", the mode-mix direction) and prescribed "
+                   "directions are 2-D only; omit \"direction\"");
+          } else if (dj.is_string() && dj.get<std::string>() == "hoop") {
+            cr.growth.prescribed = false;
+          } else {
+            const Vec2 v = gr.vec<2>("direction");
+            if (!(v.norm() > 0)) gr.bad("direction", dj, "must be \"hoop\" or a non-zero [dx, dy]");
+            cr.growth.prescribed = true;
+            cr.growth.direction = v.normalized();
+          }
+        }
+        cr.growth.max_increments =
+            static_cast<int>(gr.integer("max_increments", 1000000, 0, 1000000000L));
+      }
       if (c.has("j_radius")) {
         const json& r = c.at("j_radius");
         if (!r.is_array() || r.size() != 2 || !r[0].is_number() || !r[1].is_number() ||

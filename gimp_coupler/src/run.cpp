@@ -76,14 +76,24 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   x.input_hash = file_fnv1a64(o.input);
   // Crack tips at the start ((crack, end), "<crack>_start|end"): fixed history columns.
   std::vector<std::pair<std::pair<std::size_t, int>, std::string>> tip_ids;
-  // 3-D (D42): the straight fronts ((crack, edge), "<crack>_front<edge>"); they do not grow.
+  // 3-D (D42): the straight fronts at the start ((crack, edge), "<crack>_front<edge>"): fixed
+  // history columns. With growth (D43) a front may stop being one; the flags of t = 0 are
+  // kept in the checkpoint (as the 2-D tips of t = 0, in CheckpointExtra::initial_tips).
   std::vector<std::pair<std::pair<std::size_t, std::size_t>, std::string>> front_ids;
-  auto find_fronts = [&]() {
+  [[maybe_unused]] auto find_fronts = [&](const std::vector<int>& initial) {
+    std::size_t n = 0;
+    for (const auto& c : s.cracks)
+      n += c.front.size();
+    const bool use_initial = initial.size() == n;
+    std::size_t i = 0;
     for (std::size_t c = 0; c < s.cracks.size(); ++c)
-      for (std::size_t e = 0; e < s.cracks[c].front.size(); ++e)
-        if (s.cracks[c].front[e] == 1)
+      for (std::size_t e = 0; e < s.cracks[c].front.size(); ++e, ++i)
+        if (use_initial ? initial[i] == 1 : s.cracks[c].front[e] == 1)
           front_ids.push_back({{c, e}, s.cracks[c].name + "_front" + std::to_string(e)});
   };
+  [[maybe_unused]] bool any_growth = false;
+  for (const auto& c : s.cracks)
+    any_growth = any_growth || c.growth.Gc > 0.0;
   RunSummary sum;
   sum.dimension = D;
   if (o.resume && fs::exists(ckpt)) {
@@ -92,24 +102,31 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     s.initialize(false);
     // initialize() recomputes KE/SE from the particles; keep the works from the checkpoint.
     sum.resumed = true;
-    find_fronts();
-    for (std::size_t c = 0; c < s.cracks.size(); ++c)
-      for (int e = 0; e < 2; ++e)
-        if (x.initial_tips.size() > 2 * c + static_cast<std::size_t>(e) &&
-            x.initial_tips[2 * c + static_cast<std::size_t>(e)])
-          tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
+    if constexpr (D == 3) find_fronts(x.initial_tips);
+    if constexpr (D == 2)
+      for (std::size_t c = 0; c < s.cracks.size(); ++c)
+        for (int e = 0; e < 2; ++e)
+          if (x.initial_tips.size() > 2 * c + static_cast<std::size_t>(e) &&
+              x.initial_tips[2 * c + static_cast<std::size_t>(e)])
+            tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
   } else {
     if (o.resume && o.progress)
       std::cerr << "pnc gimp: --resume: no checkpoint in " << o.out_dir << ", starting at t = 0\n";
     s.initialize(true);
-    find_fronts();
     x.initial_tips.clear();
-    for (std::size_t c = 0; c < s.cracks.size(); ++c)
-      for (int e = 0; e < 2; ++e) {
-        const bool is_tip = s.cracks[c].tip[static_cast<std::size_t>(e)] == 1;
-        x.initial_tips.push_back(is_tip ? 1 : 0);
-        if (is_tip) tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
-      }
+    if constexpr (D == 3) { // the front flags of t = 0, crack by crack, edge by edge
+      for (const auto& c : s.cracks)
+        for (int f : c.front)
+          x.initial_tips.push_back(f == 1 ? 1 : 0);
+      find_fronts(x.initial_tips);
+    }
+    if constexpr (D == 2)
+      for (std::size_t c = 0; c < s.cracks.size(); ++c)
+        for (int e = 0; e < 2; ++e) {
+          const bool is_tip = s.cracks[c].tip[static_cast<std::size_t>(e)] == 1;
+          x.initial_tips.push_back(is_tip ? 1 : 0);
+          if (is_tip) tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
+        }
     x.history.columns = {"step",          "time",          "dt",     "kinetic", "strain",
                          "external_work", "boundary_work", "balance"};
     static const char* ax[] = {"x", "y", "z"};
@@ -160,10 +177,24 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     }
     if constexpr (D == 3) {
       const auto fronts = front_ids.empty() ? std::vector<FrontResult>{} : crack_fronts(s);
-      for (const auto& t : front_ids)
-        for (const auto& r : fronts)
-          if (r.crack == t.first.first && r.edge == t.first.second)
-            row.insert(row.end(), {r.J, r.GI, r.GII, r.depth, r.length});
+      for (const auto& t : front_ids) {
+        const FrontResult* r = nullptr;
+        for (const auto& q : fronts)
+          if (q.crack == t.first.first && q.edge == t.first.second) r = &q;
+        if (r) {
+          row.insert(row.end(), {r->J, r->GI, r->GII, r->depth, r->length});
+        } else { // the front has left the material (crack through, D43): NaN, the length
+          const Crack& c = s.cracks[t.first.first];
+          const std::size_t m = c.corners.size(), e = t.first.second;
+          const Eigen::Vector3d mid = 0.5 * (c.corners[e] + c.corners[(e + 1) % m]);
+          const Eigen::Vector3d e1 = edge_outward(c, e);
+          double depth = 0.0;
+          for (const auto& q : c.corners)
+            depth = std::max(depth, (mid - q).dot(e1));
+          const double nan = std::nan("");
+          row.insert(row.end(), {nan, nan, nan, depth, nan});
+        }
+      }
     }
     x.history.rows.push_back(row);
   };
@@ -206,6 +237,17 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                                      "increments, tip at ({:.6g}, {:.6g}) m\n",
                                      s.steps, s.time, c.name, c.increments, c.points.back()[0],
                                      c.points.back()[1]);
+      }
+    }
+    if constexpr (D == 3) { // D43: growth of the straight fronts every fracture_every steps
+      if (any_growth && !front_ids.empty() && s.steps % rc.fracture_every == 0) {
+        const int g = grow_cracks(s, crack_fronts(s));
+        sum.crack_increments += g;
+        if (g > 0 && o.progress)
+          for (const auto& c : s.cracks)
+            std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
+                                     "increments\n",
+                                     s.steps, s.time, c.name, c.increments);
       }
     }
     if (s.steps % rc.history_every == 0) record(dt);
@@ -326,6 +368,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     for (std::size_t c = 0; c < s.cracks.size(); ++c) {
       nlohmann::json one;
       one["name"] = s.cracks[c].name;
+      one["increments"] = s.cracks[c].increments;
       nlohmann::json pts = nlohmann::json::array();
       for (const auto& q : s.cracks[c].corners)
         pts.push_back({q[0], q[1], q[2]});

@@ -186,8 +186,10 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     } else {
       const std::string why = check_planar_crack(c);
       if (!why.empty()) throw std::runtime_error("gimp: crack '" + c.name + "': " + why);
-      if (c.growth.Gc > 0.0)
-        throw std::runtime_error("gimp: crack '" + c.name + "': growth is 2-D only (D42)");
+      if (c.growth.Gc > 0.0 && c.growth.prescribed) // D43: fronts advance in the plane
+        throw std::runtime_error("gimp: crack '" + c.name +
+                                 "': a prescribed growth direction is 2-D only; a 3-D front "
+                                 "advances in the crack plane, normal to itself (D43)");
     }
   }
   nfields_ = cracks.empty() ? 1 : 2;

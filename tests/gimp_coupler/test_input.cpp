@@ -564,9 +564,33 @@ TEST(GimpInput, PlanarCrack3DKeysAndErrors) {
     Solver<3> s;
     EXPECT_NO_THROW(load_input_text<3>(j.dump(), "in.json", "", s));
   }
+  // Growth (D43): the 2-D keys; the front advances in the crack plane, normal to itself, so
+  // "direction" (hoop, i.e. kinking out of the plane by the mode mix, or prescribed) is an
+  // error in 3-D.
   j = slab3d();
-  j["cracks"][0]["growth"] = {{"Gc", 1}};
-  expect_error(j, "cracks[0].growth", "2-D only");
+  j["cracks"][0]["growth"] = {
+      {"Gc", 100.0}, {"GIIc", 300.0}, {"increment", 0.01}, {"max_increments", 7}};
+  {
+    Solver<3> s;
+    load_input_text<3>(j.dump(), "in.json", "", s);
+    const CrackGrowth& g = s.cracks[0].growth;
+    EXPECT_EQ(g.Gc, 100.0);
+    EXPECT_EQ(g.GIIc, 300.0);
+    EXPECT_EQ(g.increment, 0.01);
+    EXPECT_EQ(g.max_increments, 7);
+    EXPECT_FALSE(g.prescribed);
+    j["cracks"][0]["growth"].erase("increment");
+    Solver<3> s2;
+    load_input_text<3>(j.dump(), "in.json", "", s2);
+    EXPECT_EQ(s2.cracks[0].growth.increment, 0.125); // default h
+  }
+  j = slab3d();
+  j["cracks"][0]["growth"] = {{"Gc", 1}, {"direction", "hoop"}};
+  expect_error(j, "cracks[0].growth.direction", "kinking out of the plane");
+  j["cracks"][0]["growth"]["direction"] = json::array({1, 0, 0});
+  expect_error(j, "cracks[0].growth.direction", "in 3-D a front advances in the crack plane");
+  j["cracks"][0]["growth"] = {{"Gc", -1}};
+  expect_error(j, "cracks[0].growth.Gc", "must be > 0");
   j = slab3d();
   j["cracks"][0]["points"] = json::array({json::array({0, 0, 0}), json::array({1, 0, 0})});
   expect_error(j, "cracks[0].points", "planar polygon");
@@ -578,14 +602,19 @@ TEST(GimpInput, PlanarCrack3DKeysAndErrors) {
   expect_error(j, "cracks[0].normal", "unknown key");
 }
 
-// A 3-D run with a planar crack: the front-averaged J columns are in the history, the crack is
-// saved in and restored from the checkpoint, and the resumed run matches the uninterrupted one
-// bit for bit.
+// A 3-D run with a growing planar crack (D43; the 3-D twin of
+// ResumeWithGrowingCrackContinuesBitForBit): the front-averaged J columns are in the history,
+// the grown crack is saved in and restored from the checkpoint, it grows before and after the
+// interruption, and the resumed run matches the uninterrupted one bit for bit.
 TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   const fs::path d = tmpdir("resume_crack3d");
   {
+    json j = slab3d();
+    j["cracks"][0]["growth"] = {{"Gc", 1e-12}, {"increment", 0.0625}, {"max_increments", 3}};
+    j["fracture_every"] = 5;
+    j["time"]["max_steps"] = 40;
     std::ofstream f(d / "in.json");
-    f << slab3d().dump(2);
+    f << j.dump(2);
   }
   RunOptions o;
   o.input = (d / "in.json").string();
@@ -595,11 +624,15 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   const RunSummary a = run(o);
   o.out_dir = (d / "split").string();
   o.stop_after_steps = 12;
-  run(o);
+  const RunSummary b1 = run(o);
   o.stop_after_steps = 0;
   o.resume = true;
   const RunSummary b = run(o);
   EXPECT_TRUE(b.resumed);
+  EXPECT_EQ(a.crack_increments, 3);
+  EXPECT_GT(b1.crack_increments, 0); // grew before the interruption ...
+  EXPECT_GT(b.crack_increments, 0);  // ... and after it
+  EXPECT_EQ(b1.crack_increments + b.crack_increments, 3);
   EXPECT_EQ(a.steps, b.steps);
   EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
   EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
@@ -614,7 +647,10 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   read_checkpoint<3>((d / "straight/checkpoint.h5").string(), sa, xa);
   read_checkpoint<3>((d / "split/checkpoint.h5").string(), sb, xb);
   EXPECT_EQ(sa.cracks[0].corners, sb.cracks[0].corners);
-  EXPECT_EQ(sb.cracks[0].corners.size(), 4u);
+  ASSERT_EQ(sb.cracks[0].corners.size(), 4u);
+  EXPECT_EQ(sb.cracks[0].increments, 3);
+  EXPECT_NEAR((sb.cracks[0].corners[1] - Eigen::Vector3d(0.75, 1e-7, -0.1)).norm(), 0, 1e-12);
+  EXPECT_NEAR((sb.cracks[0].corners[2] - Eigen::Vector3d(0.75, 1e-7, 0.35)).norm(), 0, 1e-12);
   EXPECT_EQ(sb.cracks[0].front, (std::vector<int>{0, 1, 0, 0}));
   for (std::size_t p = 0; p < sa.particles.size(); ++p)
     EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
@@ -627,5 +663,12 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   std::ifstream sj(d / "straight/summary.json");
   const json summary = json::parse(sj);
   EXPECT_EQ(summary["cracks"][0]["fronts"][0]["edge"], 1);
+  EXPECT_EQ(summary["cracks"][0]["increments"], 3);
+  const auto len =
+      std::find(xa.history.columns.begin(), xa.history.columns.end(), "length_c_front1");
+  ASSERT_NE(len, xa.history.columns.end());
+  const auto kl = static_cast<std::size_t>(len - xa.history.columns.begin());
+  EXPECT_NEAR(xa.history.rows.front()[kl], 0.6625, 1e-12);
+  EXPECT_NEAR(xa.history.rows.back()[kl], 0.6625 + 3 * 0.0625, 1e-12);
   EXPECT_NEAR(summary["cracks"][0]["fronts"][0]["front_length_m"].get<double>(), 0.25, 1e-12);
 }

@@ -27,6 +27,8 @@
 // which the front must cross), divided by the front length in the material: the front-averaged
 // (plane-strain-equivalent) J per unit front length; the split uses the same faces behind the
 // front (its whole length). Mode III (tearing) is reported as a displacement, not split off.
+// 3-D growth (D43): the same criterion as in 2-D on the front-averaged values; a front edge
+// advances by the increment in the crack plane, normal to itself (no kinking out of plane).
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <string>
@@ -89,5 +91,18 @@ double hoop_angle(double opening, double sliding);
 /// crack geometry, and marks a tip that has left the material (no particle within h ahead of
 /// it) as no longer a tip. Returns the number of increments made.
 int grow_cracks(Solver<2>& s, const std::vector<TipResult>& tips);
+
+/// 3-D (D43): applies the same criterion (growth_due()) to the front-averaged J, G_I, G_II of
+/// every front whose crack has growth.Gc > 0; a front that meets it advances by one increment
+/// in the crack plane, normal to itself (both corners of the front edge move by increment *
+/// e1; the polygon stays planar, a loss of convexity is an error), at most once per call. A
+/// front with no material within h ahead of its midpoint afterwards stops being a front (the
+/// 2-D rule). Updates the solver's crack geometry; returns the number of increments made.
+int grow_cracks(Solver<3>& s, const std::vector<FrontResult>& fronts);
+
+/// The growth criterion (D40), shared by 2-D tips and 3-D fronts: true when the crack has
+/// growth controls (Gc > 0, increment > 0), fewer than max_increments increments, and
+/// J >= Gc (GIIc = 0) or G_I/Gc + G_II/GIIc >= 1 (GIIc > 0).
+bool growth_due(const Crack& c, double J, double GI, double GII);
 
 } // namespace pnc::gimp

@@ -41,7 +41,9 @@ struct CheckpointExtra {
   std::vector<std::string> frame_files;
   std::vector<double> frame_times;
   History history;
-  std::vector<int> initial_tips; ///< 2 per crack: the ends that were tips at t = 0 (columns)
+  /// The history columns' cracks: 2-D, 2 per crack, the ends that were tips at t = 0; 3-D, 1
+  /// per edge, crack by crack, the fronts of t = 0 (D43).
+  std::vector<int> initial_tips;
 };
 
 template <int D>

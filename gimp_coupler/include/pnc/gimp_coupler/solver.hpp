@@ -96,7 +96,8 @@ template <int D> struct Traction {
 /// Crack growth controls (D40): the crack tip advances by `increment` when
 /// G = J >= Gc (GIIc = 0) or G_I/Gc + G_II/GIIc >= 1 (GIIc > 0), at most once per tip per
 /// fracture evaluation, in the maximum-hoop-stress direction of the mode mix or along a
-/// prescribed direction.
+/// prescribed direction. 3-D (D43): the same criterion on the front-averaged values; a front
+/// advances in the crack plane, normal to itself (`prescribed` and `direction` are 2-D only).
 struct CrackGrowth {
   double Gc = 0.0;         ///< critical energy release rate (mode I or total), J/m^2; 0: no growth
   double GIIc = 0.0;       ///< mode II critical value, J/m^2; 0: criterion on the total G
@@ -126,8 +127,8 @@ struct Crack {
   CrackGrowth growth;
   int increments = 0; ///< growth increments so far
 
-  // --- 3-D (D42): a planar convex polygon with straight-edge fronts; `points`, `tip` and
-  // `growth` are not used. ---
+  // --- 3-D (D42): a planar convex polygon with straight-edge fronts; `points` and `tip` are
+  // not used; `growth` moves front edges in the plane (D43). ---
   /// Corners (m, >= 3, in order around the polygon, one plane, convex); edge k runs from
   /// corners[k] to corners[(k + 1) % n].
   std::vector<Eigen::Vector3d> corners;
