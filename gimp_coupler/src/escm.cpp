@@ -619,13 +619,21 @@ void Coupler::write_energy_csv(const std::string& path) const {
   pnc::write_text_atomically(path, o.str());
 }
 
-void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra) const {
-  std::vector<int> ids;
-  std::vector<Eigen::Vector3d> x, v;
-  atoms(ids, x, v);
-  std::ostringstream o;
-  o.precision(9);
+void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
+                           const std::vector<int>& zone, const std::vector<PointArray>& arrays,
+                           int precision) {
   const std::size_t n = x.size();
+  auto bad = [&](const std::string& name, std::size_t values, int components) {
+    throw std::invalid_argument("write_point_cloud_vtu: array '" + name + "' has " +
+                                std::to_string(values) + " values for " + std::to_string(n) +
+                                " points x " + std::to_string(components) + " components");
+  };
+  if (zone.size() != n) bad("zone", zone.size(), 1);
+  for (const PointArray& a : arrays)
+    if (a.components < 1 || a.values.size() != n * static_cast<std::size_t>(a.components))
+      bad(a.name, a.values.size(), a.components);
+  std::ostringstream o;
+  o.precision(precision);
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n"
     << "<UnstructuredGrid><Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
     << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
@@ -643,35 +651,37 @@ void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointAr
     o << "1\n";
   o << "</DataArray></Cells>\n<PointData><DataArray type=\"Int32\" Name=\"zone\" "
        "format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i)
-    o << static_cast<int>(zone_of(ids[i])) << '\n';
-  o << "</DataArray><DataArray type=\"Float64\" Name=\"displacement_A\" "
-       "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d u = x[i] - d_->x_init[i];
-    o << u[0] << ' ' << u[1] << ' ' << u[2] << '\n';
-  }
-  o << "</DataArray><DataArray type=\"Float64\" Name=\"velocity_A_per_fs\" "
-       "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& q : v)
-    o << q[0] << ' ' << q[1] << ' ' << q[2] << '\n';
-  for (const PointArray& a : extra) {
-    if (a.components < 1 || a.values.size() != n * static_cast<std::size_t>(a.components))
-      throw std::invalid_argument("write_atoms_vtu: array '" + a.name + "' has " +
-                                  std::to_string(a.values.size()) + " values for " +
-                                  std::to_string(n) + " atoms x " + std::to_string(a.components) +
-                                  " components");
+  for (int z : zone)
+    o << z << '\n';
+  for (const PointArray& a : arrays) {
     o << "</DataArray><DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
       << a.components << "\" format=\"ascii\">\n";
+    const auto c = static_cast<std::size_t>(a.components);
     for (std::size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < a.components; ++c)
-        o << (c ? " " : "")
-          << a.values[i * static_cast<std::size_t>(a.components) + static_cast<std::size_t>(c)];
+      for (std::size_t k = 0; k < c; ++k)
+        o << (k ? " " : "") << a.values[i * c + k];
       o << '\n';
     }
   }
   o << "</DataArray></PointData>\n</Piece></UnstructuredGrid>\n</VTKFile>\n";
   pnc::write_text_atomically(path, o.str());
+}
+
+void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra) const {
+  std::vector<int> ids;
+  std::vector<Eigen::Vector3d> x, v;
+  atoms(ids, x, v);
+  const std::size_t n = x.size();
+  std::vector<int> zone(n);
+  std::vector<PointArray> arrays = {{"displacement_A", 3, {}}, {"velocity_A_per_fs", 3, {}}};
+  for (std::size_t i = 0; i < n; ++i) {
+    zone[i] = static_cast<int>(zone_of(ids[i]));
+    const Eigen::Vector3d u = x[i] - d_->x_init[i];
+    arrays[0].values.insert(arrays[0].values.end(), {u[0], u[1], u[2]});
+    arrays[1].values.insert(arrays[1].values.end(), {v[i][0], v[i][1], v[i][2]});
+  }
+  arrays.insert(arrays.end(), extra.begin(), extra.end());
+  write_point_cloud_vtu(path, x, zone, arrays, 9);
 }
 
 } // namespace pnc::gimp::escm

@@ -145,53 +145,21 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
 void write_particles_vtu(const std::string& path, const Solver<2>& s, const std::vector<int>& zone,
                          const std::vector<PointArray>& extra) {
   const std::size_t n = s.particles.size();
-  std::ostringstream o;
-  o.precision(12);
-  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n"
-    << "<UnstructuredGrid><Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
-    << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& x : s.particles.x)
-    o << x[0] << ' ' << x[1] << " 0\n";
-  o << "</DataArray></Points>\n<Cells><DataArray type=\"Int64\" Name=\"connectivity\" "
-       "format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i)
-    o << i << '\n';
-  o << "</DataArray><DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i)
-    o << i + 1 << '\n';
-  o << "</DataArray><DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i)
-    o << "1\n";
-  o << "</DataArray></Cells>\n<PointData><DataArray type=\"Int32\" Name=\"zone\" "
-       "format=\"ascii\">\n";
-  for (std::size_t i = 0; i < n; ++i)
-    o << zone[i] << '\n';
-  o << "</DataArray><DataArray type=\"Float64\" Name=\"displacement_m\" "
-       "NumberOfComponents=\"3\" format=\"ascii\">\n";
+  std::vector<Eigen::Vector3d> x(n);
+  std::vector<PointArray> arrays = {
+      {"displacement_m", 3, {}}, {"velocity_m_per_s", 3, {}}, {"F_solver", 4, {}}};
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d u = s.particles.x[i] - s.particles.x0[i];
-    o << u[0] << ' ' << u[1] << " 0\n";
+    const Eigen::Vector2d& xi = s.particles.x[i];
+    const Eigen::Vector2d u = xi - s.particles.x0[i];
+    const Eigen::Vector2d& v = s.particles.v[i];
+    const auto& F = s.particles.F[i];
+    x[i] = Eigen::Vector3d(xi[0], xi[1], 0.0);
+    arrays[0].values.insert(arrays[0].values.end(), {u[0], u[1], 0.0});
+    arrays[1].values.insert(arrays[1].values.end(), {v[0], v[1], 0.0});
+    arrays[2].values.insert(arrays[2].values.end(), {F(0, 0), F(0, 1), F(1, 0), F(1, 1)});
   }
-  o << "</DataArray><DataArray type=\"Float64\" Name=\"velocity_m_per_s\" "
-       "NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& v : s.particles.v)
-    o << v[0] << ' ' << v[1] << " 0\n";
-  o << "</DataArray><DataArray type=\"Float64\" Name=\"F_solver\" "
-       "NumberOfComponents=\"4\" format=\"ascii\">\n";
-  for (const auto& F : s.particles.F)
-    o << F(0, 0) << ' ' << F(0, 1) << ' ' << F(1, 0) << ' ' << F(1, 1) << '\n';
-  for (const PointArray& a : extra) {
-    o << "</DataArray><DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
-      << a.components << "\" format=\"ascii\">\n";
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < a.components; ++c)
-        o << (c ? " " : "")
-          << a.values[i * static_cast<std::size_t>(a.components) + static_cast<std::size_t>(c)];
-      o << '\n';
-    }
-  }
-  o << "</DataArray></PointData>\n</Piece></UnstructuredGrid>\n</VTKFile>\n";
-  pnc::write_text_atomically(path, o.str());
+  arrays.insert(arrays.end(), extra.begin(), extra.end());
+  write_point_cloud_vtu(path, x, zone, arrays, 12);
 }
 
 } // namespace

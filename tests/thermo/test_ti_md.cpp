@@ -248,7 +248,7 @@ TEST(ThermoTi, PolymerDhdlMatchesLammpsFiniteDifferenceAndStatesHaveDetFVolume) 
   spec.sampling.sample_every = 10;
   spec.sampling.blocks = 5;
   const double s = 0.005;
-  std::vector<std::pair<PointJob, LambdaSystem>> todo;
+  std::vector<std::pair<PointJob, LambdaSystem>> point_jobs;
   const std::vector<DeformState> states = {{"ref", 0, "ref"}, {"vol", s, "vol"}, {"dev", s, "dev"}};
   for (const auto& st : states) {
     PointJob j;
@@ -258,9 +258,9 @@ TEST(ThermoTi, PolymerDhdlMatchesLammpsFiniteDifferenceAndStatesHaveDetFVolume) 
     j.h5 = (d / (st.id + ".h5")).string();
     j.label = st.id;
     j.seed = 9;
-    todo.push_back({j, polymer_system(spec, st, rs, rve::polymer_forcefield_commands({}))});
+    point_jobs.push_back({j, polymer_system(spec, st, rs, rve::polymer_forcefield_commands({}))});
   }
-  run_points(spec.sampling, todo, false, 2, nullptr);
+  run_points(spec.sampling, point_jobs, false, 2, nullptr);
   std::map<std::string, PointResult> r;
   for (const auto& st : states)
     r[st.id] = read_point((d / (st.id + ".h5")).string());

@@ -210,13 +210,14 @@ PointResult read_point(const std::string& path) {
   return r;
 }
 
-void run_points(const SamplingSpec& s, const std::vector<std::pair<PointJob, LambdaSystem>>& todo,
-                bool resume, int jobs, const Progress& progress) {
+void run_points(const SamplingSpec& s,
+                const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
+                int jobs, const Progress& progress) {
   s.validate("<sampling>");
   std::vector<const std::pair<PointJob, LambdaSystem>*> pending;
-  for (const auto& t : todo)
+  for (const auto& t : point_jobs)
     if (!(resume && fs::exists(t.first.h5))) pending.push_back(&t);
-  const int total = static_cast<int>(todo.size());
+  const int total = static_cast<int>(point_jobs.size());
   int done = total - static_cast<int>(pending.size());
   if (progress && done > 0) progress("resumed: finished points reused", done, total, 0, 0);
   const auto t0 = std::chrono::steady_clock::now();
@@ -595,16 +596,16 @@ TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vecto
   if (!fs::is_regular_file(restart))
     fail(restart, "restart", restart, "no such LAMMPS restart file");
   const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
-  std::vector<std::pair<PointJob, LambdaSystem>> todo;
+  std::vector<std::pair<PointJob, LambdaSystem>> point_jobs;
   const auto states = ti_states(spec);
   for (std::size_t k = 0; k < states.size(); ++k) {
     const auto& st = states[k];
     const LambdaSystem sys = polymer_system(spec, st, fs::absolute(restart).string(), ff);
     for (const auto& j :
          node_jobs(q, (fs::path(dir) / st.id).string(), st.id, spec.seed * 1000 + k * 10 + 1))
-      todo.push_back({j, sys});
+      point_jobs.push_back({j, sys});
   }
-  run_points(spec.sampling, todo, resume, spec.jobs, progress);
+  run_points(spec.sampling, point_jobs, resume, spec.jobs, progress);
   TiResult r = collect_ti(spec, dir);
   r.h5 = (fs::path(dir) / "ti.h5").string();
   r.seconds = seconds_since(t0);

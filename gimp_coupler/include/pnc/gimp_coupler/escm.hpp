@@ -130,6 +130,14 @@ struct PointArray {
   std::vector<double> values;
 };
 
+/// Writes a VTU point cloud (one VTK_VERTEX cell per point; ASCII, `precision` digits) with
+/// the Int32 point array "zone" and then `arrays` (Float64), atomically. Positions in the
+/// caller's units (3 coordinates per point). Throws std::invalid_argument naming an array
+/// whose size is not points x components.
+void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
+                           const std::vector<int>& zone, const std::vector<PointArray>& arrays,
+                           int precision);
+
 /// Wall-clock split of the coupled steps so far, s.
 struct Timing {
   double lammps = 0.0;    ///< inside lammps_command("run ...") minus the callback time

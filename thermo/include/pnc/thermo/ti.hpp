@@ -132,8 +132,9 @@ struct PointJob {
 /// Runs every job whose file is missing (or all when !resume), `jobs` at a time, each in its
 /// own child with its LAMMPS log `<h5 without .h5>.log`; `progress` after each batch.
 /// Throws InputError with LAMMPS's message on the first failed point (finished points stay).
-void run_points(const SamplingSpec& s, const std::vector<std::pair<PointJob, LambdaSystem>>& todo,
-                bool resume, int jobs, const Progress& progress);
+void run_points(const SamplingSpec& s,
+                const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
+                int jobs, const Progress& progress);
 
 /// Jobs for the nodes of `rule` in `dir` (files dir/lambda_<i>.h5), seeds seed + i.
 std::vector<PointJob> node_jobs(const Quadrature& rule, const std::string& dir,
