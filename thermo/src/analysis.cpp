@@ -155,6 +155,30 @@ double t95(int dof) {
   return dof <= 30 ? t[dof - 1] : 1.96;
 }
 
+namespace {
+/// Standard error of a least-squares slope from residual-like terms r_i: the slope error is
+/// sum_i c_i r_i with c_i = (x_i - mean x)/Sxx; the sums of c_i r_i over `blocks` contiguous
+/// blocks longer than the correlation time are independent, so var = nb/(nb-2) sum_b B_b^2
+/// (two fitted parameters). NaN with fewer than 3 blocks (at most n/2 blocks).
+double blocked_slope_se(const std::vector<double>& x, double mx, double sxx,
+                        const std::vector<double>& r, int blocks) {
+  const std::size_t n = x.size();
+  const std::size_t nb =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(blocks, 0)), n / 2);
+  if (nb < 3) return std::nan("");
+  const std::size_t per = n / nb;
+  double v = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::size_t end = b + 1 == nb ? n : (b + 1) * per;
+    double B = 0;
+    for (std::size_t i = b * per; i < end; ++i)
+      B += (x[i] - mx) / sxx * r[i];
+    v += B * B;
+  }
+  return std::sqrt(v * static_cast<double>(nb) / static_cast<double>(nb - 2));
+}
+} // namespace
+
 Estimate block_slope(const std::vector<double>& x, const std::vector<double>& y, int blocks) {
   const std::size_t n = x.size();
   if (y.size() != n || n < 4)
@@ -175,25 +199,10 @@ Estimate block_slope(const std::vector<double>& x, const std::vector<double>& y,
   Estimate e;
   e.value = sxy / sxx;
   const double c0 = my - e.value * mx;
-  // slope - true slope = sum_i c_i eps_i with c_i = (x_i - mean x)/Sxx; the sums B_b of
-  // c_i r_i (r: residuals) over contiguous blocks longer than the correlation time are
-  // independent, so var = nb/(nb-2) sum_b B_b^2 (two fitted parameters).
-  const std::size_t nb =
-      std::min<std::size_t>(static_cast<std::size_t>(std::max(blocks, 0)), n / 2);
-  if (nb < 3) {
-    e.se = std::nan("");
-    return e;
-  }
-  const std::size_t per = n / nb;
-  double v = 0;
-  for (std::size_t b = 0; b < nb; ++b) {
-    const std::size_t end = b + 1 == nb ? n : (b + 1) * per;
-    double B = 0;
-    for (std::size_t i = b * per; i < end; ++i)
-      B += (x[i] - mx) / sxx * (y[i] - c0 - e.value * x[i]);
-    v += B * B;
-  }
-  e.se = std::sqrt(v * static_cast<double>(nb) / static_cast<double>(nb - 2));
+  std::vector<double> r(n);
+  for (std::size_t i = 0; i < n; ++i)
+    r[i] = y[i] - c0 - e.value * x[i];
+  e.se = blocked_slope_se(x, mx, sxx, r, blocks);
   return e;
 }
 
@@ -225,25 +234,11 @@ Estimate block_slope_ratio(const std::vector<double>& x, const std::vector<doubl
   fit(yd, ad, bd);
   Estimate e;
   e.value = bn / bd;
-  const std::size_t nb =
-      std::min<std::size_t>(static_cast<std::size_t>(std::max(blocks, 0)), n / 2);
-  if (nb < 3) {
-    e.se = std::nan("");
-    return e;
-  }
-  // error of bn/bd ~ (dbn - R dbd)/bd, dbn = sum c_i rn_i etc.; block sums independent
-  const std::size_t per = n / nb;
-  double v = 0;
-  for (std::size_t b = 0; b < nb; ++b) {
-    const std::size_t end = b + 1 == nb ? n : (b + 1) * per;
-    double B = 0;
-    for (std::size_t i = b * per; i < end; ++i) {
-      const double c = (x[i] - mx) / sxx;
-      B += c * ((yn[i] - an - bn * x[i]) - e.value * (yd[i] - ad - bd * x[i]));
-    }
-    v += B * B;
-  }
-  e.se = std::sqrt(v * static_cast<double>(nb) / static_cast<double>(nb - 2)) / std::fabs(bd);
+  // error of bn/bd ~ (dbn - R dbd)/bd, dbn = sum c_i rn_i etc.
+  std::vector<double> r(n);
+  for (std::size_t i = 0; i < n; ++i)
+    r[i] = (yn[i] - an - bn * x[i]) - e.value * (yd[i] - ad - bd * x[i]);
+  e.se = blocked_slope_se(x, mx, sxx, r, blocks) / std::fabs(bd);
   return e;
 }
 
