@@ -37,7 +37,7 @@ using pnc::damage::Voigt;
 
 constexpr std::size_t kBatch = 4096;
 
-enum class Scenario { elastic, loading, rotated };
+enum class Scenario { elastic, loading, rotated, rotated_elastic, plane_elastic };
 
 /// One batch of kernel inputs: start states, start strains and increments.
 struct Batch {
@@ -67,7 +67,13 @@ Eigen::Matrix3d platelet_rotation() {
 Batch make_batch(Model model, Scenario scenario) {
   Batch b;
   b.p = pnc::damage::dissertation_parameters(model);
-  if (scenario == Scenario::rotated) b.p.R = platelet_rotation();
+  const bool elastic = scenario == Scenario::elastic || scenario == Scenario::rotated_elastic ||
+                       scenario == Scenario::plane_elastic;
+  if (scenario == Scenario::rotated || scenario == Scenario::rotated_elastic)
+    b.p.R = platelet_rotation();
+  if (scenario == Scenario::plane_elastic) // 2-D plane strain, platelet 0.5 deg about x3
+    b.p.R = Eigen::AngleAxisd(0.5 * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ())
+                .toRotationMatrix();
   std::mt19937_64 rng(20240601u + static_cast<unsigned>(model) * 7u +
                       static_cast<unsigned>(scenario));
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -80,9 +86,10 @@ Batch make_batch(Model model, Scenario scenario) {
   for (std::size_t i = 0; i < kBatch; ++i) {
     Voigt eps;
     double fraction;
-    if (scenario == Scenario::elastic) {
+    if (elastic) {
       for (int j = 0; j < 6; ++j)
         eps[j] = 0.005 * u(rng);
+      if (scenario == Scenario::plane_elastic) eps[2] = eps[3] = eps[4] = 0.0;
       fraction = 0.9;
     } else {
       eps << 0.01 * u(rng), stretch + 0.01 * u(rng), 0.01 * u(rng), 0.02 * u(rng), 0.02 * u(rng),
@@ -93,7 +100,7 @@ Batch make_batch(Model model, Scenario scenario) {
     b.deps[i] = eps - b.eps0[i];
     NdmState virgin, s1;
     Voigt sigma;
-    if (scenario != Scenario::elastic) {
+    if (!elastic) {
       // start state = the kernel's own state after loading to eps0 from a virgin state
       pnc::damage::integrate(b.p, virgin, b.s0[i], Voigt::Zero(), b.eps0[i], sigma, nullptr, err);
     }
@@ -119,13 +126,23 @@ const char* scenario_name(Scenario s) {
     return "loading";
   case Scenario::rotated:
     return "rotated";
+  case Scenario::rotated_elastic:
+    return "rotated_elastic";
+  case Scenario::plane_elastic:
+    return "plane_elastic";
   }
   return "?";
 }
 
-template <Model M, Scenario S, bool Tangent> void BM_ndm(benchmark::State& state) {
+/// Prepared: through integrate(prepare(p), ...), as the material plugin calls it (the
+/// rotation and the rotated stiffness pieces built once), instead of integrate(p, ...).
+template <Model M, Scenario S, bool Tangent, bool Prepared = false>
+void BM_ndm(benchmark::State& state) {
   const Batch b = make_batch(M, S);
-  if (S != Scenario::elastic && b.loading_fraction < 1.0) {
+  const pnc::damage::PreparedNdm q = pnc::damage::prepare(b.p);
+  const bool elastic =
+      S == Scenario::elastic || S == Scenario::rotated_elastic || S == Scenario::plane_elastic;
+  if (!elastic && b.loading_fraction < 1.0) {
     state.SkipWithError("batch is not entirely past damage onset with damage growing");
     return;
   }
@@ -136,8 +153,10 @@ template <Model M, Scenario S, bool Tangent> void BM_ndm(benchmark::State& state
   int bad = 0;
   for (auto _ : state) {
     for (std::size_t i = 0; i < kBatch; ++i) {
-      const Status st = pnc::damage::integrate(b.p, b.s0[i], s1[i], b.eps0[i], b.deps[i], sigma[i],
-                                               Tangent ? &K : nullptr, err);
+      const Status st = Prepared ? pnc::damage::integrate(q, b.s0[i], s1[i], b.eps0[i], b.deps[i],
+                                                          sigma[i], Tangent ? &K : nullptr, err)
+                                 : pnc::damage::integrate(b.p, b.s0[i], s1[i], b.eps0[i], b.deps[i],
+                                                          sigma[i], Tangent ? &K : nullptr, err);
       bad += st != Status::ok;
       if (Tangent) benchmark::DoNotOptimize(K.data());
     }
@@ -153,7 +172,7 @@ template <Model M, Scenario S, bool Tangent> void BM_ndm(benchmark::State& state
       static_cast<double>(kBatch),
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.SetLabel(std::string(pnc::damage::model_name(M)) + " " + scenario_name(S) +
-                 (Tangent ? " stress+tangent" : " stress"));
+                 (Tangent ? " stress+tangent" : " stress") + (Prepared ? " prepared" : ""));
 }
 
 /// The yardstick: sigma = C eps (C = the pnc model's undamaged stiffness, fixed) over the
@@ -189,6 +208,8 @@ constexpr Model pp_ = Model::pp;
 constexpr Scenario elastic_ = Scenario::elastic;
 constexpr Scenario loading_ = Scenario::loading;
 constexpr Scenario rotated_ = Scenario::rotated;
+constexpr Scenario rotated_elastic_ = Scenario::rotated_elastic;
+constexpr Scenario plane_elastic_ = Scenario::plane_elastic;
 
 } // namespace
 
@@ -201,6 +222,19 @@ BENCHMARK_TEMPLATE(BM_ndm, pnc_, loading_, true)->Name("ndm/pnc/loading/stress+t
 BENCHMARK_TEMPLATE(BM_ndm, pnc_, loading_, false)->Name("ndm/pnc/loading/stress");
 BENCHMARK_TEMPLATE(BM_ndm, pnc_, rotated_, true)->Name("ndm/pnc/rotated/stress+tangent");
 BENCHMARK_TEMPLATE(BM_ndm, pnc_, rotated_, false)->Name("ndm/pnc/rotated/stress");
+BENCHMARK_TEMPLATE(BM_ndm, pnc_, rotated_elastic_, true)
+    ->Name("ndm/pnc/rotated_elastic/stress+tangent");
+// As the material plugin calls the kernel (integrate(prepare(p), ...)).
+BENCHMARK_TEMPLATE(BM_ndm, pnc_, rotated_, true, true)
+    ->Name("ndm/pnc/rotated/stress+tangent/prepared");
+BENCHMARK_TEMPLATE(BM_ndm, pnc_, rotated_elastic_, true, true)
+    ->Name("ndm/pnc/rotated_elastic/stress+tangent/prepared");
+// The typical point of a 2-D fracture run (the deal.II demo): plane strain, elastic, the
+// platelet misaligned by 0.5 deg about x3 (D58).
+BENCHMARK_TEMPLATE(BM_ndm, pnc_, plane_elastic_, true)
+    ->Name("ndm/pnc/plane_elastic/stress+tangent");
+BENCHMARK_TEMPLATE(BM_ndm, pnc_, plane_elastic_, true, true)
+    ->Name("ndm/pnc/plane_elastic/stress+tangent/prepared");
 
 BENCHMARK_TEMPLATE(BM_ndm, pp_, elastic_, true)->Name("ndm/pp/elastic/stress+tangent");
 BENCHMARK_TEMPLATE(BM_ndm, pp_, elastic_, false)->Name("ndm/pp/elastic/stress");

@@ -229,8 +229,16 @@ namespace {
 // Largest eigenvalue of a symmetric 3x3 matrix, closed form (trigonometric solution of the
 // characteristic cubic; one acos and one cos instead of Eigen's atan2 + sincos for all three).
 double largest_eigenvalue(const Eigen::Matrix3d& e) {
+  // Block-diagonal strains (every plane strain or plane stress state in a frame with x3 out
+  // of plane: e13 = e23 = 0) need one square root, not the cubic's acos and cos.
+  auto block = [&e](int i, int a, int b) {
+    const double m = 0.5 * (e(a, a) + e(b, b)), d = 0.5 * (e(a, a) - e(b, b));
+    return std::max(e(i, i), m + std::sqrt(d * d + e(a, b) * e(a, b)));
+  };
+  if (e(0, 2) == 0.0 && e(1, 2) == 0.0) return block(2, 0, 1);
+  if (e(0, 1) == 0.0 && e(1, 2) == 0.0) return block(1, 0, 2);
+  if (e(0, 1) == 0.0 && e(0, 2) == 0.0) return block(0, 1, 2);
   const double p1 = e(0, 1) * e(0, 1) + e(0, 2) * e(0, 2) + e(1, 2) * e(1, 2);
-  if (p1 == 0.0) return std::max(e(0, 0), std::max(e(1, 1), e(2, 2)));
   const double q = (e(0, 0) + e(1, 1) + e(2, 2)) / 3.0;
   const double a = e(0, 0) - q, b = e(1, 1) - q, c = e(2, 2) - q;
   const double p2 = a * a + b * b + c * c + 2.0 * p1;
@@ -272,26 +280,50 @@ namespace {
 // one mode on demand (integrate() needs it only for loading modes).
 struct Stretch {
   Eigen::Matrix3d e;       // tensorial small strain, platelet frame
-  double lambda_max = 1.0; // largest principal stretch of U = I + e
+  double lambda_max = 1.0; // largest principal stretch of U = I + e (if have_lambda_max)
+  bool have_lambda_max = false;
   std::array<double, 3> lambda{1.0, 1.0, 1.0};
   std::array<double, 3> shear{0.0, 0.0, 0.0};      // sqrt(sum_{j != k} e_kj^2)
   std::array<bool, 3> clipped{true, false, false}; // lambda_k = lambda_max (the cap binds)
 };
+
+// mu > largest eigenvalue of the symmetric e, without the eigenvalue: mu I - e is positive
+// definite (Sylvester's criterion on its leading minors). The pnc mode stretches need
+// lambda_max only to cap 1 + e_kk + shear_k, and the cap rarely binds; this test costs a
+// 3x3 determinant instead of the acos/cos/sqrt of the closed-form eigenvalue.
+bool exceeds_largest_eigenvalue(const Eigen::Matrix3d& e, double mu) {
+  const double a = mu - e(0, 0), b = mu - e(1, 1), c = mu - e(2, 2);
+  if (!(a > 0.0)) return false;
+  const double x = e(0, 1), y = e(0, 2), z = e(1, 2);
+  if (!(a * b - x * x > 0.0)) return false;
+  return a * (b * c - z * z) - c * x * x - b * y * y - 2.0 * x * y * z > 0.0;
+}
 
 Stretch compute_stretch(Model m, const Voigt& v) {
   Stretch s;
   s.e << v[0], 0.5 * v[5], 0.5 * v[4], //
       0.5 * v[5], v[1], 0.5 * v[3],    //
       0.5 * v[4], 0.5 * v[3], v[2];
-  s.lambda_max = 1.0 + largest_eigenvalue(s.e);
-  s.lambda[0] = s.lambda_max; // pp: the maximum principal stretch
-  if (m == Model::pp) return s;
+  auto need_lambda_max = [&s]() {
+    if (!s.have_lambda_max) {
+      s.lambda_max = 1.0 + largest_eigenvalue(s.e);
+      s.have_lambda_max = true;
+    }
+    return s.lambda_max;
+  };
+  if (m == Model::pp) {
+    s.lambda[0] = need_lambda_max(); // pp: the maximum principal stretch
+    return s;
+  }
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    s.shear[k] = std::sqrt(s.e(k, a) * s.e(k, a) + s.e(k, b) * s.e(k, b));
-    const double raw = 1.0 + s.e(k, k) + s.shear[k];
-    s.clipped[k] = !(raw <= s.lambda_max);
-    s.lambda[k] = s.clipped[k] ? s.lambda_max : raw;
+    const double ea = s.e(k, a), eb = s.e(k, b);
+    // plane strain and plane stress have one of the two shears zero: no square root
+    s.shear[k] = eb == 0.0 ? std::abs(ea) : ea == 0.0 ? std::abs(eb) : std::sqrt(ea * ea + eb * eb);
+    // The cap binds when 1 + e_kk + shear_k > lambda_max (ties at rounding level either way
+    // give the same stretch).
+    s.clipped[k] = exceeds_largest_eigenvalue(s.e, s.e(k, k) + s.shear[k]);
+    s.lambda[k] = s.clipped[k] ? need_lambda_max() : 1.0 + s.e(k, k) + s.shear[k];
   }
   return s;
 }
@@ -302,7 +334,7 @@ Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vecto
   Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
   if (s.clipped[mode]) {
     if (!have_N) {
-      N = largest_eigenvector(s.e, s.lambda_max - 1.0);
+      N = largest_eigenvector(s.e, s.lambda_max - 1.0); // clipped: lambda_max is known
       have_N = true;
     }
     row << N[0] * N[0], N[1] * N[1], N[2] * N[2], N[1] * N[2], N[0] * N[2], N[0] * N[1];
@@ -324,7 +356,7 @@ ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
   const Stretch s = compute_stretch(m, v);
   ModeStretch out;
   out.lambda = s.lambda;
-  out.lambda_max = s.lambda_max;
+  out.lambda_max = s.have_lambda_max ? s.lambda_max : 1.0 + largest_eigenvalue(s.e);
   if (with_derivative) {
     Eigen::Vector3d N;
     bool have_N = false;
@@ -389,19 +421,43 @@ Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
 }
 } // namespace
 
-Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
-                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
+PreparedNdm prepare(const NdmParameters& p) {
+  PreparedNdm q;
+  q.p = p;
+  q.rotated = !p.R.isIdentity(0.0);
+  if (q.rotated) q.T = strain_rotation(p.R);
+  q.C0g = q.T.transpose() * stiffness_c0(p) * q.T;
+  for (int m = 0; m < 3; ++m)
+    q.dC1g[static_cast<std::size_t>(m)] = q.T.transpose() * stiffness_c1_dD(p, m) * q.T;
+  return q;
+}
+
+namespace {
+
+// The one integration routine behind both integrate() overloads. With `pre` the global-frame
+// stiffness is C0g + sum_m D_m dC1g_m and the damage-growth term of the tangent is rotated
+// as two vectors, T^T a (g T); without it, C is assembled in the platelet frame and rotated
+// as T^T C T. Both are T^T (C0 + C1(D)) T: equal up to rounding.
+Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmState& s0,
+                      NdmState& s1, const Voigt& eps0, const Voigt& deps, Voigt& sigma, Matrix6* K,
+                      ErrorBuffer& err) {
   const Voigt eps = eps0 + deps;
   if (!eps.allFinite()) {
     err.set("ndm: strain is not finite");
     return Status::bad_input;
   }
-  const bool rotated = !p.R.isIdentity(0.0);
-  Matrix6 T;
+  const bool rotated = pre ? pre->rotated : !p.R.isIdentity(0.0);
+  Matrix6 T_local;
+  const Matrix6* T = nullptr;
   Voigt el = eps;
   if (rotated) {
-    T = strain_rotation(p.R);
-    el = T * eps;
+    if (pre) {
+      T = &pre->T;
+    } else {
+      T_local = strain_rotation(p.R);
+      T = &T_local;
+    }
+    el = *T * eps;
   }
   // mode stretches (decisions D6/D7), derivatives only where the tangent needs them
   const bool pnc = p.model == Model::pnc;
@@ -418,24 +474,61 @@ Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const
     out.kappa[m] = loading[m] ? lambda[m] : s0.kappa[m];
     damage_and_slope(out.kappa[m] / alpha, out.D[m], dD[m]);
   }
+  bool have_N = false;
+  Eigen::Vector3d N = Eigen::Vector3d::Zero();
+  if (pre) {
+    Matrix6 Cd; // C0g + sum D_m dC1g_m, formed only when some D_m > 0
+    const Matrix6* Cg = &pre->C0g;
+    for (int m = 0; m < n; ++m) {
+      if (out.D[m] == 0.0) continue;
+      if (Cg != &Cd) Cd = pre->C0g;
+      Cg = &Cd;
+      Cd.noalias() += out.D[m] * pre->dC1g[static_cast<std::size_t>(m)];
+    }
+    sigma.noalias() = *Cg * eps;
+    if (K) {
+      *K = *Cg;
+      for (int m = 0; m < n; ++m) {
+        if (!loading[m] || dD[m] == 0.0) continue;
+        const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
+        const double f = dD[m] / alpha;
+        if (rotated)
+          K->noalias() += (T->transpose() * c1_times(p, m, el)) * (f * (row * *T));
+        else
+          K->noalias() += c1_times(p, m, el) * (f * row);
+      }
+    }
+    s1 = out;
+    return Status::ok;
+  }
   Matrix6 C;
   assemble_stiffness(p, out.D, C);
   const Voigt sl = C * el;
   if (K) {
     Matrix6& Kl = rotated ? C : *K;
     if (!rotated) *K = C;
-    bool have_N = false;
-    Eigen::Vector3d N = Eigen::Vector3d::Zero();
     for (int m = 0; m < n; ++m) {
       if (!loading[m] || dD[m] == 0.0) continue;
       const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
       Kl.noalias() += c1_times(p, m, el) * ((dD[m] / alpha) * row);
     }
-    if (rotated) *K = T.transpose() * Kl * T;
+    if (rotated) *K = T->transpose() * Kl * *T;
   }
-  sigma = rotated ? Voigt(T.transpose() * sl) : sl;
+  sigma = rotated ? Voigt(T->transpose() * sl) : sl;
   s1 = out;
   return Status::ok;
+}
+
+} // namespace
+
+Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
+  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, err);
+}
+
+Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
+  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, err);
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 6>

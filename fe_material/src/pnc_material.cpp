@@ -19,7 +19,8 @@
 
 struct pnc_material {
   pnc::damage::NdmParameters params;
-  std::string source; ///< card path or "<constants>", for messages
+  pnc::damage::PreparedNdm kernel; ///< prepare(params), built once at creation
+  std::string source;              ///< card path or "<constants>", for messages
 };
 
 namespace {
@@ -65,6 +66,7 @@ PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* 
         pnc::damage::Card card = pnc::damage::read_card(card_path); // validates
         auto* m = new pnc_material;
         m->params = card.params;
+        m->kernel = pnc::damage::prepare(m->params);
         m->source = card_path;
         return m;
       },
@@ -100,6 +102,7 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* mo
         pnc::damage::validate(p, kFromConstants);
         auto* m = new pnc_material;
         m->params = p;
+        m->kernel = pnc::damage::prepare(p);
         m->source = "<constants>";
         return m;
       },
@@ -172,7 +175,7 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
     Matrix6 K;
     pnc::damage::ErrorBuffer ebuf;
     const pnc::damage::Status st =
-        pnc::damage::integrate(m->params, s0, s1, e0, de, sigma, tangent ? &K : nullptr, ebuf);
+        pnc::damage::integrate(m->kernel, s0, s1, e0, de, sigma, tangent ? &K : nullptr, ebuf);
     if (st != pnc::damage::Status::ok) {
       const Voigt e = e0 + de;
       char line[512];

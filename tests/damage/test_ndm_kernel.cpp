@@ -16,8 +16,10 @@ using namespace pnc::damage;
 
 namespace {
 
-Voigt integrate_total(const NdmParameters& p, const NdmState& s0, const Voigt& eps,
-                      NdmState* s1_out = nullptr, Matrix6* K = nullptr) {
+// P: NdmParameters or PreparedNdm (the two integrate() overloads).
+template <class P>
+Voigt integrate_total(const P& p, const NdmState& s0, const Voigt& eps, NdmState* s1_out = nullptr,
+                      Matrix6* K = nullptr) {
   NdmState s1;
   Voigt sigma;
   ErrorBuffer err;
@@ -210,6 +212,33 @@ TEST(ModeStretch, NeverExceedsTheMaximumPrincipalStretchAndIsOneAtRest) {
     EXPECT_EQ(rest.lambda[m], 1.0);
 }
 
+TEST(ModeStretch, ModeStretchIsTheCappedDefinitionOfD7) {
+  // D7: lambda_k = min(lambda_max, 1 + e_kk + sqrt(sum_{j != k} e_kj^2)). The kernel decides
+  // whether the cap binds without computing lambda_max (Sylvester's criterion on
+  // mu I - e); reference: the definition with Eigen's eigenvalues. Includes strains where
+  // the cap binds for some modes and not others, and plane strains (e33 = g13 = g23 = 0).
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  int capped = 0, free = 0;
+  for (int t = 0; t < 2000; ++t) {
+    Voigt e;
+    for (int i = 0; i < 6; ++i)
+      e[i] = u(rng);
+    if (t % 2) e[2] = e[3] = e[4] = 0.0;
+    const Eigen::Matrix3d et = to_tensor(e);
+    const double lmax = 1 + Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(et).eigenvalues()[2];
+    const ModeStretch ms = mode_stretches(Model::pnc, e, true);
+    for (int k = 0; k < 3; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      const double raw = 1 + et(k, k) + std::hypot(et(k, a), et(k, b));
+      EXPECT_NEAR(ms.lambda[k], std::min(raw, lmax), 1e-14) << e.transpose();
+      (raw > lmax ? capped : free) += 1;
+    }
+  }
+  EXPECT_GT(capped, 100); // both branches exercised
+  EXPECT_GT(free, 100);
+}
+
 TEST(ModeStretch, ClosedFormLargestStretchMatchesEigenOnDegenerateStrains) {
   // The kernel takes the largest eigenvalue in closed form (acos of the cubic's invariant);
   // repeated eigenvalues are where that formula is delicate. Reference: Eigen's QL solver.
@@ -231,6 +260,18 @@ TEST(ModeStretch, ClosedFormLargestStretchMatchesEigenOnDegenerateStrains) {
   cases.push_back(v); // double root below the top
   v << 1e-9, -1e-9, 0, 3e-10, 0, 0;
   cases.push_back(v); // tiny
+  // block-diagonal strains (one square root in the kernel): plane strain in each plane,
+  // with the out-of-plane normal the largest, the smallest, and tied
+  v << 0.02, -0.01, 0.0, 0, 0, 0.03;
+  cases.push_back(v);
+  v << 0.02, -0.01, 0.05, 0, 0, 0.03;
+  cases.push_back(v);
+  v << -0.01, 0.02, 0.03, 0, 0.04, 0;
+  cases.push_back(v);
+  v << -0.02, 0.01, 0.01, 0.02, 0, 0;
+  cases.push_back(v);
+  v << 0.01, 0.01, 0.0, 0, 0, 0.0;
+  cases.push_back(v);
   for (const Voigt& c : cases) {
     const double ref =
         1 + Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(to_tensor(c)).eigenvalues()[2];
@@ -290,7 +331,8 @@ TEST(Kernel, RotatedPlateletEqualsRotatedLoading) {
 }
 
 namespace {
-void check_tangent(const NdmParameters& p, const NdmState& s0, const Voigt& e, const char* what) {
+template <class P>
+void check_tangent(const P& p, const NdmState& s0, const Voigt& e, const char* what) {
   Matrix6 K;
   integrate_total(p, s0, e, nullptr, &K);
   Matrix6 fd;
@@ -331,6 +373,48 @@ TEST(Kernel, TangentMatchesFiniteDifferencesElasticLoadingUnloadingRotated) {
     p.R = rotation(0.3, 0.6, -0.2);
     check_tangent(p, NdmState{}, general, "rotated platelet");
     check_tangent(p, NdmState{}, loading, "rotated platelet, loading");
+    // The prepared parameters (precomputed T and rotated stiffness pieces) take another
+    // route to the same tangent: check it against finite differences on its own.
+    const PreparedNdm q = prepare(p);
+    check_tangent(q, NdmState{}, general, "prepared, rotated platelet");
+    check_tangent(q, NdmState{}, loading, "prepared, rotated platelet, loading");
+    check_tangent(q, hist, general, "prepared, rotated platelet, unloading");
+  }
+}
+
+TEST(Kernel, PreparedParametersGiveTheSameResultUpToRounding) {
+  // integrate(prepare(p), ...) forms T^T (C0 + sum D_m dC1_m) T from rotated pieces; the
+  // plain overload rotates the assembled C. Same mathematics, different rounding: stresses
+  // and tangents agree to a few ulps of their norm (bound 1e-12 relative), states exactly
+  // (the state does not depend on the rotation route).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Model m : {Model::pnc, Model::pp}) {
+    for (int rot = 0; rot < 2; ++rot) {
+      NdmParameters p = dissertation_parameters(m);
+      if (rot) p.R = rotation(0.7, -0.4, 0.25);
+      const PreparedNdm q = prepare(p);
+      EXPECT_EQ(q.rotated, rot == 1);
+      for (int t = 0; t < 200; ++t) {
+        Voigt e;
+        for (int i = 0; i < 6; ++i)
+          e[i] = (i < 3 ? 0.15 : 0.1) * u(rng); // elastic to well past onset
+        NdmState s0;
+        if (t % 3 == 0) s0.kappa = {1.15, 1.2, 1.25}; // some points unloading
+        for (int k = 0; k < 3; ++k)
+          s0.D[k] = damage_function(s0.kappa[k] / p.alpha());
+        Matrix6 Kp, Kq;
+        NdmState sp, sq;
+        const Voigt a = integrate_total(p, s0, e, &sp, &Kp);
+        const Voigt b = integrate_total(q, s0, e, &sq, &Kq);
+        EXPECT_LE((a - b).norm(), 1e-12 * a.norm()) << e.transpose();
+        EXPECT_LE((Kp - Kq).norm(), 1e-12 * Kp.norm()) << e.transpose();
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_EQ(sp.kappa[k], sq.kappa[k]);
+          EXPECT_EQ(sp.D[k], sq.D[k]);
+        }
+      }
+    }
   }
 }
 

@@ -133,6 +133,24 @@ struct ErrorBuffer {
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
 
+/// Parameters with what integrate() would otherwise recompute at every call done once: the
+/// strain rotation T(R) (identity for an aligned platelet) and the global-frame stiffness
+/// pieces C0g = T^T C0 T and dC1g_m = T^T (d C1 / d D_m) T (C1 is linear in D). Build it with
+/// prepare() when the parameters are fixed for many calls (the material plugin does); the
+/// result of integrate() is the same as with the NdmParameters overload up to rounding.
+/// A plain value: copy it, share it read-only between threads; rebuild it if p changes.
+struct PreparedNdm {
+  NdmParameters p;
+  bool rotated = false; ///< R is not the identity
+  Matrix6 T = Matrix6::Identity();
+  Matrix6 C0g = Matrix6::Zero();
+  std::array<Matrix6, 3> dC1g{};
+};
+PreparedNdm prepare(const NdmParameters& p);
+/// integrate() with prepared parameters (same contract as above).
+Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
+
 /// Drive the kernel along a strain path from a virgin state; returns stresses (rows) and,
 /// if states is not null, the state after each point. Used by the fit, the synthetic data
 /// generator and the tests: one code path for all.
