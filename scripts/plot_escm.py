@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """Plots of an ESCM run directory (examples/escm/escm_tension): displacement profile across
-the handshake at several times, with du/dX when profile.csv has it (profile.png) and the energy balance (energy.png).
+the handshake at several times, with its gradient when profile.csv has it (profile.png), the
+energy balance (energy.png) and, for the crack cases II/III (crack.csv), the continuum crack tip
+and the atomistic separation against time (crack.png).
 Usage: /usr/bin/python3 scripts/plot_escm.py OUTDIR"""
 import csv
 import os
@@ -15,30 +17,33 @@ import matplotlib.pyplot as plt  # noqa: E402
 def main(d):
     rows = list(csv.DictReader(open(os.path.join(d, "profile.csv"))))
     times = sorted({float(r["time_s"]) for r in rows})
-    grad = bool(rows) and "dux_dX" in rows[0]
+    cols = list(rows[0].keys()) if rows else ["time_s", "x_m", "ux_m", "source"]
+    ucol = cols[2]  # ux_m (Case I, III) or uy_m (Case II)
+    gcol = cols[4] if len(cols) > 4 else None  # dux_dX, duy_dY or dux_dY
+    grad = gcol is not None
     fig, axes = plt.subplots(2 if grad else 1, 1, figsize=(7, 7 if grad else 4), squeeze=False)
     ax = axes[0][0]
     for t in times:
         for src, mk in (("continuum", "-"), ("md", "o")):
-            pts = sorted((float(r["x_m"]), float(r["ux_m"])) for r in rows
+            pts = sorted((float(r["x_m"]), float(r[ucol])) for r in rows
                          if float(r["time_s"]) == t and r["source"] == src)
             if pts:
                 ax.plot([p[0] * 1e10 for p in pts], [p[1] * 1e10 for p in pts], mk,
                         ms=3, label=f"{src} {t * 1e12:.0f} ps" if src == "md" else None)
     ax.set_xlabel("x (Å)")
-    ax.set_ylabel("u_x (Å)")
+    ax.set_ylabel(ucol.replace("_m", "").replace("u", "u_", 1) + " (Å)")
     ax.set_title("displacement across the handshake (lines: continuum, dots: MD cells)")
     ax.legend(fontsize=6)
     if grad:  # displacement gradient of eqs. 6.3-6.7 (D79)
         ax = axes[1][0]
         for t in times:
             for src, mk in (("continuum", "-"), ("md", "o")):
-                pts = sorted((float(r["x_m"]), float(r["dux_dX"])) for r in rows
+                pts = sorted((float(r["x_m"]), float(r[gcol])) for r in rows
                              if float(r["time_s"]) == t and r["source"] == src)
                 if pts:
                     ax.plot([p[0] * 1e10 for p in pts], [p[1] for p in pts], mk, ms=3)
         ax.set_xlabel("x (Å)")
-        ax.set_ylabel("du/dX")
+        ax.set_ylabel(gcol.replace("_", "/"))
         ax.set_title("displacement gradient (eqs. 6.3-6.7), same frames")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "profile.png"), dpi=120)
@@ -54,6 +59,37 @@ def main(d):
     ax.legend(fontsize=6)
     fig.tight_layout()
     fig.savefig(os.path.join(d, "energy.png"), dpi=120)
+    if os.path.exists(os.path.join(d, "crack.csv")):
+        plot_crack(d)
+
+
+def plot_crack(d):
+    """Cases II/III: continuum tip and atomistic separation against time (crack.png)."""
+    c = list(csv.DictReader(open(os.path.join(d, "crack.csv"))))
+    t = [float(r["time_s"]) * 1e12 for r in c]
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+    ax = axes[0]
+    ax.plot(t, [float(r["tip_x_m"]) * 1e10 for r in c], label="continuum tip x")
+    x0 = float(c[0]["tip_x_m"]) - float(c[0]["crack_length_m"]) if c else 0.0
+    ax.plot(t, [(x0 + float(r["crack_length_m"])) * 1e10 for r in c], ":", lw=0.8)
+    ax.set_ylabel("x (Å)")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    ax.plot(t, [float(r["md_broken_bonds"]) for r in c], label="broken bonds across the line")
+    ax.plot(t, [float(r["md_crack_length_m"]) * 1e10 for r in c],
+            label="separated length in the MD region (Å)")
+    ax.legend(fontsize=7)
+    ax = axes[2]
+    for k, lab in (("opening_m", "continuum opening behind the tip"),
+                   ("sliding_m", "continuum sliding behind the tip"),
+                   ("md_entry_opening_m", "MD opening, entry column"),
+                   ("md_entry_sliding_m", "MD sliding, entry column")):
+        ax.plot(t, [float(r[k]) * 1e10 for r in c], label=lab)
+    ax.set_ylabel("Å")
+    ax.set_xlabel("t (ps)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "crack.png"), dpi=120)
 
 
 if __name__ == "__main__":

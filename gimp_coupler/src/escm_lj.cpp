@@ -91,9 +91,24 @@ LjFcc lj_fcc(double eps, double sig, double rc, double mass) {
   return out;
 }
 
+double lj_fcc_separation_work(const LjFcc& lj, double eps, double sig, double rc) {
+  // A pair n (units of a0) with n_y = m a0/2 > 0 crosses the plane from m layers below it;
+  // a (010) layer has 2 atoms per a0^2 (D83).
+  const double a = lj.a0_A;
+  double sum = 0.0; // kcal/mol per atom of a layer
+  for (const auto& n : fcc_neighbours(rc / a)) {
+    if (n[1] <= 0) continue;
+    const double r = a * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double sr6 = std::pow(sig / r, 6);
+    sum += 2.0 * n[1] * 4.0 * eps * (sr6 * sr6 - sr6);
+  }
+  const double per_area = -sum / (0.5 * a * a); // kcal/mol/A^2
+  return per_area * 4184.0 / 6.02214076e23 / 1e-20;
+}
+
 std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, int nz,
                                                double mass_gmol, double eps_kcalmol, double sigma_A,
-                                               double rc_A) {
+                                               double rc_A, int types) {
   std::vector<std::string> c = {"units real", "atom_style atomic", "boundary s s p"};
   std::ostringstream s;
   s.precision(12);
@@ -106,13 +121,13 @@ std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, 
   s << "region escm_box block -0.25 " << nx - 0.25 << " -0.25 " << ny - 0.25 << " 0 " << nz
     << " units lattice";
   flush();
-  c.push_back("create_box 1 escm_box");
+  c.push_back("create_box " + std::to_string(types) + " escm_box");
   c.push_back("create_atoms 1 box");
-  s << "mass 1 " << mass_gmol;
+  s << "mass * " << mass_gmol;
   flush();
   s << "pair_style lj/cut " << rc_A;
   flush();
-  s << "pair_coeff 1 1 " << eps_kcalmol << ' ' << sigma_A;
+  s << "pair_coeff * * " << eps_kcalmol << ' ' << sigma_A;
   flush();
   return c;
 }

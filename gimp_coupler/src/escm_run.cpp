@@ -3,8 +3,10 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/gimp_coupler/escm_crack.hpp"
 #include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/gimp_coupler/escm_lj.hpp"
+#include "pnc/gimp_coupler/fracture.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -37,7 +40,14 @@ struct Params {
   double temperature = 0.0;
   double strain = 1e-2, settle_ps = 10, load_ps = 40, hold_ps = 30, damping_fraction = 0.7;
   int frames = 8;
-  double gradient_cells = 1.0; ///< background grid spacing of eqs. 6.3-6.7, in cell sizes
+  double gradient_cells = 1.0;    ///< background grid spacing of eqs. 6.3-6.7, in cell sizes
+  std::string load = "tension_x"; ///< tension_x (Case I), tension_y (Case II), shear (Case III)
+  // Cases II/III (D80, D81): edge pre-crack on the line through the block centre.
+  bool crack = false;
+  int crack_cells = 3;   ///< initial tip in the middle of this cell column (from the left)
+  double crack_Gc = 0.0; ///< J/m^2, growth criterion of the continuum crack; 0: f W_sep (D83)
+  double crack_f = 0.2;  ///< LJ epsilon across the crack line / epsilon (weak interface, D83)
+  int crack_every = 5;   ///< coupled steps between J evaluations
 };
 
 const std::set<std::string> kKeys = {"lj",
@@ -58,7 +68,44 @@ const std::set<std::string> kKeys = {"lj",
                                      "frames",
                                      "short",
                                      "comment",
-                                     "gradient_spacing_cells"};
+                                     "gradient_spacing_cells",
+                                     "load",
+                                     "crack"};
+
+/// The "crack" object of Cases II/III (D80, D81, D83): length_cells, Gc, interface_fraction,
+/// every; false disables it.
+void apply_crack(const json& c, Params& p, const std::string& src, const std::string& key) {
+  if (c.is_boolean() && !c.get<bool>()) {
+    p.crack = false;
+    return;
+  }
+  if (!c.is_object()) fail(src, key, c.dump(), "must be an object (or false)");
+  p.crack = true;
+  for (auto it = c.begin(); it != c.end(); ++it) {
+    const std::string k = it.key();
+    const json& v = it.value();
+    if (k == "length_cells") {
+      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 2000)
+        fail(src, key + ".length_cells", v.dump(), "an integer >= 1 (cells from the left edge)");
+      p.crack_cells = static_cast<int>(v.get<long>());
+    } else if (k == "Gc") {
+      if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() < 1e3))
+        fail(src, key + ".Gc", v.dump(), "a number in (0, 1e3) J/m^2");
+      p.crack_Gc = v.get<double>();
+    } else if (k == "interface_fraction") {
+      if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() <= 1))
+        fail(src, key + ".interface_fraction", v.dump(),
+             "a number in (0, 1] (LJ epsilon across the crack line / epsilon, D83)");
+      p.crack_f = v.get<double>();
+    } else if (k == "every") {
+      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 100000)
+        fail(src, key + ".every", v.dump(), "an integer in [1, 1e5] (coupled steps)");
+      p.crack_every = static_cast<int>(v.get<long>());
+    } else {
+      fail(src, key + "." + k, "", "unknown key (length_cells, Gc, interface_fraction, every)");
+    }
+  }
+}
 
 void apply(const json& j, Params& p, const std::string& src, const std::string& prefix) {
   auto num = [&](const std::string& k, double lo, double hi, const char* rule) {
@@ -137,6 +184,14 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
     p.gradient_cells =
         num("gradient_spacing_cells", 0.5, 10,
             "a number in [0.5, 10] (spacing of the gradient grid in continuum cell sizes)");
+  if (j.contains("load")) {
+    const json& v = j.at("load");
+    if (!v.is_string() || (v.get<std::string>() != "tension_x" &&
+                           v.get<std::string>() != "tension_y" && v.get<std::string>() != "shear"))
+      fail(src, prefix + "load", v.dump(), "\"tension_x\", \"tension_y\" or \"shear\"");
+    p.load = v.get<std::string>();
+  }
+  if (j.contains("crack")) apply_crack(j.at("crack"), p, src, prefix + "crack");
 }
 
 /// Continuum particles as a VTU point cloud (SI: m, m/s): zone (-1 ordinary continuum, 1 IVC
@@ -162,9 +217,28 @@ void write_particles_vtu(const std::string& path, const Solver<2>& s, const std:
   write_point_cloud_vtu(path, x, zone, arrays, 12);
 }
 
-} // namespace
+/// Cases II/III (D80, D81): the crack line runs along the cell boundary through the centre of
+/// the block, between two atom rows, and the pre-crack ends before the block.
+void check_crack(const Params& p, const std::string& src) {
+  if (p.load == "tension_x")
+    fail(src, "load", "\"tension_x\"",
+         "a crack along x needs load \"tension_y\" (Case II) or \"shear\" (Case III)");
+  if (p.nby % 2 != 0)
+    fail(src, "block_cells", std::to_string(p.nby),
+         "with a crack the block needs an even number of cell rows (the crack line is the cell "
+         "boundary through its centre, between two atom rows, D80)");
+  if ((p.ncy - p.nby) % 2 != 0)
+    fail(src, "cells", std::to_string(p.ncy),
+         "with a crack cells[1] - block_cells[1] must be even (block centred on the crack line)");
+  const int bx0 = (p.ncx - p.nbx) / 2;
+  if (p.crack_cells > bx0 - 1)
+    fail(src, "crack.length_cells", std::to_string(p.crack_cells),
+         "the pre-crack tip must lie at least one cell before the atom block (<= " +
+             std::to_string(bx0 - 1) + " here, D81)");
+}
 
-CoupleSummary run_couple(const CoupleOptions& o) {
+/// Reads the input and its "short" overrides and checks the geometry, before LAMMPS starts.
+Params read_params(const CoupleOptions& o) {
   const std::string& src = o.input;
   json j;
   {
@@ -190,16 +264,31 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   if (p.nbx + 4 > p.ncx || p.nby + 4 > p.ncy)
     fail(src, "cells", std::to_string(p.ncx) + " x " + std::to_string(p.ncy),
          "the continuum needs >= 2 cells around the atom block on each side");
-  const LjFcc lj = lj_fcc(p.eps, p.sig, p.rc, p.mass);
-  if (p.mode == "schwarz" && p.svc * lj.a0_A < p.rc)
-    fail(src, "svc_rings", std::to_string(p.svc),
-         "in schwarz mode the SVC rings must be at least as wide as the cut-off (D72)");
-  const double h = lj.a0_A * units::m_per_A;
-  const int bx0 = (p.ncx - p.nbx) / 2, by0 = (p.ncy - p.nby) / 2;
-  std::filesystem::create_directories(o.out_dir);
-  const std::string out = o.out_dir;
+  if (p.crack) check_crack(p, src);
+  return p;
+}
 
-  Solver<2> s;
+/// The loaded edge: BC index, displacement component, specimen length along the load (m) and
+/// the wave speed of the fundamental mode (m/s, for the damping of D75).
+struct Loading {
+  std::size_t bc = 2;
+  int comp = 0;
+  double length = 0.0, speed = 0.0;
+};
+
+NodeBC<2> edge_bc(const std::string& name, Eigen::Vector2d lo, Eigen::Vector2d hi, bool x, bool y) {
+  NodeBC<2> b;
+  b.name = name;
+  b.lo = lo;
+  b.hi = hi;
+  b.mask = {x, y};
+  return b;
+}
+
+/// Grid, calibrated material (D76), one particle per cell, the BCs of the load case (D80; the
+/// loaded edge's box includes the padding beyond it, D77) and the pre-crack (D80, D81).
+Loading set_up_continuum(const Params& p, const LjFcc& lj, double Gc, Solver<2>& s) {
+  const double h = lj.a0_A * units::m_per_A;
   s.grid.h = h;
   s.grid.origin = Eigen::Vector2d(-2 * h, -2 * h);
   s.grid.n = {p.ncx + 5, p.ncy + 5};
@@ -208,25 +297,147 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     for (int ix = 0; ix < p.ncx; ++ix)
       s.particles.add(Eigen::Vector2d((ix + 0.5) * h, (jy + 0.5) * h),
                       Eigen::Vector2d::Constant(0.5 * h), lj.density * h * h, h * h, 0);
-  NodeBC<2> left, corner, right;
-  left.name = "left";
-  left.lo = Eigen::Vector2d(-0.1 * h, -10 * h);
-  left.hi = Eigen::Vector2d(0.1 * h, (p.ncy + 10) * h);
-  left.mask = {true, false};
-  corner.name = "corner";
-  corner.lo = Eigen::Vector2d(-0.1 * h, -0.1 * h);
-  corner.hi = Eigen::Vector2d(0.1 * h, 0.1 * h);
-  corner.mask = {false, true};
-  right.name = "right";
-  right.lo = Eigen::Vector2d((p.ncx - 0.1) * h, -10 * h);
-  right.hi = Eigen::Vector2d((p.ncx + 1.1) * h, (p.ncy + 10) * h); // padding column (D77)
-  right.mask = {true, false};
-  s.bcs = {left, corner, right};
-  const double L = p.ncx * h;
-  const double omega1 = M_PI * std::sqrt(lj.strip_modulus() / lj.density) / L;
+  const double W = p.ncx * h, H = p.ncy * h, t = 0.1 * h;
+  const Eigen::Vector2d corner_lo(-t, -t), corner_hi(t, t);
+  Loading ld;
+  if (p.load == "tension_x") { // Case I: left x-fixed, right pulled in x
+    s.bcs = {edge_bc("left", {-t, -10 * h}, {t, H + 10 * h}, true, false),
+             edge_bc("corner", corner_lo, corner_hi, false, true),
+             edge_bc("right", {W - t, -10 * h}, {W + h + t, H + 10 * h}, true, false)};
+    ld = {2, 0, W, std::sqrt(lj.strip_modulus() / lj.density)};
+  } else if (p.load == "tension_y") { // Case II: bottom y-fixed, top pulled in y
+    s.bcs = {edge_bc("bottom", {-10 * h, -t}, {W + 10 * h, t}, false, true),
+             edge_bc("corner", corner_lo, corner_hi, true, false),
+             edge_bc("top", {-10 * h, H - t}, {W + 10 * h, H + h + t}, false, true)};
+    ld = {2, 1, H, std::sqrt(lj.strip_modulus() / lj.density)};
+  } else { // Case III: bottom fixed, top moved along x (simple shear)
+    s.bcs = {edge_bc("bottom", {-10 * h, -t}, {W + 10 * h, t}, true, true),
+             edge_bc("top", {-10 * h, H - t}, {W + 10 * h, H + h + t}, true, false)};
+    ld = {1, 0, H, std::sqrt(0.5 * (lj.C11 - lj.C12) / lj.density)};
+  }
+  if (p.crack) {
+    const int bx0 = (p.ncx - p.nbx) / 2, by0 = (p.ncy - p.nby) / 2;
+    // D80: 0.01 h above the node line (ties count as no crossing, D37); D81: the last
+    // increment puts the tip in the middle of the cell column just before the block.
+    s.cracks.push_back(line_edge_crack((by0 + p.nby / 2 + 0.01) * h, (p.crack_cells + 0.5) * h, h,
+                                       Gc, bx0 - 1 - p.crack_cells));
+  }
+  return ld;
+}
+
+/// D83: the atoms above the crack line become type 2; pairs across the line (types 1-2) get
+/// LJ epsilon x interface_fraction (y_line_A in the LAMMPS frame).
+void append_weak_interface(std::vector<std::string>& cmds, double y_line_A, const Params& p) {
+  std::ostringstream s;
+  s.precision(12);
+  s << "region escm_upper block INF INF " << y_line_A << " INF INF INF units box";
+  cmds.push_back(s.str());
+  cmds.push_back("set region escm_upper type 2");
+  s.str("");
+  s << "pair_coeff 1 2 " << p.crack_f * p.eps << ' ' << p.sig;
+  cmds.push_back(s.str());
+}
+
+/// One row of crack.csv and the quantities the summary needs (Cases II/III).
+struct CrackRecord {
+  double time = 0.0;
+  TipResult tip;
+  int increments = 0;
+  AtomisticCrack md;
+};
+
+std::string crack_csv_header() {
+  return "time_s,tip_x_m,crack_length_m,increments,J_J_per_m2,GI_J_per_m2,GII_J_per_m2,"
+         "opening_m,sliding_m,md_bonds,md_broken_bonds,md_separated_columns,md_crack_length_m,"
+         "md_entry_opening_m,md_entry_sliding_m,md_max_opening_m,md_max_abs_sliding_m\n";
+}
+
+std::string crack_csv_row(const CrackRecord& c) {
+  std::ostringstream o;
+  o.precision(10);
+  const double A = units::m_per_A;
+  o << c.time << ',' << c.tip.tip[0] << ',' << c.tip.length << ',' << c.increments << ',' << c.tip.J
+    << ',' << c.tip.GI << ',' << c.tip.GII << ',' << c.tip.opening << ',' << c.tip.sliding << ','
+    << c.md.bonds << ',' << c.md.broken << ',' << c.md.separated_columns << ',' << c.md.length_A * A
+    << ',' << c.md.entry_opening_A * A << ',' << c.md.entry_sliding_A * A << ','
+    << c.md.max_opening_A * A << ',' << c.md.max_abs_sliding_A * A << '\n';
+  return o.str();
+}
+
+json crack_json(const CrackRecord& c) {
+  const double A = units::m_per_A;
+  return {{"time_s", c.time},
+          {"tip_x_m", c.tip.tip[0]},
+          {"crack_length_m", c.tip.length},
+          {"increments", c.increments},
+          {"J_J_per_m2", c.tip.J},
+          {"GI_J_per_m2", c.tip.GI},
+          {"GII_J_per_m2", c.tip.GII},
+          {"opening_m", c.tip.opening},
+          {"sliding_m", c.tip.sliding},
+          {"md_bonds", c.md.bonds},
+          {"md_broken_bonds", c.md.broken},
+          {"md_separated_columns", c.md.separated_columns},
+          {"md_columns", c.md.columns},
+          {"md_crack_length_m", c.md.length_A * A},
+          {"md_entry_opening_m", c.md.entry_opening_A * A},
+          {"md_entry_sliding_m", c.md.entry_sliding_A * A},
+          {"md_max_opening_m", c.md.max_opening_A * A},
+          {"md_max_abs_sliding_m", c.md.max_abs_sliding_A * A}};
+}
+
+/// The "crack" block of summary.json: the continuum tip at the end, when it reached the stop
+/// before the block (D81), when the first bond across the line broke and when the first column
+/// separated (D82), the last record and the per-frame records.
+json crack_summary(const std::vector<CrackRecord>& log, const json& frames, const Params& p,
+                   double h, int max_increments) {
+  const int bx0 = (p.ncx - p.nbx) / 2;
+  json cj;
+  cj["initial_tip_x_m"] = (p.crack_cells + 0.5) * h;
+  cj["stop_tip_x_m"] = (bx0 - 0.5) * h;
+  cj["block_x_m"] = bx0 * h;
+  cj["max_increments"] = max_increments;
+  cj["evaluations"] = log.size();
+  json none; // null when it did not happen
+  cj["time_tip_reached_stop_s"] = none;
+  cj["time_first_broken_bond_s"] = none;
+  cj["time_first_separated_column_s"] = none;
+  for (const CrackRecord& c : log) {
+    if (cj["time_tip_reached_stop_s"].is_null() && c.increments >= max_increments)
+      cj["time_tip_reached_stop_s"] = c.time;
+    if (cj["time_first_broken_bond_s"].is_null() && c.md.broken > 0)
+      cj["time_first_broken_bond_s"] = c.time;
+    if (cj["time_first_separated_column_s"].is_null() && c.md.separated_columns > 0)
+      cj["time_first_separated_column_s"] = c.time;
+  }
+  if (!log.empty()) cj["last"] = crack_json(log.back());
+  cj["frames"] = frames;
+  return cj;
+}
+
+} // namespace
+
+CoupleSummary run_couple(const CoupleOptions& o) {
+  const std::string& src = o.input;
+  const Params p = read_params(o);
+  const LjFcc lj = lj_fcc(p.eps, p.sig, p.rc, p.mass);
+  if (p.mode == "schwarz" && p.svc * lj.a0_A < p.rc)
+    fail(src, "svc_rings", std::to_string(p.svc),
+         "in schwarz mode the SVC rings must be at least as wide as the cut-off (D72)");
+  const double h = lj.a0_A * units::m_per_A;
+  const int bx0 = (p.ncx - p.nbx) / 2, by0 = (p.ncy - p.nby) / 2;
+  // D83: the crack line is a weak interface in both models: LJ epsilon x f across it in the MD,
+  // and by default the continuum's Gc is its work of separation, f W_sep.
+  const double wsep = lj_fcc_separation_work(lj, p.eps, p.sig, p.rc);
+  const double Gc = p.crack_Gc > 0 ? p.crack_Gc : p.crack_f * wsep;
+  Solver<2> s;
+  const Loading ld = set_up_continuum(p, lj, Gc, s);
+  const double omega1 = M_PI * ld.speed / ld.length;
   const double damping = 2 * p.damping_fraction * omega1; // D75
   Config c;
-  c.md_setup = lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc);
+  c.md_setup =
+      lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc, p.crack ? 2 : 1);
+  if (p.crack) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
   c.md_offset = Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
   c.svc_rings = p.svc;
   c.ivc_rings = p.ivc;
@@ -238,12 +449,14 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   c.ivc_damp_fs = damping > 0 ? c.interior_damp_fs : 1000.0;
   if (p.temperature > 0 && c.interior_damp_fs <= 0) c.interior_damp_fs = 1000.0;
   c.continuum_damping = damping;
-  c.lammps_log = out + "/lammps.log";
   const double cfl_dt = 0.5 * h / std::sqrt(lj.C11 / lj.density);
   if (c.dt > cfl_dt)
     fail(src, "substeps", std::to_string(p.substeps),
          "substeps x md_timestep_fs exceeds the continuum CFL step " +
              std::to_string(cfl_dt / units::s_per_fs) + " fs");
+  std::filesystem::create_directories(o.out_dir);
+  const std::string out = o.out_dir;
+  c.lammps_log = out + "/lammps.log";
   Coupler cp(s, c);
   cp.setup();
 
@@ -293,35 +506,63 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     return a;
   };
 
+  // Cases II/III: the continuum crack tip (D38-D40, stopped by D81) and the atomistic crack
+  // across the same line (D82), in the LAMMPS frame: the line lies a0/4 below the atom row of
+  // the block's middle cell row; the free region starts svc_rings cells into the block.
+  std::unique_ptr<BondMonitor> bonds;
+  if (p.crack)
+    bonds =
+        std::make_unique<BondMonitor>(cp, (p.nby / 2 - 0.25) * lj.a0_A, (p.svc - 0.25) * lj.a0_A,
+                                      lj.a0_A, 0.85 * lj.a0_A, lj_inflection(p.sig));
+  const int max_increments = p.crack ? s.cracks[0].growth.max_increments : 0;
+  std::vector<CrackRecord> crack_log;
+  std::ostringstream crack_csv;
+  crack_csv << crack_csv_header();
+  auto evaluate_crack = [&] {
+    CrackRecord rec;
+    rec.time = s.time;
+    const auto tips = crack_tips(s);
+    if (!tips.empty()) rec.tip = tips.front();
+    grow_cracks(s, tips);
+    rec.increments = s.cracks[0].increments;
+    rec.md = bonds->measure(gax);
+    crack_csv << crack_csv_row(rec);
+    crack_log.push_back(rec);
+  };
+  json frame_log = json::array();
+
   const double ps = 1e-12;
   const double t_settle = p.settle_ps * ps, t_load = p.load_ps * ps;
   const double t_end = t_settle + t_load + p.hold_ps * ps;
   const long nsteps = std::max(1L, std::lround(t_end / c.dt));
   const long frame_every = p.frames > 0 ? std::max(1L, nsteps / p.frames) : nsteps + 1;
   CoupleSummary r;
+  // Profile along the block's middle cell row (the row just above the crack line in Cases
+  // II/III): the displacement along the load and its gradient across the crack line.
+  const int ucomp = p.load == "tension_y" ? 1 : 0;
+  const int gcol = p.load == "tension_x" ? 0 : 1;
+  const std::string uname = ucomp ? "uy_m" : "ux_m";
+  const std::string gname = std::string(ucomp ? "duy" : "dux") + (gcol ? "_dY" : "_dX");
   std::ostringstream prof;
   prof.precision(10);
-  prof << "time_s,x_m,ux_m,source,dux_dX\n";
+  prof << "time_s,x_m," << uname << ",source," << gname << '\n';
   const int jmid = by0 + p.nby / 2;
   auto profile = [&] {
     for (std::size_t k = 0; k < s.particles.size(); ++k) {
       const auto& x0 = s.particles.x0[k];
       if (static_cast<int>(std::floor(x0[1] / h)) != jmid) continue;
-      prof << s.time << ',' << x0[0] << ',' << s.particles.x[k][0] - x0[0] << ",continuum,"
-           << grad.H(k)(0, 0) << '\n';
+      prof << s.time << ',' << x0[0] << ',' << s.particles.x[k][ucomp] - x0[ucomp] << ",continuum,"
+           << grad.H(k)(ucomp, gcol) << '\n';
     }
-    std::vector<int> ids;
-    std::vector<Eigen::Vector3d> x, v;
-    cp.atoms(ids, x, v);
-    std::map<int, std::array<double, 4>> acc; // cell i -> (x0 sum, u sum, n, du/dX sum)
-    for (std::size_t k = 0; k < x.size(); ++k) {
+    std::map<int, std::array<double, 4>> acc; // cell i -> (x0 sum, u sum, n, gradient sum)
+    for (std::size_t k = 0; k < gax.size(); ++k) {
       const Eigen::Vector2d x0 = cp.to_continuum(cp.atoms_initial()[k]);
       if (static_cast<int>(std::floor(x0[1] / h)) != jmid) continue;
       auto& a = acc[static_cast<int>(std::floor(x0[0] / h))];
       a[0] += x0[0];
-      a[1] += (cp.to_continuum(x[k]) - x0)[0];
+      a[1] += (cp.to_continuum(gax[k]) - x0)[ucomp];
       a[2] += 1;
-      a[3] += grad.H(ncont + k)(0, 0);
+      a[3] += grad.H(ncont + k)(ucomp, gcol);
     }
     for (const auto& [i, a] : acc)
       prof << s.time << ',' << a[0] / a[2] << ',' << a[1] / a[2] << ",md," << a[3] / a[2] << '\n';
@@ -330,9 +571,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   auto last = w0;
   for (long k = 0; k < nsteps; ++k) {
     const double tl = s.time + 0.5 * c.dt - t_settle;
-    s.bcs[2].velocity[0] = (tl > 0 && tl < t_load)
-                               ? p.strain * L / t_load * (1 - std::cos(2 * M_PI * tl / t_load))
-                               : 0.0;
+    s.bcs[ld.bc].velocity[ld.comp] =
+        (tl > 0 && tl < t_load)
+            ? p.strain * ld.length / t_load * (1 - std::cos(2 * M_PI * tl / t_load))
+            : 0.0;
     cp.step();
     {
       const auto g0 = std::chrono::steady_clock::now();
@@ -340,6 +582,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
       grad.update(gx);
       grad_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - g0).count();
     }
+    if (p.crack && (k + 1) % p.crack_every == 0) evaluate_crack();
     if ((k + 1) % frame_every == 0) {
       const std::string idx = std::to_string((k + 1) / frame_every);
       const std::string f = out + "/atoms_" + idx + ".vtu";
@@ -349,6 +592,18 @@ CoupleSummary run_couple(const CoupleOptions& o) {
       write_particles_vtu(fp, s, pzone, grad_arrays(0, ncont));
       r.particle_frames.push_back(fp);
       profile();
+      if (p.crack) {
+        CrackRecord rec = crack_log.empty() ? CrackRecord{} : crack_log.back();
+        rec.time = s.time;
+        rec.md = bonds->measure(gax);
+        frame_log.push_back(crack_json(rec));
+        if (o.progress)
+          std::fprintf(stderr,
+                       "frame %s  t = %.2f ps  continuum tip x = %.2f A (%d/%d increments)  MD: "
+                       "%d/%d bonds broken, separated %.1f A\n",
+                       idx.c_str(), s.time / ps, rec.tip.tip[0] / units::m_per_A, rec.increments,
+                       max_increments, rec.md.broken, rec.md.bonds, rec.md.length_A);
+      }
     }
     const auto now = std::chrono::steady_clock::now();
     if (o.progress && (std::chrono::duration<double>(now - last).count() > 2 || k + 1 == nsteps)) {
@@ -366,7 +621,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   r.atoms = cp.zone_counts();
   r.particles = s.particles.size();
   r.energy = cp.energy_log().back();
-  r.reaction_left = s.bcs[0].reaction[0];
+  r.reaction_left = s.bcs[0].reaction[ld.comp];
   r.strain_modulus_pa = lj.strip_modulus();
   r.profile_csv = out + "/profile.csv";
   r.energy_csv = out + "/energy.csv";
@@ -377,19 +632,38 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   json sj;
   sj["input"] = src;
   sj["short"] = o.short_mode;
+  sj["load"] = p.load;
+  sj["strain"] = p.strain;
   sj["steps"] = r.steps;
   sj["time_s"] = r.time_s;
   sj["wall_s"] = r.wall_s;
   sj["outside_lammps_share"] = r.outside_share;
   sj["atoms"] = {{"interior", r.atoms[0]}, {"ivc", r.atoms[1]}, {"svc", r.atoms[2]}};
   sj["particles"] = r.particles;
+  sj["cell_size_m"] = h;
+  sj["block_origin_m"] = {bx0 * h, by0 * h};
+  sj["block_cells"] = {p.nbx, p.nby};
   sj["lj_fcc"] = {{"a0_A", lj.a0_A}, {"C11_Pa", lj.C11}, {"C12_Pa", lj.C12},     {"C44_Pa", lj.C44},
                   {"E_Pa", lj.E()},  {"nu", lj.nu()},    {"density", lj.density}};
-  sj["reaction_left_N_per_m"] = r.reaction_left;
+  // The fixed edge's reaction along the load (N per m); for Case I the left edge (as before).
+  sj["reaction_fixed_N_per_m"] = r.reaction_left;
+  if (p.load == "tension_x") {
+    sj["reaction_left_N_per_m"] = r.reaction_left;
+    sj["expected_reaction_N_per_m"] = -lj.strip_modulus() * p.strain * p.ncy * h;
+  }
   sj["gradient"] = {
       {"spacing_m", grad.spacing()}, {"increments", grad.increments()}, {"wall_s", grad_wall}};
   sj["particle_frames"] = r.particle_frames;
-  sj["expected_reaction_N_per_m"] = -lj.strip_modulus() * p.strain * p.ncy * h;
+  if (p.crack) {
+    r.crack_csv = out + "/crack.csv";
+    pnc::write_text_atomically(r.crack_csv, crack_csv.str());
+    sj["crack"] = crack_summary(crack_log, frame_log, p, h, max_increments);
+    sj["crack"]["Gc_J_per_m2"] = Gc;
+    sj["crack"]["interface_fraction"] = p.crack_f;
+    sj["crack"]["separation_work_bulk_J_per_m2"] = wsep;
+    sj["crack"]["separation_work_interface_J_per_m2"] = p.crack_f * wsep;
+    sj["crack_csv"] = r.crack_csv;
+  }
   const EnergyRow& e = r.energy;
   sj["energy_J"] = {{"cont_kinetic", e.cont_kinetic},
                     {"cont_strain", e.cont_strain},
@@ -409,6 +683,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                             "' > '" + out + "/plot.log' 2>&1";
     if (std::system(cmd.c_str()) == 0) {
       r.plots = {out + "/profile.png", out + "/energy.png"};
+      if (p.crack) r.plots.push_back(out + "/crack.png");
     } else {
       r.plot_warning =
           "plots not written (needs " PNC_GIMP_PYTHON " with matplotlib; see " + out + "/plot.log)";

@@ -36,10 +36,16 @@ LjFcc lj_fcc(double eps_kcalmol, double sigma_A, double rc_A, double mass_gmol);
 
 /// LAMMPS commands (units real) that create an nx x ny x nz block of FCC unit cells of lattice
 /// constant `lj.a0_A`, sites from -a0/4 on x and y (shrink-wrapped x, y; periodic z, D78),
-/// atom mass `mass_gmol` and lj/cut with `eps_kcalmol`, `sigma_A`, `rc_A`. The commands for
-/// the Coupler's `Config::md_setup`; the caller may replace the pair commands.
+/// `types` atom types (all atoms type 1; every type of mass `mass_gmol` and every pair lj/cut
+/// with `eps_kcalmol`, `sigma_A`, `rc_A`). The commands for the Coupler's `Config::md_setup`;
+/// the caller may append commands (e.g. the weak interface of the crack cases, D83).
 std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, int nz,
                                                double mass_gmol, double eps_kcalmol, double sigma_A,
-                                               double rc_A);
+                                               double rc_A, int types = 1);
+
+/// Work of separation of the perfect crystal across a (010) plane midway between two atom
+/// layers, unrelaxed, J/m^2: -(sum over the pairs crossing it of phi(r)) per unit area (D83).
+/// Twice the unrelaxed (010) surface energy.
+double lj_fcc_separation_work(const LjFcc& lj, double eps_kcalmol, double sigma_A, double rc_A);
 
 } // namespace pnc::gimp::escm

@@ -1,10 +1,14 @@
 #pragma once
-// pnc/gimp_coupler/escm_run.hpp: `pnc gimp couple INPUT --out DIR [--short]`: an ESCM tension
-// run (Case I analogue, docs/escm.md) of an LJ FCC crystal MD region at the centre of a 2-D
-// continuum calibrated to it, from a JSON input (keys in docs/escm.md, "Input file").
+// pnc/gimp_coupler/escm_run.hpp: `pnc gimp couple INPUT --out DIR [--short]`: an ESCM run of an
+// LJ FCC crystal MD region at the centre of a 2-D continuum calibrated to it, from a JSON input
+// (keys in docs/escm.md, "Input file"): tension (Case I analogue), or with an edge pre-crack
+// in the continuum growing toward the block under tension normal to it (Case II, mode I) or
+// shear parallel to it (Case III, mode II), escm_crack.hpp, decisions D80-D84.
 // Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, particles_<k>.vtu (both with the
 // displacement gradients of eqs. 6.3-6.7, escm_gradient.hpp), lammps.log, summary.json and, with
-// /usr/bin/python3 + matplotlib, profile.png and energy.png. Units: input in LAMMPS real for
+// /usr/bin/python3 + matplotlib, profile.png and energy.png; with a crack also crack.csv
+// (continuum tip, J, G_I, G_II, crack-face opening and sliding, atomistic separation) and
+// crack.png. Units: input in LAMMPS real for
 // the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
 #include "pnc/gimp_coupler/escm.hpp"
 
@@ -26,13 +30,14 @@ struct CoupleSummary {
   long steps = 0;
   double time_s = 0.0;
   double wall_s = 0.0;
-  double outside_share = 0.0;     ///< of the coupled steps' wall time, outside LAMMPS
-  std::array<int, 3> atoms{};     ///< INT, IVC, SVC
-  std::size_t particles = 0;      ///< continuum particles (after removing INT)
-  EnergyRow energy;               ///< last row of the energy log
-  double reaction_left = 0.0;     ///< x reaction of the left edge, N per m (last step)
+  double outside_share = 0.0; ///< of the coupled steps' wall time, outside LAMMPS
+  std::array<int, 3> atoms{}; ///< INT, IVC, SVC
+  std::size_t particles = 0;  ///< continuum particles (after removing INT)
+  EnergyRow energy;           ///< last row of the energy log
+  double reaction_left = 0.0; ///< reaction of the fixed edge along the load, N per m (last step)
   double strain_modulus_pa = 0.0; ///< C11 - C12^2/C11 of the crystal (expected slope)
   std::string energy_csv, profile_csv, summary_json, lammps_log, plot_warning;
+  std::string crack_csv; ///< Cases II/III only
   std::vector<std::string> frames, plots;
   std::vector<std::string> particle_frames; ///< particles_<k>.vtu (continuum particles)
 };
