@@ -560,6 +560,7 @@ private:
   bool update_candidates();
   void make_load_pattern();
   double commit_dissipation() const;
+  void debug_iteration(unsigned it, double g, double lam);
 
   AffineConstraints<double> hanging;
   SparsityPattern sparsity;
@@ -1435,9 +1436,7 @@ bool FractureProblem<dim>::solve_step_dissipation(double dtau, double& load, uns
     if (!assembled) break;
     const double F = f_int * u_hat;
     const double g = 0.5 * (F0 * (lam - lam0) - lam0 * (F - F0)) - dtau;
-    if (std::getenv("PNC_DEMO_DEBUG"))
-      std::cerr << "    it " << it << " |r| " << rhs.l2_norm() << " |f| " << f_int.l2_norm()
-                << " g " << g << " lam " << lam << "\n";
+    if (std::getenv("PNC_DEMO_DEBUG")) debug_iteration(it, g, lam);
     if (it > 0) {
       const double r = rhs.l2_norm(), f = f_int.l2_norm();
       if (r0 < 0) r0 = r;
@@ -1497,6 +1496,44 @@ bool FractureProblem<dim>::solve_step_dissipation(double dtau, double& load, uns
   }
   solution = u_saved;
   return false;
+}
+
+// Diagnostics of one dissipation-controlled iteration (environment PNC_DEMO_DEBUG=1, or 2 for
+// the list of points that cross the fracture stretch): residual and constraint, the dof with
+// the largest residual and where it is, the number of loading and fracturing points and of
+// points whose kappa crosses kappa_cap in this step. This is how the stop of the
+// compact-tension-like run was diagnosed (D85).
+template <int dim> void FractureProblem<dim>::debug_iteration(unsigned it, double g, double lam) {
+  std::cerr << "    it " << it << " |r| " << rhs.l2_norm() << " |f| " << f_int.l2_norm() << " g "
+            << g << " lam " << lam;
+  std::map<types::global_dof_index, Point<dim>> sp;
+  DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, sp);
+  unsigned imax = 0;
+  for (unsigned i = 0; i < rhs.size(); ++i)
+    if (std::abs(rhs[i]) > std::abs(rhs[imax])) imax = i;
+  unsigned nload = 0, nfrac = 0, ncross = 0;
+  const bool list = std::getenv("PNC_DEMO_DEBUG")[0] == '2';
+  FEValues<dim> fq(fe, quadrature, update_quadrature_points);
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    fq.reinit(cell);
+    for (unsigned q = 0; q < quadrature.size(); ++q) {
+      const auto& h = history[cell->active_cell_index() * quadrature.size() + q];
+      double om = 0;
+      secant_of(h.state_new.data(), &om);
+      nfrac += om > 0;
+      for (int m = 0; m < n_state / 2; ++m) {
+        nload += h.state_new[m] > h.state_old[m] && h.state_new[m] > onset;
+        if ((h.state_new[m] > kappa_cap[m]) == (h.state_old[m] > kappa_cap[m])) continue;
+        ++ncross;
+        if (list)
+          std::cerr << " X(" << fq.quadrature_point(q) << " mode " << m + 1 << " kappa "
+                    << h.state_old[m] << " -> " << h.state_new[m] << ")";
+      }
+    }
+  }
+  std::cerr << " max|r| " << rhs[imax] << " at (" << sp[imax] << ") component " << imax % dim
+            << ", loading " << nload << ", fracturing " << nfrac << ", crossing kappa_cap "
+            << ncross << "\n";
 }
 
 // Converged: the new history becomes the old one. Damage can only grow from here on, because
