@@ -105,7 +105,8 @@ namespace {
 // pnc gimp couple (issue #6, docs/escm.md): ESCM tension run of an LJ crystal MD region.
 struct GimpCoupleArgs {
   std::string input, out;
-  bool json = false, short_mode = false, no_plot = false, quiet = false;
+  bool json = false, short_mode = false, no_plot = false, quiet = false, resume = false;
+  long max_steps = 0;
 };
 
 int run_gimp_couple(const GimpCoupleArgs& a) {
@@ -115,7 +116,15 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   o.short_mode = a.short_mode;
   o.progress = !a.quiet;
   o.plot = !a.no_plot;
+  o.resume = a.resume;
+  o.stop_after_steps = a.max_steps;
   const gimp::escm::CoupleSummary s = gimp::escm::run_couple(o);
+  if (!s.interrupted.empty()) { // checkpoint written; continue with --resume
+    std::cerr << fmt::format("pnc gimp couple: {}: stopped ({}) after {} coupled steps at {:.4g} "
+                             "ps; checkpoint {}: continue with --resume\n",
+                             a.input, s.interrupted, s.steps, s.time_s * 1e12, s.checkpoint);
+    return s.signal ? 128 + s.signal : 0;
+  }
   const auto& e = s.energy;
   std::cerr << fmt::format("pnc gimp couple: {}{}: {} coupled steps to {:.4g} ps in {:.2f} s "
                            "({:.1f} % outside LAMMPS)\n",
@@ -157,6 +166,11 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
   c->add_flag("--no-plot", args->no_plot, "Do not draw profile.png, energy.png");
   c->add_flag("--quiet", args->quiet, "No progress lines");
   c->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
+  c->add_flag("--resume", args->resume,
+              "Continue from OUT/checkpoint.h5 (the input must be unchanged; docs/escm.md)");
+  c->add_option("--max-steps", args->max_steps,
+                "Stop after N coupled steps in total, with a checkpoint (continue with --resume)")
+      ->check(CLI::PositiveNumber);
   c->callback([args, &action] { action = [args] { return run_gimp_couple(*args); }; });
 }
 } // namespace

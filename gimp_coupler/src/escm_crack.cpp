@@ -25,8 +25,9 @@ double lj_inflection(double sigma_A) {
 }
 
 BondMonitor::BondMonitor(const Coupler& cp, double y_line_A, double x_entry_A, double cell_A,
-                         double r_bond_A, double r_break_A)
-    : x0_(cp.atoms_initial()), Lz_(cp.slab_thickness_A()), r_break_(r_break_A), cell_(cell_A) {
+                         double r_bond_A, double r_break_A, double slip_A)
+    : x0_(cp.atoms_initial()), Lz_(cp.slab_thickness_A()), r_break_(r_break_A), cell_(cell_A),
+      slip_(slip_A) {
   const int n = static_cast<int>(x0_.size());
   auto is_free = [&](int i) {
     const Zone z = cp.zone_of(i + 1);
@@ -94,8 +95,12 @@ AtomisticCrack BondMonitor::measure(const std::vector<Eigen::Vector3d>& x) const
       ++nlo[c];
     }
   }
+  bool slipping = slip_ > 0; // D91: contiguous slipped columns from the entry side
   for (std::size_t c = 0; c < nc; ++c) {
-    if (nup[c] == 0 || nlo[c] == 0) continue;
+    if (nup[c] == 0 || nlo[c] == 0) {
+      slipping = false;
+      continue;
+    }
     const Eigen::Vector2d jump = up[c] / nup[c] - lo[c] / nlo[c];
     if (c == 0) {
       r.entry_opening_A = jump[1];
@@ -103,6 +108,8 @@ AtomisticCrack BondMonitor::measure(const std::vector<Eigen::Vector3d>& x) const
     }
     r.max_opening_A = std::max(r.max_opening_A, jump[1]);
     r.max_abs_sliding_A = std::max(r.max_abs_sliding_A, std::abs(jump[0]));
+    slipping = slipping && std::abs(jump[0]) >= slip_;
+    if (slipping) ++r.slipped_columns;
   }
   return r;
 }

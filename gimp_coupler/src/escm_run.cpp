@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/gimp_coupler/escm_checkpoint.hpp"
 #include "pnc/gimp_coupler/escm_crack.hpp"
 #include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/gimp_coupler/escm_lj.hpp"
@@ -12,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -44,10 +46,11 @@ struct Params {
   std::string load = "tension_x"; ///< tension_x (Case I), tension_y (Case II), shear (Case III)
   // Cases II/III (D80, D81): edge pre-crack on the line through the block centre.
   bool crack = false;
-  int crack_cells = 3;   ///< initial tip in the middle of this cell column (from the left)
-  double crack_Gc = 0.0; ///< J/m^2, growth criterion of the continuum crack; 0: f W_sep (D83)
-  double crack_f = 0.2;  ///< LJ epsilon across the crack line / epsilon (weak interface, D83)
-  int crack_every = 5;   ///< coupled steps between J evaluations
+  int crack_cells = 3;         ///< initial tip in the middle of this cell column (from the left)
+  double crack_Gc = 0.0;       ///< J/m^2, growth criterion of the continuum crack; 0: f W_sep (D83)
+  double crack_f = 0.2;        ///< LJ epsilon across the crack line / epsilon (weak interface, D83)
+  int crack_every = 5;         ///< coupled steps between J evaluations
+  double checkpoint_ps = 10.0; ///< simulated time between checkpoints, ps; 0: only at the end
 };
 
 const std::set<std::string> kKeys = {"lj",
@@ -70,7 +73,8 @@ const std::set<std::string> kKeys = {"lj",
                                      "comment",
                                      "gradient_spacing_cells",
                                      "load",
-                                     "crack"};
+                                     "crack",
+                                     "checkpoint_every_ps"};
 
 /// The "crack" object of Cases II/III (D80, D81, D83): length_cells, Gc, interface_fraction,
 /// every; false disables it.
@@ -192,6 +196,10 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
     p.load = v.get<std::string>();
   }
   if (j.contains("crack")) apply_crack(j.at("crack"), p, src, prefix + "crack");
+  if (j.contains("checkpoint_every_ps"))
+    p.checkpoint_ps = num("checkpoint_every_ps", 0, 1e6,
+                          "a number in [0, 1e6] ps (simulated time between checkpoints; 0: only "
+                          "at the end and when stopped)");
 }
 
 /// Continuum particles as a VTU point cloud (SI: m, m/s): zone (-1 ordinary continuum, 1 IVC
@@ -290,8 +298,12 @@ NodeBC<2> edge_bc(const std::string& name, Eigen::Vector2d lo, Eigen::Vector2d h
 Loading set_up_continuum(const Params& p, const LjFcc& lj, double Gc, Solver<2>& s) {
   const double h = lj.a0_A * units::m_per_A;
   s.grid.h = h;
-  s.grid.origin = Eigen::Vector2d(-2 * h, -2 * h);
-  s.grid.n = {p.ncx + 5, p.ncy + 5};
+  // Two cells of padding; in shear (Case III) the left and right edges travel |strain| H along
+  // x, so the x padding grows by that many cells (D90).
+  const int padx =
+      2 + (p.load == "shear" ? static_cast<int>(std::ceil(std::abs(p.strain) * p.ncy)) : 0);
+  s.grid.origin = Eigen::Vector2d(-padx * h, -2 * h);
+  s.grid.n = {p.ncx + 2 * padx + 1, p.ncy + 5};
   s.materials.push_back(std::make_shared<LinearElastic>(lj.density, lj.E(), lj.nu())); // D76
   for (int jy = 0; jy < p.ncy; ++jy)
     for (int ix = 0; ix < p.ncx; ++ix)
@@ -310,7 +322,9 @@ Loading set_up_continuum(const Params& p, const LjFcc& lj, double Gc, Solver<2>&
              edge_bc("corner", corner_lo, corner_hi, true, false),
              edge_bc("top", {-10 * h, H - t}, {W + 10 * h, H + h + t}, false, true)};
     ld = {2, 1, H, std::sqrt(lj.strip_modulus() / lj.density)};
-  } else { // Case III: bottom fixed, top moved along x (simple shear)
+  } else { // Case III: bottom fixed, top moved along x (simple shear). D90: with the crack's
+    // mouth on the left edge, strain < 0 (top moved in -x) presses the faces together (closed,
+    // frictionless contact, D37: pure mode II); strain > 0 opens them (mixed mode).
     s.bcs = {edge_bc("bottom", {-10 * h, -t}, {W + 10 * h, t}, true, true),
              edge_bc("top", {-10 * h, H - t}, {W + 10 * h, H + h + t}, true, false)};
     ld = {1, 0, H, std::sqrt(0.5 * (lj.C11 - lj.C12) / lj.density)};
@@ -349,7 +363,8 @@ struct CrackRecord {
 std::string crack_csv_header() {
   return "time_s,tip_x_m,crack_length_m,increments,J_J_per_m2,GI_J_per_m2,GII_J_per_m2,"
          "opening_m,sliding_m,md_bonds,md_broken_bonds,md_separated_columns,md_crack_length_m,"
-         "md_entry_opening_m,md_entry_sliding_m,md_max_opening_m,md_max_abs_sliding_m\n";
+         "md_entry_opening_m,md_entry_sliding_m,md_max_opening_m,md_max_abs_sliding_m,"
+         "md_slipped_columns\n";
 }
 
 std::string crack_csv_row(const CrackRecord& c) {
@@ -360,7 +375,8 @@ std::string crack_csv_row(const CrackRecord& c) {
     << ',' << c.tip.GI << ',' << c.tip.GII << ',' << c.tip.opening << ',' << c.tip.sliding << ','
     << c.md.bonds << ',' << c.md.broken << ',' << c.md.separated_columns << ',' << c.md.length_A * A
     << ',' << c.md.entry_opening_A * A << ',' << c.md.entry_sliding_A * A << ','
-    << c.md.max_opening_A * A << ',' << c.md.max_abs_sliding_A * A << '\n';
+    << c.md.max_opening_A * A << ',' << c.md.max_abs_sliding_A * A << ',' << c.md.slipped_columns
+    << '\n';
   return o.str();
 }
 
@@ -383,7 +399,8 @@ json crack_json(const CrackRecord& c) {
           {"md_entry_opening_m", c.md.entry_opening_A * A},
           {"md_entry_sliding_m", c.md.entry_sliding_A * A},
           {"md_max_opening_m", c.md.max_opening_A * A},
-          {"md_max_abs_sliding_m", c.md.max_abs_sliding_A * A}};
+          {"md_max_abs_sliding_m", c.md.max_abs_sliding_A * A},
+          {"md_slipped_columns", c.md.slipped_columns}};
 }
 
 /// The "crack" block of summary.json: the continuum tip at the end, when it reached the stop
@@ -402,6 +419,7 @@ json crack_summary(const std::vector<CrackRecord>& log, const json& frames, cons
   cj["time_tip_reached_stop_s"] = none;
   cj["time_first_broken_bond_s"] = none;
   cj["time_first_separated_column_s"] = none;
+  cj["time_first_slipped_column_s"] = none;
   for (const CrackRecord& c : log) {
     if (cj["time_tip_reached_stop_s"].is_null() && c.increments >= max_increments)
       cj["time_tip_reached_stop_s"] = c.time;
@@ -409,10 +427,173 @@ json crack_summary(const std::vector<CrackRecord>& log, const json& frames, cons
       cj["time_first_broken_bond_s"] = c.time;
     if (cj["time_first_separated_column_s"].is_null() && c.md.separated_columns > 0)
       cj["time_first_separated_column_s"] = c.time;
+    if (cj["time_first_slipped_column_s"].is_null() && c.md.slipped_columns > 0)
+      cj["time_first_slipped_column_s"] = c.time;
   }
   if (!log.empty()) cj["last"] = crack_json(log.back());
   cj["frames"] = frames;
   return cj;
+}
+
+// ---- Checkpoint and resume (docs/escm.md "Checkpoint and resume") ----
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+void on_stop_signal(int sig) {
+  g_stop_signal = sig;
+}
+
+/// SIGINT/SIGTERM ask the coupled loop to stop after the current step (with a checkpoint);
+/// the previous handlers come back when the run ends.
+struct StopSignals {
+  using Handler = void (*)(int);
+  Handler old_int, old_term;
+  StopSignals() {
+    g_stop_signal = 0;
+    old_int = std::signal(SIGINT, on_stop_signal);
+    old_term = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+/// --resume: the input must be the one the run was started with (stored in the checkpoint),
+/// except `checkpoint_every_ps` and `comment` (top level and in "short"). The error names the
+/// input file and the first key that differs.
+void check_same_input(const std::string& src, const std::string& stored, const std::string& now,
+                      const std::string& ckpt) {
+  auto clean = [](json j) {
+    if (!j.is_object()) return j;
+    j.erase("comment");
+    j.erase("checkpoint_every_ps");
+    if (j.contains("short") && j["short"].is_object()) {
+      j["short"].erase("comment");
+      j["short"].erase("checkpoint_every_ps");
+    }
+    return j;
+  };
+  json a, b;
+  try {
+    a = clean(json::parse(stored));
+  } catch (const std::exception&) {
+    fail(ckpt, "/run/input", "", "the stored input is not valid JSON");
+  }
+  b = clean(json::parse(now));
+  if (a == b) return;
+  auto text = [](const json& o, const std::string& k) {
+    return o.is_object() && o.contains(k) ? o.at(k).dump() : std::string("<absent>");
+  };
+  std::string key, was, is;
+  std::set<std::string> keys;
+  for (const json* o : {&a, &b})
+    if (o->is_object())
+      for (auto it = o->begin(); it != o->end(); ++it)
+        keys.insert(it.key());
+  for (const std::string& k : keys) {
+    if (text(a, k) == text(b, k)) continue;
+    key = k;
+    was = text(a, k);
+    is = text(b, k);
+    if (a.contains(k) && b.contains(k) && a[k].is_object() && b[k].is_object()) {
+      std::set<std::string> sub;
+      for (const json* o : {&a[k], &b[k]})
+        for (auto it = o->begin(); it != o->end(); ++it)
+          sub.insert(it.key());
+      for (const std::string& q : sub)
+        if (text(a[k], q) != text(b[k], q)) {
+          key = k + "." + q;
+          was = text(a[k], q);
+          is = text(b[k], q);
+          break;
+        }
+    }
+    break;
+  }
+  fail(src, key, is,
+       "differs from the input this run was started with (" + was + ", stored in " + ckpt +
+           "): --resume continues a run only with the same input (checkpoint_every_ps and "
+           "comment may change); restore the value or start a new run in another --out directory");
+}
+
+constexpr int kCrackCols = 24;
+
+std::vector<double> crack_row(const CrackRecord& c) {
+  return {c.time,
+          c.tip.tip[0],
+          c.tip.tip[1],
+          c.tip.e1[0],
+          c.tip.e1[1],
+          c.tip.J,
+          c.tip.GI,
+          c.tip.GII,
+          c.tip.opening,
+          c.tip.sliding,
+          c.tip.length,
+          static_cast<double>(c.tip.particles),
+          static_cast<double>(c.tip.crack),
+          static_cast<double>(c.tip.end),
+          static_cast<double>(c.increments),
+          static_cast<double>(c.md.bonds),
+          static_cast<double>(c.md.broken),
+          static_cast<double>(c.md.columns),
+          static_cast<double>(c.md.separated_columns),
+          c.md.length_A,
+          c.md.entry_opening_A,
+          c.md.entry_sliding_A,
+          c.md.max_opening_A,
+          c.md.max_abs_sliding_A};
+}
+
+CrackRecord crack_record(const double* d) {
+  CrackRecord c;
+  c.time = d[0];
+  c.tip.tip = Eigen::Vector2d(d[1], d[2]);
+  c.tip.e1 = Eigen::Vector2d(d[3], d[4]);
+  c.tip.J = d[5];
+  c.tip.GI = d[6];
+  c.tip.GII = d[7];
+  c.tip.opening = d[8];
+  c.tip.sliding = d[9];
+  c.tip.length = d[10];
+  c.tip.particles = static_cast<int>(d[11]);
+  c.tip.crack = static_cast<std::size_t>(d[12]);
+  c.tip.end = static_cast<int>(d[13]);
+  c.increments = static_cast<int>(d[14]);
+  c.md.bonds = static_cast<int>(d[15]);
+  c.md.broken = static_cast<int>(d[16]);
+  c.md.columns = static_cast<int>(d[17]);
+  c.md.separated_columns = static_cast<int>(d[18]);
+  c.md.length_A = d[19];
+  c.md.entry_opening_A = d[20];
+  c.md.entry_sliding_A = d[21];
+  c.md.max_opening_A = d[22];
+  c.md.max_abs_sliding_A = d[23];
+  return c;
+}
+
+std::string join_lines(const std::vector<std::string>& v) {
+  std::string o;
+  for (const auto& x : v)
+    o += x + "\n";
+  return o;
+}
+
+std::vector<std::string> split_lines(const std::string& s) {
+  std::vector<std::string> v;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty()) v.push_back(l);
+  return v;
 }
 
 } // namespace
@@ -438,6 +619,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   c.md_setup =
       lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc, p.crack ? 2 : 1);
   if (p.crack) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
+  // D93: the LJ energy shifted to zero at the cut-off (forces unchanged): otherwise every pair
+  // crossing r_c changes the logged MD potential by -V(r_c) = 0.0163 epsilon with no work done
+  // (the fifth FCC shell lies 2 % inside 2.5 sigma), and the energy log does not close.
+  c.md_setup.push_back("pair_modify shift yes");
   c.md_offset = Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
   c.svc_rings = p.svc;
   c.ivc_rings = p.ivc;
@@ -454,6 +639,29 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     fail(src, "substeps", std::to_string(p.substeps),
          "substeps x md_timestep_fs exceeds the continuum CFL step " +
              std::to_string(cfl_dt / units::s_per_fs) + " fs");
+  // Checkpoint and resume: a directory that holds a run needs --resume, and --resume needs the
+  // input the run was started with (docs/escm.md "Checkpoint and resume").
+  const std::string ckpt_file = checkpoint_path(o.out_dir);
+  const std::string input_text = read_text(src);
+  std::unique_ptr<CoupledCheckpoint> resume_from;
+  if (o.resume && std::filesystem::exists(ckpt_file)) {
+    resume_from = std::make_unique<CoupledCheckpoint>(read_coupled_checkpoint(o.out_dir));
+    if (resume_from->short_mode != o.short_mode)
+      fail(src, "--short", o.short_mode ? "given" : "not given",
+           "the run in " + o.out_dir + " was started " +
+               (resume_from->short_mode ? "with" : "without") + " --short (" + ckpt_file +
+               "): --resume must repeat it");
+    check_same_input(src, resume_from->input_text, input_text, ckpt_file);
+  } else if (o.resume) {
+    if (o.progress)
+      std::fprintf(stderr, "pnc gimp couple: --resume: no checkpoint in %s, starting at t = 0\n",
+                   o.out_dir.c_str());
+  } else if (std::filesystem::exists(ckpt_file) ||
+             std::filesystem::exists(std::filesystem::path(o.out_dir) / "summary.json")) {
+    fail(o.out_dir, "--out", o.out_dir,
+         "already holds a run (checkpoint.h5 or summary.json): add --resume to continue it, or "
+         "use a new --out directory");
+  }
   std::filesystem::create_directories(o.out_dir);
   const std::string out = o.out_dir;
   c.lammps_log = out + "/lammps.log";
@@ -513,7 +721,8 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   if (p.crack)
     bonds =
         std::make_unique<BondMonitor>(cp, (p.nby / 2 - 0.25) * lj.a0_A, (p.svc - 0.25) * lj.a0_A,
-                                      lj.a0_A, 0.85 * lj.a0_A, lj_inflection(p.sig));
+                                      lj.a0_A, 0.85 * lj.a0_A, lj_inflection(p.sig),
+                                      0.5 * lj.a0_A); // D91: slip past a0/2
   const int max_increments = p.crack ? s.cracks[0].growth.max_increments : 0;
   std::vector<CrackRecord> crack_log;
   std::ostringstream crack_csv;
@@ -567,9 +776,118 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     for (const auto& [i, a] : acc)
       prof << s.time << ',' << a[0] / a[2] << ',' << a[1] / a[2] << ",md," << a[3] / a[2] << '\n';
   };
+  // Checkpoints every checkpoint_every_ps of simulated time, at the end and when stopped
+  // (SIGINT/SIGTERM after the current coupled step, or stop_after_steps).
+  const long ckpt_every =
+      p.checkpoint_ps > 0 ? std::max(1L, std::lround(p.checkpoint_ps * ps / c.dt)) : 0;
+  long k0 = 0;
+  double wall_before = 0.0;
+  r.checkpoint = ckpt_file;
+  if (resume_from) {
+    const CoupledCheckpoint& ck = *resume_from;
+    if (ck.nsteps != nsteps)
+      fail(ckpt_file, "/run/nsteps", std::to_string(ck.nsteps),
+           "the input gives " + std::to_string(nsteps) + " coupled steps");
+    restore_continuum(o.out_dir, ck, s);
+    cp.restore(ck.coupler);
+    gather();
+    auto table = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) {
+      const auto it = ck.tables.find(name);
+      if (it == ck.tables.end()) {
+        if (rows <= 0) return CheckpointTable(0, cols); // e.g. no crack records yet
+        fail(ckpt_file, "/run/table/" + name, "<missing>", "needed to resume");
+      }
+      if ((rows >= 0 && it->second.rows() != rows) || it->second.cols() != cols)
+        fail(ckpt_file, "/run/table/" + name,
+             std::to_string(it->second.rows()) + " x " + std::to_string(it->second.cols()),
+             "does not fit this set-up");
+      return it->second;
+    };
+    auto text = [&](const std::string& name) {
+      const auto it = ck.texts.find(name);
+      return it == ck.texts.end() ? std::string() : it->second;
+    };
+    const auto gn = static_cast<Eigen::Index>(gx.size());
+    const CheckpointTable gF = table("gradient_F", gn, 4), gs = table("gradient_supported", gn, 1),
+                          gsc = table("gradient", 1, 2);
+    std::vector<Eigen::Matrix2d> F(gx.size());
+    std::vector<char> sup(gx.size());
+    for (Eigen::Index i = 0; i < gn; ++i) {
+      F[static_cast<std::size_t>(i)] << gF(i, 0), gF(i, 1), gF(i, 2), gF(i, 3);
+      sup[static_cast<std::size_t>(i)] = static_cast<char>(gs(i, 0));
+    }
+    grad.restore(gx, F, sup, static_cast<long>(gsc(0, 0)));
+    grad_wall = gsc(0, 1);
+    const CheckpointTable bcr = table("bc_reaction", static_cast<Eigen::Index>(s.bcs.size()), 2);
+    for (std::size_t b = 0; b < s.bcs.size(); ++b)
+      s.bcs[b].reaction = bcr.row(static_cast<Eigen::Index>(b)).transpose();
+    const CheckpointTable cl = table("crack_log", -1, kCrackCols);
+    crack_log.clear();
+    for (Eigen::Index i = 0; i < cl.rows(); ++i)
+      crack_log.push_back(crack_record(cl.row(i).data()));
+    if (ck.texts.count("crack_csv")) {
+      crack_csv.str("");
+      crack_csv << text("crack_csv");
+    }
+    prof.str("");
+    prof << text("profile_csv");
+    frame_log = ck.texts.count("frame_log") ? json::parse(text("frame_log")) : json::array();
+    r.frames = split_lines(text("frames"));
+    r.particle_frames = split_lines(text("particle_frames"));
+    k0 = ck.step;
+    wall_before = ck.wall_s;
+    r.resumed = true;
+    r.start_step = k0;
+    if (o.progress)
+      std::fprintf(stderr, "pnc gimp couple: resumed from %s at step %ld/%ld (t = %.2f ps)\n",
+                   ckpt_file.c_str(), k0, nsteps, s.time / ps);
+  }
+  auto write_ckpt = [&](long done, double wall) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CoupledCheckpoint ck;
+    ck.coupler = cp.checkpoint();
+    ck.input_path = src;
+    ck.input_text = input_text;
+    ck.short_mode = o.short_mode;
+    ck.step = done;
+    ck.nsteps = nsteps;
+    ck.time_s = s.time;
+    ck.wall_s = wall;
+    ck.texts = {{"profile_csv", prof.str()},
+                {"crack_csv", p.crack ? crack_csv.str() : std::string()},
+                {"frame_log", frame_log.dump()},
+                {"frames", join_lines(r.frames)},
+                {"particle_frames", join_lines(r.particle_frames)}};
+    const auto gn = static_cast<Eigen::Index>(grad.size());
+    CheckpointTable gF(gn, 4), gs(gn, 1), gsc(1, 2),
+        bcr(static_cast<Eigen::Index>(s.bcs.size()), 2),
+        cl(static_cast<Eigen::Index>(crack_log.size()), kCrackCols);
+    for (Eigen::Index i = 0; i < gn; ++i) {
+      const Eigen::Matrix2d& F = grad.F()[static_cast<std::size_t>(i)];
+      gF.row(i) << F(0, 0), F(0, 1), F(1, 0), F(1, 1);
+      gs(i, 0) = grad.supported()[static_cast<std::size_t>(i)];
+    }
+    gsc << static_cast<double>(grad.increments()), grad_wall;
+    for (std::size_t b = 0; b < s.bcs.size(); ++b)
+      bcr.row(static_cast<Eigen::Index>(b)) = s.bcs[b].reaction.transpose();
+    for (std::size_t i = 0; i < crack_log.size(); ++i) {
+      const auto row = crack_row(crack_log[i]);
+      for (int j = 0; j < kCrackCols; ++j)
+        cl(static_cast<Eigen::Index>(i), j) = row[static_cast<std::size_t>(j)];
+    }
+    ck.tables = {{"gradient_F", gF},
+                 {"gradient_supported", gs},
+                 {"gradient", gsc},
+                 {"bc_reaction", bcr},
+                 {"crack_log", cl}};
+    r.checkpoint_bytes = write_coupled_checkpoint(o.out_dir, s, ck);
+    ++r.checkpoints;
+    r.checkpoint_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const StopSignals stop_signals;
   const auto w0 = std::chrono::steady_clock::now();
   auto last = w0;
-  for (long k = 0; k < nsteps; ++k) {
+  for (long k = k0; k < nsteps; ++k) {
     const double tl = s.time + 0.5 * c.dt - t_settle;
     s.bcs[ld.bc].velocity[ld.comp] =
         (tl > 0 && tl < t_load)
@@ -600,9 +918,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
         if (o.progress)
           std::fprintf(stderr,
                        "frame %s  t = %.2f ps  continuum tip x = %.2f A (%d/%d increments)  MD: "
-                       "%d/%d bonds broken, separated %.1f A\n",
+                       "%d/%d bonds broken, separated %.1f A, %d columns slipped\n",
                        idx.c_str(), s.time / ps, rec.tip.tip[0] / units::m_per_A, rec.increments,
-                       max_increments, rec.md.broken, rec.md.bonds, rec.md.length_A);
+                       max_increments, rec.md.broken, rec.md.bonds, rec.md.length_A,
+                       rec.md.slipped_columns);
       }
     }
     const auto now = std::chrono::steady_clock::now();
@@ -611,10 +930,50 @@ CoupleSummary run_couple(const CoupleOptions& o) {
       const double el = std::chrono::duration<double>(now - w0).count();
       std::fprintf(stderr, "step %ld/%ld  t = %.2f ps  elapsed %.1f s  ETA %.1f s\n", k + 1, nsteps,
                    s.time / ps, el,
-                   el / static_cast<double>(k + 1) * static_cast<double>(nsteps - k - 1));
+                   el / static_cast<double>(k + 1 - k0) * static_cast<double>(nsteps - k - 1));
     }
+    const long done = k + 1;
+    const int sig = g_stop_signal;
+    if (done < nsteps && (sig != 0 || (o.stop_after_steps > 0 && done >= o.stop_after_steps))) {
+      write_ckpt(done,
+                 wall_before +
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+      r.interrupted = sig ? "signal " + std::to_string(sig) : "max_steps";
+      r.signal = sig;
+      break;
+    }
+    if (ckpt_every > 0 && done % ckpt_every == 0 && done < nsteps)
+      write_ckpt(done,
+                 wall_before +
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
   }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  r.wall_s =
+      wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  if (!r.interrupted.empty()) { // stopped with a checkpoint: the CSVs so far, no summary
+    r.steps = s.steps;
+    r.time_s = s.time;
+    r.outside_share = cp.timing().outside_share();
+    r.atoms = cp.zone_counts();
+    r.particles = s.particles.size();
+    r.energy = cp.energy_log().back();
+    r.reaction_left = s.bcs[0].reaction[ld.comp];
+    r.profile_csv = out + "/profile.csv";
+    r.energy_csv = out + "/energy.csv";
+    r.lammps_log = c.lammps_log;
+    pnc::write_text_atomically(r.profile_csv, prof.str());
+    cp.write_energy_csv(r.energy_csv);
+    if (p.crack) {
+      r.crack_csv = out + "/crack.csv";
+      pnc::write_text_atomically(r.crack_csv, crack_csv.str());
+    }
+    if (o.progress)
+      std::fprintf(stderr,
+                   "pnc gimp couple: stopped (%s) after step %ld/%ld (t = %.2f ps); checkpoint "
+                   "%s: continue with --resume\n",
+                   r.interrupted.c_str(), r.steps, nsteps, s.time / ps, ckpt_file.c_str());
+    return r;
+  }
+  write_ckpt(nsteps, r.wall_s);
   r.steps = nsteps;
   r.time_s = s.time;
   r.outside_share = cp.timing().outside_share();
@@ -654,6 +1013,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   sj["gradient"] = {
       {"spacing_m", grad.spacing()}, {"increments", grad.increments()}, {"wall_s", grad_wall}};
   sj["particle_frames"] = r.particle_frames;
+  sj["checkpoint"] = {{"file", r.checkpoint},        {"every_steps", ckpt_every},
+                      {"written", r.checkpoints},    {"wall_s", r.checkpoint_s},
+                      {"bytes", r.checkpoint_bytes}, {"resumed", r.resumed},
+                      {"start_step", r.start_step}};
   if (p.crack) {
     r.crack_csv = out + "/crack.csv";
     pnc::write_text_atomically(r.crack_csv, crack_csv.str());

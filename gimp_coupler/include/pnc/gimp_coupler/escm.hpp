@@ -150,6 +150,31 @@ struct Timing {
   }
 };
 
+/// The coupled state between two coupled steps that the continuum solver's own state
+/// (particles, time, steps, energies, cracks; GIMP checkpoint) does not hold: the coupler's
+/// running averages and accumulators, and the MD atoms. Written by Coupler::checkpoint(),
+/// restored by Coupler::restore(); on disk in escm_checkpoint.hpp (docs/formats.md).
+struct CouplerState {
+  /// Per IVC cell, in the order of the IVC cells in cells(): the block-mean centroid of the
+  /// last block and of the one before (A), the cell velocity given to Gamma (m/s), the
+  /// continuum force (N per m) and the force per atom (kcal/mol/A).
+  std::vector<Eigen::Vector2d> mean_A, prev_mean_A, velocity_mps, force_N, atom_force;
+  std::vector<EnergyRow> log; ///< energy log so far
+  EnergyRow acc;              ///< running sums (the last row; the initial energy)
+  double pe0 = 0.0;           ///< IVC + INT potential energy at setup, kcal/mol
+  /// Heat removed by the INT / IVC Langevin fixes before their last re-creation, J (slab).
+  double heat_offset_int = 0.0, heat_offset_ivc = 0.0;
+  double prescribed_work = 0.0; ///< Solver::prescribed_work, J per m
+  int segment = 0;              ///< Langevin re-creations so far (seed of the next segment)
+  long md_step = 0;             ///< LAMMPS step counter (information)
+  Timing timing;
+  /// Atoms by id - 1: positions (A), velocities (A/fs), forces of the last MD substep
+  /// (kcal/mol/A; Verlet's first half step of the next block uses them), image flags (3 ints),
+  /// types.
+  std::vector<double> x, v, f;
+  std::vector<int> image, type;
+};
+
 class Coupler {
 public:
   /// `solver`: a 2-D set-up (grid, particles one per cell of size h with half-length h/2 where
@@ -192,6 +217,18 @@ public:
   /// (0 INT, 1 IVC, 2 SVC), displacement (A) since setup and velocity (A/fs), then the
   /// `extra` arrays (Float64, one entry per atom in id order), atomically.
   void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {}) const;
+  /// A restart point (between steps): rebuilds LAMMPS's neighbour lists, box and ghost atoms
+  /// from the current positions (`run 0`), puts back the forces of the last substep, re-creates
+  /// the Langevin fixes with the seeds of the next segment (their heat tallies carried as
+  /// offsets) and returns the state. A run resumed from this state with restore() continues
+  /// bit for bit as the run that called checkpoint() (on one MPI rank; atoms are never sorted,
+  /// `atom_modify sort 0 0.0`). The rebuild itself changes the continuing run at round-off
+  /// level compared with a run without the checkpoint.
+  CouplerState checkpoint();
+  /// After setup() of a coupler built from the same input, and after the solver's own state
+  /// was restored: puts back the state of checkpoint() (cells, accumulators, energy log,
+  /// atoms, forces, Langevin segment). Throws std::runtime_error if it does not fit.
+  void restore(const CouplerState& st);
   /// Names of the LAMMPS groups: "escm_svc", "escm_ivc", "escm_int", "escm_free" (ivc + int).
   /// The fix IDs: escm_lint (INT Langevin, if any), escm_livc, escm_ext.
 

@@ -34,6 +34,9 @@ struct AtomisticCrack {
   double entry_sliding_A = 0.0;   ///< sliding (upper - lower, x) of the same rows, entry column
   double max_opening_A = 0.0;     ///< largest column opening
   double max_abs_sliding_A = 0.0; ///< largest column |sliding|
+  /// Contiguous from the entry side, |sliding| of the column >= the slip distance (D91: a0/2,
+  /// halfway between equivalent registries of the (010) layers along x, past the saddle).
+  int slipped_columns = 0;
 };
 
 /// Watches the atom pairs across the crack line (D82). The line y_line_A and the cell columns
@@ -41,11 +44,12 @@ struct AtomisticCrack {
 /// Bonds: pairs of free atoms (zones IVC or INT) whose initial positions lie on opposite sides
 /// of the line within r_bond_A (minimum image through the periodic slab). A bond is broken when
 /// it is longer than r_break_A. Rows: the free atoms within half a row spacing (a0/4) of the
-/// line on either side; their mean displacements per column give the opening and sliding.
+/// line on either side; their mean displacements per column give the opening and sliding. A
+/// column has slipped when |sliding| >= slip_A (D91; 0: never).
 class BondMonitor {
 public:
   BondMonitor(const Coupler& cp, double y_line_A, double x_entry_A, double cell_A, double r_bond_A,
-              double r_break_A);
+              double r_break_A, double slip_A = 0.0);
   /// The state for atom positions x (Angstrom, index id - 1, as Coupler::atoms()).
   AtomisticCrack measure(const std::vector<Eigen::Vector3d>& x) const;
 
@@ -57,7 +61,7 @@ private:
   std::vector<int> row_atom_, row_side_, row_column_; // +1 above, -1 below
   std::vector<Eigen::Vector3d> x0_;
   int columns_ = 0;
-  double Lz_ = 0.0, r_break_ = 0.0, cell_ = 0.0;
+  double Lz_ = 0.0, r_break_ = 0.0, cell_ = 0.0, slip_ = 0.0;
 };
 
 /// The LJ pair's inflection distance (26/7)^(1/6) sigma: beyond it the pair force falls with

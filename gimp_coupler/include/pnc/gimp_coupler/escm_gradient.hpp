@@ -49,6 +49,17 @@ public:
   /// One increment to the positions x_new (m), same order and size as in reset().
   void update(const std::vector<Eigen::Vector2d>& x_new);
 
+  /// Resume (checkpoints): after reset() with the same particles, the state after
+  /// `increments` updates: current positions x, F and the support flags.
+  void restore(const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Matrix2d>& F,
+               const std::vector<char>& supported, long increments) {
+    if (x.size() != x_.size() || F.size() != x_.size() || supported.size() != x_.size())
+      throw std::invalid_argument("GradientTracker::restore: sizes do not match reset()");
+    x_ = x;
+    F_ = F;
+    supported_ = supported;
+    increments_ = increments;
+  }
   std::size_t size() const { return x_.size(); }
   long increments() const { return increments_; }
   double spacing() const { return h_; }

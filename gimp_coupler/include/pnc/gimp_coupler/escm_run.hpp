@@ -24,6 +24,12 @@ struct CoupleOptions {
   bool short_mode = false; ///< apply the input's "short" overrides
   bool progress = true;    ///< progress lines (step, time, ETA) on stderr
   bool plot = true;
+  /// Continue from DIR/checkpoint.h5 (the input must be the same; docs/escm.md "Checkpoint
+  /// and resume"). Without it, a DIR that already holds a run is refused.
+  bool resume = false;
+  /// > 0: stop after this many coupled steps in total, writing a checkpoint (the run is then
+  /// continued with `resume`).
+  long stop_after_steps = 0;
 };
 
 struct CoupleSummary {
@@ -40,6 +46,17 @@ struct CoupleSummary {
   std::string crack_csv; ///< Cases II/III only
   std::vector<std::string> frames, plots;
   std::vector<std::string> particle_frames; ///< particles_<k>.vtu (continuum particles)
+  // Checkpoints (docs/escm.md "Checkpoint and resume")
+  std::string checkpoint;           ///< DIR/checkpoint.h5
+  bool resumed = false;             ///< continued from a checkpoint
+  long start_step = 0;              ///< coupled steps done before this session
+  int checkpoints = 0;              ///< written in this session
+  double checkpoint_s = 0.0;        ///< wall time of writing them, s
+  std::size_t checkpoint_bytes = 0; ///< size of the last one (both files)
+  /// Empty when the run finished; "max_steps" (stop_after_steps reached) or "signal N"
+  /// (SIGINT/SIGTERM): stopped after a checkpoint, summary.json and plots not written.
+  std::string interrupted;
+  int signal = 0; ///< the signal that stopped the run, 0 if none
 };
 
 /// Validates the input (throws pnc::InputError naming file, key, value, rule) before LAMMPS
