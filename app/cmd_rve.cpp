@@ -140,7 +140,7 @@ int run_recipe_show(const RecipeShowArgs& a) {
 struct CharacterizeArgs {
   std::string recipe, out;
   bool resume = false, json = false, no_plots = false;
-  int jobs = 0, ranks = 0;
+  int jobs = 0, ranks = 0, equilibrate_ranks = 0;
 };
 
 /// MPI ranks per LAMMPS stage and cases at a time. Started as `mpirun -np K pnc ...`, rank 0
@@ -189,7 +189,13 @@ int run_characterize(const CharacterizeArgs& a) {
   const rve::Recipe r = load_recipe(a.recipe);
   int ranks = 1, jobs = 1;
   if (!plan_parallelism(a.ranks, a.jobs, r.jobs, ranks, jobs)) return 0;
-  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks);
+  // The equilibration is one stage: give it all the cores the cases will share (ranks x
+  // jobs, at most the machine's cores) unless told otherwise.
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  const int eq_ranks = a.equilibrate_ranks > 0
+                           ? a.equilibrate_ranks
+                           : std::max(ranks, cores > 0 ? std::min(ranks * jobs, cores) : ranks);
+  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks, eq_ranks);
 
   // --- fit
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
@@ -383,6 +389,10 @@ void register_rve(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 256));
   ch->add_option("--jobs", ca->jobs, "Cases run at the same time (default: the recipe's run.jobs)")
       ->check(CLI::Range(1, 64));
+  ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
+                 "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
+                 "machine's cores)")
+      ->check(CLI::Range(1, 256));
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });

@@ -82,7 +82,8 @@ void write_cases_h5(const std::string& path, const Recipe& r,
   damage::write_stress_strain_h5(path, d);
 }
 
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks) {
+MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks,
+                 int equilibrate_ranks) {
   MdOutcome o;
   o.dir = dir;
   fs::create_directories(dir);
@@ -157,10 +158,12 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
 
   // --- equilibrate
   t0 = std::chrono::steady_clock::now();
-  std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}\n", r.equilibrate.ensemble);
+  const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
+  std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}, {} MPI rank(s)\n",
+                           r.equilibrate.ensemble, eq_ranks);
   o.equilibrated =
       equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
-                  resume, recipe_text, r.model == "pnc", ranks);
+                  resume, recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate = seconds_since(t0);
 
   // --- cases

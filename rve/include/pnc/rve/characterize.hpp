@@ -30,8 +30,11 @@ struct MdOutcome {
 /// their checkpoints; the recipe must equal the one stored in `dir`. Failed cases are all
 /// run to their end (or failure) before an InputError names the first failure with LAMMPS's
 /// message; finished cases and checkpoints stay on disk. `jobs` cases run at a time, each
-/// LAMMPS stage on `ranks` MPI ranks (StageSpec::ranks): jobs x ranks cores in all.
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks = 1);
+/// LAMMPS stage on `ranks` MPI ranks (StageSpec::ranks): jobs x ranks cores in all. The
+/// equilibration stages, which run one at a time, use `equilibrate_ranks` (0: `ranks`);
+/// different rank counts agree to round-off, not bitwise.
+MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks = 1,
+                 int equilibrate_ranks = 0);
 
 /// cases.h5 from the case checkpoints: the stress of `r.stress`, moving average of
 /// `r.moving_average` points over strain steps (standard error of a window mean:
