@@ -102,7 +102,8 @@ int run_gimp(const GimpRunArgs& a) {
 
 #ifdef PNC_GIMP_HAS_ESCM
 namespace {
-// pnc gimp couple (issue #6, docs/escm.md): ESCM tension run of an LJ crystal MD region.
+// pnc gimp couple (issue #6, docs/escm.md): an ESCM run (Cases I-III) of an MD region in a
+// 2-D GIMP continuum.
 struct GimpCoupleArgs {
   std::string input, out;
   bool json = false, short_mode = false, no_plot = false, quiet = false, resume = false;
@@ -159,7 +160,8 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
 void register_gimp_couple(CLI::App* gimp, Action& action) {
   auto args = std::make_shared<GimpCoupleArgs>();
   auto* c = gimp->add_subcommand(
-      "couple", "ESCM GIMP-MD coupling: tension of an LJ crystal MD region (docs/escm.md)");
+      "couple", "ESCM GIMP-MD coupling: Case I tension, Case II/III mode I/II crack growing into "
+                "the MD region (docs/escm.md)");
   c->add_option("input", args->input, "Input file (JSON)")->required()->check(CLI::ExistingFile);
   c->add_option("--out", args->out, "Output folder")->required();
   c->add_flag("--short", args->short_mode, "Apply the input's \"short\" overrides");
