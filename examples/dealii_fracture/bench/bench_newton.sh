@@ -3,14 +3,15 @@
 # of the assembly spent inside the material plugin (issue #7; goal: plugin <= 10 % of the
 # assembly).
 #
-#   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none] [TIMEOUT_S=900]
+#   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none] [TIMEOUT_S=900] [DIM=2]
 #
 # First prints the cost of one plugin call alone (dealii_fracture --bench-plugin), so the
 # share can be read against the kernel's own cost. A mesh that does not finish within
 # TIMEOUT_S prints "timeout" and ends the scan.
 #
 # Single-edge notch (coarse cell 0.5 mm, 128 cells) refined uniformly r = 2..MAX times
-# (r = 4: 69k dofs, 5: 0.27M, 6: 1.05M); two load steps, to u = 0.2 mm (damage onset at
+# (r = 4: 69k dofs, 5: 0.27M, 6: 1.05M; with DIM=3 a slab, r = 1..MAX: 8.8k dofs, 60k, ...);
+# two load steps, to u = 0.2 mm (damage onset at
 # the notch tip) and on to 0.25 mm (D_max ~ 0.03), so the Newton iterations of the second
 # step have loading points. Prints one CSV
 # line per mesh: dofs, Newton iterations, assembly s/iteration, solve (UMFPACK) s/iteration,
@@ -23,6 +24,7 @@ CARD=${2:?card}
 MAX=${3:-6}
 REG=${4:-none}
 TMO=${5:-900}
+DIM=${6:-2}
 EXE=$BUILD/examples/dealii_fracture/dealii_fracture
 SRC=$(dirname "$0")/..
 "$EXE" --bench-plugin --card "$CARD" | /usr/bin/python3 -c '
@@ -33,10 +35,11 @@ print("# plugin call alone: %.0f ns (elastic point), %.0f ns (damaging point), s
          j["damaging_point"]["ns_per_call_with_tangent"], j["steady_clock_now_ns"]))'
 echo "dofs,newton_iterations,assembly_s_per_iteration,solve_s_per_iteration,plugin_share_of_assembly,nonlocal_s,assembly_ns_per_point,wall_s"
 r=2
+[ "$DIM" = 3 ] && r=1
 while [ "$r" -le "$MAX" ]; do
   timeout "$TMO" "$EXE" "$SRC/short.prm" --json --set "Material/Card=$CARD" --set "Mesh/Adaptive=false" \
     --set "Mesh/Global refinements=$r" --set "Loading/Path=0, 0.2, 0.25" --set "Loading/Step=0.2" \
-    --set "Regularisation/Type=$REG" --set "Output/VTU every=0" --set "Output/Plot=false" \
+    --set "Regularisation/Type=$REG" --set "Geometry/Dimension=$DIM" --set "Output/VTU every=0" --set "Output/Plot=false" \
     --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" 2>/dev/null >/tmp/bench_newton_$$.json ||
     { echo "refinement $r: timeout or failure (limit ${TMO} s)"; break; }
   /usr/bin/python3 -c '
