@@ -7,6 +7,9 @@
 #include "pnc/gimp_coupler/escm_crack.hpp"
 #include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/gimp_coupler/escm_lj.hpp"
+#ifdef PNC_ESCM_HAS_POLYMER
+#include "pnc/gimp_coupler/escm_polymer.hpp"
+#endif
 #include "pnc/gimp_coupler/fracture.hpp"
 
 #include <nlohmann/json.hpp>
@@ -18,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -51,6 +55,15 @@ struct Params {
   double crack_f = 0.2;        ///< LJ epsilon across the crack line / epsilon (weak interface, D83)
   int crack_every = 5;         ///< coupled steps between J evaluations
   double checkpoint_ps = 10.0; ///< simulated time between checkpoints, ps; 0: only at the end
+  // MD region: "lj" (the FCC crystal, default) or "polymer" (escm_polymer.hpp, D100-D106).
+  std::string md_type = "lj";
+  double cell_A = 6.0, slab_A = 16.0, density = -1, poly_T = 300, anneal_ps = 0,
+         strain_probe = 1e-2;
+  int beads_per_chain = -1, min_beads = 4;
+  long md_seed = 1;
+  double ff_sigma = -1, ff_epsilon = -1, ff_cutoff_sigma = -1; ///< < 0: rve/ defaults
+  bool elastic_given = false;
+  double elastic_lambda = 0, elastic_mu = 0; ///< Pa (given by the user)
 };
 
 const std::set<std::string> kKeys = {"lj",
@@ -74,7 +87,8 @@ const std::set<std::string> kKeys = {"lj",
                                      "gradient_spacing_cells",
                                      "load",
                                      "crack",
-                                     "checkpoint_every_ps"};
+                                     "checkpoint_every_ps",
+                                     "md"};
 
 /// The "crack" object of Cases II/III (D80, D81, D83): length_cells, Gc, interface_fraction,
 /// every; false disables it.
@@ -107,6 +121,93 @@ void apply_crack(const json& c, Params& p, const std::string& src, const std::st
       p.crack_every = static_cast<int>(v.get<long>());
     } else {
       fail(src, key + "." + k, "", "unknown key (length_cells, Gc, interface_fraction, every)");
+    }
+  }
+}
+
+/// The "md" object (docs/escm.md "Polymer MD region"): type "lj" | "polymer" and the polymer's
+/// build keys; every key optional.
+void apply_md(const json& m, Params& p, const std::string& src, const std::string& key) {
+  if (!m.is_object()) fail(src, key, m.dump(), "must be an object");
+  auto number = [&](const std::string& k, double lo, double hi, const std::string& rule) {
+    const json& v = m.at(k);
+    if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
+      fail(src, key + "." + k, v.dump(), rule);
+    return v.get<double>();
+  };
+  for (auto it = m.begin(); it != m.end(); ++it) {
+    const std::string k = it.key();
+    const json& v = it.value();
+    if (k == "type") {
+      if (!v.is_string() || (v.get<std::string>() != "lj" && v.get<std::string>() != "polymer"))
+        fail(src, key + ".type", v.dump(), "\"lj\" or \"polymer\"");
+      p.md_type = v.get<std::string>();
+    } else if (k == "cell_A") {
+      p.cell_A = number(k, 2, 100, "a number in [2, 100] A (cell size at the build density)");
+    } else if (k == "slab_A") {
+      p.slab_A = number(k, 5, 200, "a number in [5, 200] A (slab thickness at the build density)");
+    } else if (k == "density") {
+      p.density = number(k, 0.05, 3, "a number in [0.05, 3] g/cm^3 (build density)");
+    } else if (k == "beads_per_chain") {
+      p.beads_per_chain = static_cast<int>(number(k, 4, 10000, "an integer in [4, 1e4]"));
+      if (!v.is_number_integer()) fail(src, key + "." + k, v.dump(), "an integer in [4, 1e4]");
+    } else if (k == "seed") {
+      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 800000000)
+        fail(src, key + ".seed", v.dump(), "an integer in [1, 8e8]");
+      p.md_seed = v.get<long>();
+    } else if (k == "temperature") {
+      p.poly_T = number(k, 1, 2000, "a number in [1, 2000] K (NPT anneal)");
+    } else if (k == "anneal_ps") {
+      p.anneal_ps = number(k, 0, 1e4, "a number in [0, 1e4] ps");
+    } else if (k == "min_beads_per_cell") {
+      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 10000)
+        fail(src, key + "." + k, v.dump(), "an integer in [1, 1e4] (D105)");
+      p.min_beads = static_cast<int>(v.get<long>());
+    } else if (k == "strain_probe") {
+      p.strain_probe = number(k, 1e-5, 0.05, "a number in [1e-5, 0.05] (D102)");
+    } else if (k == "forcefield") {
+      if (!v.is_object()) fail(src, key + ".forcefield", v.dump(), "must be an object");
+      for (auto f = v.begin(); f != v.end(); ++f) {
+        if (!f->is_number() || !(f->get<double>() > 0))
+          fail(src, key + ".forcefield." + f.key(), f->dump(), "a number > 0 (real units)");
+        if (f.key() == "sigma")
+          p.ff_sigma = f->get<double>();
+        else if (f.key() == "epsilon")
+          p.ff_epsilon = f->get<double>();
+        else if (f.key() == "cutoff_sigma")
+          p.ff_cutoff_sigma = f->get<double>();
+        else
+          fail(src, key + ".forcefield." + f.key(), "",
+               "unknown key (sigma, epsilon, cutoff_sigma)");
+      }
+    } else if (k == "elastic") {
+      if (v.is_string() && v.get<std::string>() == "measure") {
+        p.elastic_given = false;
+        continue;
+      }
+      const bool en = v.is_object() && v.size() == 2 && v.contains("E_Pa") && v.contains("nu");
+      const bool lm =
+          v.is_object() && v.size() == 2 && v.contains("lambda_Pa") && v.contains("mu_Pa");
+      if (!(en || lm) || !v.begin()->is_number() || !(++v.begin())->is_number())
+        fail(src, key + ".elastic", v.dump(),
+             "\"measure\" or {\"E_Pa\", \"nu\"} or {\"lambda_Pa\", \"mu_Pa\"} (plane strain, Pa)");
+      if (en) {
+        const double E = v.at("E_Pa").get<double>(), nu = v.at("nu").get<double>();
+        if (!(E > 0 && nu > -1 && nu < 0.5))
+          fail(src, key + ".elastic", v.dump(), "E_Pa > 0 and nu in (-1, 0.5)");
+        p.elastic_lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+        p.elastic_mu = E / (2 * (1 + nu));
+      } else {
+        p.elastic_lambda = v.at("lambda_Pa").get<double>();
+        p.elastic_mu = v.at("mu_Pa").get<double>();
+        if (!(p.elastic_mu > 0 && p.elastic_lambda + p.elastic_mu > 0))
+          fail(src, key + ".elastic", v.dump(), "mu_Pa > 0 and lambda_Pa + mu_Pa > 0");
+      }
+      p.elastic_given = true;
+    } else {
+      fail(src, key + "." + k, "",
+           "unknown key (type, cell_A, slab_A, density, beads_per_chain, seed, temperature, "
+           "anneal_ps, min_beads_per_cell, strain_probe, forcefield, elastic)");
     }
   }
 }
@@ -196,6 +297,7 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
     p.load = v.get<std::string>();
   }
   if (j.contains("crack")) apply_crack(j.at("crack"), p, src, prefix + "crack");
+  if (j.contains("md")) apply_md(j.at("md"), p, src, prefix + "md");
   if (j.contains("checkpoint_every_ps"))
     p.checkpoint_ps = num("checkpoint_every_ps", 0, 1e6,
                           "a number in [0, 1e6] ps (simulated time between checkpoints; 0: only "
@@ -273,6 +375,16 @@ Params read_params(const CoupleOptions& o) {
     fail(src, "cells", std::to_string(p.ncx) + " x " + std::to_string(p.ncy),
          "the continuum needs >= 2 cells around the atom block on each side");
   if (p.crack) check_crack(p, src);
+  if (p.md_type == "polymer") {
+#ifndef PNC_ESCM_HAS_POLYMER
+    fail(src, "md.type", "\"polymer\"", "this pnc was built without rve/ (PNC_BUILD_RVE=OFF)");
+#endif
+    if (p.crack)
+      fail(src, "crack", "", "cracks (Cases II/III) need the LJ MD region (md.type \"lj\")");
+    if (p.load != "tension_x")
+      fail(src, "load", "\"" + p.load + "\"", "the polymer MD region runs Case I (\"tension_x\")");
+    if (j.contains("lj")) fail(src, "lj", "", "not used with md.type \"polymer\"");
+  }
   return p;
 }
 
@@ -601,44 +713,6 @@ std::vector<std::string> split_lines(const std::string& s) {
 CoupleSummary run_couple(const CoupleOptions& o) {
   const std::string& src = o.input;
   const Params p = read_params(o);
-  const LjFcc lj = lj_fcc(p.eps, p.sig, p.rc, p.mass);
-  if (p.mode == "schwarz" && p.svc * lj.a0_A < p.rc)
-    fail(src, "svc_rings", std::to_string(p.svc),
-         "in schwarz mode the SVC rings must be at least as wide as the cut-off (D72)");
-  const double h = lj.a0_A * units::m_per_A;
-  const int bx0 = (p.ncx - p.nbx) / 2, by0 = (p.ncy - p.nby) / 2;
-  // D83: the crack line is a weak interface in both models: LJ epsilon x f across it in the MD,
-  // and by default the continuum's Gc is its work of separation, f W_sep.
-  const double wsep = lj_fcc_separation_work(lj, p.eps, p.sig, p.rc);
-  const double Gc = p.crack_Gc > 0 ? p.crack_Gc : p.crack_f * wsep;
-  Solver<2> s;
-  const Loading ld = set_up_continuum(p, lj, Gc, s);
-  const double omega1 = M_PI * ld.speed / ld.length;
-  const double damping = 2 * p.damping_fraction * omega1; // D75
-  Config c;
-  c.md_setup =
-      lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc, p.crack ? 2 : 1);
-  if (p.crack) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
-  // D93: the LJ energy shifted to zero at the cut-off (forces unchanged): otherwise every pair
-  // crossing r_c changes the logged MD potential by -V(r_c) = 0.0163 epsilon with no work done
-  // (the fifth FCC shell lies 2 % inside 2.5 sigma), and the energy log does not close.
-  c.md_setup.push_back("pair_modify shift yes");
-  c.md_offset = Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
-  c.svc_rings = p.svc;
-  c.ivc_rings = p.ivc;
-  c.substeps = p.substeps;
-  c.dt = p.substeps * p.dtau_fs * units::s_per_fs;
-  c.mode = p.mode == "schwarz" ? Mode::schwarz : Mode::neumann;
-  c.interior_temperature = p.temperature;
-  c.interior_damp_fs = damping > 0 ? 1.0 / damping / units::s_per_fs : 0.0;
-  c.ivc_damp_fs = damping > 0 ? c.interior_damp_fs : 1000.0;
-  if (p.temperature > 0 && c.interior_damp_fs <= 0) c.interior_damp_fs = 1000.0;
-  c.continuum_damping = damping;
-  const double cfl_dt = 0.5 * h / std::sqrt(lj.C11 / lj.density);
-  if (c.dt > cfl_dt)
-    fail(src, "substeps", std::to_string(p.substeps),
-         "substeps x md_timestep_fs exceeds the continuum CFL step " +
-             std::to_string(cfl_dt / units::s_per_fs) + " fs");
   // Checkpoint and resume: a directory that holds a run needs --resume, and --resume needs the
   // input the run was started with (docs/escm.md "Checkpoint and resume").
   const std::string ckpt_file = checkpoint_path(o.out_dir);
@@ -662,6 +736,145 @@ CoupleSummary run_couple(const CoupleOptions& o) {
          "already holds a run (checkpoint.h5 or summary.json): add --resume to continue it, or "
          "use a new --out directory");
   }
+  // The MD region's continuum calibration: the LJ crystal's lattice sums (D76) or the measured
+  // (or given) constants of the built polymer block (D101, D102), in the same struct (a0 = the
+  // cell size h; lambda = C12, mu = (C11 - C12) / 2).
+  const bool polymer = p.md_type == "polymer";
+  LjFcc lj;
+  double rc_A = p.rc;
+  json poly_json;
+#ifdef PNC_ESCM_HAS_POLYMER
+  PolymerBlock poly;
+  if (polymer) {
+    PolymerBlockSpec ps;
+    ps.nbx = p.nbx;
+    ps.nby = p.nby;
+    ps.svc_rings = p.svc;
+    ps.ivc_rings = p.ivc;
+    ps.neumann = p.mode == "neumann";
+    ps.cell_A = p.cell_A;
+    ps.slab_A = p.slab_A;
+    ps.density = p.density;
+    ps.beads_per_chain = p.beads_per_chain;
+    ps.seed = static_cast<std::uint64_t>(p.md_seed);
+    ps.temperature = p.poly_T;
+    ps.anneal_ps = p.anneal_ps;
+    ps.min_beads_per_cell = p.min_beads;
+    ps.strain_probe = p.strain_probe;
+    ps.measure_elastic = !p.elastic_given;
+    if (p.ff_sigma > 0) ps.ff.sigma = p.ff_sigma;
+    if (p.ff_epsilon > 0) ps.ff.epsilon = p.ff_epsilon;
+    if (p.ff_cutoff_sigma > 0) ps.ff.cutoff_sigma = p.ff_cutoff_sigma;
+    rc_A = ps.ff.cutoff();
+    std::filesystem::create_directories(o.out_dir);
+    if (o.progress)
+      std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
+                   p.nby);
+    poly = build_polymer_block(ps, o.out_dir, src);
+    lj.a0_A = poly.h_A;
+    lj.density = poly.density_kg_m3;
+    const double lam = p.elastic_given ? p.elastic_lambda : poly.lambda;
+    const double mu = p.elastic_given ? p.elastic_mu : poly.mu;
+    if (!(mu > 0 && lam + mu > 0))
+      throw std::runtime_error("escm polymer: the measured elastic constants are not positive "
+                               "definite (lambda " +
+                               std::to_string(lam) + " Pa, mu " + std::to_string(mu) +
+                               " Pa): give md.elastic");
+    lj.C11 = lam + 2 * mu;
+    lj.C12 = lam;
+    lj.C44 = mu;
+    poly_json = {
+        {"data_file", poly.data_file},
+        {"cell_size_A", poly.h_A},
+        {"slab_A", poly.Lz_A},
+        {"density_kg_m3", poly.density_kg_m3},
+        {"build_density_g_cm3", poly.build_density},
+        {"atoms", poly.atoms},
+        {"chains", poly.chains},
+        {"beads_per_chain", poly.beads_per_chain},
+        {"elastic_source", p.elastic_given ? "given" : "measured"},
+        {"lambda_Pa", lam},
+        {"mu_Pa", mu},
+        {"E_Pa", lj.E()},
+        {"nu", lj.nu()},
+        {"measured_C_Pa",
+         {{"C11", poly.C11},
+          {"C22", poly.C22},
+          {"C33", poly.C33},
+          {"C12", poly.C12},
+          {"C21", poly.C21},
+          {"C31", poly.C31},
+          {"C32", poly.C32}}},
+        {"measured_lambda_Pa", poly.lambda},
+        {"measured_mu_Pa", poly.mu},
+        {"strain_probe", p.strain_probe},
+        {"relaxed_pressure_atm",
+         {{"p", poly.pressure_atm},
+          {"pxx", poly.pxx_atm},
+          {"pyy", poly.pyy_atm},
+          {"pzz", poly.pzz_atm}}},
+        {"cut_periodic",
+         {poly.cut_periodic_bonds, poly.cut_periodic_angles, poly.cut_periodic_dihedrals}},
+        {"cut_svc_free", {poly.cut_svc_bonds, poly.cut_svc_angles, poly.cut_svc_dihedrals}},
+        {"atoms_changed_zone", poly.moved_zone},
+        {"surface_minimisation",
+         {{"passes", poly.surface_passes},
+          {"atoms_changed_zone_last_pass", poly.moved_zone_last},
+          {"fmax_kcal_mol_A", poly.surface_fmax},
+          {"fnorm_kcal_mol_A", poly.surface_fnorm}}},
+        {"volume_cell_beads",
+         {{"min", poly.min_cell_beads},
+          {"mean", poly.mean_cell_beads},
+          {"max", poly.max_cell_beads}}},
+        {"wall_s",
+         {{"relax", poly.relax_s}, {"surface", poly.surface_s}, {"total", poly.total_s}}}};
+  }
+#endif
+  if (!polymer) lj = lj_fcc(p.eps, p.sig, p.rc, p.mass);
+  if (p.mode == "schwarz" && p.svc * lj.a0_A < rc_A)
+    fail(src, "svc_rings", std::to_string(p.svc),
+         "in schwarz mode the SVC rings must be at least as wide as the cut-off (D72)");
+  const double h = lj.a0_A * units::m_per_A;
+  const int bx0 = (p.ncx - p.nbx) / 2, by0 = (p.ncy - p.nby) / 2;
+  // D83: the crack line is a weak interface in both models: LJ epsilon x f across it in the MD,
+  // and by default the continuum's Gc is its work of separation, f W_sep.
+  const double wsep = polymer ? 0.0 : lj_fcc_separation_work(lj, p.eps, p.sig, p.rc);
+  const double Gc = p.crack_Gc > 0 ? p.crack_Gc : p.crack_f * wsep;
+  Solver<2> s;
+  const Loading ld = set_up_continuum(p, lj, Gc, s);
+  const double omega1 = M_PI * ld.speed / ld.length;
+  const double damping = 2 * p.damping_fraction * omega1; // D75
+  Config c;
+  if (!polymer)
+    c.md_setup =
+        lj_fcc_block_commands(lj, p.nbx, p.nby, p.nz, p.mass, p.eps, p.sig, p.rc, p.crack ? 2 : 1);
+#ifdef PNC_ESCM_HAS_POLYMER
+  if (polymer) c.md_setup = poly.md_setup;
+#endif
+  if (p.crack) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
+  // D93: the LJ energy shifted to zero at the cut-off (forces unchanged): otherwise every pair
+  // crossing r_c changes the logged MD potential by -V(r_c) = 0.0163 epsilon with no work done
+  // (the fifth FCC shell lies 2 % inside 2.5 sigma), and the energy log does not close.
+  c.md_setup.push_back("pair_modify shift yes");
+  // LJ: the FCC block starts a0/4 inside its first cell; polymer: the block's atoms lie in
+  // [0, nb h) of the LAMMPS frame (D101).
+  c.md_offset = polymer ? Eigen::Vector2d(bx0 * h, by0 * h)
+                        : Eigen::Vector2d(bx0 * h + 0.25 * h, by0 * h + 0.25 * h);
+  c.svc_rings = p.svc;
+  c.ivc_rings = p.ivc;
+  c.substeps = p.substeps;
+  c.dt = p.substeps * p.dtau_fs * units::s_per_fs;
+  c.mode = p.mode == "schwarz" ? Mode::schwarz : Mode::neumann;
+  c.interior_temperature = p.temperature;
+  c.interior_damp_fs = damping > 0 ? 1.0 / damping / units::s_per_fs : 0.0;
+  c.ivc_damp_fs = damping > 0 ? c.interior_damp_fs : 1000.0;
+  if (p.temperature > 0 && c.interior_damp_fs <= 0) c.interior_damp_fs = 1000.0;
+  c.continuum_damping = damping;
+  const double cfl_dt = 0.5 * h / std::sqrt(lj.C11 / lj.density);
+  if (c.dt > cfl_dt)
+    fail(src, "substeps", std::to_string(p.substeps),
+         "substeps x md_timestep_fs exceeds the continuum CFL step " +
+             std::to_string(cfl_dt / units::s_per_fs) + " fs");
   std::filesystem::create_directories(o.out_dir);
   const std::string out = o.out_dir;
   c.lammps_log = out + "/lammps.log";
@@ -884,6 +1097,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     ++r.checkpoints;
     r.checkpoint_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
+  // Polymer (D107): the left reaction at the end of the settle phase, before any load; a block
+  // that is not in equilibrium when the coupling starts shows up here (not kept over a resume).
+  double reaction_settle = std::numeric_limits<double>::quiet_NaN();
   const StopSignals stop_signals;
   const auto w0 = std::chrono::steady_clock::now();
   auto last = w0;
@@ -894,6 +1110,8 @@ CoupleSummary run_couple(const CoupleOptions& o) {
             ? p.strain * ld.length / t_load * (1 - std::cos(2 * M_PI * tl / t_load))
             : 0.0;
     cp.step();
+    if (polymer && std::isnan(reaction_settle) && s.time >= t_settle - 0.5 * c.dt)
+      reaction_settle = s.bcs[0].reaction[ld.comp];
     {
       const auto g0 = std::chrono::steady_clock::now();
       gather();
@@ -1002,8 +1220,21 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   sj["cell_size_m"] = h;
   sj["block_origin_m"] = {bx0 * h, by0 * h};
   sj["block_cells"] = {p.nbx, p.nby};
-  sj["lj_fcc"] = {{"a0_A", lj.a0_A}, {"C11_Pa", lj.C11}, {"C12_Pa", lj.C12},     {"C44_Pa", lj.C44},
-                  {"E_Pa", lj.E()},  {"nu", lj.nu()},    {"density", lj.density}};
+  sj["md_type"] = p.md_type;
+  if (polymer) {
+    sj["polymer"] = poly_json;
+    if (!std::isnan(reaction_settle))
+      sj["polymer"]["reaction_left_end_of_settle_N_per_m"] = reaction_settle;
+  } else
+    sj["lj_fcc"] = {{"a0_A", lj.a0_A},      {"C11_Pa", lj.C11}, {"C12_Pa", lj.C12},
+                    {"C44_Pa", lj.C44},     {"E_Pa", lj.E()},   {"nu", lj.nu()},
+                    {"density", lj.density}};
+  sj["continuum"] = {{"lambda_Pa", lj.C12},
+                     {"mu_Pa", 0.5 * (lj.C11 - lj.C12)},
+                     {"E_Pa", lj.E()},
+                     {"nu", lj.nu()},
+                     {"density_kg_m3", lj.density},
+                     {"strip_modulus_Pa", lj.strip_modulus()}};
   // The fixed edge's reaction along the load (N per m); for Case I the left edge (as before).
   sj["reaction_fixed_N_per_m"] = r.reaction_left;
   if (p.load == "tension_x") {
@@ -1012,6 +1243,56 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   }
   sj["gradient"] = {
       {"spacing_m", grad.spacing()}, {"increments", grad.increments()}, {"wall_s", grad_wall}};
+  // Handshake continuity at the end (D106): for every IVC cell the mean displacement of its atoms,
+  // the standard deviation of its atoms' displacements, and the displacement of the continuum
+  // particle(s) of the SVC cell(s) just outside it (m).
+  {
+    gather();
+    int imin = 1 << 30, imax = -(1 << 30), jmin = imin, jmax = imax;
+    std::map<std::pair<int, int>, std::size_t> svc_particle;
+    for (const Cell& cell : cp.cells()) {
+      imin = std::min(imin, cell.ij[0]);
+      imax = std::max(imax, cell.ij[0]);
+      jmin = std::min(jmin, cell.ij[1]);
+      jmax = std::max(jmax, cell.ij[1]);
+      if (cell.zone == Zone::svc) svc_particle[{cell.ij[0], cell.ij[1]}] = cell.particle;
+    }
+    json hs = json::array();
+    for (const Cell& cell : cp.cells()) {
+      if (cell.zone != Zone::ivc) continue;
+      const int i = cell.ij[0], j = cell.ij[1];
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sq = Eigen::Vector2d::Zero();
+      for (int id : cell.atoms) {
+        const auto k = static_cast<std::size_t>(id - 1);
+        const Eigen::Vector2d u = cp.to_continuum(gax[k]) - cp.to_continuum(cp.atoms_initial()[k]);
+        sum += u;
+        sq += u.cwiseProduct(u);
+      }
+      const double n = static_cast<double>(cell.atoms.size());
+      const Eigen::Vector2d mean = sum / n;
+      const Eigen::Vector2d var = (sq / n - mean.cwiseProduct(mean)).cwiseMax(0.0);
+      Eigen::Vector2d uc = Eigen::Vector2d::Zero();
+      int nc = 0;
+      const int rr = p.svc;
+      for (const auto& q : std::vector<std::pair<int, int>>{{i - imin == rr ? i - 1 : i, j},
+                                                            {imax - i == rr ? i + 1 : i, j},
+                                                            {i, j - jmin == rr ? j - 1 : j},
+                                                            {i, jmax - j == rr ? j + 1 : j}}) {
+        const auto it = svc_particle.find(q);
+        if (it == svc_particle.end()) continue;
+        uc += s.particles.x[it->second] - s.particles.x0[it->second];
+        ++nc;
+      }
+      if (nc == 0) continue;
+      uc /= nc;
+      hs.push_back({{"cell", {i, j}},
+                    {"atoms", cell.atoms.size()},
+                    {"u_ivc_m", {mean[0], mean[1]}},
+                    {"sd_atoms_m", {std::sqrt(var[0]), std::sqrt(var[1])}},
+                    {"u_svc_m", {uc[0], uc[1]}}});
+    }
+    sj["handshake"] = hs;
+  }
   sj["particle_frames"] = r.particle_frames;
   sj["checkpoint"] = {{"file", r.checkpoint},        {"every_steps", ckpt_every},
                       {"written", r.checkpoints},    {"wall_s", r.checkpoint_s},

@@ -1,0 +1,415 @@
+// The coarse-grained polypropylene MD region of `pnc gimp couple` (escm_polymer.hpp, D100-D108).
+#include "pnc/gimp_coupler/escm_polymer.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/runner.hpp"
+
+#include <lammps/library.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace pnc::gimp::escm {
+
+namespace {
+
+using Vec = std::array<double, 3>;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
+
+/// Unwrapped positions (A) of all atoms by id, from x and the packed image flags (LAMMPS
+/// smallbig: 10 bits per axis, offset 512).
+std::vector<Vec> unwrapped(pnc::rve::Lammps& L) {
+  void* h = L.handle();
+  const int n = static_cast<int>(lammps_get_natoms(h));
+  std::vector<double> x(static_cast<std::size_t>(n) * 3);
+  std::vector<int> img(static_cast<std::size_t>(n));
+  std::string nx = "x", ni = "image";
+  if (lammps_extract_setting(h, "imageint") != 4)
+    throw std::runtime_error("escm polymer: LAMMPS imageint is not 32 bit");
+  lammps_gather_atoms(h, nx.data(), 1, 3, x.data());
+  lammps_gather_atoms(h, ni.data(), 0, 1, img.data());
+  double lo[3], hi[3], xy, yz, xz;
+  int per[3], changed;
+  lammps_extract_box(h, lo, hi, &xy, &yz, &xz, per, &changed);
+  std::vector<Vec> u(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const auto im = static_cast<unsigned>(img[static_cast<std::size_t>(i)]);
+    const int f[3] = {static_cast<int>(im & 1023u) - 512,
+                      static_cast<int>((im >> 10) & 1023u) - 512, static_cast<int>(im >> 20) - 512};
+    for (int a = 0; a < 3; ++a)
+      u[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] =
+          x[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(a)] +
+          (per[a] ? f[a] * (hi[a] - lo[a]) : 0.0);
+  }
+  return u;
+}
+
+void write_positions(const std::string& path, const std::vector<Vec>& u,
+                     const std::map<std::string, double>& values) {
+  std::ofstream f(path);
+  f.precision(17);
+  for (const auto& [k, v] : values)
+    f << k << ' ' << v << '\n';
+  f << "atoms " << u.size() << '\n';
+  for (const Vec& p : u)
+    f << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  if (!f) throw std::runtime_error("escm polymer: cannot write " + path);
+}
+
+void read_positions(const std::string& path, std::vector<Vec>& u,
+                    std::map<std::string, double>& values) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("escm polymer: missing stage result " + path);
+  std::string k;
+  while (f >> k) {
+    if (k == "atoms") {
+      std::size_t n = 0;
+      f >> n;
+      u.resize(n);
+      for (Vec& p : u)
+        f >> p[0] >> p[1] >> p[2];
+      break;
+    }
+    double v = 0;
+    f >> v;
+    values[k] = v;
+  }
+  if (!f) throw std::runtime_error("escm polymer: truncated stage result " + path);
+}
+
+std::vector<std::string> header(const std::string& boundary, const std::string& data) {
+  return {"units real", "atom_style molecular", "boundary " + boundary, "read_data " + data};
+}
+
+void run(const pnc::rve::StageSpec& st, const pnc::rve::StageBody& body) {
+  const auto out = pnc::rve::run_stage(st, body);
+  if (!out.ok)
+    throw std::runtime_error("escm polymer: stage " + st.name + " failed: " + out.error + " (log " +
+                             st.log_path + ")");
+}
+
+} // namespace
+
+double expected_beads_per_cell(const PolymerBlockSpec& sp) {
+  const double rho = sp.density > 0 ? sp.density : pnc::rve::BuildSpec{}.density;
+  return rho * pnc::rve::avogadro_per_A3_cm3 / sp.ff.bead_mass * sp.cell_A * sp.cell_A * sp.slab_A;
+}
+
+PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& dir,
+                                 const std::string& src) {
+  const auto t0 = std::chrono::steady_clock::now();
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const std::string dabs = fs::absolute(dir).string();
+  if (dabs.find_first_of(" \t'\"") != std::string::npos)
+    fail(src, "--out", dir, "the polymer region's data file path must not contain blanks");
+  sp.ff.validate(src);
+  PolymerBlock b;
+  pnc::rve::BuildSpec bs;
+  if (sp.density > 0) bs.density = sp.density;
+  if (sp.beads_per_chain > 0) bs.beads_per_chain = sp.beads_per_chain;
+  bs.seed = sp.seed;
+  b.build_density = bs.density;
+  b.beads_per_chain = bs.beads_per_chain;
+  // D105: every volume cell needs atoms; check the expectation before building.
+  const double per_cell = expected_beads_per_cell(sp);
+  if (per_cell < 2.0 * sp.min_beads_per_cell)
+    fail(src, "md.cell_A", num(sp.cell_A),
+         "a cell of " + num(sp.cell_A) + " x " + num(sp.cell_A) + " x " + num(sp.slab_A) +
+             " A^3 holds on average " + num(per_cell) + " beads at " + num(bs.density) +
+             " g/cm^3; at least 2 x min_beads_per_cell = " +
+             std::to_string(2 * sp.min_beads_per_cell) +
+             " are needed so that every SVC/IVC cell holds atoms (D105): raise md.cell_A or "
+             "md.slab_A");
+  if (sp.slab_A < 2.0 * sp.ff.cutoff())
+    fail(src, "md.slab_A", num(sp.slab_A),
+         "must be at least twice the LJ cut-off (" + num(2 * sp.ff.cutoff()) +
+             " A): a bead must not meet its own periodic image through the slab (D100)");
+  // 1. Build (D100): chains grown in the periodic block box.
+  pnc::rve::System s;
+  s.lo = {0, 0, 0};
+  s.hi = {sp.nbx * sp.cell_A, sp.nby * sp.cell_A, sp.slab_A};
+  s.type_mass = {sp.ff.bead_mass};
+  const double nbead = bs.density * pnc::rve::avogadro_per_A3_cm3 / sp.ff.bead_mass * s.volume();
+  bs.chains = std::max(1, static_cast<int>(std::lround(nbead / bs.beads_per_chain)));
+  bs.validate(src);
+  pnc::rve::grow_chains(s, bs, sp.ff, 0.0);
+  b.chains = bs.chains;
+  b.atoms = static_cast<int>(s.x.size());
+  const std::string build_data = dabs + "/polymer_build.data";
+  pnc::rve::write_data_file(build_data, s, "ESCM polymer block, as built");
+  const auto ffc = pnc::rve::polymer_forcefield_commands(sp.ff);
+
+  // 2. Periodic relaxation and elastic constants (D101, D102), in a child process.
+  const std::string relax_out = dabs + "/polymer_relax.txt";
+  const auto tr = std::chrono::steady_clock::now();
+  run({"polymer/relax", dabs + "/polymer_relax.log", {}, 1}, [&](pnc::rve::Lammps& L) {
+    L.cmds(header("p p p", build_data));
+    L.cmds(ffc);
+    L.cmd("pair_modify shift yes"); // D107: continuous energy for the line searches
+    L.cmds({"neighbor 2.0 bin", "neigh_modify delay 0 every 1 check yes",
+            "thermo_style custom step temp pe press pxx pyy pzz lx ly lz", "thermo 1000",
+            "min_style cg", "min_modify line quadratic", "minimize 0 1e-6 1000 10000"});
+    const long nsteps = std::lround(sp.anneal_ps * 1000.0 / sp.anneal_timestep_fs);
+    if (nsteps >= 2) {
+      const std::string T = num(sp.temperature);
+      const std::string baro = " x 0 0 1000 y 0 0 1000 z 0 0 1000 couple xy";
+      L.cmds({"timestep " + num(sp.anneal_timestep_fs),
+              "velocity all create " + T + " " + std::to_string(sp.seed % 800000000 + 1) +
+                  " dist gaussian",
+              "fix escm_npt all npt temp " + T + " " + T + " 100" + baro,
+              "run " + std::to_string(nsteps / 2), "unfix escm_npt",
+              "fix escm_npt all npt temp " + T + " 1 100" + baro,
+              "run " + std::to_string(nsteps - nsteps / 2), "unfix escm_npt",
+              "velocity all set 0 0 0"});
+    }
+    L.cmds({"fix escm_br all box/relax x 0 y 0 z 0 couple xy vmax 0.001 nreset 50",
+            "minimize 0 1e-8 1000 10000", "unfix escm_br"});
+    std::map<std::string, double> v;
+    const std::vector<Vec> u = unwrapped(L);
+    double lo[3], hi[3], xy, yz, xz;
+    L.box(lo, hi, xy, yz, xz);
+    for (int a = 0; a < 3; ++a) {
+      v[std::string("lo") + "xyz"[a]] = lo[a];
+      v[std::string("L") + "xyz"[a]] = hi[a] - lo[a];
+    }
+    v["pxx"] = L.thermo("pxx");
+    v["pyy"] = L.thermo("pyy");
+    v["pzz"] = L.thermo("pzz");
+    v["press"] = L.thermo("press");
+    if (sp.measure_elastic) {
+      const double d = sp.strain_probe;
+      for (const char* ax : {"x", "y", "z"}) {
+        std::array<std::array<double, 3>, 2> sig{};
+        for (int k = 0; k < 2; ++k) {
+          const double f = k == 0 ? 1 + d : 1 - d;
+          L.cmd(std::string("change_box all ") + ax + " scale " + num(f) + " remap");
+          L.cmd("minimize 0 1e-10 20000 100000");
+          sig[static_cast<std::size_t>(k)] = {-L.thermo("pxx"), -L.thermo("pyy"), -L.thermo("pzz")};
+          L.cmd(std::string("change_box all ") + ax + " scale " + num(1.0 / f) + " remap");
+        }
+        for (int a = 0; a < 3; ++a)
+          v[std::string("C") + "xyz"[a] + ax] =
+              (sig[0][static_cast<std::size_t>(a)] - sig[1][static_cast<std::size_t>(a)]) /
+              (2 * d) * pnc::rve::pa_per_atm;
+      }
+    }
+    write_positions(relax_out, u, v);
+  });
+  b.relax_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count();
+  std::vector<Vec> u;
+  std::map<std::string, double> v;
+  read_positions(relax_out, u, v);
+  if (u.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
+  const double Lx = v.at("Lx"), Ly = v.at("Ly"), Lz = v.at("Lz");
+  b.h_A = Lx / sp.nbx; // D101 (x and y coupled: Ly / nby is the same)
+  b.Lz_A = Lz;
+  const double mass_g = static_cast<double>(u.size()) * sp.ff.bead_mass / 6.02214076e23;
+  b.density_kg_m3 = mass_g * 1e-3 / (Lx * Ly * Lz * 1e-30);
+  b.pxx_atm = v.at("pxx");
+  b.pyy_atm = v.at("pyy");
+  b.pzz_atm = v.at("pzz");
+  b.pressure_atm = v.at("press");
+  if (sp.measure_elastic) {
+    b.C11 = v.at("Cxx");
+    b.C22 = v.at("Cyy");
+    b.C33 = v.at("Czz");
+    b.C21 = v.at("Cyx"); // sigma_y / eps_x
+    b.C12 = v.at("Cxy");
+    b.C31 = v.at("Czx");
+    b.C32 = v.at("Czy");
+    b.lambda = 0.5 * (b.C12 + b.C21);
+    b.mu = 0.5 * (0.5 * (b.C11 + b.C22) - b.lambda);
+  }
+
+  // 3. Cut at the x/y faces and, in neumann mode, between SVC and free atoms (D103).
+  const double lo[2] = {v.at("lox"), v.at("loy")}, Lxy[2] = {Lx, Ly};
+  std::vector<Vec> w(u.size()); // x, y wrapped into [0, L); z unwrapped (from lo_z)
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    for (int a = 0; a < 2; ++a) {
+      double q = u[i][static_cast<std::size_t>(a)] - lo[a];
+      q -= std::floor(q / Lxy[a]) * Lxy[a];
+      if (q >= Lxy[a]) q -= Lxy[a];
+      w[i][static_cast<std::size_t>(a)] = q;
+    }
+    w[i][2] = u[i][2] - v.at("loz");
+  }
+  auto crosses = [&](int i, int j) {
+    for (std::size_t a = 0; a < 2; ++a) {
+      const double du = u[static_cast<std::size_t>(j)][a] - u[static_cast<std::size_t>(i)][a];
+      const double dw = w[static_cast<std::size_t>(j)][a] - w[static_cast<std::size_t>(i)][a];
+      if (std::abs(du - dw) > 0.5 * Lxy[a]) return true;
+    }
+    return false;
+  };
+  const double h = b.h_A;
+  auto cell = [&](const Vec& p) {
+    return std::array<int, 2>{static_cast<int>(std::floor(p[0] / h)),
+                              static_cast<int>(std::floor(p[1] / h))};
+  };
+  auto svc_of = [&](const std::vector<Vec>& pos) {
+    std::vector<char> svc(pos.size());
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      const auto c = cell(pos[i]);
+      const int ring = std::min({c[0], sp.nbx - 1 - c[0], c[1], sp.nby - 1 - c[1]});
+      svc[i] = ring < sp.svc_rings;
+    }
+    return svc;
+  };
+  // Removes the bonded terms that cross a face or (neumann) join SVC and free atoms.
+  auto cut = [&](const std::vector<char>& svc, bool faces, int counts[3]) {
+    auto mixed = [&](std::initializer_list<int> ids) {
+      if (!sp.neumann) return false;
+      bool any = false, all = true;
+      for (int i : ids) {
+        any = any || svc[static_cast<std::size_t>(i)];
+        all = all && svc[static_cast<std::size_t>(i)];
+      }
+      return any && !all;
+    };
+    auto drop = [&](auto& list, auto&& bad) {
+      const std::size_t n0 = list.size();
+      list.erase(std::remove_if(list.begin(), list.end(), bad), list.end());
+      return static_cast<int>(n0 - list.size());
+    };
+    counts[0] = drop(s.bonds, [&](const std::array<int, 3>& t) {
+      return (faces && crosses(t[1], t[2])) || (!faces && mixed({t[1], t[2]}));
+    });
+    counts[1] = drop(s.angles, [&](const std::array<int, 4>& t) {
+      return (faces && (crosses(t[1], t[2]) || crosses(t[2], t[3]))) ||
+             (!faces && mixed({t[1], t[2], t[3]}));
+    });
+    counts[2] = drop(s.dihedrals, [&](const std::array<int, 5>& t) {
+      return (faces && (crosses(t[1], t[2]) || crosses(t[2], t[3]) || crosses(t[3], t[4]))) ||
+             (!faces && mixed({t[1], t[2], t[3], t[4]}));
+    });
+  };
+  int cp[3], cs[3];
+  cut({}, true, cp);
+  b.cut_periodic_bonds = cp[0];
+  b.cut_periodic_angles = cp[1];
+  b.cut_periodic_dihedrals = cp[2];
+  const std::vector<char> svc0 = svc_of(w);
+  cut(svc0, false, cs);
+  b.cut_svc_bonds = cs[0];
+  b.cut_svc_angles = cs[1];
+  b.cut_svc_dihedrals = cs[2];
+  // Non-periodic x, y: a box with a margin (shrink-wrapped when read, D78); z periodic.
+  const double margin = 2.0;
+  s.lo = {-margin, -margin, 0.0};
+  s.hi = {Lx + margin, Ly + margin, Lz};
+  for (std::size_t i = 0; i < u.size(); ++i)
+    s.x[i] = w[i];
+  const std::string cut_data = dabs + "/polymer_cut.data";
+  pnc::rve::write_data_file(cut_data, s, "ESCM polymer block, faces cut");
+
+  // 4. Free-surface minimisation with the SVC atoms held (D104), in a child process; repeated
+  // with the zones (and SVC-free cuts) of the relaxed positions until no atom changes zone, so
+  // that the block the coupler reads is a converged minimum for the coupler's own zones (D107).
+  const std::string surf_out = dabs + "/polymer_surface.txt";
+  const auto ts = std::chrono::steady_clock::now();
+  std::vector<Vec> u2;
+  std::vector<char> svc_prev = svc0;
+  for (int pass = 1;; ++pass) {
+    run({"polymer/surface",
+         dabs + (pass == 1 ? std::string("/polymer_surface.log")
+                           : "/polymer_surface_" + std::to_string(pass) + ".log"),
+         {},
+         1},
+        [&](pnc::rve::Lammps& L) {
+          L.cmds(header("s s p", cut_data));
+          L.cmds(ffc);
+          L.cmd("pair_modify shift yes"); // D107
+          const double a = sp.svc_rings * h;
+          L.cmds({"neighbor 2.0 bin", "neigh_modify delay 0 every 1 check yes",
+                  "region escm_inner block " + num(a) + " " + num(Lx - a) + " " + num(a) + " " +
+                      num(Ly - a) + " INF INF units box",
+                  "group escm_free region escm_inner", "group escm_svc subtract all escm_free"});
+          if (sp.neumann) L.cmd("neigh_modify exclude group escm_svc escm_free");
+          L.cmds({"fix escm_hold escm_svc setforce 0 0 0", "thermo_style custom step pe press fmax",
+                  "thermo 1000", "min_style cg", "min_modify line quadratic",
+                  "minimize 0 1e-6 4000 40000"});
+          std::map<std::string, double> vv;
+          vv["pe"] = L.thermo("pe");
+          vv["fmax"] = L.thermo("fmax");
+          vv["fnorm"] = L.thermo("fnorm");
+          write_positions(surf_out, unwrapped(L), vv);
+        });
+    std::map<std::string, double> v2;
+    read_positions(surf_out, u2, v2);
+    if (u2.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
+    b.surface_fmax = v2.at("fmax");
+    b.surface_fnorm = v2.at("fnorm");
+    b.surface_passes = pass;
+    for (std::size_t i = 0; i < u2.size(); ++i)
+      s.x[i] = u2[i];
+    // Zones by the relaxed positions (as the coupler assigns them): cut what became mixed.
+    const std::vector<char> svc1 = svc_of(u2);
+    int moved = 0;
+    for (std::size_t i = 0; i < svc1.size(); ++i)
+      moved += svc1[i] != svc_prev[i];
+    if (pass == 1) b.moved_zone = moved;
+    b.moved_zone_last = moved;
+    svc_prev = svc1;
+    if (moved == 0) break;
+    cut(svc1, false, cs);
+    b.cut_svc_bonds += cs[0];
+    b.cut_svc_angles += cs[1];
+    b.cut_svc_dihedrals += cs[2];
+    if (pass == 4) break; // reported (moved_zone_last); the coupler still runs
+    pnc::rve::write_data_file(cut_data, s, "ESCM polymer block, faces cut, re-zoned");
+  }
+  b.surface_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
+  // D105: bead count of every SVC/IVC cell.
+  std::map<std::array<int, 2>, int> count;
+  for (const Vec& p : u2) {
+    const auto c = cell(p);
+    if (c[0] < 0 || c[1] < 0 || c[0] >= sp.nbx || c[1] >= sp.nby)
+      throw std::runtime_error("escm polymer: a bead left the block's cells in the surface "
+                               "minimisation (x = " +
+                               num(p[0]) + ", y = " + num(p[1]) + " A)");
+    ++count[c];
+  }
+  b.min_cell_beads = 1 << 30;
+  int ncell = 0;
+  const int rings = sp.svc_rings + sp.ivc_rings;
+  for (int j = 0; j < sp.nby; ++j)
+    for (int i = 0; i < sp.nbx; ++i) {
+      if (std::min({i, sp.nbx - 1 - i, j, sp.nby - 1 - j}) >= rings) continue;
+      const auto it = count.find({i, j});
+      const int n = it == count.end() ? 0 : it->second;
+      b.min_cell_beads = std::min(b.min_cell_beads, n);
+      b.max_cell_beads = std::max(b.max_cell_beads, n);
+      b.mean_cell_beads += n;
+      ++ncell;
+      if (n < sp.min_beads_per_cell)
+        fail(src, "md.min_beads_per_cell", std::to_string(sp.min_beads_per_cell),
+             "volume cell (" + std::to_string(i) + ", " + std::to_string(j) +
+                 ") of the built block holds " + std::to_string(n) + " beads (cell " + num(h) +
+                 " A, slab " + num(Lz) + " A, expected mean " + num(per_cell) +
+                 "): raise md.cell_A or md.slab_A, or change md.seed (D105)");
+    }
+  b.mean_cell_beads /= std::max(1, ncell);
+  b.data_file = dabs + "/polymer_block.data";
+  pnc::rve::write_data_file(b.data_file, s, "ESCM polymer block, relaxed, boundary s s p");
+  b.md_setup = header("s s p", b.data_file);
+  b.md_setup.insert(b.md_setup.end(), ffc.begin(), ffc.end());
+  b.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return b;
+}
+
+} // namespace pnc::gimp::escm
