@@ -1167,8 +1167,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   }
   r.wall_s =
       wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-  if (!r.interrupted.empty()) { // stopped with a checkpoint: the CSVs so far, no summary
-    r.steps = s.steps;
+  // The run's numbers and its CSVs, written whether it finished or stopped.
+  auto finish_common = [&](long steps) {
+    r.steps = steps;
     r.time_s = s.time;
     r.outside_share = cp.timing().outside_share();
     r.atoms = cp.zone_counts();
@@ -1184,6 +1185,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
       r.crack_csv = out + "/crack.csv";
       pnc::write_text_atomically(r.crack_csv, crack_csv.str());
     }
+  };
+  if (!r.interrupted.empty()) { // stopped with a checkpoint: the CSVs so far, no summary
+    finish_common(s.steps);
     if (o.progress)
       std::fprintf(stderr,
                    "pnc gimp couple: stopped (%s) after step %ld/%ld (t = %.2f ps); checkpoint "
@@ -1192,20 +1196,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     return r;
   }
   write_ckpt(nsteps, r.wall_s);
-  r.steps = nsteps;
-  r.time_s = s.time;
-  r.outside_share = cp.timing().outside_share();
-  r.atoms = cp.zone_counts();
-  r.particles = s.particles.size();
-  r.energy = cp.energy_log().back();
-  r.reaction_left = s.bcs[0].reaction[ld.comp];
+  finish_common(nsteps);
   r.strain_modulus_pa = lj.strip_modulus();
-  r.profile_csv = out + "/profile.csv";
-  r.energy_csv = out + "/energy.csv";
-  r.lammps_log = c.lammps_log;
   r.summary_json = out + "/summary.json";
-  pnc::write_text_atomically(r.profile_csv, prof.str());
-  cp.write_energy_csv(r.energy_csv);
   json sj;
   sj["input"] = src;
   sj["short"] = o.short_mode;
@@ -1299,8 +1292,6 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                       {"bytes", r.checkpoint_bytes}, {"resumed", r.resumed},
                       {"start_step", r.start_step}};
   if (p.crack) {
-    r.crack_csv = out + "/crack.csv";
-    pnc::write_text_atomically(r.crack_csv, crack_csv.str());
     sj["crack"] = crack_summary(crack_log, frame_log, p, h, max_increments);
     sj["crack"]["Gc_J_per_m2"] = Gc;
     sj["crack"]["interface_fraction"] = p.crack_f;
