@@ -58,6 +58,28 @@ fs::path tmpdir(const std::string& name) {
   return d;
 }
 
+/// The same input run straight through (DIR/straight) and interrupted after `stop` steps
+/// then resumed (DIR/split): the three summaries of the resume tests.
+struct StraightAndSplit {
+  RunSummary straight, interrupted, resumed;
+};
+StraightAndSplit run_straight_and_split(const std::filesystem::path& d, long stop) {
+  RunOptions o;
+  o.input = (d / "in.json").string();
+  o.progress = false;
+  o.plot = false;
+  o.out_dir = (d / "straight").string();
+  StraightAndSplit r;
+  r.straight = run(o);
+  o.out_dir = (d / "split").string();
+  o.stop_after_steps = stop;
+  r.interrupted = run(o);
+  o.stop_after_steps = 0;
+  o.resume = true;
+  r.resumed = run(o);
+  return r;
+}
+
 } // namespace
 
 TEST(GimpInput, BuildsBodiesWithHolesBoundariesAndTractions) {
@@ -282,19 +304,9 @@ TEST(GimpRun, ResumeContinuesBitForBit) {
     std::ofstream f(d / "in.json");
     f << j.dump(2);
   }
-  RunOptions o;
-  o.input = (d / "in.json").string();
-  o.progress = false;
-  o.plot = false;
-  o.out_dir = (d / "straight").string();
-  const RunSummary a = run(o); // 40 steps in one go
-  o.out_dir = (d / "split").string();
-  o.stop_after_steps = 17;
-  const RunSummary b1 = run(o); // interrupted after 17 steps
+  // 40 steps in one go, and interrupted after 17 steps then resumed
+  const auto [a, b1, b] = run_straight_and_split(d, 17);
   EXPECT_EQ(b1.steps, 17);
-  o.stop_after_steps = 0;
-  o.resume = true;
-  const RunSummary b = run(o);
   EXPECT_TRUE(b.resumed);
   EXPECT_GT(a.steps, 17);
   EXPECT_EQ(b.steps, a.steps);
@@ -303,8 +315,8 @@ TEST(GimpRun, ResumeContinuesBitForBit) {
   EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
   EXPECT_EQ(a.energy.external_work, b.energy.external_work);
   Solver<2> sa, sb;
-  load_input<2>(o.input, sa);
-  load_input<2>(o.input, sb);
+  load_input<2>((d / "in.json").string(), sa);
+  load_input<2>((d / "in.json").string(), sb);
   sa.initialize();
   sb.initialize();
   CheckpointExtra xa, xb;
@@ -343,18 +355,7 @@ TEST(GimpRun, ResumeWithGrowingCrackContinuesBitForBit) {
     std::ofstream f(d / "in.json");
     f << j.dump(2);
   }
-  RunOptions o;
-  o.input = (d / "in.json").string();
-  o.progress = false;
-  o.plot = false;
-  o.out_dir = (d / "straight").string();
-  const RunSummary a = run(o);
-  o.out_dir = (d / "split").string();
-  o.stop_after_steps = 12;
-  const RunSummary b1 = run(o);
-  o.stop_after_steps = 0;
-  o.resume = true;
-  const RunSummary b = run(o);
+  const auto [a, b1, b] = run_straight_and_split(d, 12);
   EXPECT_EQ(a.crack_increments, 3);
   EXPECT_GT(b1.crack_increments, 0); // grew before the interruption ...
   EXPECT_GT(b.crack_increments, 0);  // ... and after it
@@ -364,8 +365,8 @@ TEST(GimpRun, ResumeWithGrowingCrackContinuesBitForBit) {
   EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
   EXPECT_LT(a.energy.damping_work, 0.0);
   Solver<2> sa, sb;
-  load_input<2>(o.input, sa);
-  load_input<2>(o.input, sb);
+  load_input<2>((d / "in.json").string(), sa);
+  load_input<2>((d / "in.json").string(), sb);
   sa.initialize();
   sb.initialize();
   CheckpointExtra xa, xb;
@@ -616,18 +617,7 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
     std::ofstream f(d / "in.json");
     f << j.dump(2);
   }
-  RunOptions o;
-  o.input = (d / "in.json").string();
-  o.progress = false;
-  o.plot = false;
-  o.out_dir = (d / "straight").string();
-  const RunSummary a = run(o);
-  o.out_dir = (d / "split").string();
-  o.stop_after_steps = 12;
-  const RunSummary b1 = run(o);
-  o.stop_after_steps = 0;
-  o.resume = true;
-  const RunSummary b = run(o);
+  const auto [a, b1, b] = run_straight_and_split(d, 12);
   EXPECT_TRUE(b.resumed);
   EXPECT_EQ(a.crack_increments, 3);
   EXPECT_GT(b1.crack_increments, 0); // grew before the interruption ...
@@ -637,8 +627,8 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
   EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
   Solver<3> sa, sb;
-  load_input<3>(o.input, sa);
-  load_input<3>(o.input, sb);
+  load_input<3>((d / "in.json").string(), sa);
+  load_input<3>((d / "in.json").string(), sb);
   sa.initialize();
   sb.initialize();
   sb.cracks[0].corners.clear(); // must come back from the checkpoint
