@@ -18,8 +18,7 @@
 #include <string>
 
 struct pnc_material {
-  pnc::damage::NdmParameters params;
-  pnc::damage::PreparedNdm kernel; ///< prepare(params), built once at creation
+  pnc::damage::PreparedNdm kernel; ///< the parameters (kernel.p), prepared once at creation
   std::string source;              ///< card path or "<constants>", for messages
 };
 
@@ -65,8 +64,7 @@ PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* 
                     std::string("cannot open the material card: ") + std::strerror(errno));
         pnc::damage::Card card = pnc::damage::read_card(card_path); // validates
         auto* m = new pnc_material;
-        m->params = card.params;
-        m->kernel = pnc::damage::prepare(m->params);
+        m->kernel = pnc::damage::prepare(card.params);
         m->source = card_path;
         return m;
       },
@@ -101,7 +99,6 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* mo
               p.R(r, c) = rotation9[3 * r + c];
         pnc::damage::validate(p, kFromConstants);
         auto* m = new pnc_material;
-        m->params = p;
         m->kernel = pnc::damage::prepare(p);
         m->source = "<constants>";
         return m;
@@ -114,43 +111,43 @@ PNC_MATERIAL_API void pnc_material_destroy(pnc_material* m) {
 }
 
 PNC_MATERIAL_API const char* pnc_material_model(const pnc_material* m) {
-  return m ? pnc::damage::model_name(m->params.model) : nullptr;
+  return m ? pnc::damage::model_name(m->kernel.p.model) : nullptr;
 }
 
 PNC_MATERIAL_API int pnc_material_n_constants(const pnc_material* m) {
-  return m ? static_cast<int>(m->params.size()) : 0;
+  return m ? static_cast<int>(m->kernel.p.size()) : 0;
 }
 
 PNC_MATERIAL_API const char* pnc_material_constant_name(const pnc_material* m, int i) {
   if (!m || i < 0 || i >= pnc_material_n_constants(m)) return nullptr;
-  return pnc::damage::constant_names(m->params.model)[static_cast<std::size_t>(i)].c_str();
+  return pnc::damage::constant_names(m->kernel.p.model)[static_cast<std::size_t>(i)].c_str();
 }
 
 PNC_MATERIAL_API double pnc_material_constant(const pnc_material* m, int i) {
   if (!m || i < 0 || i >= pnc_material_n_constants(m))
     return std::numeric_limits<double>::quiet_NaN();
-  return m->params.k[static_cast<std::size_t>(i)];
+  return m->kernel.p.k[static_cast<std::size_t>(i)];
 }
 
 PNC_MATERIAL_API void pnc_material_rotation(const pnc_material* m, double* rotation9) {
   if (!m || !rotation9) return;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      rotation9[3 * r + c] = m->params.R(r, c);
+      rotation9[3 * r + c] = m->kernel.p.R(r, c);
 }
 
 PNC_MATERIAL_API int pnc_material_n_state(const pnc_material* m) {
-  return m ? static_cast<int>(pnc::damage::state_size(m->params.model)) : 0;
+  return m ? static_cast<int>(pnc::damage::state_size(m->kernel.p.model)) : 0;
 }
 
 PNC_MATERIAL_API const char* pnc_material_state_name(const pnc_material* m, int i) {
   if (!m || i < 0 || i >= pnc_material_n_state(m)) return nullptr;
-  return pnc::damage::state_names(m->params.model)[static_cast<std::size_t>(i)].c_str();
+  return pnc::damage::state_names(m->kernel.p.model)[static_cast<std::size_t>(i)].c_str();
 }
 
 PNC_MATERIAL_API void pnc_material_init_state(const pnc_material* m, double* state) {
   if (!m || !state) return;
-  pnc::damage::state_to_array(m->params.model, pnc::damage::NdmState{}, state);
+  pnc::damage::state_to_array(m->kernel.p.model, pnc::damage::NdmState{}, state);
 }
 
 PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double* state0,
@@ -166,7 +163,7 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
     }
     using pnc::damage::Matrix6;
     using pnc::damage::Voigt;
-    const pnc::damage::Model model = m->params.model;
+    const pnc::damage::Model model = m->kernel.p.model;
     const pnc::damage::NdmState s0 = pnc::damage::state_from_array(model, state0);
     pnc::damage::NdmState s1;
     const Voigt e0 = Eigen::Map<const Voigt>(strain0);
