@@ -14,6 +14,7 @@
 //                                     yardstick for the kernel's cost ratio.
 #include "pnc/damage/ndm.hpp"
 #include "pnc/damage/reference.hpp"
+#include "pnc/fe_material/pnc_material.h"
 
 #include <benchmark/benchmark.h>
 
@@ -175,6 +176,49 @@ void BM_ndm(benchmark::State& state) {
                  (Tangent ? " stress+tangent" : " stress") + (Prepared ? " prepared" : ""));
 }
 
+/// The same batch through the material plugin's C entry point, pnc_material_integrate()
+/// (state, strain, stress and row-major tangent as the host's arrays), on a material made
+/// from the batch's constants and rotation: the cost a finite-element host pays per point.
+template <Scenario S> void BM_plugin(benchmark::State& state) {
+  const Batch b = make_batch(Model::pnc, S);
+  char err[256] = {0};
+  double R[9];
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{R} = b.p.R;
+  const std::size_t nk = b.p.size();
+  pnc_material* m = pnc_material_create_from_constants("pnc", b.p.k.data(), static_cast<int>(nk), R,
+                                                       err, sizeof err);
+  if (!m) {
+    state.SkipWithError(err);
+    return;
+  }
+  const int ns = pnc_material_n_state(m);
+  std::vector<double> s0(kBatch * static_cast<std::size_t>(ns)), s1(s0.size());
+  for (std::size_t i = 0; i < kBatch; ++i)
+    pnc::damage::state_to_array(Model::pnc, b.s0[i], &s0[i * static_cast<std::size_t>(ns)]);
+  std::vector<Voigt> sigma(kBatch);
+  std::vector<double> K(36);
+  int bad = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      const std::size_t o = i * static_cast<std::size_t>(ns);
+      bad += pnc_material_integrate(m, &s0[o], &s1[o], b.eps0[i].data(), b.deps[i].data(),
+                                    sigma[i].data(), K.data(), err, sizeof err) != 0;
+      benchmark::DoNotOptimize(K.data());
+    }
+    benchmark::DoNotOptimize(sigma.data());
+    benchmark::DoNotOptimize(s1.data());
+    benchmark::ClobberMemory();
+  }
+  pnc_material_destroy(m);
+  if (bad != 0) state.SkipWithError(err);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(kBatch));
+  state.counters["time_per_eval"] = benchmark::Counter(
+      static_cast<double>(kBatch),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetLabel(std::string("pnc ") + scenario_name(S) + " stress+tangent, plugin C ABI");
+}
+
 /// The yardstick: sigma = C eps (C = the pnc model's undamaged stiffness, fixed) over the
 /// same strain arrays, writing sigma (and K = C when Tangent) exactly where the kernel does.
 template <bool Tangent> void BM_reference(benchmark::State& state) {
@@ -235,6 +279,9 @@ BENCHMARK_TEMPLATE(BM_ndm, pnc_, plane_elastic_, true)
     ->Name("ndm/pnc/plane_elastic/stress+tangent");
 BENCHMARK_TEMPLATE(BM_ndm, pnc_, plane_elastic_, true, true)
     ->Name("ndm/pnc/plane_elastic/stress+tangent/prepared");
+// The same two batches through the plugin's pnc_material_integrate().
+BENCHMARK_TEMPLATE(BM_plugin, plane_elastic_)->Name("ndm/pnc/plane_elastic/stress+tangent/plugin");
+BENCHMARK_TEMPLATE(BM_plugin, rotated_)->Name("ndm/pnc/rotated/stress+tangent/plugin");
 
 BENCHMARK_TEMPLATE(BM_ndm, pp_, elastic_, true)->Name("ndm/pp/elastic/stress+tangent");
 BENCHMARK_TEMPLATE(BM_ndm, pp_, elastic_, false)->Name("ndm/pp/elastic/stress");

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 namespace pnc::damage {
 
@@ -206,24 +207,6 @@ std::size_t state_size(Model m) {
   return state_names(m).size();
 }
 
-void state_to_array(Model m, const NdmState& s, double* out) {
-  const int n = m == Model::pnc ? 3 : 1;
-  for (int i = 0; i < n; ++i) {
-    out[i] = s.kappa[i];
-    out[n + i] = s.D[i];
-  }
-}
-
-NdmState state_from_array(Model m, const double* in) {
-  NdmState s;
-  const int n = m == Model::pnc ? 3 : 1;
-  for (int i = 0; i < n; ++i) {
-    s.kappa[i] = in[i];
-    s.D[i] = in[n + i];
-  }
-  return s;
-}
-
 // ---------------------------------------------------------------- kinematics
 namespace {
 // Largest eigenvalue of a symmetric 3x3 matrix, closed form (trigonometric solution of the
@@ -278,8 +261,17 @@ Eigen::Vector3d largest_eigenvector(const Eigen::Matrix3d& e, double lam) {
 namespace {
 // Mode stretches of decisions D6/D7 without derivatives; stretch_row() adds the derivative of
 // one mode on demand (integrate() needs it only for loading modes).
+// The tensorial small strain e of an engineering-Voigt strain v.
+inline Eigen::Matrix3d tensor(const Voigt& v) {
+  Eigen::Matrix3d e;
+  e << v[0], 0.5 * v[5], 0.5 * v[4], //
+      0.5 * v[5], v[1], 0.5 * v[3],  //
+      0.5 * v[4], 0.5 * v[3], v[2];
+  return e;
+}
+
 struct Stretch {
-  Eigen::Matrix3d e;       // tensorial small strain, platelet frame
+  Voigt v;                 // the strain, platelet frame (engineering Voigt); tensor(v) = e
   double lambda_max = 1.0; // largest principal stretch of U = I + e (if have_lambda_max)
   bool have_lambda_max = false;
   std::array<double, 3> lambda{1.0, 1.0, 1.0};
@@ -299,32 +291,60 @@ bool exceeds_largest_eigenvalue(const Eigen::Matrix3d& e, double mu) {
   return a * (b * c - z * z) - c * x * x - b * y * y - 2.0 * x * y * z > 0.0;
 }
 
-Stretch compute_stretch(Model m, const Voigt& v) {
-  Stretch s;
-  s.e << v[0], 0.5 * v[5], 0.5 * v[4], //
-      0.5 * v[5], v[1], 0.5 * v[3],    //
-      0.5 * v[4], 0.5 * v[3], v[2];
-  auto need_lambda_max = [&s]() {
+// The general (not block-diagonal) pnc stretches of D7, the caps by Sylvester's criterion.
+void general_stretch(Stretch& s) {
+  const Eigen::Matrix3d e = tensor(s.v);
+  auto need_lambda_max = [&s, &e]() {
     if (!s.have_lambda_max) {
-      s.lambda_max = 1.0 + largest_eigenvalue(s.e);
+      s.lambda_max = 1.0 + largest_eigenvalue(e);
       s.have_lambda_max = true;
     }
     return s.lambda_max;
   };
-  if (m == Model::pp) {
-    s.lambda[0] = need_lambda_max(); // pp: the maximum principal stretch
-    return s;
-  }
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const double ea = s.e(k, a), eb = s.e(k, b);
+    const double ea = e(k, a), eb = e(k, b);
     // plane strain and plane stress have one of the two shears zero: no square root
     s.shear[k] = eb == 0.0 ? std::abs(ea) : ea == 0.0 ? std::abs(eb) : std::sqrt(ea * ea + eb * eb);
+    const double uncapped = 1.0 + e(k, k) + s.shear[k];
     // The cap binds when 1 + e_kk + shear_k > lambda_max (ties at rounding level either way
     // give the same stretch).
-    s.clipped[k] = exceeds_largest_eigenvalue(s.e, s.e(k, k) + s.shear[k]);
-    s.lambda[k] = s.clipped[k] ? need_lambda_max() : 1.0 + s.e(k, k) + s.shear[k];
+    s.clipped[k] = exceeds_largest_eigenvalue(e, e(k, k) + s.shear[k]);
+    s.lambda[k] = s.clipped[k] ? need_lambda_max() : uncapped;
   }
+}
+
+// Mode stretches of a strain v (platelet frame). The block-diagonal case, which is every point
+// of a 2-D run, is inlined into integrate().
+[[gnu::always_inline]] inline Stretch compute_stretch(Model m, const Voigt& v) {
+  Stretch s;
+  s.v = v;
+  if (m == Model::pp) {
+    s.lambda_max = 1.0 + largest_eigenvalue(tensor(v));
+    s.have_lambda_max = true;
+    s.lambda[0] = s.lambda_max; // pp: the maximum principal stretch
+    return s;
+  }
+  if (v[3] == 0.0 && v[4] == 0.0) {
+    // Block-diagonal strain (every plane strain or plane stress point with x3 out of plane):
+    // lambda_max in closed form with one square root, and the capped stretches of D7 as
+    // min(uncapped, lambda_max) without branches on the cap.
+    const double x = 0.5 * v[5], mid = 0.5 * (v[0] + v[1]), half = 0.5 * (v[0] - v[1]);
+    s.lambda_max = 1.0 + std::max(v[2], mid + std::sqrt(half * half + x * x));
+    s.have_lambda_max = true;
+    const double ax = std::abs(x);
+    s.shear = {ax, ax, 0.0};
+    for (int k = 0; k < 2; ++k) {
+      const double uncapped = 1.0 + v[k] + ax;
+      s.clipped[k] = uncapped > s.lambda_max;
+      s.lambda[k] = std::min(uncapped, s.lambda_max);
+    }
+    // mode 3: 1 + e33 is an eigenvalue of U, never above lambda_max
+    s.clipped[2] = false;
+    s.lambda[2] = 1.0 + v[2];
+    return s;
+  }
+  general_stretch(s);
   return s;
 }
 
@@ -334,7 +354,7 @@ Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vecto
   Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
   if (s.clipped[mode]) {
     if (!have_N) {
-      N = largest_eigenvector(s.e, s.lambda_max - 1.0); // clipped: lambda_max is known
+      N = largest_eigenvector(tensor(s.v), s.lambda_max - 1.0); // clipped: lambda_max known
       have_N = true;
     }
     row << N[0] * N[0], N[1] * N[1], N[2] * N[2], N[1] * N[2], N[0] * N[2], N[0] * N[1];
@@ -344,9 +364,10 @@ Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vecto
   static const int pair_index[3][3] = {{-1, 5, 4}, {5, -1, 3}, {4, 3, -1}};
   const int a = (mode + 1) % 3, b = (mode + 2) % 3;
   row[mode] = 1.0;
-  if (s.shear[mode] > 0) {
-    row[pair_index[mode][a]] = s.e(mode, a) / (2 * s.shear[mode]);
-    row[pair_index[mode][b]] = s.e(mode, b) / (2 * s.shear[mode]);
+  if (s.shear[mode] > 0) { // d shear / d gamma = e_ka / (2 shear), e_ka = gamma / 2
+    const int ia = pair_index[mode][a], ib = pair_index[mode][b];
+    row[ia] = 0.5 * s.v[ia] / (2 * s.shear[mode]);
+    row[ib] = 0.5 * s.v[ib] / (2 * s.shear[mode]);
   }
   return row;
 }
@@ -356,7 +377,7 @@ ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
   const Stretch s = compute_stretch(m, v);
   ModeStretch out;
   out.lambda = s.lambda;
-  out.lambda_max = s.have_lambda_max ? s.lambda_max : 1.0 + largest_eigenvalue(s.e);
+  out.lambda_max = s.have_lambda_max ? s.lambda_max : 1.0 + largest_eigenvalue(tensor(s.v));
   if (with_derivative) {
     Eigen::Vector3d N;
     bool have_N = false;
@@ -426,9 +447,15 @@ PreparedNdm prepare(const NdmParameters& p) {
   q.p = p;
   q.rotated = !p.R.isIdentity(0.0);
   if (q.rotated) q.T = strain_rotation(p.R);
-  q.C0g = q.T.transpose() * stiffness_c0(p) * q.T;
+  // T^T C T is symmetric; the rounding of the two products is not, so symmetrise: the
+  // row-major tangent route relies on C0g + sum D_m dC1g_m being exactly symmetric.
+  auto rotate = [&q](const Matrix6& C) -> Matrix6 {
+    const Matrix6 G = q.T.transpose() * C * q.T;
+    return 0.5 * (G + G.transpose());
+  };
+  q.C0g = rotate(stiffness_c0(p));
   for (int m = 0; m < 3; ++m)
-    q.dC1g[static_cast<std::size_t>(m)] = q.T.transpose() * stiffness_c1_dD(p, m) * q.T;
+    q.dC1g[static_cast<std::size_t>(m)] = rotate(stiffness_c1_dD(p, m));
   return q;
 }
 
@@ -438,15 +465,28 @@ namespace {
 // stiffness is C0g + sum_m D_m dC1g_m and the damage-growth term of the tangent is rotated
 // as two vectors, T^T a (g T); without it, C is assembled in the platelet frame and rotated
 // as T^T C T. Both are T^T (C0 + C1(D)) T: equal up to rounding.
+//
+// With `pre`, K may be a Map over a row-major array viewed column-major, i.e. K^T: then
+// K_transposed is true and the symmetric part is copied as it is (Cg is exactly symmetric,
+// prepare()) while the damage-growth outer product a g is added as g^T a^T.
+// VIn / VOut are Voigt or Maps over the caller's arrays (the C ABI route copies nothing).
+template <class KMatrix, class VIn, class VOut>
 Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmState& s0,
-                      NdmState& s1, const Voigt& eps0, const Voigt& deps, Voigt& sigma, Matrix6* K,
-                      ErrorBuffer& err) {
+                      NdmState& s1, const VIn& eps0, const VIn& deps, VOut& sigma, KMatrix* K,
+                      bool K_transposed, ErrorBuffer& err) {
   const Voigt eps = eps0 + deps;
   if (!eps.allFinite()) {
     err.set("ndm: strain is not finite");
     return Status::bad_input;
   }
   const bool rotated = pre ? pre->rotated : !p.R.isIdentity(0.0);
+  // A plane strain in the global x1-x2 plane (e33 = g23 = g13 = 0, every point of a 2-D run)
+  // needs only columns 1, 2 and 6 of T and of the stiffness.
+  const bool plane = eps[2] == 0.0 && eps[3] == 0.0 && eps[4] == 0.0;
+  auto times = [ plane, &eps ](const Matrix6& A) __attribute__((always_inline))->Voigt {
+    if (plane) return A.col(0) * eps[0] + A.col(1) * eps[1] + A.col(5) * eps[5];
+    return A * eps;
+  };
   Matrix6 T_local;
   const Matrix6* T = nullptr;
   Voigt el = eps;
@@ -457,7 +497,7 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
       T_local = strain_rotation(p.R);
       T = &T_local;
     }
-    el = *T * eps;
+    el = times(*T);
   }
   // mode stretches (decisions D6/D7), derivatives only where the tangent needs them
   const bool pnc = p.model == Model::pnc;
@@ -469,13 +509,30 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
   NdmState out = s0;
   std::array<double, 3> dD{0, 0, 0};
   std::array<bool, 3> loading{false, false, false};
+  // Below this kappa, kappa / alpha <= lambda_c certainly (the margin covers the rounding of
+  // the division), so D = dD = 0 without dividing; above it, D(kappa / alpha) as printed.
+  const double no_damage_below = alpha * kLambdaC * (1.0 - 1e-12);
+  bool below_onset = true; // every mode: D = dD = 0
   for (int m = 0; m < n; ++m) {
     loading[m] = lambda[m] > s0.kappa[m];
     out.kappa[m] = loading[m] ? lambda[m] : s0.kappa[m];
-    damage_and_slope(out.kappa[m] / alpha, out.D[m], dD[m]);
+    if (out.kappa[m] < no_damage_below) {
+      out.D[m] = dD[m] = 0.0;
+    } else {
+      below_onset = false;
+      damage_and_slope(out.kappa[m] / alpha, out.D[m], dD[m]);
+    }
   }
   bool have_N = false;
   Eigen::Vector3d N = Eigen::Vector3d::Zero();
+  if (pre && below_onset) {
+    // Every mode below the damage onset (D = dD = 0): C0g is the stress matrix and the
+    // tangent, exactly what the general branch below would form.
+    sigma = times(pre->C0g);
+    if (K) *K = pre->C0g;
+    s1 = out;
+    return Status::ok;
+  }
   if (pre) {
     Matrix6 Cd; // C0g + sum D_m dC1g_m, formed only when some D_m > 0
     const Matrix6* Cg = &pre->C0g;
@@ -485,37 +542,42 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
       Cg = &Cd;
       Cd.noalias() += out.D[m] * pre->dC1g[static_cast<std::size_t>(m)];
     }
-    sigma.noalias() = *Cg * eps;
+    sigma = times(*Cg);
     if (K) {
       *K = *Cg;
       for (int m = 0; m < n; ++m) {
         if (!loading[m] || dD[m] == 0.0) continue;
         const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
         const double f = dD[m] / alpha;
-        if (rotated)
-          K->noalias() += (T->transpose() * c1_times(p, m, el)) * (f * (row * *T));
+        const Voigt a = rotated ? Voigt(T->transpose() * c1_times(p, m, el)) : c1_times(p, m, el);
+        const Eigen::Matrix<double, 1, 6> g = rotated ? Eigen::Matrix<double, 1, 6>(f * (row * *T))
+                                                      : Eigen::Matrix<double, 1, 6>(f * row);
+        if (K_transposed)
+          K->noalias() += g.transpose() * a.transpose();
         else
-          K->noalias() += c1_times(p, m, el) * (f * row);
+          K->noalias() += a * g;
       }
     }
     s1 = out;
     return Status::ok;
   }
-  Matrix6 C;
-  assemble_stiffness(p, out.D, C);
-  const Voigt sl = C * el;
-  if (K) {
-    Matrix6& Kl = rotated ? C : *K;
-    if (!rotated) *K = C;
-    for (int m = 0; m < n; ++m) {
-      if (!loading[m] || dD[m] == 0.0) continue;
-      const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
-      Kl.noalias() += c1_times(p, m, el) * ((dD[m] / alpha) * row);
+  if constexpr (std::is_same_v<KMatrix, Matrix6>) {
+    Matrix6 C;
+    assemble_stiffness(p, out.D, C);
+    const Voigt sl = C * el;
+    if (K) {
+      Matrix6& Kl = rotated ? C : *K;
+      if (!rotated) *K = C;
+      for (int m = 0; m < n; ++m) {
+        if (!loading[m] || dD[m] == 0.0) continue;
+        const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
+        Kl.noalias() += c1_times(p, m, el) * ((dD[m] / alpha) * row);
+      }
+      if (rotated) *K = T->transpose() * Kl * *T;
     }
-    if (rotated) *K = T->transpose() * Kl * *T;
+    sigma = rotated ? Voigt(T->transpose() * sl) : sl;
+    s1 = out;
   }
-  sigma = rotated ? Voigt(T->transpose() * sl) : sl;
-  s1 = out;
   return Status::ok;
 }
 
@@ -523,12 +585,22 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
 
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, err);
+  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, false, err);
 }
 
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, err);
+  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, false, err);
+}
+
+Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
+                           const double* eps0, const double* deps, double* sigma,
+                           double* K_row_major, ErrorBuffer& err) {
+  const Eigen::Map<const Voigt> e0(eps0), de(deps);
+  Eigen::Map<Voigt> sig(sigma);
+  // A column-major view of the row-major array is K^T.
+  Eigen::Map<Matrix6> Kt(K_row_major);
+  return integrate_impl(q.p, &q, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, true, err);
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 6>

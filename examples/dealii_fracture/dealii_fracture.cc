@@ -484,11 +484,11 @@ MaterialSetup make_material(const std::string& plugin_path, const std::string& c
 // that drives damage (equal to eps without regularisation).
 struct PointHistory {
   std::array<double, 6> state_old{}, state_new{};
+  Voigt6 eps_bar_old{}, eps_bar{}, sigma{}, eps{}, eps_old{}; // sigma in MPa
   // IMPL-EX (D110): the converged history of the step before the last one, and the
   // extrapolated history of the current step with its secant stiffness (MPa).
   std::array<double, 6> state_older{}, state_ex{}, state_ex_old{};
   Tangent36 S_ex{};
-  Voigt6 eps_bar_old{}, eps_old{}, eps{}, eps_bar{}, sigma{}; // sigma in MPa
 };
 
 // @sect3{Boundary conditions}
@@ -1221,8 +1221,6 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
       if (!composed) {
         for (int v = 0; v < 6; ++v)
           h.sigma[v] = sig[v] * kPaToMPa;
-        for (auto& k : K)
-          k *= kPaToMPa;
       } else if (impl_ex) {
         // IMPL-EX (D110): the plugin call above is the implicit update of kappa from the
         // current eps_bar (kept in state_new, committed with the step); the stress and the
@@ -1305,6 +1303,7 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
         strain_row<dim>(ci, g, B[i].data());
       }
       const double jw = fv.JxW(q);
+      const double jw_K = composed ? jw : jw * kPaToMPa; // the plugin's own tangent is in Pa
       const Tangent36& K = Kq[q];
       for (unsigned i = 0; i < ndofs; ++i) {
         double r = 0;
@@ -1321,7 +1320,7 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
           double s = 0;
           for (int w = 0; w < 6; ++w)
             s += bk[w] * B[j][w];
-          ke(i, j) += s * jw;
+          ke(i, j) += s * jw_K;
         }
       }
     }

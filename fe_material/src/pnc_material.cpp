@@ -161,31 +161,27 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
                    "value 'NULL': these pointers are required");
       return PNC_MATERIAL_BAD_ARGUMENT;
     }
-    using pnc::damage::Matrix6;
-    using pnc::damage::Voigt;
     const pnc::damage::Model model = m->kernel.p.model;
     const pnc::damage::NdmState s0 = pnc::damage::state_from_array(model, state0);
     pnc::damage::NdmState s1;
-    const Voigt e0 = Eigen::Map<const Voigt>(strain0);
-    const Voigt de = Eigen::Map<const Voigt>(dstrain);
-    Voigt sigma;
-    Matrix6 K;
     pnc::damage::ErrorBuffer ebuf;
-    const pnc::damage::Status st =
-        pnc::damage::integrate(m->kernel, s0, s1, e0, de, sigma, tangent ? &K : nullptr, ebuf);
+    // Strain, stress and the row-major tangent are the caller's arrays (the ABI layout), used
+    // in place. The kernel rejects bad input before it writes anything, so on failure stress
+    // and tangent are untouched, as the header promises.
+    const pnc::damage::Status st = pnc::damage::integrate_row_major(m->kernel, s0, s1, strain0,
+                                                                    dstrain, stress, tangent, ebuf);
     if (st != pnc::damage::Status::ok) {
-      const Voigt e = e0 + de;
       char line[512];
       std::snprintf(line, sizeof line,
                     "pnc_material_integrate: argument 'strain0 + dstrain': value '%g %g %g %g "
                     "%g %g': %s",
-                    e[0], e[1], e[2], e[3], e[4], e[5], ebuf.msg);
+                    strain0[0] + dstrain[0], strain0[1] + dstrain[1], strain0[2] + dstrain[2],
+                    strain0[3] + dstrain[3], strain0[4] + dstrain[4], strain0[5] + dstrain[5],
+                    ebuf.msg);
       copy_message(err, errlen, line);
       return PNC_MATERIAL_BAD_INPUT;
     }
     pnc::damage::state_to_array(model, s1, state1);
-    Eigen::Map<Voigt>{stress} = sigma;
-    if (tangent) Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>{tangent} = K;
     return PNC_MATERIAL_OK;
   } catch (const std::exception& e) {
     copy_message(err, errlen, e.what());

@@ -386,19 +386,29 @@ TEST(Kernel, PreparedParametersGiveTheSameResultUpToRounding) {
   // integrate(prepare(p), ...) forms T^T (C0 + sum D_m dC1_m) T from rotated pieces; the
   // plain overload rotates the assembled C. Same mathematics, different rounding: stresses
   // and tangents agree to a few ulps of their norm (bound 1e-12 relative), states exactly
-  // (the state does not depend on the rotation route).
+  // (the state does not depend on the rotation route). The strains cover the prepared
+  // route's branches: below the damage onset (its undamaged shortcut), past it, unloading,
+  // and plane strains (e33 = g23 = g13 = 0: three columns of T and C) under a platelet
+  // rotated about x3 (block-diagonal local strain: the one-square-root stretches).
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int below_onset = 0, plane = 0;
   for (Model m : {Model::pnc, Model::pp}) {
-    for (int rot = 0; rot < 2; ++rot) {
+    for (int rot = 0; rot < 3; ++rot) {
       NdmParameters p = dissertation_parameters(m);
-      if (rot) p.R = rotation(0.7, -0.4, 0.25);
+      if (rot == 1) p.R = rotation(0.7, -0.4, 0.25);
+      if (rot == 2) p.R = rotation(0.5 * M_PI / 180.0, 0.0, 0.0); // the deal.II demo's (D58)
       const PreparedNdm q = prepare(p);
-      EXPECT_EQ(q.rotated, rot == 1);
+      EXPECT_EQ(q.rotated, rot != 0);
       for (int t = 0; t < 200; ++t) {
         Voigt e;
+        const double scale = t % 5 == 2 ? 0.02 : 1.0; // 2 % strains: below the onset
         for (int i = 0; i < 6; ++i)
-          e[i] = (i < 3 ? 0.15 : 0.1) * u(rng); // elastic to well past onset
+          e[i] = scale * (i < 3 ? 0.15 : 0.1) * u(rng); // elastic to well past onset
+        if (t % 4 == 1) {
+          e[2] = e[3] = e[4] = 0.0;
+          ++plane;
+        }
         NdmState s0;
         if (t % 3 == 0) s0.kappa = {1.15, 1.2, 1.25}; // some points unloading
         for (int k = 0; k < 3; ++k)
@@ -409,13 +419,32 @@ TEST(Kernel, PreparedParametersGiveTheSameResultUpToRounding) {
         const Voigt b = integrate_total(q, s0, e, &sq, &Kq);
         EXPECT_LE((a - b).norm(), 1e-12 * a.norm()) << e.transpose();
         EXPECT_LE((Kp - Kq).norm(), 1e-12 * Kp.norm()) << e.transpose();
+        bool undamaged = true;
         for (int k = 0; k < 3; ++k) {
           EXPECT_EQ(sp.kappa[k], sq.kappa[k]);
           EXPECT_EQ(sp.D[k], sq.D[k]);
+          undamaged = undamaged && sq.D[k] == 0.0;
         }
+        below_onset += undamaged;
+        // The C-ABI route (arrays, row-major tangent) is the same computation entry by entry.
+        const Voigt zero = Voigt::Zero();
+        Voigt c;
+        double Kr[36];
+        NdmState sr;
+        ErrorBuffer err;
+        ASSERT_EQ(integrate_row_major(q, s0, sr, zero.data(), e.data(), c.data(), Kr, err),
+                  Status::ok);
+        EXPECT_EQ(c, b);
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j)
+            EXPECT_EQ(Kr[6 * i + j], Kq(i, j)) << "K(" << i << "," << j << ")";
+        for (int k = 0; k < 3; ++k)
+          EXPECT_EQ(sr.kappa[k], sq.kappa[k]);
       }
     }
   }
+  EXPECT_GT(below_onset, 100); // the shortcut was taken
+  EXPECT_GT(plane, 200);
 }
 
 TEST(Kernel, DamageIsIrreversibleOnUnloadAndReload) {

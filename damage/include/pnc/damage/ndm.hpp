@@ -94,8 +94,32 @@ struct NdmState {
 /// Names of the state variables, in the flat order kappa1..3, D1..3 (pp: kappa, D).
 const std::vector<std::string>& state_names(Model m);
 std::size_t state_size(Model m);
-void state_to_array(Model m, const NdmState& s, double* out);
-NdmState state_from_array(Model m, const double* in);
+/// Flat layout kappa1..n, D1..n (n = 3 for pnc, 1 for pp). Inline and with fixed sizes per
+/// model: the plugin converts at every call.
+inline void state_to_array(Model m, const NdmState& s, double* out) {
+  if (m == Model::pnc) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      out[i] = s.kappa[i];
+      out[3 + i] = s.D[i];
+    }
+  } else {
+    out[0] = s.kappa[0];
+    out[1] = s.D[0];
+  }
+}
+inline NdmState state_from_array(Model m, const double* in) {
+  NdmState s;
+  if (m == Model::pnc) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      s.kappa[i] = in[i];
+      s.D[i] = in[3 + i];
+    }
+  } else {
+    s.kappa[0] = in[0];
+    s.D[0] = in[1];
+  }
+  return s;
+}
 
 /// Mode stretches lambda_k of a small strain (engineering Voigt, platelet frame) and their
 /// derivatives d lambda_k / d eps (rows), following decisions D6/D7:
@@ -114,9 +138,11 @@ Matrix6 strain_rotation(const Eigen::Matrix3d& R);
 
 enum class Status { ok = 0, bad_input = 1 };
 
-/// A fixed error buffer (no allocation on the hot path), as in MGIS.
+/// A fixed error buffer (no allocation on the hot path), as in MGIS. Only the first byte is
+/// cleared on construction (the kernel runs once per integration point).
 struct ErrorBuffer {
-  char msg[256] = {0};
+  char msg[256];
+  ErrorBuffer() { msg[0] = '\0'; }
   void set(const char* text);
 };
 
@@ -135,7 +161,8 @@ Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const
 
 /// Parameters with what integrate() would otherwise recompute at every call done once: the
 /// strain rotation T(R) (identity for an aligned platelet) and the global-frame stiffness
-/// pieces C0g = T^T C0 T and dC1g_m = T^T (d C1 / d D_m) T (C1 is linear in D). Build it with
+/// pieces C0g = T^T C0 T and dC1g_m = T^T (d C1 / d D_m) T (C1 is linear in D; both stored
+/// exactly symmetric, as they are mathematically). Build it with
 /// prepare() when the parameters are fixed for many calls (the material plugin does); the
 /// result of integrate() is the same as with the NdmParameters overload up to rounding.
 /// A plain value: copy it, share it read-only between threads; rebuild it if p changes.
@@ -150,6 +177,12 @@ PreparedNdm prepare(const NdmParameters& p);
 /// integrate() with prepared parameters (same contract as above).
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
+/// The same over plain arrays, the layout of the C plugin ABI, without intermediate copies:
+/// eps0[6], deps[6] and sigma[6] in Voigt order, the tangent written row-major into
+/// K_row_major[0..35] (not computed when null). Equal to the Matrix6 overload entry by entry.
+Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
+                           const double* eps0, const double* deps, double* sigma,
+                           double* K_row_major, ErrorBuffer& err);
 
 /// Drive the kernel along a strain path from a virgin state; returns stresses (rows) and,
 /// if states is not null, the state after each point. Used by the fit, the synthetic data
