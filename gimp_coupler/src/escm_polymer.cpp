@@ -270,14 +270,31 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
     }
     return svc;
   };
-  // Removes the bonded terms that cross a face or (neumann) join SVC and free atoms.
-  auto cut = [&](const std::vector<char>& svc, bool faces, int counts[3]) {
+  // D114: the weak interface, beads above it flagged (and typed 2 in the data files).
+  const bool interface = sp.interface_row >= 0;
+  b.interface_y_A = interface ? sp.interface_row * h : -1.0;
+  auto above_of = [&](const std::vector<Vec>& pos) {
+    std::vector<char> up(pos.size(), 0);
+    if (interface)
+      for (std::size_t i = 0; i < pos.size(); ++i)
+        up[i] = pos[i][1] > b.interface_y_A;
+    return up;
+  };
+  auto set_types = [&](const std::vector<char>& up) {
+    if (!interface) return;
+    s.type_mass = {sp.ff.bead_mass, sp.ff.bead_mass};
+    for (std::size_t i = 0; i < up.size(); ++i)
+      s.type[i] = up[i] ? 2 : 1;
+  };
+  // Removes the bonded terms that cross a face, or (faces false) whose atoms are not all on
+  // the same side of `flags` (SVC vs free in neumann mode, D103; above vs below the weak
+  // interface, D114).
+  auto cut = [&](const std::vector<char>& flags, bool faces, int counts[3]) {
     auto mixed = [&](std::initializer_list<int> ids) {
-      if (!sp.neumann) return false;
       bool any = false, all = true;
       for (int i : ids) {
-        any = any || svc[static_cast<std::size_t>(i)];
-        all = all && svc[static_cast<std::size_t>(i)];
+        any = any || flags[static_cast<std::size_t>(i)];
+        all = all && flags[static_cast<std::size_t>(i)];
       }
       return any && !all;
     };
@@ -298,16 +315,33 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
              (!faces && mixed({t[1], t[2], t[3], t[4]}));
     });
   };
-  int cp[3], cs[3];
+  int cp[3];
   cut({}, true, cp);
   b.cut_periodic_bonds = cp[0];
   b.cut_periodic_angles = cp[1];
   b.cut_periodic_dihedrals = cp[2];
-  const std::vector<char> svc0 = svc_of(w);
-  cut(svc0, false, cs);
-  b.cut_svc_bonds = cs[0];
-  b.cut_svc_angles = cs[1];
-  b.cut_svc_dihedrals = cs[2];
+  // Cuts by side (SVC vs free in neumann mode, D103; the weak interface, D114), counted into
+  // the block's totals.
+  auto cut_sides = [&](const std::vector<char>& flags, bool on, int& bonds, int& angles,
+                       int& dihedrals) {
+    if (!on) return;
+    int c[3];
+    cut(flags, false, c);
+    bonds += c[0];
+    angles += c[1];
+    dihedrals += c[2];
+  };
+  auto cut_svc = [&](const std::vector<char>& svc) {
+    cut_sides(svc, sp.neumann, b.cut_svc_bonds, b.cut_svc_angles, b.cut_svc_dihedrals);
+  };
+  auto cut_interface = [&](const std::vector<char>& up) {
+    cut_sides(up, interface, b.cut_interface_bonds, b.cut_interface_angles,
+              b.cut_interface_dihedrals);
+  };
+  const std::vector<char> svc0 = svc_of(w), up0 = above_of(w);
+  cut_svc(svc0);
+  cut_interface(up0);
+  set_types(up0);
   // Non-periodic x, y: a box with a margin (shrink-wrapped when read, D78); z periodic.
   const double margin = 2.0;
   s.lo = {-margin, -margin, 0.0};
@@ -323,7 +357,12 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
   const std::string surf_out = dabs + "/polymer_surface.txt";
   const auto ts = std::chrono::steady_clock::now();
   std::vector<Vec> u2;
-  std::vector<char> svc_prev = svc0;
+  std::vector<char> svc_prev = svc0, up_prev = up0;
+  // D114: pairs across the interface (types 1-2) at interface_fraction x epsilon
+  std::vector<std::string> weak;
+  if (interface)
+    weak.push_back("pair_coeff 1 2 " + num(sp.interface_fraction * sp.ff.epsilon) + " " +
+                   num(sp.ff.sigma));
   for (int pass = 1;; ++pass) {
     run({"polymer/surface",
          dabs + (pass == 1 ? std::string("/polymer_surface.log")
@@ -333,6 +372,7 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
         [&](pnc::rve::Lammps& L) {
           L.cmds(header("s s p", cut_data));
           L.cmds(ffc);
+          L.cmds(weak);
           L.cmd("pair_modify shift yes"); // D107
           const double a = sp.svc_rings * h;
           L.cmds({"neighbor 2.0 bin", "neigh_modify delay 0 every 1 check yes",
@@ -358,18 +398,19 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
     for (std::size_t i = 0; i < u2.size(); ++i)
       s.x[i] = u2[i];
     // Zones by the relaxed positions (as the coupler assigns them): cut what became mixed.
-    const std::vector<char> svc1 = svc_of(u2);
+    // D114: so are the terms that now cross the interface, and the types follow the side.
+    const std::vector<char> svc1 = svc_of(u2), up1 = above_of(u2);
     int moved = 0;
     for (std::size_t i = 0; i < svc1.size(); ++i)
-      moved += svc1[i] != svc_prev[i];
+      moved += (svc1[i] != svc_prev[i]) + (up1[i] != up_prev[i]);
     if (pass == 1) b.moved_zone = moved;
     b.moved_zone_last = moved;
     svc_prev = svc1;
+    up_prev = up1;
     if (moved == 0) break;
-    cut(svc1, false, cs);
-    b.cut_svc_bonds += cs[0];
-    b.cut_svc_angles += cs[1];
-    b.cut_svc_dihedrals += cs[2];
+    cut_svc(svc1);
+    cut_interface(up1);
+    set_types(up1);
     if (pass == 4) break; // reported (moved_zone_last); the coupler still runs
     pnc::rve::write_data_file(cut_data, s, "ESCM polymer block, faces cut, re-zoned");
   }
@@ -408,6 +449,7 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
   pnc::rve::write_data_file(b.data_file, s, "ESCM polymer block, relaxed, boundary s s p");
   b.md_setup = header("s s p", b.data_file);
   b.md_setup.insert(b.md_setup.end(), ffc.begin(), ffc.end());
+  b.md_setup.insert(b.md_setup.end(), weak.begin(), weak.end());
   b.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return b;
 }

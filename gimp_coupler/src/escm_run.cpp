@@ -379,10 +379,13 @@ Params read_params(const CoupleOptions& o) {
 #ifndef PNC_ESCM_HAS_POLYMER
     fail(src, "md.type", "\"polymer\"", "this pnc was built without rve/ (PNC_BUILD_RVE=OFF)");
 #endif
-    if (p.crack)
-      fail(src, "crack", "", "cracks (Cases II/III) need the LJ MD region (md.type \"lj\")");
-    if (p.load != "tension_x")
-      fail(src, "load", "\"" + p.load + "\"", "the polymer MD region runs Case I (\"tension_x\")");
+    // D114: Cases II/III with the polymer: the crack line is a weak interface of the block;
+    // the continuum's Gc must be given (no lattice sum gives the polymer's work of separation).
+    if (p.crack && !(p.crack_Gc > 0))
+      fail(src, "crack.Gc", "", "must be given with md.type \"polymer\" (J/m^2, D114)");
+    if (!p.crack && p.load != "tension_x")
+      fail(src, "load", "\"" + p.load + "\"",
+           "without a crack the polymer MD region runs Case I (\"tension_x\")");
     if (j.contains("lj")) fail(src, "lj", "", "not used with md.type \"polymer\"");
   }
   return p;
@@ -745,6 +748,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   json poly_json;
 #ifdef PNC_ESCM_HAS_POLYMER
   PolymerBlock poly;
+  double poly_sigma_A = 0.0; // the polymer's LJ sigma (D114)
   if (polymer) {
     PolymerBlockSpec ps;
     ps.nbx = p.nbx;
@@ -762,10 +766,15 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     ps.min_beads_per_cell = p.min_beads;
     ps.strain_probe = p.strain_probe;
     ps.measure_elastic = !p.elastic_given;
+    if (p.crack) { // D114: the crack line through the block's middle cell row
+      ps.interface_row = p.nby / 2;
+      ps.interface_fraction = p.crack_f;
+    }
     if (p.ff_sigma > 0) ps.ff.sigma = p.ff_sigma;
     if (p.ff_epsilon > 0) ps.ff.epsilon = p.ff_epsilon;
     if (p.ff_cutoff_sigma > 0) ps.ff.cutoff_sigma = p.ff_cutoff_sigma;
     rc_A = ps.ff.cutoff();
+    poly_sigma_A = ps.ff.sigma;
     std::filesystem::create_directories(o.out_dir);
     if (o.progress)
       std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
@@ -816,6 +825,9 @@ CoupleSummary run_couple(const CoupleOptions& o) {
         {"cut_periodic",
          {poly.cut_periodic_bonds, poly.cut_periodic_angles, poly.cut_periodic_dihedrals}},
         {"cut_svc_free", {poly.cut_svc_bonds, poly.cut_svc_angles, poly.cut_svc_dihedrals}},
+        {"cut_interface",
+         {poly.cut_interface_bonds, poly.cut_interface_angles, poly.cut_interface_dihedrals}},
+        {"interface_y_A", poly.interface_y_A},
         {"atoms_changed_zone", poly.moved_zone},
         {"surface_minimisation",
          {{"passes", poly.surface_passes},
@@ -851,7 +863,8 @@ CoupleSummary run_couple(const CoupleOptions& o) {
 #ifdef PNC_ESCM_HAS_POLYMER
   if (polymer) c.md_setup = poly.md_setup;
 #endif
-  if (p.crack) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
+  // (the polymer block carries its interface in its data file and md_setup, D114)
+  if (p.crack && !polymer) append_weak_interface(c.md_setup, (p.nby / 2 - 0.25) * lj.a0_A, p);
   // D93: the LJ energy shifted to zero at the cut-off (forces unchanged): otherwise every pair
   // crossing r_c changes the logged MD potential by -V(r_c) = 0.0163 epsilon with no work done
   // (the fifth FCC shell lies 2 % inside 2.5 sigma), and the energy log does not close.
@@ -930,12 +943,22 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   // Cases II/III: the continuum crack tip (D38-D40, stopped by D81) and the atomistic crack
   // across the same line (D82), in the LAMMPS frame: the line lies a0/4 below the atom row of
   // the block's middle cell row; the free region starts svc_rings cells into the block.
+  // Polymer (D114): the line at the middle row's lower edge, the block from 0; the monitored
+  // pairs are the non-bonded ones across it at or inside the LJ minimum 2^(1/6) sigma at the
+  // start (an amorphous block has pairs at every distance: only these are bonds), broken past
+  // the LJ inflection (26/7)^(1/6) sigma, as for the crystal.
   std::unique_ptr<BondMonitor> bonds;
-  if (p.crack)
+  if (p.crack && !polymer)
     bonds =
         std::make_unique<BondMonitor>(cp, (p.nby / 2 - 0.25) * lj.a0_A, (p.svc - 0.25) * lj.a0_A,
                                       lj.a0_A, 0.85 * lj.a0_A, lj_inflection(p.sig),
                                       0.5 * lj.a0_A); // D91: slip past a0/2
+#ifdef PNC_ESCM_HAS_POLYMER
+  if (p.crack && polymer)
+    bonds = std::make_unique<BondMonitor>(cp, poly.interface_y_A, p.svc * lj.a0_A, lj.a0_A,
+                                          std::pow(2.0, 1.0 / 6.0) * poly_sigma_A,
+                                          lj_inflection(poly_sigma_A), 0.5 * lj.a0_A);
+#endif
   const int max_increments = p.crack ? s.cracks[0].growth.max_increments : 0;
   std::vector<CrackRecord> crack_log;
   std::ostringstream crack_csv;

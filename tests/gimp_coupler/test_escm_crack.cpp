@@ -2,6 +2,7 @@
 // the short modes of examples/escm/case2_mode1_crack.json and case3_mode2_crack.json end to end
 // through `pnc gimp couple`, the energy log of Case II before growth, and the input validation
 // of the crack keys (before LAMMPS starts).
+#include "common/read_csv.hpp"
 #include "common/run_command.hpp"
 
 #include <gtest/gtest.h>
@@ -24,29 +25,7 @@ pnc::test::CommandResult couple(const std::string& input, const fs::path& out,
                                 out.string() + " " + flags);
 }
 
-/// crack.csv as rows of name -> value.
-std::vector<std::map<std::string, double>> read_csv(const fs::path& p) {
-  std::ifstream f(p);
-  std::string line;
-  std::getline(f, line);
-  std::vector<std::string> names;
-  {
-    std::istringstream h(line);
-    std::string n;
-    while (std::getline(h, n, ','))
-      names.push_back(n);
-  }
-  std::vector<std::map<std::string, double>> rows;
-  while (std::getline(f, line)) {
-    std::istringstream l(line);
-    std::string v;
-    std::map<std::string, double> r;
-    for (std::size_t k = 0; k < names.size() && std::getline(l, v, ','); ++k)
-      r[names[k]] = std::stod(v);
-    rows.push_back(r);
-  }
-  return rows;
-}
+using pnc::test::read_csv;
 } // namespace
 
 // Short Case II: 48 x 24 cells, block 10 x 10 (2 SVC + 1 IVC rings), pre-crack tip in cell

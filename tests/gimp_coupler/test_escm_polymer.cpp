@@ -1,6 +1,7 @@
 // ESCM with the coarse-grained polypropylene MD region (issue #6, docs/escm.md "Polymer MD
-// region", decisions D100-D108): the short mode of examples/escm/case1_polymer_tension.json end to
-// end through `pnc gimp couple`.
+// region", decisions D100-D108, D114-D115): the short modes of examples/escm/
+// case1_polymer_tension.json and case2_polymer_crack.json end to end through `pnc gimp couple`.
+#include "common/read_csv.hpp"
 #include "common/run_command.hpp"
 
 #include <gtest/gtest.h>
@@ -104,4 +105,67 @@ TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
   std::printf("left reaction at the end of the settle phase / expected = %.4f\n", r_settle);
   EXPECT_LT(std::abs(r_settle), 0.1);
   fs::remove_all(out);
+}
+
+// Short Case II with the polymer block (D114, D115): 28 x 16 cells, block 8 x 8 (2 SVC + 1 IVC
+// rings), pre-crack tip in cell column 6, block from column 10, tension normal to the crack to
+// 5 %, weak interface f = 0.3 on the crack line through the block's middle row.
+// (1) The continuum crack grows by whole cells (D40) and stops in the column just before the
+//     SVC ring (D81): exact geometry, 1e-6 h for round-off.
+// (2) Mode I: G_II/J <= 0.1 at the end (the D39 split's tolerance, as for the LJ block).
+// (3) The interface separates from the crack's side: at the first record with a separated
+//     column the opening is largest at the entry column (separated columns are counted from
+//     the entry, so the separation front must be there), and by the end every column of the
+//     free region is separated (the crack ran through the MD region).
+// (4) No monitored pair (inside the LJ minimum at the start) is stretched past the LJ
+//     inflection before the applied strain reached 2/3 of its final value (the interface is not
+//     broken by the build or the settling). Measured: first broken pair at 10.0 ps
+//     (load 2 -> 14 ps), tip at the stop at 10.4 ps, all 4 columns separated at 12.2 ps.
+TEST(EscmPolymer, ShortCaseTwoCrackRunsThroughTheWeakInterface) {
+  const fs::path out = fs::temp_directory_path() / "pnc_escm_polymer_case2";
+  fs::remove_all(out);
+  const std::string input = std::string(PNC_SOURCE_DIR) + "/examples/escm/case2_polymer_crack.json";
+  const auto r =
+      pnc::test::run_command(std::string(PNC_EXE) + " gimp couple " + input + " --out " +
+                             out.string() + " --short --json --no-plot --quiet" + " 2>/dev/null");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("md_type"), "polymer");
+  EXPECT_GT(j.at("polymer").at("cut_interface")[0].get<int>(), 0); // chains crossed the line
+  const auto& c = j.at("crack");
+  const double h = j.at("cell_size_m").get<double>();
+  const int nmax = c.at("max_increments").get<int>();
+  ASSERT_GE(nmax, 1);
+  const double stop = c.at("stop_tip_x_m").get<double>();
+  // (1)
+  EXPECT_NEAR(c.at("block_x_m").get<double>() - stop, 0.5 * h, 1e-6 * h);
+  EXPECT_EQ(c.at("last").at("increments").get<int>(), nmax);
+  EXPECT_NEAR(c.at("last").at("tip_x_m").get<double>(), stop, 1e-6 * h);
+  const auto rows = pnc::test::read_csv(j.at("crack_csv").get<std::string>());
+  ASSERT_GT(rows.size(), 10u);
+  for (const auto& row : rows)
+    EXPECT_LE(row.at("tip_x_m"), stop + 1e-6 * h);
+  // (2)
+  const double J = c.at("last").at("J_J_per_m2").get<double>();
+  ASSERT_GT(J, 0.0);
+  EXPECT_LE(c.at("last").at("GII_J_per_m2").get<double>() / J, 0.1);
+  // (3)
+  ASSERT_FALSE(c.at("time_first_separated_column_s").is_null());
+  const double t_sep = c.at("time_first_separated_column_s").get<double>();
+  for (const auto& row : rows)
+    if (row.at("time_s") >= t_sep) {
+      EXPECT_EQ(row.at("md_entry_opening_m"), row.at("md_max_opening_m")) << row.at("time_s");
+      break;
+    }
+  EXPECT_EQ(c.at("last").at("md_separated_columns").get<int>(),
+            c.at("last").at("md_columns").get<int>());
+  EXPECT_GT(c.at("last").at("md_columns").get<int>(), 1);
+  // (4)
+  std::ifstream fin(input);
+  const auto in = nlohmann::json::parse(fin);
+  const auto& sh = in.at("short");
+  const double t0 = sh.value("settle_ps", in.at("settle_ps").get<double>()) * 1e-12;
+  const double t_load = sh.value("load_ps", in.at("load_ps").get<double>()) * 1e-12;
+  ASSERT_FALSE(c.at("time_first_broken_bond_s").is_null());
+  EXPECT_GE(c.at("time_first_broken_bond_s").get<double>(), t0 + 2.0 / 3.0 * t_load);
 }

@@ -17,6 +17,9 @@
 //  4. stage "polymer/surface": minimisation with the SVC atoms held, free surfaces relaxed
 //     (D104), repeated with the zones of the relaxed positions until no atom changes zone
 //     (D107); every SVC/IVC cell must hold at least `min_beads_per_cell` beads (D105).
+//  With interface_row >= 0 (Cases II/III, D114) steps 3 and 4 also cut the bonded terms that
+//  cross the line y = interface_row h (by the relaxed positions, repeated with the zones) and
+//  type the beads above it 2, weakly bonded to those below.
 // The build minimisations use the energy shifted to zero at the cut-off (forces unchanged, as in
 // the coupler, D93): with the jump at r_c the CG line searches stop far from a minimum (D107).
 // Units: LAMMPS real (Angstrom, g/mol, kcal/mol, K) in and out of LAMMPS; elastic constants Pa,
@@ -45,6 +48,11 @@ struct PolymerBlockSpec {
   double strain_probe = 1e-2;       ///< D102
   bool measure_elastic = true;      ///< D102 (else elastic constants given by the user)
   pnc::rve::PolymerForceField ff;   ///< rve/ defaults (sigma, epsilon, cutoff_sigma overridable)
+  /// Cases II/III (D114): >= 0 puts a weak interface on the line y = interface_row x h across
+  /// the whole block: no bonded term crosses it (cut, like the faces) and the beads above it
+  /// are atom type 2 with LJ epsilon x interface_fraction to type 1 (the same sigma).
+  int interface_row = -1;
+  double interface_fraction = 1.0;
 };
 
 struct PolymerBlock {
@@ -63,7 +71,9 @@ struct PolymerBlock {
   double pxx_atm = 0, pyy_atm = 0, pzz_atm = 0;
   int cut_periodic_bonds = 0, cut_periodic_angles = 0, cut_periodic_dihedrals = 0;
   int cut_svc_bonds = 0, cut_svc_angles = 0, cut_svc_dihedrals = 0;
-  int moved_zone = 0;      ///< atoms whose zone changed in the first surface minimisation
+  int cut_interface_bonds = 0, cut_interface_angles = 0, cut_interface_dihedrals = 0; ///< D114
+  double interface_y_A = -1.0; ///< the weak interface's y in the block frame (D114), A
+  int moved_zone = 0;          ///< atoms whose zone changed in the first surface minimisation
   int moved_zone_last = 0; ///< ... in the last pass (0: the zones are those of the minimum, D107)
   int surface_passes = 0;  ///< surface minimisations run (re-zoned after each, D107)
   double surface_fmax = 0, surface_fnorm = 0; ///< residual force of the block read by the coupler,
