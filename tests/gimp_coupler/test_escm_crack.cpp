@@ -2,6 +2,7 @@
 // the short modes of examples/escm/case2_mode1_crack.json and case3_mode2_crack.json end to end
 // through `pnc gimp couple`, the energy log of Case II before growth, and the input validation
 // of the crack keys (before LAMMPS starts).
+#include "common/escm_case3.hpp"
 #include "common/read_csv.hpp"
 #include "common/run_command.hpp"
 
@@ -128,51 +129,7 @@ TEST(EscmCrack, ShortCaseThreeClosedCrackGrowsInModeTwoThenMdSlips) {
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case3_mode2_crack.json";
   const auto r = couple(in, d / "out", "--short --json --quiet --no-plot 2>/dev/null");
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(r.out);
-  ASSERT_TRUE(j.contains("crack"));
-  const auto& c = j["crack"];
-  const double h = j["cell_size_m"].get<double>(); // = a0
-  const double Gc = c["Gc_J_per_m2"].get<double>();
-  const int nmax = c["max_increments"].get<int>();
-  ASSERT_GE(nmax, 1);
-  const double stop = c["stop_tip_x_m"].get<double>();
-  const auto rows = read_csv(j["crack_csv"].get<std::string>());
-  ASSERT_GT(rows.size(), 10u);
-  // (1), (2)
-  int growths = 0;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto& row = rows[k];
-    if (row.at("increments") < 1) continue;
-    EXPECT_GE(std::abs(row.at("sliding_m")), 10 * std::max(row.at("opening_m"), 0.0))
-        << row.at("time_s");
-    ASSERT_GT(std::abs(row.at("sliding_m")), 0.0) << row.at("time_s");
-    if (k > 0 && row.at("increments") > rows[k - 1].at("increments")) {
-      ++growths;
-      EXPECT_GE(row.at("J_J_per_m2"), Gc) << row.at("time_s");
-      EXPECT_GE(row.at("GII_J_per_m2") / row.at("J_J_per_m2"), 0.99) << row.at("time_s");
-      if (rows[k - 1].at("increments") == 0) {
-        EXPECT_LT(rows[k - 1].at("J_J_per_m2"), Gc);
-      }
-    }
-  }
-  EXPECT_EQ(growths, nmax); // one increment per evaluation (D40)
-  // (3)
-  EXPECT_EQ(c["last"]["increments"].get<int>(), nmax);
-  EXPECT_NEAR(c["last"]["tip_x_m"].get<double>(), stop, 1e-6 * h);
-  for (const auto& row : rows)
-    EXPECT_LE(row.at("tip_x_m"), stop + 1e-6 * h);
-  // (4)
-  ASSERT_FALSE(c["time_tip_reached_stop_s"].is_null());
-  ASSERT_FALSE(c["time_first_slipped_column_s"].is_null());
-  const double t_stop = c["time_tip_reached_stop_s"].get<double>();
-  for (const auto& row : rows) {
-    if (row.at("time_s") < t_stop) {
-      EXPECT_EQ(row.at("md_slipped_columns"), 0.0) << row.at("time_s");
-    }
-  }
-  EXPECT_GT(c["time_first_slipped_column_s"].get<double>(), t_stop);
-  EXPECT_GE(c["last"]["md_slipped_columns"].get<int>(), 1);
-  EXPECT_LE(c["last"]["md_entry_sliding_m"].get<double>(), -0.5 * h);
+  pnc::test::expect_case_three(nlohmann::json::parse(r.out));
 }
 
 TEST(EscmCrack, BadCrackInputExitsWithOneAndNamesTheKey) {

@@ -1,6 +1,8 @@
 // ESCM with the coarse-grained polypropylene MD region (issue #6, docs/escm.md "Polymer MD
-// region", decisions D100-D108, D114-D115): the short modes of examples/escm/
-// case1_polymer_tension.json and case2_polymer_crack.json end to end through `pnc gimp couple`.
+// region", decisions D100-D108, D114-D116): the short modes of examples/escm/
+// case1_polymer_tension.json, case2_polymer_crack.json and case3_polymer_crack.json end to end
+// through `pnc gimp couple`.
+#include "common/escm_case3.hpp"
 #include "common/read_csv.hpp"
 #include "common/run_command.hpp"
 
@@ -13,6 +15,26 @@
 #include <string>
 
 namespace fs = std::filesystem;
+
+namespace {
+std::string example(const std::string& name) {
+  return std::string(PNC_SOURCE_DIR) + "/examples/escm/" + name;
+}
+
+/// `pnc gimp couple INPUT --short --json` into a fresh temporary directory; the --json summary.
+nlohmann::json couple_short(const std::string& input, const std::string& dir) {
+  const fs::path out = fs::temp_directory_path() / dir;
+  fs::remove_all(out);
+  const auto r =
+      pnc::test::run_command(std::string(PNC_EXE) + " gimp couple " + input + " --out " +
+                             out.string() + " --short --json --no-plot --quiet" + " 2>/dev/null");
+  EXPECT_EQ(r.code, 0) << r.out;
+  if (r.code != 0) return nlohmann::json::object();
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("md_type"), "polymer");
+  return j;
+}
+} // namespace
 
 TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
   const fs::path out = fs::temp_directory_path() / "pnc_escm_polymer_case1";
@@ -122,15 +144,9 @@ TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
 //     broken by the build or the settling). Measured: first broken pair at 10.0 ps
 //     (load 2 -> 14 ps), tip at the stop at 10.4 ps, all 4 columns separated at 12.2 ps.
 TEST(EscmPolymer, ShortCaseTwoCrackRunsThroughTheWeakInterface) {
-  const fs::path out = fs::temp_directory_path() / "pnc_escm_polymer_case2";
-  fs::remove_all(out);
-  const std::string input = std::string(PNC_SOURCE_DIR) + "/examples/escm/case2_polymer_crack.json";
-  const auto r =
-      pnc::test::run_command(std::string(PNC_EXE) + " gimp couple " + input + " --out " +
-                             out.string() + " --short --json --no-plot --quiet" + " 2>/dev/null");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j.at("md_type"), "polymer");
+  const std::string input = example("case2_polymer_crack.json");
+  const auto j = couple_short(input, "pnc_escm_polymer_case2");
+  ASSERT_FALSE(j.empty());
   EXPECT_GT(j.at("polymer").at("cut_interface")[0].get<int>(), 0); // chains crossed the line
   const auto& c = j.at("crack");
   const double h = j.at("cell_size_m").get<double>();
@@ -168,4 +184,17 @@ TEST(EscmPolymer, ShortCaseTwoCrackRunsThroughTheWeakInterface) {
   const double t_load = sh.value("load_ps", in.at("load_ps").get<double>()) * 1e-12;
   ASSERT_FALSE(c.at("time_first_broken_bond_s").is_null());
   EXPECT_GE(c.at("time_first_broken_bond_s").get<double>(), t0 + 2.0 / 3.0 * t_load);
+}
+
+// Short Case III with the polymer block (D114, D116): 40 x 20 cells, block 8 x 8, pre-crack tip
+// in cell column 8, block from column 16, shear -8 % over a 40 ps ramp (the polymer's shear
+// wave crosses the specimen in ~25 ps), weak interface f = 0.15, Gc = 1.5e-3 J/m^2. The
+// assertions of the LJ Case III (tests/common/escm_case3.hpp): closed mode II growth by the
+// criterion to the SVC ring, then the interface slips (by more than h/2 at the entry column)
+// only after the tip arrived. Measured: tip at the stop at 35.8 ps, first slipped column at
+// 46.0 ps, 2 of 4 columns, entry sliding -3.6 A (h = 6.38 A) at the end (58 ps).
+TEST(EscmPolymer, ShortCaseThreeClosedCrackThenInterfaceSlips) {
+  const auto j = couple_short(example("case3_polymer_crack.json"), "pnc_escm_polymer_case3");
+  ASSERT_FALSE(j.empty());
+  pnc::test::expect_case_three(j);
 }
