@@ -466,14 +466,15 @@ namespace {
 // as two vectors, T^T a (g T); without it, C is assembled in the platelet frame and rotated
 // as T^T C T. Both are T^T (C0 + C1(D)) T: equal up to rounding.
 //
-// With `pre`, K may be a Map over a row-major array viewed column-major, i.e. K^T: then
-// K_transposed is true and the symmetric part is copied as it is (Cg is exactly symmetric,
-// prepare()) while the damage-growth outer product a g is added as g^T a^T.
+// With `pre`, K may be a Map over a row-major array viewed column-major, i.e. K^T (KMatrix is
+// then a Map): the symmetric part is copied as it is (Cg is exactly symmetric, prepare()) while
+// the damage-growth outer product a g is added as g^T a^T.
 // VIn / VOut are Voigt or Maps over the caller's arrays (the C ABI route copies nothing).
 template <class KMatrix, class VIn, class VOut>
 Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmState& s0,
                       NdmState& s1, const VIn& eps0, const VIn& deps, VOut& sigma, KMatrix* K,
-                      bool K_transposed, ErrorBuffer& err) {
+                      ErrorBuffer& err) {
+  constexpr bool K_transposed = !std::is_same_v<KMatrix, Matrix6>;
   const Voigt eps = eps0 + deps;
   if (!eps.allFinite()) {
     err.set("ndm: strain is not finite");
@@ -552,7 +553,7 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
         const Voigt a = rotated ? Voigt(T->transpose() * c1_times(p, m, el)) : c1_times(p, m, el);
         const Eigen::Matrix<double, 1, 6> g = rotated ? Eigen::Matrix<double, 1, 6>(f * (row * *T))
                                                       : Eigen::Matrix<double, 1, 6>(f * row);
-        if (K_transposed)
+        if constexpr (K_transposed)
           K->noalias() += g.transpose() * a.transpose();
         else
           K->noalias() += a * g;
@@ -561,7 +562,7 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
     s1 = out;
     return Status::ok;
   }
-  if constexpr (std::is_same_v<KMatrix, Matrix6>) {
+  if constexpr (!K_transposed) {
     Matrix6 C;
     assemble_stiffness(p, out.D, C);
     const Voigt sl = C * el;
@@ -585,12 +586,12 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
 
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, false, err);
+  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, err);
 }
 
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, false, err);
+  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, err);
 }
 
 Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
@@ -600,7 +601,7 @@ Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s
   Eigen::Map<Voigt> sig(sigma);
   // A column-major view of the row-major array is K^T.
   Eigen::Map<Matrix6> Kt(K_row_major);
-  return integrate_impl(q.p, &q, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, true, err);
+  return integrate_impl(q.p, &q, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, err);
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 6>

@@ -523,6 +523,14 @@ struct StepRecord {
   bool dissipation_control = false;
 };
 
+/// Index of the record with the largest |force| (the peak of the force-displacement curve).
+std::size_t peak_record(const std::vector<StepRecord>& records) {
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < records.size(); ++i)
+    if (std::abs(records[i].force) > std::abs(records[peak].force)) peak = i;
+  return peak;
+}
+
 struct Timing {
   double assembly = 0, plugin = 0, solve = 0, nonlocal = 0;
   unsigned newton_iterations = 0, assemblies = 0;
@@ -2123,9 +2131,7 @@ template <int dim> bool FractureProblem<dim>::run() {
 
 template <int dim> nlohmann::json FractureProblem<dim>::summary() const {
   nlohmann::json j;
-  std::size_t peak = 0;
-  for (std::size_t i = 0; i < records.size(); ++i)
-    if (std::abs(records[i].force) > std::abs(records[peak].force)) peak = i;
+  const std::size_t peak = peak_record(records);
   const auto& last = records.back();
   const bool peak_inside = peak + 1 < records.size();
   j["dimension"] = dim;
@@ -2562,9 +2568,7 @@ bool run_softening(const TestContext& tc, const std::vector<unsigned>& refinemen
     const auto t0 = Clock::now();
     fp.run();
     const auto& rec = fp.records;
-    std::size_t ip = 0;
-    for (std::size_t i = 0; i < rec.size(); ++i)
-      if (rec[i].force > rec[ip].force) ip = i;
+    const std::size_t ip = peak_record(rec);
     const double Fp = rec[ip].force;
     double e = -1;
     for (std::size_t i = ip + 1; i < rec.size() && e < 0; ++i)
@@ -2653,9 +2657,7 @@ bool test_impl_ex(const TestContext& tc) {
   const auto t0 = Clock::now();
   fp.run();
   const auto& rec = fp.records;
-  std::size_t ip = 0;
-  for (std::size_t i = 0; i < rec.size(); ++i)
-    if (rec[i].force > rec[ip].force) ip = i;
+  const std::size_t ip = peak_record(rec);
   const auto& pk = rec[ip];
   const auto& last = rec.back();
   const double gap_peak = std::abs(pk.work - pk.elastic - pk.dissipated) / pk.dissipated;
