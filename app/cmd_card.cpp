@@ -26,7 +26,7 @@ int run_card_show(const CardShowArgs& a) {
                                            : "pure polymer, isotropic reading");
   if (!c.software.empty())
     std::cerr << "  written by " << c.software << " on " << c.created << "\n";
-  std::cerr << constants_table(c);
+  std::cerr << verdict_text(c.verdict) << constants_table(c);
   const double G = 1e9;
   std::cerr << "  derived moduli of C0 (GPa):\n";
   std::cerr << fmt::format("    by compliance inversion: E1 = {:.4g}, E2 = {:.4g}, E3 = {:.4g}\n",
@@ -44,7 +44,8 @@ int run_card_show(const CardShowArgs& a) {
   else
     std::cerr << fmt::format("    eq. 6.47 (isotropic E from C22 -> C11, C12): {:.4g}\n",
                              d.E_eq647 / G);
-  std::cerr << "  strength per case (peak of the driven stress along the case path, strain <= "
+  std::cerr << "  strength per case (first local maximum of the driven stress along the case "
+               "path, strain <= "
             << a.max_strain << "):\n";
   nlohmann::json strengths = nlohmann::json::array();
   for (int id : model_cases(m)) {
@@ -75,6 +76,7 @@ int run_card_show(const CardShowArgs& a) {
     j["command"] = "card show";
     j["card"] = a.card;
     j["model"] = model_name(m);
+    j["verdict"] = verdict_json(c.verdict);
     j["constants"] = constants_json(c);
     j["moduli"] = {{"E1", d.E1},
                    {"E2", d.E2},

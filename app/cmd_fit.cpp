@@ -3,6 +3,7 @@
 #include "plot.hpp"
 #include "report.hpp"
 
+#include "pnc/core/error.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
 
@@ -17,7 +18,10 @@ int run_fit(const FitArgs& a) {
   using namespace pnc::damage;
   FitOptions o;
   o.model = parse_model(a.model, "<command line>: --model");
-  o.fit_alpha = a.fit_alpha;
+  if (a.fit_alpha && a.hold_alpha)
+    fail("<command line>", "--fit-alpha/--hold-alpha", "both", "choose at most one of the two");
+  o.alpha_mode = a.fit_alpha ? AlphaMode::fit : a.hold_alpha ? AlphaMode::hold : AlphaMode::automatic;
+  o.check_units = !a.no_unit_check;
   o.alpha = a.alpha;
   o.loss = a.loss;
   o.loss_scale = a.loss_scale;
@@ -48,7 +52,7 @@ int run_fit(const FitArgs& a) {
   std::cerr << fmt::format("  solver: {} after {} iterations in {:.3f} s; {}\n", rep.termination,
                            rep.iterations, rep.seconds, rep.message);
   if (!rep.warnings.empty()) std::cerr << "  warning: " << rep.warnings << "\n";
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model);
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
   std::cerr << "  card: " << a.out << "\n";
   for (const auto& p : pngs)
     std::cerr << "  plot: " << p << "\n";
@@ -62,8 +66,14 @@ int run_fit(const FitArgs& a) {
     j["points"] = data.points();
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
+    j["verdict"] = verdict_json(card.verdict);
     j["plots"] = pngs;
     std::cout << j.dump() << std::endl;
+  }
+  if (card.verdict.level == VerdictLevel::not_usable) {
+    std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
+                 "and the plugin refuses it unless the host allows unusable cards\n";
+    return kExitNotUsable;
   }
   if (!rep.converged) {
     std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message

@@ -201,7 +201,10 @@ int run_characterize(const CharacterizeArgs& a) {
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
   FitOptions o;
   o.model = parse_model(r.model, md.recipe_path + ": model");
-  o.fit_alpha = r.fit_alpha;
+  // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
+  // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
+  o.alpha_mode = r.fit_alpha ? AlphaMode::fit : AlphaMode::automatic;
+  o.check_units = false;
   o.validate();
   const StressStrainData data = read_stress_strain(md.cases_h5);
   const FitReport rep = fit_ndm(data, o);
@@ -276,6 +279,13 @@ int run_characterize(const CharacterizeArgs& a) {
                   dm.E_eq647 * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
   rep_md += fmt::format("Solver: {} after {} iterations; {}\n\n", rep.termination, rep.iterations,
                         rep.converged ? "converged" : "NOT converged");
+  rep_md += fmt::format("## Verdict: {}\n\n", verdict_name(card.verdict.level));
+  for (const auto& reason : card.verdict.reasons)
+    rep_md += "- " + reason + "\n";
+  rep_md += card.verdict.level == VerdictLevel::not_usable
+                ? "\nThis card is NOT USABLE: the fe_material plugin refuses it unless the host "
+                  "allows unusable cards explicitly.\n\n"
+                : "\n";
   if (!pngs.empty()) {
     rep_md += "## Plots\n\n";
     for (const auto& p : pngs)
@@ -288,7 +298,8 @@ int run_characterize(const CharacterizeArgs& a) {
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model);
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model)
+            << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
@@ -314,12 +325,18 @@ int run_characterize(const CharacterizeArgs& a) {
     if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
+    j["verdict"] = verdict_json(card.verdict);
     j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
     j["seconds"] = {{"build", md.seconds_build},
                     {"equilibrate", md.seconds_equilibrate},
                     {"cases", md.seconds_cases},
                     {"total", total_s}};
     std::cout << j.dump() << std::endl;
+  }
+  if (card.verdict.level == VerdictLevel::not_usable) {
+    std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
+                 "and the plugin refuses it unless the host allows unusable cards\n";
+    return kExitNotUsable;
   }
   if (!rep.converged) {
     std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message

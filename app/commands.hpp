@@ -10,7 +10,8 @@ namespace pnc::app {
 
 struct FitArgs {
   std::string data, model = "pnc", out, prior, plots, loss = "none";
-  bool no_plots = false, fit_alpha = false, json = false;
+  bool no_plots = false, fit_alpha = false, hold_alpha = false, json = false;
+  bool no_unit_check = false;
   std::optional<double> alpha;
   double loss_scale = 1.0;
   int max_iterations = 200;

@@ -1,6 +1,7 @@
 // pnc: command-line entry point. One subcommand per file (cmd_*.cpp); CLI11 only here.
 // Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
-// rule), 2 internal error, 3 a fit that did not converge; CLI11's own codes for bad usage.
+// rule), 2 internal error, 3 a fit that did not converge, 4 a card written with the verdict
+// "not usable" (docs/decisions.md D12d); CLI11's own codes for bad usage.
 #include "commands.hpp"
 #include "registrars.hpp"
 
@@ -43,7 +44,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
   fit->add_flag("--fit-alpha", fa.fit_alpha,
-                "Also fit the critical-stretch factor alpha (0.5..1.5)");
+                "Always fit the critical-stretch factor alpha (0.5..1.5); default: fitted when "
+                "the data pass the damage onset");
+  fit->add_flag("--hold-alpha", fa.hold_alpha,
+                "Hold alpha at --alpha (or the tables' value) even past the damage onset");
+  fit->add_flag("--no-unit-check", fa.no_unit_check,
+                "Accept fitted stiffnesses outside 0.1 MPa..1000 GPa (refused by default as a "
+                "probable unit mistake)");
   fit->add_option("--alpha", fa.alpha, "Value of alpha (default: 0.861 pnc, 0.941 pp)")
       ->check(CLI::Range(0.5, 1.5));
   fit->add_option("--loss", fa.loss, "Robust loss: none, huber, cauchy")

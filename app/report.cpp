@@ -33,9 +33,21 @@ std::string constants_table(const damage::Card& c) {
     const std::string err =
         std::isfinite(e) ? fmt::format("{:11.4g}", e) : fmt::format("{:>11}", "-");
     s += fmt::format("  {:<6} {:12.5g} {}  {:<5} {}{}\n", names[i], v, err, display_units(names[i]),
-                     c.fitted[i] ? "fitted" : "held", c.note[i].empty() ? "" : ": " + c.note[i]);
+                     i < c.status.size() ? c.status[i] : (c.fitted[i] ? "fitted" : "held"),
+                     c.note[i].empty() ? "" : ": " + c.note[i]);
   }
   return s;
+}
+
+std::string verdict_text(const damage::Verdict& v) {
+  std::string s = fmt::format("  verdict: {}\n", damage::verdict_name(v.level));
+  for (const auto& r : v.reasons)
+    s += "    - " + r + "\n";
+  return s;
+}
+
+nlohmann::json verdict_json(const damage::Verdict& v) {
+  return {{"level", damage::verdict_name(v.level)}, {"reasons", v.reasons}};
 }
 
 nlohmann::json constants_json(const damage::Card& c) {
@@ -45,16 +57,24 @@ nlohmann::json constants_json(const damage::Card& c) {
     j[names[i]] = {{"value", c.params.k[i]},
                    {"std_error", num(c.std_error[i])},
                    {"units", names[i] == "alpha" ? "1" : "Pa"},
-                   {"fitted", static_cast<bool>(c.fitted[i])}};
+                   {"fitted", static_cast<bool>(c.fitted[i])},
+                   {"status", i < c.status.size() ? c.status[i] : ""},
+                   {"note", c.note[i]}};
   }
   return j;
 }
 
 std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
   std::string s = "  fit quality (joint NDM fit):\n";
+  s += fmt::format("    standard errors from: {}; alpha {}\n", f.error_model, f.alpha_choice);
+  if (std::isfinite(f.chi2) && f.dof > 0)
+    s += fmt::format("    chi^2/dof = {:.4g} ({} dof), P(chi^2 >= observed) = {:.3g}\n",
+                     f.chi2 / f.dof, f.dof, f.chi2_p);
   for (const auto& c : f.components)
-    s += fmt::format("    case {} sigma{}: R^2 = {:.4f}, rms residual = {:.3g} MPa ({} points)\n",
-                     c.case_id, kComp[c.component], c.r2, c.rms / 1e6, c.points);
+    s += fmt::format("    case {} sigma{}: R^2 = {:.4f}, rms residual = {:.3g} MPa ({} points), "
+                     "runs {} (expected {:.1f}, p = {:.2g}), lag-1 autocorrelation {:.2f}\n",
+                     c.case_id, kComp[c.component], c.r2, c.rms / 1e6, c.points, c.runs,
+                     c.runs_expected, c.runs_p, c.lag1);
   s += "  per-case linear regression sigma_i = a eps + b D eps (dissertation's method), GPa:\n";
   for (const auto& l : f.regression) {
     std::string printed;
@@ -82,12 +102,22 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["residuals"] = f.residuals;
   j["free_parameters"] = f.free_parameters;
   j["warnings"] = f.warnings;
+  j["error_model"] = f.error_model;
+  j["alpha_choice"] = f.alpha_choice;
+  j["chi2"] = num(f.chi2);
+  j["dof"] = f.dof;
+  j["chi2_p"] = num(f.chi2_p);
   j["r2"] = nlohmann::json::array();
   for (const auto& c : f.components)
     j["r2"].push_back({{"case", c.case_id},
                        {"component", kComp[c.component]},
                        {"r2", num(c.r2)},
-                       {"rms_pa", num(c.rms)}});
+                       {"rms_pa", num(c.rms)},
+                       {"chi2", num(c.chi2)},
+                       {"runs", c.runs},
+                       {"runs_expected", num(c.runs_expected)},
+                       {"runs_p", num(c.runs_p)},
+                       {"lag1", num(c.lag1)}});
   j["regression"] = nlohmann::json::array();
   for (const auto& l : f.regression)
     j["regression"].push_back({{"case", l.case_id},

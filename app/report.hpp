@@ -16,6 +16,11 @@ nlohmann::json constants_json(const damage::Card& c);
 /// tables of the dissertation.
 std::string fit_tables(const damage::FitRecord& f, damage::Model m);
 nlohmann::json fit_json(const damage::FitRecord& f);
+/// The card's verdict and its reasons, one per line, for stderr and as JSON.
+std::string verdict_text(const damage::Verdict& v);
+nlohmann::json verdict_json(const damage::Verdict& v);
+/// Exit code of a command that wrote a card with this verdict: 0, or kExitNotUsable.
+constexpr int kExitNotUsable = 4;
 /// NaN/inf become null in JSON.
 nlohmann::json num(double v);
 } // namespace pnc::app

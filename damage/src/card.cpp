@@ -12,7 +12,7 @@
 namespace pnc::damage {
 
 namespace {
-constexpr int kCardVersion = 1;
+constexpr int kCardVersion = 2; // 2: /verdict, per-constant status, fit statistics
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::string units_of(const std::string& name) {
   return name == "alpha" ? "1" : "Pa";
@@ -25,7 +25,10 @@ Card card_from_parameters(const NdmParameters& p, const std::string& note) {
   const std::size_t n = p.size();
   c.std_error.assign(n, kNaN);
   c.fitted.assign(n, false);
+  c.status.assign(n, "given");
   c.note.assign(n, note);
+  c.verdict.level = VerdictLevel::usable;
+  c.verdict.reasons = {"constants given, not fitted here: " + note};
   return c;
 }
 
@@ -34,7 +37,9 @@ Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std
   c.params = rep.params;
   c.std_error = rep.std_error;
   c.fitted = rep.fitted;
+  c.status = rep.status;
   c.note = rep.note;
+  c.verdict = rep.verdict;
   FitRecord& f = c.fit;
   f.present = true;
   f.data_source = data.source;
@@ -47,6 +52,11 @@ Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std
   f.termination = rep.termination;
   f.message = rep.message;
   f.loss = loss;
+  f.error_model = rep.error_model;
+  f.alpha_choice = rep.alpha_choice;
+  f.chi2 = rep.chi2;
+  f.chi2_p = rep.chi2_p;
+  f.dof = rep.dof;
   f.converged = rep.converged;
   f.iterations = rep.iterations;
   f.residuals = rep.residuals;
@@ -79,7 +89,16 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr(ds, "units", units_of(names[i]));
       f.set_attr(ds, "std_error", i < card.std_error.size() ? card.std_error[i] : kNaN);
       f.set_attr(ds, "fitted", i < card.fitted.size() && card.fitted[i] ? "yes" : "no");
+      f.set_attr(ds, "status", i < card.status.size() ? card.status[i] : "given");
       f.set_attr(ds, "note", i < card.note.size() ? card.note[i] : "");
+    }
+    {
+      std::string reasons;
+      for (const auto& r : card.verdict.reasons)
+        reasons += r + "\n";
+      f.write_string("/verdict/summary", verdict_name(card.verdict.level));
+      f.set_attr("/verdict", "level", verdict_name(card.verdict.level));
+      f.set_attr("/verdict", "reasons", reasons);
     }
     h5::RowMatrix R = card.params.R;
     f.write_matrix("/platelet_rotation", R);
@@ -101,13 +120,21 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr("/fit", "final_cost", r.final_cost);
       f.set_attr("/fit", "seconds", r.seconds);
       f.set_attr("/fit", "warnings", r.warnings);
-      h5::RowMatrix r2(static_cast<Eigen::Index>(r.components.size()), 5);
+      f.set_attr("/fit", "error_model", r.error_model);
+      f.set_attr("/fit", "alpha_choice", r.alpha_choice);
+      f.set_attr("/fit", "chi2", r.chi2);
+      f.set_attr("/fit", "dof", r.dof);
+      f.set_attr("/fit", "chi2_p", r.chi2_p);
+      h5::RowMatrix r2(static_cast<Eigen::Index>(r.components.size()), 10);
       for (std::size_t i = 0; i < r.components.size(); ++i) {
         const auto& c = r.components[i];
-        r2.row(static_cast<Eigen::Index>(i)) << c.case_id, c.component, c.points, c.r2, c.rms;
+        r2.row(static_cast<Eigen::Index>(i)) << c.case_id, c.component, c.points, c.r2, c.rms,
+            c.chi2, c.runs, c.runs_expected, c.runs_p, c.lag1;
       }
       f.write_matrix("/fit/r2", r2);
-      f.set_attr("/fit/r2", "columns", "case, component (Voigt 0..5), points, R^2, rms (Pa)");
+      f.set_attr("/fit/r2", "columns",
+                 "case, component (Voigt 0..5), points, R^2, rms (Pa), chi^2 (1), runs, "
+                 "expected runs, runs-test p, lag-1 autocorrelation");
       h5::RowMatrix reg(static_cast<Eigen::Index>(r.regression.size()), 5);
       std::ostringstream labels;
       for (std::size_t i = 0; i < r.regression.size(); ++i) {
@@ -133,9 +160,9 @@ Card read_card(const std::string& path) {
   const auto variant = f.attr_string("/model", "variant");
   if (!variant) fail(path, "/model@variant", "", "required attribute is missing");
   const auto version = f.attr_double("/model", "card_version");
-  if (!version || *version != kCardVersion)
+  if (!version || (*version != 1 && *version != kCardVersion))
     fail(path, "/model@card_version", version ? std::to_string(*version) : "",
-         "this pnc reads card version " + std::to_string(kCardVersion));
+         "this pnc reads card versions 1 and " + std::to_string(kCardVersion));
   Card c;
   c.params.model = parse_model(*variant, path + ": field '/model@variant'");
   const auto& names = constant_names(c.params.model);
@@ -147,6 +174,7 @@ Card read_card(const std::string& path) {
       fail(path, ds + "@units", *units, "must be " + units_of(names[i]) + " (SI)");
     c.std_error.push_back(f.attr_double(ds, "std_error").value_or(kNaN));
     c.fitted.push_back(f.attr_string(ds, "fitted").value_or("no") == "yes");
+    c.status.push_back(f.attr_string(ds, "status").value_or(c.fitted.back() ? "fitted" : "held"));
     c.note.push_back(f.attr_string(ds, "note").value_or(""));
   }
   if (f.exists("/platelet_rotation")) {
@@ -157,6 +185,18 @@ Card read_card(const std::string& path) {
     c.params.R = R;
   }
   validate(c.params, path);
+  if (*version == 1) {
+    c.verdict.level = VerdictLevel::usable_with_warnings;
+    c.verdict.reasons = {"warning: card version 1 was written before cards carried a verdict; "
+                         "refit it to have one"};
+  } else {
+    const auto level = f.attr_string("/verdict", "level");
+    if (!level) fail(path, "/verdict@level", "", "required attribute is missing (card version 2)");
+    c.verdict.level = parse_verdict(*level, path + ": field '/verdict@level'");
+    std::istringstream reasons(f.attr_string("/verdict", "reasons").value_or(""));
+    for (std::string line; std::getline(reasons, line);)
+      if (!line.empty()) c.verdict.reasons.push_back(line);
+  }
   if (f.exists("/fit")) {
     FitRecord& r = c.fit;
     r.present = true;
@@ -174,11 +214,25 @@ Card read_card(const std::string& path) {
     r.final_cost = f.attr_double("/fit", "final_cost").value_or(kNaN);
     r.seconds = f.attr_double("/fit", "seconds").value_or(kNaN);
     r.warnings = f.attr_string("/fit", "warnings").value_or("");
+    r.error_model = f.attr_string("/fit", "error_model").value_or("");
+    r.alpha_choice = f.attr_string("/fit", "alpha_choice").value_or("");
+    r.chi2 = f.attr_double("/fit", "chi2").value_or(kNaN);
+    r.chi2_p = f.attr_double("/fit", "chi2_p").value_or(kNaN);
+    r.dof = static_cast<int>(f.attr_double("/fit", "dof").value_or(0));
     if (f.exists("/fit/r2")) {
       const auto m = f.read_matrix("/fit/r2");
-      for (Eigen::Index i = 0; i < m.rows(); ++i)
-        r.components.push_back({static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)),
-                                static_cast<int>(m(i, 2)), m(i, 3), m(i, 4)});
+      for (Eigen::Index i = 0; i < m.rows(); ++i) {
+        ComponentFit cf{static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)),
+                        static_cast<int>(m(i, 2)), m(i, 3), m(i, 4)};
+        if (m.cols() >= 10) {
+          cf.chi2 = m(i, 5);
+          cf.runs = static_cast<int>(m(i, 6));
+          cf.runs_expected = m(i, 7);
+          cf.runs_p = m(i, 8);
+          cf.lag1 = m(i, 9);
+        }
+        r.components.push_back(cf);
+      }
     }
     if (f.exists("/fit/regression")) {
       const auto m = f.read_matrix("/fit/regression");

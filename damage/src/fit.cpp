@@ -1,6 +1,8 @@
-// Joint NDM fit with Ceres: see pnc/damage/fit.hpp and docs/decisions.md D10-D12.
+// Joint NDM fit with Ceres: see pnc/damage/fit.hpp and docs/decisions.md D10-D12e.
 #include "pnc/damage/fit.hpp"
 
+#include "fit_model.hpp"
+#include "fit_statistics.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/damage/reference.hpp"
 
@@ -15,99 +17,10 @@
 
 namespace pnc::damage {
 
+using namespace fitmodel;
+
 namespace {
-constexpr double kMPa = 1e6;
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Parameter blocks of theta (decision D10).
-std::vector<int> block_sizes(Model m) {
-  return m == Model::pnc ? std::vector<int>{6, 3, 12, 1} : std::vector<int>{2, 1, 3, 1};
-}
-int n_theta(Model m) {
-  return static_cast<int>(constant_names(m).size());
-}
-
-NdmParameters params_from_constants(Model m, const std::vector<double>& k) {
-  NdmParameters p;
-  p.model = m;
-  for (std::size_t i = 0; i < k.size(); ++i)
-    p.k[i] = k[i];
-  return p;
-}
-
-// d sigma / d k for stiffness and damage constants is (C0(u_j) + C1(u_j, D)) eps, with u_j the
-// unit parameter set: C0 and C1 are linear in every constant but alpha (decision D11).
-struct UnitMatrices {
-  std::vector<Matrix6> c0;
-  std::vector<std::array<Matrix6, 3>> c1;
-};
-const UnitMatrices& unit_matrices(Model m) {
-  static std::map<Model, UnitMatrices> cache = [] {
-    std::map<Model, UnitMatrices> c;
-    for (Model mm : {Model::pnc, Model::pp}) {
-      UnitMatrices u;
-      const int n = n_theta(mm);
-      for (int j = 0; j < n; ++j) {
-        NdmParameters p;
-        p.model = mm;
-        p.k[static_cast<std::size_t>(j)] = 1.0;
-        u.c0.push_back(stiffness_c0(p));
-        u.c1.push_back({stiffness_c1_dD(p, 0), stiffness_c1_dD(p, 1), stiffness_c1_dD(p, 2)});
-      }
-      c[mm] = u;
-    }
-    return c;
-  }();
-  return cache.at(m);
-}
-
-struct PointTerm {
-  Model model;
-  int case_id;
-  std::vector<int> comps;
-  NdmState s0;
-  Voigt eps0, deps;
-  Voigt data;  // MPa
-  Voigt scale; // MPa
-};
-
-// Residuals of one point and d r / d constants (rows x n).
-void point_residual(const PointTerm& t, const std::vector<double>& k, double* r,
-                    Eigen::MatrixXd* dr_dk) {
-  const NdmParameters p = params_from_constants(t.model, k);
-  NdmState s1;
-  Voigt sigma;
-  ErrorBuffer err;
-  if (integrate(p, t.s0, s1, t.eps0, t.deps, sigma, nullptr, err) != Status::ok)
-    throw std::runtime_error(err.msg);
-  for (std::size_t c = 0; c < t.comps.size(); ++c) {
-    const int i = t.comps[c];
-    r[c] = (sigma[i] - t.data[i]) / t.scale[i];
-  }
-  if (!dr_dk) return;
-  const Voigt eps = t.eps0 + t.deps;
-  const UnitMatrices& u = unit_matrices(t.model);
-  const int n = n_theta(t.model);
-  const int nm = t.model == Model::pnc ? 3 : 1;
-  dr_dk->setZero(static_cast<Eigen::Index>(t.comps.size()), n);
-  for (int j = 0; j < n - 1; ++j) {
-    Matrix6 M = u.c0[static_cast<std::size_t>(j)];
-    for (int m = 0; m < nm; ++m)
-      if (s1.D[m] != 0.0) M += s1.D[m] * u.c1[static_cast<std::size_t>(j)][m];
-    const Voigt col = M * eps;
-    for (std::size_t c = 0; c < t.comps.size(); ++c)
-      (*dr_dk)(static_cast<Eigen::Index>(c), j) = col[t.comps[c]] / t.scale[t.comps[c]];
-  }
-  // alpha: D_m = D(kappa_m / alpha), kappa independent of every constant.
-  const double a = p.alpha();
-  Voigt dsig = Voigt::Zero();
-  for (int m = 0; m < nm; ++m) {
-    const double dD = damage_function_derivative(s1.kappa[m] / a) * (-s1.kappa[m] / (a * a));
-    if (dD != 0.0) dsig += dD * (stiffness_c1_dD(p, m) * eps);
-  }
-  for (std::size_t c = 0; c < t.comps.size(); ++c)
-    (*dr_dk)(static_cast<Eigen::Index>(c), n - 1) = dsig[t.comps[c]] / t.scale[t.comps[c]];
-}
 
 class PointCost final : public ceres::CostFunction {
 public:
@@ -148,254 +61,81 @@ private:
   const PointTerm* t_;
 };
 
-std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double alpha_for_states) {
-  std::vector<PointTerm> terms;
-  NdmParameters pstate = dissertation_parameters(m);
-  pstate["alpha"] = alpha_for_states; // kappa does not depend on constants; D recomputed
-  for (const CaseCurve& c : data.cases) {
-    const DeformationCase& dc = deformation_case(c.id, data.source);
-    std::vector<NdmState> states;
-    stress_path(pstate, c.strain, &states);
-    // Weights: the data's standard errors where positive; else their median; else 1 MPa.
-    Voigt fallback = Voigt::Ones();
-    if (c.stress_stderr.rows() == c.stress.rows()) {
-      for (int i = 0; i < 6; ++i) {
-        std::vector<double> pos;
-        for (Eigen::Index k = 0; k < c.stress_stderr.rows(); ++k)
-          if (c.stress_stderr(k, i) > 0) pos.push_back(c.stress_stderr(k, i) / kMPa);
-        if (!pos.empty()) {
-          std::nth_element(pos.begin(), pos.begin() + static_cast<long>(pos.size() / 2), pos.end());
-          fallback[i] = pos[pos.size() / 2];
-        }
-      }
-    }
-    NdmState prev;
-    Voigt eprev = Voigt::Zero();
-    for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
-      PointTerm t;
-      t.model = m;
-      t.case_id = c.id;
-      t.comps = dc.active;
-      t.s0 = prev;
-      t.eps0 = eprev;
-      t.deps = c.strain.row(k).transpose() - eprev;
-      t.data = c.stress.row(k).transpose() / kMPa;
-      for (int i = 0; i < 6; ++i) {
-        const bool has = c.stress_stderr.rows() == c.stress.rows() && c.stress_stderr(k, i) > 0;
-        t.scale[i] = has ? c.stress_stderr(k, i) / kMPa : fallback[i];
-      }
-      terms.push_back(t);
-      prev = states[static_cast<std::size_t>(k)];
-      eprev = c.strain.row(k).transpose();
-    }
-  }
-  return terms;
-}
 
-void check_cases(const StressStrainData& data, Model m) {
-  const auto allowed = model_cases(m);
-  for (const auto& c : data.cases) {
-    if (std::find(allowed.begin(), allowed.end(), c.id) == allowed.end())
-      fail(data.source, "case", std::to_string(c.id),
-           std::string("the ") + model_name(m) + " model is characterised by cases " +
-               (m == Model::pnc ? "1-6" : "2 (extension x2) and 6 (shear 1-2)"));
-    if (c.strain.rows() < 3)
-      fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
-           "each case needs at least 3 points");
-  }
-  const std::vector<int> required =
-      m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
-  for (int id : required)
-    if (!data.find(id))
-      fail(data.source, "case", std::to_string(id),
-           std::string("is required: the ") + model_name(m) +
-               " normal stiffness block cannot be determined without it");
-}
-
-struct LabelPair {
-  const char* lin;
-  const char* dam;
+struct SolveResult {
+  ceres::Solver::Summary summary;
+  double seconds = 0;
 };
-LabelPair regression_labels(Model m, int case_id, int comp) {
-  if (m == Model::pp) {
-    if (case_id == 2) {
-      static const LabelPair l[3] = {{"C12", "B2"}, {"C11", "2B1"}, {"C12", "B2"}};
-      return l[comp];
-    }
-    return {"C44", "B4"};
+
+// One Ceres solve from `theta` with the constants whose `fitted` flag is false held.
+SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions& opt,
+                  const std::vector<bool>& fitted, bool fit_alpha, std::vector<double>& theta) {
+  const auto sizes = block_sizes(m);
+  std::vector<std::vector<double>> blocks;
+  int off = 0;
+  for (int s : sizes) {
+    blocks.emplace_back(theta.begin() + off, theta.begin() + off + s);
+    off += s;
   }
-  static const LabelPair ext[3][3] = {{{"C11", "2A1"}, {"C12", "A10"}, {"C13", "A13"}},
-                                      {{"C12", "A11"}, {"C22", "2A5"}, {"C23", "A17"}},
-                                      {{"C13", "A15"}, {"C23", "A18"}, {"C33", "2A9"}}};
-  if (case_id <= 3) return ext[case_id - 1][comp];
-  static const LabelPair sh[3] = {{"C44", "A22"}, {"C55", "A26"}, {"C66", "A24"}};
-  return sh[case_id - 4];
-}
-
-double r_squared(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat) {
-  const double mean = y.mean();
-  const double ss_tot = (y.array() - mean).square().sum();
-  const double ss_res = (y - yhat).squaredNorm();
-  return ss_tot > 0 ? 1.0 - ss_res / ss_tot : kNaN;
-}
-} // namespace
-
-// ------------------------------------------------------------------ options
-void FitOptions::validate() const {
-  const std::string src = "<fit options>";
-  if (loss != "none" && loss != "huber" && loss != "cauchy")
-    fail(src, "loss", loss, "must be one of none, huber, cauchy");
-  if (!(loss_scale > 0) || !std::isfinite(loss_scale))
-    fail(src, "loss_scale", std::to_string(loss_scale), "must be a finite number > 0");
-  if (max_iterations <= 0)
-    fail(src, "max_iterations", std::to_string(max_iterations), "must be > 0");
-  if (!(function_tolerance > 0 && function_tolerance < 1))
-    fail(src, "function_tolerance", std::to_string(function_tolerance), "must be in (0, 1)");
-  if (alpha && !(*alpha >= 0.5 && *alpha <= 1.5))
-    fail(src, "alpha", std::to_string(*alpha), "must be in [0.5, 1.5]");
-  if (prior && prior->model != model)
-    fail(src, "prior", model_name(prior->model),
-         std::string("prior card is for another model than ") + model_name(model));
-}
-
-// ------------------------------------------------------------------ theta map
-namespace detail {
-namespace {
-// Positions of the 6 Cholesky parameters in L, and of C11 C22 C33 C12 C13 C23 in C_n.
-constexpr int kLPos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
-constexpr int kCPos[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-Eigen::Matrix3d lower_from_theta(const std::vector<double>& th) {
-  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
-  for (int q = 0; q < 6; ++q)
-    L(kLPos[q][0], kLPos[q][1]) = th[static_cast<std::size_t>(q)];
-  return L;
-}
-} // namespace
-
-std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) {
-  std::vector<double> th(k);
-  if (m == Model::pp) {
-    th[0] = k[0] - k[1];     // u = C11 - C12
-    th[1] = k[0] + 2 * k[1]; // v = C11 + 2 C12
-    return th;
-  }
-  Eigen::Matrix3d Cn;
-  Cn << k[0], k[3], k[4], k[3], k[1], k[5], k[4], k[5], k[2];
-  Eigen::LLT<Eigen::Matrix3d> llt(Cn);
-  if (llt.info() != Eigen::Success) { // clip to the nearest positive definite matrix
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Cn);
-    Eigen::Vector3d ev = es.eigenvalues();
-    const double floor = 1e-3 * std::max(1.0, ev.maxCoeff());
-    for (int i = 0; i < 3; ++i)
-      ev[i] = std::max(ev[i], floor);
-    Cn = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
-    llt.compute(Cn);
-  }
-  const Eigen::Matrix3d L = llt.matrixL();
-  for (int q = 0; q < 6; ++q)
-    th[static_cast<std::size_t>(q)] = L(kLPos[q][0], kLPos[q][1]);
-  return th;
-}
-
-std::vector<double> constants_from_theta(Model m, const std::vector<double>& th) {
-  std::vector<double> k(th);
-  if (m == Model::pp) {
-    k[0] = (2 * th[0] + th[1]) / 3;
-    k[1] = (th[1] - th[0]) / 3;
-    return k;
-  }
-  const Eigen::Matrix3d L = lower_from_theta(th);
-  const Eigen::Matrix3d C = L * L.transpose();
-  for (int c = 0; c < 6; ++c)
-    k[static_cast<std::size_t>(c)] = C(kCPos[c][0], kCPos[c][1]);
-  return k;
-}
-
-Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
-  const int n = n_theta(m);
-  Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n);
-  if (m == Model::pp) {
-    G(0, 0) = 2.0 / 3;
-    G(0, 1) = 1.0 / 3;
-    G(1, 0) = -1.0 / 3;
-    G(1, 1) = 1.0 / 3;
-    return G;
-  }
-  const Eigen::Matrix3d L = lower_from_theta(th);
-  for (int q = 0; q < 6; ++q) {
-    Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
-    E(kLPos[q][0], kLPos[q][1]) = 1.0;
-    const Eigen::Matrix3d dC = E * L.transpose() + L * E.transpose();
-    for (int c = 0; c < 6; ++c)
-      G(c, q) = dC(kCPos[c][0], kCPos[c][1]);
-  }
-  return G;
-}
-
-void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
-                            Eigen::VectorXd& r, Eigen::MatrixXd* J) {
-  const std::vector<double> k = constants_from_theta(m, theta);
-  const auto terms = build_terms(data, m, k.back());
-  Eigen::Index rows = 0;
-  for (const auto& t : terms)
-    rows += static_cast<Eigen::Index>(t.comps.size());
-  r.resize(rows);
-  if (J) J->resize(rows, n_theta(m));
-  const Eigen::MatrixXd G = dconstants_dtheta(m, theta);
-  Eigen::Index row = 0;
+  ceres::Problem problem;
+  std::vector<double*> ptrs;
+  for (auto& b : blocks)
+    ptrs.push_back(b.data());
   for (const auto& t : terms) {
-    Eigen::MatrixXd drdk;
-    point_residual(t, k, r.data() + row, J ? &drdk : nullptr);
-    const auto nr = static_cast<Eigen::Index>(t.comps.size());
-    if (J) J->middleRows(row, nr) = drdk * G;
-    row += nr;
+    ceres::LossFunction* loss = nullptr;
+    if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
+    if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
+    problem.AddResidualBlock(new PointCost(&t), loss, ptrs);
   }
-}
-} // namespace detail
-
-// ------------------------------------------------------------------ regression
-std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m, double alpha) {
-  std::vector<RegressionLine> out;
-  NdmParameters pstate = dissertation_parameters(m);
-  pstate["alpha"] = alpha;
-  for (const CaseCurve& c : data.cases) {
-    const DeformationCase& dc = deformation_case(c.id, data.source);
-    std::vector<NdmState> states;
-    stress_path(pstate, c.strain, &states);
-    const Eigen::Index n = c.strain.rows();
-    Eigen::VectorXd x = c.strain.col(dc.driven), Dx(n);
-    const int mode = m == Model::pnc ? dc.damage_mode : 0;
-    for (Eigen::Index i = 0; i < n; ++i)
-      Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];
-    const bool damaged = Dx.cwiseAbs().maxCoeff() > 0;
-    for (int comp : dc.active) {
-      const Eigen::VectorXd y = c.stress.col(comp) / kMPa;
-      Eigen::MatrixXd X(n, damaged ? 2 : 1);
-      X.col(0) = x;
-      if (damaged) X.col(1) = Dx;
-      const Eigen::VectorXd coef = X.colPivHouseholderQr().solve(y);
-      const LabelPair lab = regression_labels(m, c.id, comp);
-      out.push_back({c.id, comp, lab.lin, lab.dam, coef[0] * kMPa, damaged ? coef[1] * kMPa : kNaN,
-                     r_squared(y, X * coef)});
-    }
+  // Held coordinates: every block other than the normal block maps 1:1 to constants.
+  off = 0;
+  for (std::size_t b = 0; b < sizes.size(); ++b) {
+    std::vector<int> held;
+    for (int c = 0; c < sizes[b]; ++c)
+      if (!fitted[static_cast<std::size_t>(off + c)]) held.push_back(c);
+    if (static_cast<int>(held.size()) == sizes[b])
+      problem.SetParameterBlockConstant(ptrs[b]);
+    else if (!held.empty())
+      problem.SetManifold(ptrs[b], new ceres::SubsetManifold(sizes[b], held));
+    off += sizes[b];
   }
+  // Bounds (decision D10).
+  if (m == Model::pnc) {
+    for (int d : {0, 2, 5})
+      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    for (int c = 0; c < 3; ++c)
+      problem.SetParameterLowerBound(ptrs[1], c, 1e-6);
+  } else {
+    for (int d : {0, 1})
+      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
+    problem.SetParameterLowerBound(ptrs[1], 0, 1e-6);
+  }
+  if (fit_alpha) {
+    problem.SetParameterLowerBound(ptrs[3], 0, 0.5);
+    problem.SetParameterUpperBound(ptrs[3], 0, 1.5);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = opt.function_tolerance;
+  so.gradient_tolerance = 1e-14;
+  so.parameter_tolerance = 1e-12;
+  so.num_threads = 1;
+  SolveResult out;
+  const auto t0 = std::chrono::steady_clock::now();
+  ceres::Solve(so, &problem, &out.summary);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  theta.clear();
+  for (const auto& b : blocks)
+    theta.insert(theta.end(), b.begin(), b.end());
   return out;
 }
 
-// ------------------------------------------------------------------ the fit
-FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
-  opt.validate();
-  const Model m = opt.model;
-  check_cases(data, m);
-  const auto& names = constant_names(m);
+// Initial constants (MPa): the per-case regression where it informs a constant, the prior
+// elsewhere; alpha = alpha0.
+std::vector<double> initial_constants(const FitReport& rep, Model m, const NdmParameters& prior,
+                                      double alpha0) {
   const int n = n_theta(m);
-  const NdmParameters prior = opt.prior ? *opt.prior : dissertation_parameters(m);
-  const double alpha0 = opt.alpha ? *opt.alpha : prior.alpha();
-
-  FitReport rep;
-  rep.regression = regress_cases(data, m, alpha0);
-
-  // Initial constants (MPa): regression where it informs a constant, the prior elsewhere.
   std::vector<double> k0(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j)
     k0[static_cast<std::size_t>(j)] = prior.k[static_cast<std::size_t>(j)] / kMPa;
@@ -417,94 +157,220 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
       s += x;
     k0[static_cast<std::size_t>(j)] = s / static_cast<double>(v.size());
   }
+  return k0;
+}
 
-  // Which constants do the data inform? Structural zero columns of d r / d k are held.
-  std::vector<double> theta = detail::theta_from_constants(m, k0);
-  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
-  const auto terms = build_terms(data, m, alpha0);
+// Squared column norms of d r / d k at constants k (structural identifiability).
+Eigen::VectorXd column_norms(const std::vector<PointTerm>& terms, const std::vector<double>& k,
+                             int n) {
   Eigen::VectorXd colnorm = Eigen::VectorXd::Zero(n);
   for (const auto& t : terms) {
     Eigen::MatrixXd drdk;
     std::vector<double> r(t.comps.size());
-    point_residual(t, k0, r.data(), &drdk);
+    point_residual(t, k, r.data(), &drdk);
     colnorm += drdk.colwise().squaredNorm().transpose();
   }
-  rep.fitted.assign(static_cast<std::size_t>(n), true);
-  rep.note.assign(static_cast<std::size_t>(n), "");
+  return colnorm;
+}
+
+// Standard errors of the constants from the covariance of the free theta (D11).
+void standard_errors(FitReport& rep, Model m, const std::vector<double>& theta,
+                     const std::vector<int>& free, const Eigen::MatrixXd& cov_theta) {
+  const int n = n_theta(m);
+  const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta);
+  Eigen::MatrixXd Gf(n, static_cast<Eigen::Index>(free.size()));
+  for (std::size_t c = 0; c < free.size(); ++c)
+    Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
+  const Eigen::MatrixXd cov_k = Gf * cov_theta * Gf.transpose();
   for (int j = 0; j < n; ++j) {
+    if (!rep.fitted[static_cast<std::size_t>(j)]) continue;
+    const double scale = j == n - 1 ? 1.0 : kMPa;
+    rep.std_error[static_cast<std::size_t>(j)] = std::sqrt(std::max(0.0, cov_k(j, j))) * scale;
+  }
+}
+
+// R^2 per curve through the kernel, chi^2 per curve, and the runs test of its residuals (in
+// loading order, as the terms are built).
+void curve_statistics(FitReport& rep, const StressStrainData& data,
+                      const std::vector<PointTerm>& terms, const Eigen::VectorXd& r,
+                      bool data_errors) {
+  std::map<std::pair<int, int>, std::vector<double>> series;
+  Eigen::Index row = 0;
+  for (const auto& t : terms)
+    for (int comp : t.comps)
+      series[{t.case_id, comp}].push_back(r[row++]);
+  for (const CaseCurve& c : data.cases) {
+    const auto model_stress = stress_path(rep.params, c.strain);
+    for (int comp : deformation_case(c.id).active) {
+      const Eigen::VectorXd y = c.stress.col(comp), yh = model_stress.col(comp);
+      ComponentFit f{c.id, comp, static_cast<int>(y.size()), r_squared(y, yh),
+                     std::sqrt((y - yh).squaredNorm() / static_cast<double>(y.size()))};
+      const auto& s = series[{c.id, comp}];
+      if (data_errors) {
+        f.chi2 = 0;
+        for (double v : s)
+          f.chi2 += v * v;
+      }
+      const stats::RunsTest rt = stats::runs_test(s);
+      f.runs = rt.runs;
+      f.runs_expected = rt.expected;
+      f.runs_p = rt.p_too_few;
+      f.lag1 = rt.lag1;
+      rep.components.push_back(f);
+    }
+  }
+}
+
+// Refuses stiffnesses outside the plausible range (D12e): a unit mistake is the likely cause.
+void check_stiffness_units(const FitReport& rep, const FitOptions& opt, const std::string& src) {
+  const auto& names = constant_names(opt.model);
+  for (std::size_t j = 0; j + 1 < names.size(); ++j) {
+    const std::string& nm = names[j];
+    const bool diagonal = nm == "C11" || nm == "C22" || nm == "C33" || nm == "C44" ||
+                          nm == "C55" || nm == "C66";
+    if (!diagonal || !rep.fitted[j]) continue;
+    const double v = rep.params.k[j];
+    if (v >= opt.stiffness_min && v <= opt.stiffness_max) continue;
+    std::ostringstream msg;
+    msg << "fitted stiffness " << v / 1e9 << " GPa is outside the plausible range ["
+        << opt.stiffness_min / 1e6 << " MPa, " << opt.stiffness_max / 1e9
+        << " GPa] of polymers and composites: "
+        << (v > opt.stiffness_max
+                ? "are the stresses in Pa instead of MPa (CSV columns s11..s12 are MPa)?"
+                : "are the stresses in GPa or kPa instead of MPa, or is the data noise?")
+        << " (check the units, or pass --no-unit-check)";
+    fail(src, nm, std::to_string(v) + " Pa", msg.str());
+  }
+}
+
+} // namespace
+
+const char* alpha_mode_name(AlphaMode m) {
+  switch (m) {
+  case AlphaMode::fit:
+    return "fit";
+  case AlphaMode::hold:
+    return "hold";
+  default:
+    return "automatic";
+  }
+}
+
+// ------------------------------------------------------------------ options
+void FitOptions::validate() const {
+  const std::string src = "<fit options>";
+  if (loss != "none" && loss != "huber" && loss != "cauchy")
+    fail(src, "loss", loss, "must be one of none, huber, cauchy");
+  if (!(loss_scale > 0) || !std::isfinite(loss_scale))
+    fail(src, "loss_scale", std::to_string(loss_scale), "must be a finite number > 0");
+  if (max_iterations <= 0)
+    fail(src, "max_iterations", std::to_string(max_iterations), "must be > 0");
+  if (!(function_tolerance > 0 && function_tolerance < 1))
+    fail(src, "function_tolerance", std::to_string(function_tolerance), "must be in (0, 1)");
+  if (alpha && !(*alpha >= 0.5 && *alpha <= 1.5))
+    fail(src, "alpha", std::to_string(*alpha), "must be in [0.5, 1.5]");
+  if (!(stiffness_min > 0) || !(stiffness_max > stiffness_min) || !std::isfinite(stiffness_max))
+    fail(src, "stiffness range", std::to_string(stiffness_min) + ".." + std::to_string(stiffness_max),
+         "must satisfy 0 < min < max < infinity (Pa)");
+  if (prior && prior->model != model)
+    fail(src, "prior", model_name(prior->model),
+         std::string("prior card is for another model than ") + model_name(model));
+}
+
+
+// ------------------------------------------------------------------ the fit
+FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
+  opt.validate();
+  const Model m = opt.model;
+  check_cases(data, m);
+  const auto& names = constant_names(m);
+  const int n = n_theta(m);
+  const auto ns = static_cast<std::size_t>(n);
+  const NdmParameters prior = opt.prior ? *opt.prior : dissertation_parameters(m);
+  const double alpha0 = opt.alpha ? *opt.alpha : prior.alpha();
+  const std::string held_note = "held at the prior (" + opt.prior_source + ")";
+
+  FitReport rep;
+  rep.regression = regress_cases(data, m, alpha0);
+  std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
+  std::vector<double> theta = detail::theta_from_constants(m, k0);
+  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
+  std::vector<double> k_prior(ns);
+  for (std::size_t j = 0; j < ns; ++j)
+    k_prior[j] = j + 1 == ns ? alpha0 : prior.k[j] / kMPa;
+  const std::vector<double> theta_prior = detail::theta_from_constants(m, k_prior);
+  const auto terms = build_terms(data, m, alpha0);
+
+  // Structural identifiability at the start: zero columns of d r / d k are held (D11).
+  const Eigen::VectorXd colnorm = column_norms(terms, k0, n);
+  rep.fitted.assign(ns, true);
+  rep.status.assign(ns, "fitted");
+  rep.note.assign(ns, "");
+  for (int j = 0; j + 1 < n; ++j) {
     const auto js = static_cast<std::size_t>(j);
-    if (j == n - 1 && !opt.fit_alpha) {
-      rep.fitted[js] = false;
-      rep.note[js] =
-          opt.alpha ? "fixed by option" : "fixed at the prior (" + opt.prior_source + ")";
-    } else if (colnorm[j] == 0.0) {
-      rep.fitted[js] = false;
-      rep.note[js] =
-          std::string(names[js][0] == 'C' ? "no data for the case that determines it"
-                                          : "the data never reach damage onset for its mode") +
-          "; held at the prior (" + opt.prior_source + ")";
-    }
+    if (colnorm[j] != 0.0) continue;
+    rep.fitted[js] = false;
+    rep.status[js] = "not identified";
+    rep.note[js] = std::string(names[js][0] == 'C' ? "no data for the case that determines it"
+                                                   : "the data never reach damage onset for its "
+                                                     "mode") +
+                   "; " + held_note;
+    theta[js] = theta_prior[js];
   }
-
-  // Ceres problem.
-  const auto sizes = block_sizes(m);
-  std::vector<std::vector<double>> blocks;
+  // alpha (D12b): fitted when the data pass the onset of alpha0 somewhere, unless told.
+  const bool past_onset = colnorm[n - 1] != 0.0;
+  const bool fit_alpha = opt.alpha_mode == AlphaMode::fit ||
+                         (opt.alpha_mode == AlphaMode::automatic && past_onset);
   {
-    int off = 0;
-    for (int s : sizes) {
-      blocks.emplace_back(theta.begin() + off, theta.begin() + off + s);
-      off += s;
-    }
+    std::ostringstream a;
+    a << (fit_alpha ? "fitted" : "held at " + std::to_string(alpha0)) << " ("
+      << alpha_mode_name(opt.alpha_mode) << "; the data "
+      << (past_onset ? "pass" : "do not reach") << " the damage onset at alpha = " << alpha0 << ")";
+    rep.alpha_choice = a.str();
   }
-  ceres::Problem problem;
-  std::vector<double*> ptrs;
-  for (auto& b : blocks)
-    ptrs.push_back(b.data());
-  for (const auto& t : terms) {
-    ceres::LossFunction* loss = nullptr;
-    if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
-    if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
-    problem.AddResidualBlock(new PointCost(&t), loss, ptrs);
-  }
-  // Held coordinates: every block other than the normal block maps 1:1 to constants.
-  int off = 0;
-  for (std::size_t b = 0; b < sizes.size(); ++b) {
-    std::vector<int> held;
-    for (int c = 0; c < sizes[b]; ++c)
-      if (!rep.fitted[static_cast<std::size_t>(off + c)]) held.push_back(c);
-    if (static_cast<int>(held.size()) == sizes[b])
-      problem.SetParameterBlockConstant(ptrs[b]);
-    else if (!held.empty())
-      problem.SetManifold(ptrs[b], new ceres::SubsetManifold(sizes[b], held));
-    off += sizes[b];
-  }
-  // Bounds (decision D10).
-  if (m == Model::pnc) {
-    for (int d : {0, 2, 5})
-      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
-    for (int c = 0; c < 3; ++c)
-      problem.SetParameterLowerBound(ptrs[1], c, 1e-6);
-  } else {
-    for (int d : {0, 1})
-      problem.SetParameterLowerBound(ptrs[0], d, 1e-3);
-    problem.SetParameterLowerBound(ptrs[1], 0, 1e-6);
-  }
-  if (opt.fit_alpha) {
-    problem.SetParameterLowerBound(ptrs[3], 0, 0.5);
-    problem.SetParameterUpperBound(ptrs[3], 0, 1.5);
+  if (!fit_alpha) {
+    rep.fitted[ns - 1] = false;
+    rep.status[ns - 1] = "held";
+    rep.note[ns - 1] = opt.alpha_mode == AlphaMode::hold
+                           ? (opt.alpha ? "held by option" : "held by option; " + held_note)
+                           : "the data never reach damage onset; held at " + std::to_string(alpha0);
   }
 
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = opt.max_iterations;
-  so.function_tolerance = opt.function_tolerance;
-  so.gradient_tolerance = 1e-14;
-  so.parameter_tolerance = 1e-12;
-  so.num_threads = 1;
-  ceres::Solver::Summary summary;
-  const auto t0 = std::chrono::steady_clock::now();
-  ceres::Solve(so, &problem, &summary);
-  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Solve; constants the data do not determine at the solution are held at the prior and
+  // the fit repeated (at most three rounds: each round only adds held constants).
+  SolveResult sr;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J, Jf;
+  std::vector<int> free;
+  for (int round = 0; round < 3; ++round) {
+    sr = solve(terms, m, opt, rep.fitted, fit_alpha && rep.fitted[ns - 1], theta);
+    detail::residuals_and_jacobian(data, m, theta, r, &J);
+    free.clear();
+    std::vector<std::string> free_names;
+    for (int j = 0; j < n; ++j)
+      if (rep.fitted[static_cast<std::size_t>(j)]) {
+        free.push_back(j);
+        free_names.push_back(names[static_cast<std::size_t>(j)]);
+      }
+    Jf.resize(J.rows(), static_cast<Eigen::Index>(free.size()));
+    for (std::size_t c = 0; c < free.size(); ++c)
+      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
+    std::vector<std::string> why;
+    const std::vector<bool> bad = stats::not_identified(Jf, why, free_names);
+    bool changed = false;
+    for (std::size_t c = 0; c < free.size(); ++c) {
+      if (!bad[c]) continue;
+      const auto js = static_cast<std::size_t>(free[c]);
+      rep.fitted[js] = false;
+      rep.status[js] = "not identified";
+      rep.note[js] = why[c] + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
+      theta[js] = theta_prior[js];
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  const auto& summary = sr.summary;
+  rep.seconds = sr.seconds;
   rep.converged = summary.termination_type == ceres::CONVERGENCE;
   rep.termination = ceres::TerminationTypeToString(summary.termination_type);
   rep.message = summary.message;
@@ -514,63 +380,42 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   rep.initial_cost = summary.initial_cost;
   rep.final_cost = summary.final_cost;
   rep.residuals = summary.num_residuals;
-
-  theta.clear();
-  for (const auto& b : blocks)
-    theta.insert(theta.end(), b.begin(), b.end());
   const std::vector<double> kf = detail::constants_from_theta(m, theta);
   rep.params = params_from_constants(m, kf);
   for (int j = 0; j < n - 1; ++j)
     rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
 
-  // Standard errors: Cov(theta_free) = s^2 (J^T J)^-1, mapped to constants with G.
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  detail::residuals_and_jacobian(data, m, theta, r, &J);
-  std::vector<int> free;
-  for (int j = 0; j < n; ++j)
-    if (rep.fitted[static_cast<std::size_t>(j)]) free.push_back(j);
+  // Standard errors (D11): from the data's errors when every fitted point has one (scaled up
+  // by chi^2/dof when that exceeds 1, never down), else the sandwich estimate.
   rep.free_parameters = static_cast<int>(free.size());
-  rep.std_error.assign(static_cast<std::size_t>(n), kNaN);
-  const Eigen::Index dof = r.size() - static_cast<Eigen::Index>(free.size());
-  if (dof > 0) {
-    Eigen::MatrixXd Jf(J.rows(), static_cast<Eigen::Index>(free.size()));
-    for (std::size_t c = 0; c < free.size(); ++c)
-      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
-    const Eigen::MatrixXd JtJ = Jf.transpose() * Jf;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(JtJ);
-    const double emax = es.eigenvalues().maxCoeff(), emin = es.eigenvalues().minCoeff();
-    if (!(emin > emax * 1e-14)) {
+  rep.std_error.assign(ns, kNaN);
+  rep.dof = static_cast<int>(r.size()) - rep.free_parameters;
+  const bool data_errors = data_has_errors(data);
+  rep.error_model = data_errors ? "data standard errors" : "sandwich (HC3)";
+  if (opt.loss != "none") rep.error_model += ", robust loss: indicative";
+  if (data_errors && rep.dof > 0) {
+    rep.chi2 = r.squaredNorm();
+    rep.chi2_p = stats::chi2_upper_tail(rep.chi2, rep.dof);
+  }
+  if (rep.dof > 0) {
+    Eigen::MatrixXd cov;
+    const bool ok = data_errors ? stats::covariance_known_errors(Jf, cov)
+                                : stats::covariance_sandwich(Jf, r, cov);
+    if (!ok) {
       rep.warnings += "covariance is singular (some constants are not determined by the data); "
                       "standard errors not reported. ";
     } else {
-      const double s2 = r.squaredNorm() / static_cast<double>(dof);
-      const Eigen::MatrixXd cov_theta = s2 * JtJ.inverse();
-      const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta);
-      Eigen::MatrixXd Gf(n, static_cast<Eigen::Index>(free.size()));
-      for (std::size_t c = 0; c < free.size(); ++c)
-        Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
-      const Eigen::MatrixXd cov_k = Gf * cov_theta * Gf.transpose();
-      for (int j = 0; j < n; ++j) {
-        if (!rep.fitted[static_cast<std::size_t>(j)]) continue;
-        const double scale = j == n - 1 ? 1.0 : kMPa;
-        rep.std_error[static_cast<std::size_t>(j)] = std::sqrt(std::max(0.0, cov_k(j, j))) * scale;
-      }
+      if (data_errors) cov *= std::max(1.0, rep.chi2 / rep.dof);
+      standard_errors(rep, m, theta, free, cov);
     }
   } else {
     rep.warnings += "no degrees of freedom left for standard errors. ";
   }
   if (!rep.converged) rep.warnings += "the solver did not report convergence: " + rep.message + " ";
 
-  // R^2 per case and component, through the kernel along each path.
-  for (const CaseCurve& c : data.cases) {
-    const auto model_stress = stress_path(rep.params, c.strain);
-    for (int comp : deformation_case(c.id).active) {
-      const Eigen::VectorXd y = c.stress.col(comp), yh = model_stress.col(comp);
-      rep.components.push_back({c.id, comp, static_cast<int>(y.size()), r_squared(y, yh),
-                                std::sqrt((y - yh).squaredNorm() / static_cast<double>(y.size()))});
-    }
-  }
+  curve_statistics(rep, data, terms, r, data_errors);
+  if (opt.check_units) check_stiffness_units(rep, opt, data.source);
+  rep.verdict = judge_fit(rep);
   return rep;
 }
 

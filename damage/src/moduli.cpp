@@ -34,9 +34,17 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   for (int i = 0; i <= points; ++i)
     path.row(i) = case_strain(case_id, max_strain * i / points).transpose();
   const auto s = stress_path(p, path);
+  // The strength is the FIRST local maximum of the driven stress along the path (the load
+  // a strain-controlled test passes through before the stress drops; a later rise, e.g.
+  // once damage saturates and C0 + C1(1) > 0, is not a strength). Decision D5.
   Eigen::Index imax = 0;
-  s.col(dc.driven).maxCoeff(&imax);
-  if (imax == 0 || imax == points) return out; // monotonic over the range: no peak
+  for (Eigen::Index i = 1; i < points; ++i) {
+    if (s(i, dc.driven) > s(i - 1, dc.driven) && s(i, dc.driven) >= s(i + 1, dc.driven)) {
+      imax = i;
+      break;
+    }
+  }
+  if (imax == 0) return out; // monotonic over the range: no peak
   // Refine on the bracket [i-1, i+1] by golden-section search on the monotonic path
   // (irreversibility does not matter: the path is monotonic, so the stress at a strain is a
   // function of that strain alone).

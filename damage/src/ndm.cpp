@@ -272,16 +272,44 @@ inline Eigen::Matrix3d tensor(const Voigt& v) {
 
 struct Stretch {
   Voigt v;                 // the strain, platelet frame (engineering Voigt); tensor(v) = e
-  double lambda_max = 1.0; // largest principal stretch of U = I + e (if have_lambda_max)
+  double lambda_max = 1.0; // largest principal stretch of F(v) (if have_lambda_max), D6
   bool have_lambda_max = false;
   std::array<double, 3> lambda{1.0, 1.0, 1.0};
-  std::array<double, 3> shear{0.0, 0.0, 0.0};      // sqrt(sum_{j != k} e_kj^2)
+  std::array<double, 3> shear{0.0, 0.0, 0.0};      // t_k = sqrt(sum_{j != k} e_kj^2)
+  std::array<double, 3> dshear{1.0, 1.0, 1.0};     // d lambda_k / d t_k = 1 + t_k / r_k
   std::array<bool, 3> clipped{true, false, false}; // lambda_k = lambda_max (the cap binds)
 };
 
+// Decision D6: a small strain is read as the upper-triangular (LAMMPS triclinic cell)
+// deformation gradient with the same small strain, F = I + diag(e) + g12 e1(x)e2 +
+// g13 e1(x)e3 + g23 e2(x)e3, exact for every deformation case of the RVE.
+inline Eigen::Matrix3d deformation_gradient(const Voigt& v) {
+  Eigen::Matrix3d F;
+  F << 1.0 + v[0], v[5], v[4], //
+      0.0, 1.0 + v[1], v[3],   //
+      0.0, 0.0, 1.0 + v[2];
+  return F;
+}
+inline Eigen::Matrix3d right_cauchy_green(const Voigt& v) {
+  const Eigen::Matrix3d F = deformation_gradient(v);
+  return F.transpose() * F;
+}
+// Largest principal stretch of F(v): sqrt of the largest eigenvalue of C = F^T F.
+inline double largest_stretch(const Voigt& v) {
+  return std::sqrt(largest_eigenvalue(right_cauchy_green(v)));
+}
+// The uncapped mode stretch of D7 with the finite shear term: lambda = e_kk + t + sqrt(1 + t^2)
+// (1 + e_kk in extension; t + sqrt(1 + t^2), the principal stretch of simple shear by
+// gamma = 2t, in shear).
+inline void uncapped_stretch(double ekk, double t, double& lambda, double& dlambda_dt) {
+  const double r = std::sqrt(1.0 + t * t);
+  lambda = ekk + t + r;
+  dlambda_dt = 1.0 + t / r;
+}
+
 // mu > largest eigenvalue of the symmetric e, without the eigenvalue: mu I - e is positive
 // definite (Sylvester's criterion on its leading minors). The pnc mode stretches need
-// lambda_max only to cap 1 + e_kk + shear_k, and the cap rarely binds; this test costs a
+// lambda_max only to cap the uncapped stretch, and the cap rarely binds; this test costs a
 // 3x3 determinant instead of the acos/cos/sqrt of the closed-form eigenvalue.
 bool exceeds_largest_eigenvalue(const Eigen::Matrix3d& e, double mu) {
   const double a = mu - e(0, 0), b = mu - e(1, 1), c = mu - e(2, 2);
@@ -291,12 +319,14 @@ bool exceeds_largest_eigenvalue(const Eigen::Matrix3d& e, double mu) {
   return a * (b * c - z * z) - c * x * x - b * y * y - 2.0 * x * y * z > 0.0;
 }
 
-// The general (not block-diagonal) pnc stretches of D7, the caps by Sylvester's criterion.
+// The general (not block-diagonal) pnc stretches of D7, the caps by Sylvester's criterion on
+// lambda^2 I - C.
 void general_stretch(Stretch& s) {
   const Eigen::Matrix3d e = tensor(s.v);
-  auto need_lambda_max = [&s, &e]() {
+  const Eigen::Matrix3d C = right_cauchy_green(s.v);
+  auto need_lambda_max = [&s, &C]() {
     if (!s.have_lambda_max) {
-      s.lambda_max = 1.0 + largest_eigenvalue(e);
+      s.lambda_max = std::sqrt(largest_eigenvalue(C));
       s.have_lambda_max = true;
     }
     return s.lambda_max;
@@ -306,10 +336,11 @@ void general_stretch(Stretch& s) {
     const double ea = e(k, a), eb = e(k, b);
     // plane strain and plane stress have one of the two shears zero: no square root
     s.shear[k] = eb == 0.0 ? std::abs(ea) : ea == 0.0 ? std::abs(eb) : std::sqrt(ea * ea + eb * eb);
-    const double uncapped = 1.0 + e(k, k) + s.shear[k];
-    // The cap binds when 1 + e_kk + shear_k > lambda_max (ties at rounding level either way
-    // give the same stretch).
-    s.clipped[k] = exceeds_largest_eigenvalue(e, e(k, k) + s.shear[k]);
+    double uncapped;
+    uncapped_stretch(e(k, k), s.shear[k], uncapped, s.dshear[k]);
+    // The cap binds when the uncapped stretch exceeds lambda_max (ties at rounding level
+    // either way give the same stretch).
+    s.clipped[k] = uncapped > 0.0 && exceeds_largest_eigenvalue(C, uncapped * uncapped);
     s.lambda[k] = s.clipped[k] ? need_lambda_max() : uncapped;
   }
 }
@@ -320,26 +351,32 @@ void general_stretch(Stretch& s) {
   Stretch s;
   s.v = v;
   if (m == Model::pp) {
-    s.lambda_max = 1.0 + largest_eigenvalue(tensor(v));
+    s.lambda_max = largest_stretch(v);
     s.have_lambda_max = true;
     s.lambda[0] = s.lambda_max; // pp: the maximum principal stretch
     return s;
   }
   if (v[3] == 0.0 && v[4] == 0.0) {
     // Block-diagonal strain (every plane strain or plane stress point with x3 out of plane):
-    // lambda_max in closed form with one square root, and the capped stretches of D7 as
-    // min(uncapped, lambda_max) without branches on the cap.
-    const double x = 0.5 * v[5], mid = 0.5 * (v[0] + v[1]), half = 0.5 * (v[0] - v[1]);
-    s.lambda_max = 1.0 + std::max(v[2], mid + std::sqrt(half * half + x * x));
+    // the largest singular value of the 2x2 block [[1 + e11, g12], [0, 1 + e22]] of F in
+    // closed form, and the capped stretches of D7 as min(uncapped, lambda_max) without
+    // branches on the cap.
+    const double p = 1.0 + v[0], q = v[5], r = 1.0 + v[1];
+    const double smax = 0.5 * (std::sqrt((p + r) * (p + r) + q * q) +
+                               std::sqrt((p - r) * (p - r) + q * q));
+    s.lambda_max = std::max(1.0 + v[2], smax);
     s.have_lambda_max = true;
-    const double ax = std::abs(x);
-    s.shear = {ax, ax, 0.0};
+    const double t = 0.5 * std::abs(q);
+    s.shear = {t, t, 0.0};
+    double grow;
     for (int k = 0; k < 2; ++k) {
-      const double uncapped = 1.0 + v[k] + ax;
+      double uncapped;
+      uncapped_stretch(v[k], t, uncapped, grow);
+      s.dshear[k] = grow;
       s.clipped[k] = uncapped > s.lambda_max;
       s.lambda[k] = std::min(uncapped, s.lambda_max);
     }
-    // mode 3: 1 + e33 is an eigenvalue of U, never above lambda_max
+    // mode 3: 1 + e33 is a principal stretch of F, never above lambda_max
     s.clipped[2] = false;
     s.lambda[2] = 1.0 + v[2];
     return s;
@@ -348,26 +385,30 @@ void general_stretch(Stretch& s) {
   return s;
 }
 
-// d lambda_mode / d eps (engineering Voigt). N caches the principal direction of lambda_max.
+// d lambda_mode / d eps (engineering Voigt). N caches the principal direction of C for
+// lambda_max.
 Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vector3d& N,
                                         bool& have_N) {
   Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
   if (s.clipped[mode]) {
-    if (!have_N) {
-      N = largest_eigenvector(tensor(s.v), s.lambda_max - 1.0); // clipped: lambda_max known
+    if (!have_N) { // clipped: lambda_max known
+      N = largest_eigenvector(right_cauchy_green(s.v), s.lambda_max * s.lambda_max);
       have_N = true;
     }
-    row << N[0] * N[0], N[1] * N[1], N[2] * N[2], N[1] * N[2], N[0] * N[2], N[0] * N[1];
-    return row;
+    // d lambda / d v_I = (F N)_a N_b / lambda for the entry (a, b) of F that v_I sets
+    const Eigen::Vector3d FN = deformation_gradient(s.v) * N;
+    row << FN[0] * N[0], FN[1] * N[1], FN[2] * N[2], FN[1] * N[2], FN[0] * N[2], FN[0] * N[1];
+    return row / s.lambda_max;
   }
   // Voigt index of the shear pair (k, j): (1,2)->3, (0,2)->4, (0,1)->5.
   static const int pair_index[3][3] = {{-1, 5, 4}, {5, -1, 3}, {4, 3, -1}};
   const int a = (mode + 1) % 3, b = (mode + 2) % 3;
   row[mode] = 1.0;
-  if (s.shear[mode] > 0) { // d shear / d gamma = e_ka / (2 shear), e_ka = gamma / 2
+  if (s.shear[mode] > 0) { // d t / d gamma = e_ka / (2 t), e_ka = gamma / 2
     const int ia = pair_index[mode][a], ib = pair_index[mode][b];
-    row[ia] = 0.5 * s.v[ia] / (2 * s.shear[mode]);
-    row[ib] = 0.5 * s.v[ib] / (2 * s.shear[mode]);
+    const double f = s.dshear[mode] * 0.5 / (2 * s.shear[mode]);
+    row[ia] = f * s.v[ia];
+    row[ib] = f * s.v[ib];
   }
   return row;
 }
@@ -377,7 +418,7 @@ ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
   const Stretch s = compute_stretch(m, v);
   ModeStretch out;
   out.lambda = s.lambda;
-  out.lambda_max = s.have_lambda_max ? s.lambda_max : 1.0 + largest_eigenvalue(tensor(s.v));
+  out.lambda_max = s.have_lambda_max ? s.lambda_max : largest_stretch(s.v);
   if (with_derivative) {
     Eigen::Vector3d N;
     bool have_N = false;

@@ -35,8 +35,11 @@ NdmParameters dissertation_parameters(Model m) {
     p["C11"] = 0.559 * GPa;
     p["C12"] = 0.447 * GPa;
     p["C44"] = 0.109 * GPa;
-    p["B1"] = -0.304 * GPa;
-    p["B2"] = -0.405 / 2 * GPa;
+    // Table 6.10 pairs its rows in order (C12 with B1, C22 with 2B2, C23 with B3), and each
+    // printed number is the damage slope of its row's stress (D2's rule): sigma22 (diagonal,
+    // 2 B1 D in this code's naming) -0.405, sigma11 (off-diagonal, B2 D) -0.304 (D9).
+    p["B1"] = -0.405 / 2 * GPa;
+    p["B2"] = -0.304 * GPa;
     p["B4"] = -0.757 * GPa;
     p["alpha"] = 0.941;
   }
@@ -88,11 +91,11 @@ const std::vector<PrintedRegression>& printed_regression(Model m) {
       {3, 2, "C33", 0.648 * G, 0.993, "2A9", -0.528 * G, 0.994},
       {4, 3, "C44", 0.189 * G, 0.941, "A22", -0.337 * G, 0.959},
       {5, 4, "C55", 0.038851 * G, na, "A26", 0.0, na}};
-  // Tables 6.10-6.11 for the pure polymer, by the stress component each property was
-  // regressed from (sigma11 -> C12, 2B2; sigma22 -> C22, B1; sigma33 -> C23, B3).
+  // Tables 6.10-6.11 for the pure polymer, rows paired in the printed order as in Tables
+  // 6.6-6.9 (sigma11 -> C12, B1; sigma22 -> C22, 2B2; sigma33 -> C23, B3); decision D9.
   static const std::vector<PrintedRegression> pp = {
-      {2, 0, "C12", 0.447 * G, 0.981, "2B2", -0.405 * G, 0.994},
-      {2, 1, "C22", 0.559 * G, 0.962, "B1", -0.304 * G, 0.994},
+      {2, 0, "C12", 0.447 * G, 0.981, "B1", -0.304 * G, 0.994},
+      {2, 1, "C22", 0.559 * G, 0.962, "2B2", -0.405 * G, 0.994},
       {2, 2, "C23", 0.498 * G, 0.92, "B3", -0.355 * G, 0.997},
       {6, 5, "C66", 0.109 * G, 0.941, "B4", -0.757 * G, 0.96}};
   return m == Model::pnc ? pnc : pp;

@@ -140,7 +140,7 @@ TEST(FitRecovery, AlphaIsRecoveredWhenFitted) {
     const StressStrainData d = synth(m, 2.0, 5, 200);
     FitOptions o;
     o.model = m;
-    o.fit_alpha = true;
+    o.alpha_mode = AlphaMode::fit;
     o.alpha = truth.alpha() * 1.05; // start off the truth
     const FitReport r = fit_ndm(d, o);
     ASSERT_TRUE(r.converged) << r.message;

@@ -10,7 +10,12 @@
 //   /platelet_rotation  3x3, x_local = R x_global (dimensionless)
 //   /fit                attrs: data_source, data_hash, stress_definition, termination,
 //                       converged, iterations, initial_cost, final_cost, seconds, loss, ...
-//   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa)
+//   /verdict            attrs: level = "usable" | "usable with warnings" | "not usable",
+//                       reasons (one per line; each "not usable: ..." or "warning: ...")
+//   /fit                attrs also: error_model, alpha_choice, chi2, dof, chi2_p
+//   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa),
+//                       chi^2 of the curve (NaN without data errors), runs, expected runs,
+//                       runs-test p, lag-1 autocorrelation of the residuals
 //   /fit/regression     rows: case, component, a (Pa), b (Pa), R^2; labels in
 //                       /fit/regression_labels (one "lin,dam" per line)
 //   /fit/solver_report  Ceres full report (text)
@@ -18,6 +23,7 @@
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/ndm.hpp"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +32,9 @@ namespace pnc::damage {
 struct FitRecord {
   bool present = false;
   std::string data_source, data_hash, stress_definition, termination, message, loss;
+  std::string error_model, alpha_choice;
+  double chi2 = std::numeric_limits<double>::quiet_NaN(), chi2_p = chi2;
+  int dof = 0;
   bool converged = false;
   int iterations = 0, residuals = 0, free_parameters = 0;
   double initial_cost = 0, final_cost = 0, seconds = 0;
@@ -37,9 +46,13 @@ struct FitRecord {
 struct Card {
   NdmParameters params;          ///< SI (Pa), alpha dimensionless
   std::vector<double> std_error; ///< per constant, SI; NaN if not fitted
-  std::vector<bool> fitted;      ///< per constant
-  std::vector<std::string> note; ///< per constant
+  std::vector<bool> fitted;        ///< per constant
+  std::vector<std::string> status; ///< per constant: fitted, held, not identified, given
+  std::vector<std::string> note;   ///< per constant
   FitRecord fit;
+  /// Quality verdict. Cards of version 1 (written before verdicts) read as "usable with
+  /// warnings" with that reason; cards of given constants are "usable".
+  Verdict verdict;
   std::string software, created, command;
 };
 

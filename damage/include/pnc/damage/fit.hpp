@@ -11,18 +11,32 @@
 // solve (pp: C11 - C12 > 0 and C11 + 2 C12 > 0); shear stiffnesses are bounded below by a
 // positive number; A/B constants are free; alpha (optional) is bounded to [0.5, 1.5].
 // Every residual is evaluated by pnc::damage::integrate() along the case's strain path.
+//
+// Honesty of the result (decisions D11, D12b-D12e): standard errors from the data's own
+// per-point errors when every fitted point has one (else a heteroscedasticity-consistent
+// sandwich estimate), chi^2/dof against those errors, a runs test on the residuals of every
+// fitted curve, identifiability of every constant at the solution (constants the data do
+// not determine are held at the prior and say why), and a verdict (verdict.hpp).
 #include "pnc/damage/data.hpp"
 #include "pnc/damage/ndm.hpp"
+#include "pnc/damage/verdict.hpp"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace pnc::damage {
 
+/// How alpha (the critical-stretch factor) is treated. `automatic` fits it when the data pass
+/// the damage onset of the starting alpha somewhere (a held alpha then biases every other
+/// constant, D12b) and holds it otherwise; `fit` always fits it; `hold` never does.
+enum class AlphaMode { automatic, fit, hold };
+const char* alpha_mode_name(AlphaMode m);
+
 struct FitOptions {
   Model model = Model::pnc;
-  bool fit_alpha = false;            ///< fit alpha too (needs data past damage onset)
+  AlphaMode alpha_mode = AlphaMode::automatic;
   std::optional<double> alpha;       ///< alpha to use / start from; default: the dissertation's
   std::string loss = "none";         ///< "none", "huber" or "cauchy"
   double loss_scale = 1.0;           ///< robust-loss scale, in units of the residual (MPa or sd)
@@ -32,6 +46,12 @@ struct FitOptions {
   /// reached). Default: the dissertation's constants (pnc::damage::dissertation_parameters).
   std::optional<NdmParameters> prior;
   std::string prior_source = "dissertation tables 6.6-6.11";
+  /// Plausible range (Pa) of the fitted diagonal stiffnesses C11..C66 of polymers and their
+  /// composites; a fit outside it is refused as a probable unit mistake (stress in Pa given
+  /// as MPa gives 1e6 times the stiffness) unless check_units is false (D12e).
+  double stiffness_min = 1e5;  ///< 0.1 MPa
+  double stiffness_max = 1e12; ///< 1000 GPa
+  bool check_units = true;
 
   /// Throws pnc::InputError naming the option and the constraint it breaks.
   void validate() const;
@@ -43,6 +63,12 @@ struct ComponentFit {
   int points;
   double r2;  ///< 1 - SS_res / SS_tot of the joint fit
   double rms; ///< root-mean-square residual, Pa
+  /// sum of squared standardised residuals of this curve (NaN without data errors)
+  double chi2 = std::numeric_limits<double>::quiet_NaN();
+  int runs = 0;                   ///< runs of one residual sign, in loading order
+  double runs_expected = 0;       ///< expected runs for independent residuals
+  double runs_p = 1.0;            ///< P(this few runs or fewer | independent residuals)
+  double lag1 = 0;                ///< lag-1 autocorrelation of the residuals
 };
 
 /// One line of the dissertation-style per-case linear regression
@@ -61,7 +87,17 @@ struct FitReport {
   NdmParameters params;          ///< fitted constants, Pa
   std::vector<double> std_error; ///< per constant, Pa (alpha: 1); NaN if held
   std::vector<bool> fitted;      ///< false: held at the prior (see note)
+  /// per constant: "fitted", "held" (by option or for lack of data) or "not identified"
+  /// (the data do not determine it: held at the prior)
+  std::vector<std::string> status;
   std::vector<std::string> note; ///< why a constant was held, per constant
+  std::string alpha_choice;      ///< how alpha was treated and why
+  /// "data standard errors" or "sandwich (HC3)": where the standard errors come from
+  std::string error_model;
+  double chi2 = std::numeric_limits<double>::quiet_NaN(); ///< sum of r^2 (data errors only)
+  int dof = 0;                                            ///< residuals - free parameters
+  double chi2_p = std::numeric_limits<double>::quiet_NaN(); ///< P(chi^2_dof >= chi2)
+  Verdict verdict;                                        ///< judge_fit() of this report
   std::vector<ComponentFit> components;
   std::vector<RegressionLine> regression;
   // how the solve ended

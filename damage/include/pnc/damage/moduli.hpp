@@ -25,13 +25,14 @@ DerivedModuli derive_moduli(const NdmParameters& p);
 struct CaseStrength {
   int case_id;
   int component;               ///< Voigt index of the stress reported
-  std::optional<double> peak;  ///< maximum stress along the case path, if there is one
+  std::optional<double> peak;  ///< first local maximum of the stress along the path, if any
   double strain_at_peak = 0.0; ///< imposed strain at the peak
   double max_strain_searched;  ///< the path was followed up to this strain
 };
-/// Strength of the NDM in one deformation case: the maximum of the driven stress component
-/// along the monotonic case path, searched up to `max_strain` with `points` steps and then
-/// refined. No peak (monotonic stress) is reported as such, never invented.
+/// Strength of the NDM in one deformation case: the first local maximum of the driven stress
+/// component along the monotonic case path (decision D5), searched up to `max_strain` with
+/// `points` steps and then refined. No peak (monotonic stress) is reported as such, never
+/// invented.
 CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strain = 1.0,
                            int points = 4000);
 

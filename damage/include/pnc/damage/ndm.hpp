@@ -18,7 +18,10 @@
 //    tensorial shear strain, see D2). The pure polymer uses the isotropic reading (D3).
 //  * Damage D(lambda) = 1 + k (2 x^-13 - x^-7) for x = lambda/alpha > lambda_c, else 0, with
 //    k = 1/|2 lc^-13 - lc^-7| = 10.0142 (printed 10.015) so that D(lambda_c) = 0 (D4, D5).
-//  * Mode stretches from U = I + eps (small strain, D6) in the platelet frame (D7).
+//  * Mode stretches in the platelet frame (D7) from the deformation gradient that the small
+//    strain describes as an upper-triangular (LAMMPS triclinic cell) deformation,
+//    F = I + diag(e) + g12 e1(x)e2 + g13 e1(x)e3 + g23 e2(x)e3 (D6): exact for extension and
+//    for finite simple shear (principal stretch gamma/2 + sqrt(1 + gamma^2/4)).
 //  * Damage is irreversible: kappa_k = max over history of lambda_k (D8).
 #include <Eigen/Dense>
 
@@ -122,13 +125,18 @@ inline NdmState state_from_array(Model m, const double* in) {
 }
 
 /// Mode stretches lambda_k of a small strain (engineering Voigt, platelet frame) and their
-/// derivatives d lambda_k / d eps (rows), following decisions D6/D7:
-///   pnc: lambda_k = min( lambda_max, 1 + e_kk + sqrt(sum_{j != k} e_kj^2) ), n_k = e_k
-///   pp : lambda_1 = lambda_max (largest eigenvalue of U = I + e, by eigen-decomposition).
+/// derivatives d lambda_k / d eps (rows), following decisions D6/D7, with e the tensorial
+/// strain and t_k = sqrt(sum_{j != k} e_kj^2) the shear on the plane normal to x_k:
+///   pnc: lambda_k = min( lambda_max, e_kk + t_k + sqrt(1 + t_k^2) ), n_k = e_k
+///   pp : lambda_1 = lambda_max
+/// lambda_max = largest principal stretch of F = I + diag(e) + g12 e1(x)e2 + g13 e1(x)e3 +
+/// g23 e2(x)e3 (square root of the largest eigenvalue of F^T F). Both are exact for
+/// laterally constrained extension (1 + e) and for simple shear (gamma/2 + sqrt(1 +
+/// gamma^2/4)); dimensionless.
 struct ModeStretch {
   std::array<double, 3> lambda{1.0, 1.0, 1.0};
   Eigen::Matrix<double, 3, 6> dlambda = Eigen::Matrix<double, 3, 6>::Zero();
-  double lambda_max = 1.0; ///< largest principal stretch of U = I + e
+  double lambda_max = 1.0; ///< largest principal stretch of F (see above)
 };
 ModeStretch mode_stretches(Model m, const Voigt& eps_local, bool with_derivative);
 

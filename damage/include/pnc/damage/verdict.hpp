@@ -1,0 +1,48 @@
+#pragma once
+// pnc/damage/verdict.hpp: the quality verdict every material card carries.
+//
+// A card is `usable`, `usable with warnings` or `not usable`, with one sentence per reason.
+// `pnc fit` and `pnc characterize` exit with code 4 for a `not usable` card (written all the
+// same, marked); `pnc card show` and the reports print the verdict; the fe_material plugin
+// refuses a `not usable` card unless the host asks for it explicitly. The rules and their
+// thresholds are decision D12d (docs/decisions.md); VerdictLimits holds the thresholds.
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+enum class VerdictLevel { usable = 0, usable_with_warnings = 1, not_usable = 2 };
+/// "usable", "usable with warnings", "not usable".
+const char* verdict_name(VerdictLevel v);
+/// Inverse of verdict_name; throws pnc::InputError naming `source` otherwise.
+VerdictLevel parse_verdict(const std::string& text, const std::string& source);
+
+struct Verdict {
+  VerdictLevel level = VerdictLevel::usable;
+  /// One sentence per finding, each starting with "not usable: " or "warning: ".
+  std::vector<std::string> reasons;
+  void refuse(const std::string& why);
+  void warn(const std::string& why);
+};
+
+/// Thresholds of the verdict (dimensionless unless stated).
+struct VerdictLimits {
+  double r2_not_usable = 0.0; ///< a fitted curve with R^2 below: worse than its mean
+  double r2_warning = 0.9;    ///< below: the curve is poorly described
+  double p_misfit = 1e-3;     ///< family-wise level of the chi^2 and runs tests
+  /// standard error above this fraction of the constant's scale (|value|, or for a damage
+  /// constant the largest undamaged stiffness it reduces)
+  double relative_error_warning = 0.5;
+  double modulus_min = 1e6;            ///< Pa; a Young's modulus below is no solid polymer
+  double modulus_max = 1e12;           ///< Pa
+};
+
+struct FitReport; // fit.hpp
+
+/// The verdict of a fit: from R^2 per curve, chi^2/dof and its p-value, the runs tests,
+/// identifiability, the solver's termination, and physical checks (C0 positive definite,
+/// Young's moduli in [modulus_min, modulus_max], Poisson ratios, tensile stress positive
+/// before the damage onset in every driven case).
+Verdict judge_fit(const FitReport& report, const VerdictLimits& limits = {});
+
+} // namespace pnc::damage

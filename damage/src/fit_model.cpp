@@ -1,0 +1,322 @@
+// The NDM fit's model side: see fit_model.hpp and docs/decisions.md D10-D12.
+#include "fit_model.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/damage/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace pnc::damage {
+
+namespace fitmodel {
+
+// Parameter blocks of theta (decision D10).
+std::vector<int> block_sizes(Model m) {
+  return m == Model::pnc ? std::vector<int>{6, 3, 12, 1} : std::vector<int>{2, 1, 3, 1};
+}
+int n_theta(Model m) {
+  return static_cast<int>(constant_names(m).size());
+}
+
+NdmParameters params_from_constants(Model m, const std::vector<double>& k) {
+  NdmParameters p;
+  p.model = m;
+  for (std::size_t i = 0; i < k.size(); ++i)
+    p.k[i] = k[i];
+  return p;
+}
+
+// d sigma / d k for stiffness and damage constants is (C0(u_j) + C1(u_j, D)) eps, with u_j the
+// unit parameter set: C0 and C1 are linear in every constant but alpha (decision D11).
+struct UnitMatrices {
+  std::vector<Matrix6> c0;
+  std::vector<std::array<Matrix6, 3>> c1;
+};
+const UnitMatrices& unit_matrices(Model m) {
+  static std::map<Model, UnitMatrices> cache = [] {
+    std::map<Model, UnitMatrices> c;
+    for (Model mm : {Model::pnc, Model::pp}) {
+      UnitMatrices u;
+      const int n = n_theta(mm);
+      for (int j = 0; j < n; ++j) {
+        NdmParameters p;
+        p.model = mm;
+        p.k[static_cast<std::size_t>(j)] = 1.0;
+        u.c0.push_back(stiffness_c0(p));
+        u.c1.push_back({stiffness_c1_dD(p, 0), stiffness_c1_dD(p, 1), stiffness_c1_dD(p, 2)});
+      }
+      c[mm] = u;
+    }
+    return c;
+  }();
+  return cache.at(m);
+}
+
+
+// Residuals of one point and d r / d constants (rows x n).
+void point_residual(const PointTerm& t, const std::vector<double>& k, double* r,
+                    Eigen::MatrixXd* dr_dk) {
+  const NdmParameters p = params_from_constants(t.model, k);
+  NdmState s1;
+  Voigt sigma;
+  ErrorBuffer err;
+  if (integrate(p, t.s0, s1, t.eps0, t.deps, sigma, nullptr, err) != Status::ok)
+    throw std::runtime_error(err.msg);
+  for (std::size_t c = 0; c < t.comps.size(); ++c) {
+    const int i = t.comps[c];
+    r[c] = (sigma[i] - t.data[i]) / t.scale[i];
+  }
+  if (!dr_dk) return;
+  const Voigt eps = t.eps0 + t.deps;
+  const UnitMatrices& u = unit_matrices(t.model);
+  const int n = n_theta(t.model);
+  const int nm = t.model == Model::pnc ? 3 : 1;
+  dr_dk->setZero(static_cast<Eigen::Index>(t.comps.size()), n);
+  for (int j = 0; j < n - 1; ++j) {
+    Matrix6 M = u.c0[static_cast<std::size_t>(j)];
+    for (int m = 0; m < nm; ++m)
+      if (s1.D[m] != 0.0) M += s1.D[m] * u.c1[static_cast<std::size_t>(j)][m];
+    const Voigt col = M * eps;
+    for (std::size_t c = 0; c < t.comps.size(); ++c)
+      (*dr_dk)(static_cast<Eigen::Index>(c), j) = col[t.comps[c]] / t.scale[t.comps[c]];
+  }
+  // alpha: D_m = D(kappa_m / alpha), kappa independent of every constant.
+  const double a = p.alpha();
+  Voigt dsig = Voigt::Zero();
+  for (int m = 0; m < nm; ++m) {
+    const double dD = damage_function_derivative(s1.kappa[m] / a) * (-s1.kappa[m] / (a * a));
+    if (dD != 0.0) dsig += dD * (stiffness_c1_dD(p, m) * eps);
+  }
+  for (std::size_t c = 0; c < t.comps.size(); ++c)
+    (*dr_dk)(static_cast<Eigen::Index>(c), n - 1) = dsig[t.comps[c]] / t.scale[t.comps[c]];
+}
+
+std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double alpha_for_states) {
+  std::vector<PointTerm> terms;
+  NdmParameters pstate = dissertation_parameters(m);
+  pstate["alpha"] = alpha_for_states; // kappa does not depend on constants; D recomputed
+  for (const CaseCurve& c : data.cases) {
+    const DeformationCase& dc = deformation_case(c.id, data.source);
+    std::vector<NdmState> states;
+    stress_path(pstate, c.strain, &states);
+    // Weights: the data's standard errors where positive; else their median; else 1 MPa.
+    Voigt fallback = Voigt::Ones();
+    if (c.stress_stderr.rows() == c.stress.rows()) {
+      for (int i = 0; i < 6; ++i) {
+        std::vector<double> pos;
+        for (Eigen::Index k = 0; k < c.stress_stderr.rows(); ++k)
+          if (c.stress_stderr(k, i) > 0) pos.push_back(c.stress_stderr(k, i) / kMPa);
+        if (!pos.empty()) {
+          std::nth_element(pos.begin(), pos.begin() + static_cast<long>(pos.size() / 2), pos.end());
+          fallback[i] = pos[pos.size() / 2];
+        }
+      }
+    }
+    NdmState prev;
+    Voigt eprev = Voigt::Zero();
+    for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
+      PointTerm t;
+      t.model = m;
+      t.case_id = c.id;
+      t.comps = dc.active;
+      t.s0 = prev;
+      t.eps0 = eprev;
+      t.deps = c.strain.row(k).transpose() - eprev;
+      t.data = c.stress.row(k).transpose() / kMPa;
+      for (int i = 0; i < 6; ++i) {
+        const bool has = c.stress_stderr.rows() == c.stress.rows() && c.stress_stderr(k, i) > 0;
+        t.scale[i] = has ? c.stress_stderr(k, i) / kMPa : fallback[i];
+      }
+      terms.push_back(t);
+      prev = states[static_cast<std::size_t>(k)];
+      eprev = c.strain.row(k).transpose();
+    }
+  }
+  return terms;
+}
+
+void check_cases(const StressStrainData& data, Model m) {
+  const auto allowed = model_cases(m);
+  for (const auto& c : data.cases) {
+    if (std::find(allowed.begin(), allowed.end(), c.id) == allowed.end())
+      fail(data.source, "case", std::to_string(c.id),
+           std::string("the ") + model_name(m) + " model is characterised by cases " +
+               (m == Model::pnc ? "1-6" : "2 (extension x2) and 6 (shear 1-2)"));
+    if (c.strain.rows() < 3)
+      fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
+           "each case needs at least 3 points");
+  }
+  const std::vector<int> required =
+      m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
+  for (int id : required)
+    if (!data.find(id))
+      fail(data.source, "case", std::to_string(id),
+           std::string("is required: the ") + model_name(m) +
+               " normal stiffness block cannot be determined without it");
+}
+
+LabelPair regression_labels(Model m, int case_id, int comp) {
+  if (m == Model::pp) {
+    if (case_id == 2) {
+      static const LabelPair l[3] = {{"C12", "B2"}, {"C11", "2B1"}, {"C12", "B2"}};
+      return l[comp];
+    }
+    return {"C44", "B4"};
+  }
+  static const LabelPair ext[3][3] = {{{"C11", "2A1"}, {"C12", "A10"}, {"C13", "A13"}},
+                                      {{"C12", "A11"}, {"C22", "2A5"}, {"C23", "A17"}},
+                                      {{"C13", "A15"}, {"C23", "A18"}, {"C33", "2A9"}}};
+  if (case_id <= 3) return ext[case_id - 1][comp];
+  static const LabelPair sh[3] = {{"C44", "A22"}, {"C55", "A26"}, {"C66", "A24"}};
+  return sh[case_id - 4];
+}
+
+double r_squared(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat) {
+  const double mean = y.mean();
+  const double ss_tot = (y.array() - mean).square().sum();
+  const double ss_res = (y - yhat).squaredNorm();
+  return ss_tot > 0 ? 1.0 - ss_res / ss_tot : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool data_has_errors(const StressStrainData& data) {
+  for (const CaseCurve& c : data.cases) {
+    if (c.stress_stderr.rows() != c.stress.rows()) return false;
+    for (int comp : deformation_case(c.id).active)
+      if (!(c.stress_stderr.col(comp).array() > 0).all()) return false;
+  }
+  return !data.cases.empty();
+}
+} // namespace fitmodel
+
+
+// ------------------------------------------------------------------ theta map
+namespace detail {
+using namespace fitmodel;
+namespace {
+// Positions of the 6 Cholesky parameters in L, and of C11 C22 C33 C12 C13 C23 in C_n.
+constexpr int kLPos[6][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}, {2, 2}};
+constexpr int kCPos[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+Eigen::Matrix3d lower_from_theta(const std::vector<double>& th) {
+  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
+  for (int q = 0; q < 6; ++q)
+    L(kLPos[q][0], kLPos[q][1]) = th[static_cast<std::size_t>(q)];
+  return L;
+}
+} // namespace
+
+std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) {
+  std::vector<double> th(k);
+  if (m == Model::pp) {
+    th[0] = k[0] - k[1];     // u = C11 - C12
+    th[1] = k[0] + 2 * k[1]; // v = C11 + 2 C12
+    return th;
+  }
+  Eigen::Matrix3d Cn;
+  Cn << k[0], k[3], k[4], k[3], k[1], k[5], k[4], k[5], k[2];
+  Eigen::LLT<Eigen::Matrix3d> llt(Cn);
+  if (llt.info() != Eigen::Success) { // clip to the nearest positive definite matrix
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Cn);
+    Eigen::Vector3d ev = es.eigenvalues();
+    const double floor = 1e-3 * std::max(1.0, ev.maxCoeff());
+    for (int i = 0; i < 3; ++i)
+      ev[i] = std::max(ev[i], floor);
+    Cn = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+    llt.compute(Cn);
+  }
+  const Eigen::Matrix3d L = llt.matrixL();
+  for (int q = 0; q < 6; ++q)
+    th[static_cast<std::size_t>(q)] = L(kLPos[q][0], kLPos[q][1]);
+  return th;
+}
+
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& th) {
+  std::vector<double> k(th);
+  if (m == Model::pp) {
+    k[0] = (2 * th[0] + th[1]) / 3;
+    k[1] = (th[1] - th[0]) / 3;
+    return k;
+  }
+  const Eigen::Matrix3d L = lower_from_theta(th);
+  const Eigen::Matrix3d C = L * L.transpose();
+  for (int c = 0; c < 6; ++c)
+    k[static_cast<std::size_t>(c)] = C(kCPos[c][0], kCPos[c][1]);
+  return k;
+}
+
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
+  const int n = n_theta(m);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n);
+  if (m == Model::pp) {
+    G(0, 0) = 2.0 / 3;
+    G(0, 1) = 1.0 / 3;
+    G(1, 0) = -1.0 / 3;
+    G(1, 1) = 1.0 / 3;
+    return G;
+  }
+  const Eigen::Matrix3d L = lower_from_theta(th);
+  for (int q = 0; q < 6; ++q) {
+    Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+    E(kLPos[q][0], kLPos[q][1]) = 1.0;
+    const Eigen::Matrix3d dC = E * L.transpose() + L * E.transpose();
+    for (int c = 0; c < 6; ++c)
+      G(c, q) = dC(kCPos[c][0], kCPos[c][1]);
+  }
+  return G;
+}
+
+void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
+                            Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+  const std::vector<double> k = constants_from_theta(m, theta);
+  const auto terms = build_terms(data, m, k.back());
+  Eigen::Index rows = 0;
+  for (const auto& t : terms)
+    rows += static_cast<Eigen::Index>(t.comps.size());
+  r.resize(rows);
+  if (J) J->resize(rows, n_theta(m));
+  const Eigen::MatrixXd G = dconstants_dtheta(m, theta);
+  Eigen::Index row = 0;
+  for (const auto& t : terms) {
+    Eigen::MatrixXd drdk;
+    point_residual(t, k, r.data() + row, J ? &drdk : nullptr);
+    const auto nr = static_cast<Eigen::Index>(t.comps.size());
+    if (J) J->middleRows(row, nr) = drdk * G;
+    row += nr;
+  }
+}
+} // namespace detail
+
+// ------------------------------------------------------------------ regression
+std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m, double alpha) {
+  using namespace fitmodel;
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::vector<RegressionLine> out;
+  NdmParameters pstate = dissertation_parameters(m);
+  pstate["alpha"] = alpha;
+  for (const CaseCurve& c : data.cases) {
+    const DeformationCase& dc = deformation_case(c.id, data.source);
+    std::vector<NdmState> states;
+    stress_path(pstate, c.strain, &states);
+    const Eigen::Index n = c.strain.rows();
+    Eigen::VectorXd x = c.strain.col(dc.driven), Dx(n);
+    const int mode = m == Model::pnc ? dc.damage_mode : 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+      Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];
+    const bool damaged = Dx.cwiseAbs().maxCoeff() > 0;
+    for (int comp : dc.active) {
+      const Eigen::VectorXd y = c.stress.col(comp) / kMPa;
+      Eigen::MatrixXd X(n, damaged ? 2 : 1);
+      X.col(0) = x;
+      if (damaged) X.col(1) = Dx;
+      const Eigen::VectorXd coef = X.colPivHouseholderQr().solve(y);
+      const LabelPair lab = regression_labels(m, c.id, comp);
+      out.push_back({c.id, comp, lab.lin, lab.dam, coef[0] * kMPa, damaged ? coef[1] * kMPa : kNaN,
+                     r_squared(y, X * coef)});
+    }
+  }
+  return out;
+}
+
+} // namespace pnc::damage
