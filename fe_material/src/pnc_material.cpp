@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -20,6 +21,7 @@
 struct pnc_material {
   pnc::damage::PreparedNdm kernel; ///< the parameters (kernel.p), prepared once at creation
   std::string source;              ///< card path or "<constants>", for messages
+  std::string verdict = "usable";  ///< the card's verdict level
 };
 
 namespace {
@@ -50,8 +52,8 @@ PNC_MATERIAL_API int pnc_material_abi_version(void) {
   return PNC_MATERIAL_ABI_VERSION;
 }
 
-PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* err,
-                                                   size_t errlen) {
+PNC_MATERIAL_API pnc_material* pnc_material_create_ex(const char* card_path, unsigned flags,
+                                                      char* err, size_t errlen) {
   return guarded_create(
       [&]() -> pnc_material* {
         if (!card_path)
@@ -63,12 +65,34 @@ PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* 
           pnc::fail(card_path, "card_path", card_path,
                     std::string("cannot open the material card: ") + std::strerror(errno));
         pnc::damage::Card card = pnc::damage::read_card(card_path); // validates
+        if (card.verdict.level == pnc::damage::VerdictLevel::not_usable &&
+            !(flags & PNC_MATERIAL_ALLOW_NOT_USABLE)) {
+          std::string why;
+          for (const auto& r : card.verdict.reasons)
+            if (r.rfind("not usable: ", 0) == 0) why += (why.empty() ? "" : "; ") + r.substr(12);
+          pnc::fail(card_path, "/verdict@level", "not usable",
+                    "the card's fit does not describe its data (" + why +
+                        "); refit it, or load it deliberately with PNC_ALLOW_NOT_USABLE_CARD=1 "
+                        "or pnc_material_create_ex(..., PNC_MATERIAL_ALLOW_NOT_USABLE, ...)");
+        }
         auto* m = new pnc_material;
         m->kernel = pnc::damage::prepare(card.params);
         m->source = card_path;
+        m->verdict = pnc::damage::verdict_name(card.verdict.level);
         return m;
       },
       err, errlen);
+}
+
+PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* err,
+                                                   size_t errlen) {
+  const char* allow = std::getenv("PNC_ALLOW_NOT_USABLE_CARD");
+  const bool yes = allow && std::strcmp(allow, "1") == 0;
+  return pnc_material_create_ex(card_path, yes ? PNC_MATERIAL_ALLOW_NOT_USABLE : 0u, err, errlen);
+}
+
+PNC_MATERIAL_API const char* pnc_material_verdict(const pnc_material* m) {
+  return m ? m->verdict.c_str() : "";
 }
 
 PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* model,

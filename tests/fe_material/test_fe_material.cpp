@@ -816,3 +816,42 @@ TEST_F(FeMaterialUmat, PlaneStrainMatchesThe3DKernel) {
 }
 
 } // namespace
+
+// ---------------------------------------------------------------- card verdict
+namespace {
+std::string not_usable_card() {
+  const fs::path path = temp_dir() / "card_not_usable.h5";
+  pnc::damage::Card c = pnc::damage::card_from_parameters(params(Model::pnc, false), "test");
+  c.verdict = {};
+  c.verdict.refuse("case 2 sigma22: R^2 = -11: worse than the mean");
+  pnc::damage::write_card(path.string(), c, "test_fe_material");
+  return path.string();
+}
+} // namespace
+
+TEST(FeMaterialVerdict, ANotUsableCardIsRefusedUnlessTheHostAsks) {
+  const std::string bad = not_usable_card();
+  char err[1024] = {0};
+  ASSERT_EQ(std::getenv("PNC_ALLOW_NOT_USABLE_CARD"), nullptr);
+  EXPECT_EQ(pnc_material_create(bad.c_str(), err, sizeof err), nullptr);
+  const std::string msg = err;
+  EXPECT_NE(msg.find(bad), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not usable"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("R^2 = -11"), std::string::npos) << msg; // the card's own reason
+  pnc_material* m = pnc_material_create_ex(bad.c_str(), PNC_MATERIAL_ALLOW_NOT_USABLE, err,
+                                           sizeof err);
+  ASSERT_NE(m, nullptr) << err;
+  EXPECT_STREQ(pnc_material_verdict(m), "not usable");
+  pnc_material_destroy(m);
+  // the user's explicit request through the environment
+  ::setenv("PNC_ALLOW_NOT_USABLE_CARD", "1", 1);
+  m = pnc_material_create(bad.c_str(), err, sizeof err);
+  ::unsetenv("PNC_ALLOW_NOT_USABLE_CARD");
+  EXPECT_NE(m, nullptr) << err;
+  pnc_material_destroy(m);
+  // through the dlopen()ed plugin and the C++ wrapper
+  Plugin plugin(plugin_path());
+  EXPECT_THROW((void)plugin.from_card(bad), pnc::fe_material::Error);
+  EXPECT_EQ(plugin.from_card(bad, true).verdict(), "not usable");
+  EXPECT_EQ(plugin.from_card(card_path(Model::pnc, false)).verdict(), "usable");
+}

@@ -51,6 +51,8 @@ using Tangent36 = std::array<double, 36>; ///< row-major d sigma_i / d eps_j
 struct Api {
   pnc_material_abi_version_fn abi_version = nullptr;
   pnc_material_create_fn create = nullptr;
+  pnc_material_create_ex_fn create_ex = nullptr;
+  pnc_material_verdict_fn verdict = nullptr;
   pnc_material_create_from_constants_fn create_from_constants = nullptr;
   pnc_material_destroy_fn destroy = nullptr;
   pnc_material_model_fn model = nullptr;
@@ -91,8 +93,10 @@ class Plugin;
 class Material {
 public:
   /// Reads a material card with the linked library (needs pnc::fe_material at link time).
-  static Material from_card(const std::string& card_path) {
-    return create_card(linked(), card_path);
+  /// A card whose verdict is "not usable" is refused (Error with its reasons) unless
+  /// allow_not_usable is true (or PNC_ALLOW_NOT_USABLE_CARD=1 is set).
+  static Material from_card(const std::string& card_path, bool allow_not_usable = false) {
+    return create_card(linked(), card_path, allow_not_usable);
   }
   /// Builds a material from constants (order of constant_names(), SI) without touching any
   /// file; `rotation` is R row-major (x_local = R x_global), null for the identity. Linked
@@ -189,6 +193,9 @@ public:
               tangent ? tangent->data() : nullptr);
   }
 
+  /// The card's verdict: "usable", "usable with warnings" or "not usable".
+  std::string verdict() const { return detail::str(api().verdict(m_)); }
+
   /// The C handle, for code that calls the C ABI directly.
   const pnc_material* get() const noexcept { return m_; }
 
@@ -208,6 +215,8 @@ private:
     Api& a = lib->api;
     a.abi_version = &pnc_material_abi_version;
     a.create = &pnc_material_create;
+    a.create_ex = &pnc_material_create_ex;
+    a.verdict = &pnc_material_verdict;
     a.create_from_constants = &pnc_material_create_from_constants;
     a.destroy = &pnc_material_destroy;
     a.model = &pnc_material_model;
@@ -222,9 +231,12 @@ private:
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
-                              const std::string& card_path) {
+                              const std::string& card_path, bool allow_not_usable) {
     char err[1024] = {0};
-    pnc_material* m = lib->api.create(card_path.c_str(), err, sizeof err);
+    pnc_material* m =
+        allow_not_usable
+            ? lib->api.create_ex(card_path.c_str(), PNC_MATERIAL_ALLOW_NOT_USABLE, err, sizeof err)
+            : lib->api.create(card_path.c_str(), err, sizeof err);
     if (!m) throw Error(err);
     return Material(std::move(lib), m);
   }
@@ -267,6 +279,8 @@ public:
                   std::to_string(PNC_MATERIAL_ABI_VERSION) +
                   " (pnc_material.h); use a matching plugin");
     resolve(*lib, "pnc_material_create", a.create);
+    resolve(*lib, "pnc_material_create_ex", a.create_ex);
+    resolve(*lib, "pnc_material_verdict", a.verdict);
     resolve(*lib, "pnc_material_create_from_constants", a.create_from_constants);
     resolve(*lib, "pnc_material_destroy", a.destroy);
     resolve(*lib, "pnc_material_model", a.model);
@@ -285,9 +299,9 @@ public:
   int abi_version() const { return lib_->api.abi_version(); }
   const Api& api() const { return lib_->api; }
 
-  /// Reads a material card through the plugin.
-  Material from_card(const std::string& card_path) const {
-    return Material::create_card(lib_, card_path);
+  /// Reads a material card through the plugin (a "not usable" card as in Material::from_card).
+  Material from_card(const std::string& card_path, bool allow_not_usable = false) const {
+    return Material::create_card(lib_, card_path, allow_not_usable);
   }
   /// Builds a material from constants through the plugin (no file access).
   Material from_constants(const std::string& model, const std::vector<double>& constants,

@@ -65,8 +65,22 @@ typedef struct pnc_material pnc_material;
 PNC_MATERIAL_API int pnc_material_abi_version(void);
 
 /* Loads a material card (HDF5, docs/formats.md) and validates it. Returns NULL on failure,
- * with the message (file, dataset, value, rule) in err. */
+ * with the message (file, dataset, value, rule) in err. A card whose verdict is "not usable"
+ * (a fit that does not describe its data, docs/formats.md) is refused with its reasons,
+ * unless the environment variable PNC_ALLOW_NOT_USABLE_CARD is set to 1 (the user's explicit
+ * request, for hosts that cannot pass flags) or the host calls pnc_material_create_ex(). */
 PNC_MATERIAL_API pnc_material* pnc_material_create(const char* card_path, char* err, size_t errlen);
+
+/* Flags of pnc_material_create_ex(). */
+#define PNC_MATERIAL_ALLOW_NOT_USABLE 1u /* load a "not usable" card all the same */
+
+/* pnc_material_create() with flags (a bitwise or of PNC_MATERIAL_* flags above). */
+PNC_MATERIAL_API pnc_material* pnc_material_create_ex(const char* card_path, unsigned flags,
+                                                      char* err, size_t errlen);
+
+/* The verdict of the card the material came from: "usable", "usable with warnings" or
+ * "not usable" ("usable" for materials made from constants). Lives as long as the material. */
+PNC_MATERIAL_API const char* pnc_material_verdict(const pnc_material* m);
 
 /* Builds a material without reading any file (no HDF5 is touched): for hosts that already
  * link another HDF5 library. model is "pnc" (nanocomposite, 22 constants) or "pp" (pure
@@ -116,6 +130,8 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
 typedef pnc_material* (*pnc_material_create_fn)(const char*, char*, size_t);
+typedef pnc_material* (*pnc_material_create_ex_fn)(const char*, unsigned, char*, size_t);
+typedef const char* (*pnc_material_verdict_fn)(const pnc_material*);
 typedef pnc_material* (*pnc_material_create_from_constants_fn)(const char*, const double*, int,
                                                                const double*, char*, size_t);
 typedef void (*pnc_material_destroy_fn)(pnc_material*);
