@@ -145,3 +145,78 @@ TEST_F(Cli, CardTablesReproduceTable612) {
   EXPECT_NEAR(j["moduli"]["E2_eq646_printed"].get<double>() / 1e9, 0.567, 0.0005);
   EXPECT_NEAR(j["moduli"]["E2"].get<double>() / 1e9, 0.600, 0.0005);
 }
+
+// ---------------------------------------------------------------- the card verdict
+namespace {
+// Curves that a noise-dominated MD run hands to the fit: a stress offset (30 MPa) that
+// sigma = C eps cannot have, scattered by +-1 MPa, with hardly any strain dependence.
+void write_offset_csv(const std::string& path, double stress_scale) {
+  std::ofstream f(path);
+  f << "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12\n";
+  for (int c = 1; c <= 6; ++c)
+    for (int k = 1; k <= 20; ++k) {
+      double e[6] = {0, 0, 0, 0, 0, 0};
+      e[c - 1] = (c <= 3 ? 0.2 : 0.4) * k / 20; // Voigt index of case c is c - 1
+      f << c;
+      for (double v : e)
+        f << ',' << v;
+      for (int i = 0; i < 6; ++i)
+        f << ',' << stress_scale * (30 + ((k * 7 + i * 3 + c) % 5 - 2) * 0.5);
+      f << '\n';
+    }
+}
+} // namespace
+
+TEST_F(Cli, NotUsableCardIsWrittenMarkedAndExitsFour) {
+  write_offset_csv(p("noise.csv"), 1.0);
+  const Result f = run("fit --data noise.csv --model pnc --out card.h5 --no-plots --json");
+  EXPECT_EQ(f.code, 4) << f.err; // documented: a card written with the verdict "not usable"
+  ASSERT_TRUE(fs::exists(p("card.h5")));
+  const auto j = nlohmann::json::parse(f.out);
+  EXPECT_EQ(j["verdict"]["level"], "not usable");
+  EXPECT_NE(f.err.find("NOT USABLE"), std::string::npos) << f.err;
+  const Result c = run("card show card.h5 --json");
+  EXPECT_EQ(c.code, 0) << c.err;
+  EXPECT_NE(c.err.find("verdict: not usable"), std::string::npos) << c.err;
+  EXPECT_EQ(nlohmann::json::parse(c.out)["verdict"]["level"], "not usable");
+}
+
+TEST_F(Cli, StressesInPascalAreRefusedAsAUnitMistake) {
+  // Synthetic curves of the tables' law, written in Pa under the MPa header.
+  ASSERT_EQ(run("synth --model pnc --points 30 --noise-mpa 1 --seed 3 --out d.csv").code, 0);
+  std::ifstream in(p("d.csv"));
+  std::ofstream out(p("pa.csv"));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line.rfind("case", 0) == 0) {
+      out << line << '\n';
+      continue;
+    }
+    std::stringstream ss(line);
+    std::string cell;
+    for (int col = 0; std::getline(ss, cell, ','); ++col)
+      out << (col ? "," : "") << (col >= 7 ? std::to_string(std::stod(cell) * 1e6) : cell);
+    out << '\n';
+  }
+  out.close();
+  const Result r = run("fit --data pa.csv --out card.h5 --no-plots");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("Pa instead of MPa"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("card.h5")));
+}
+
+TEST_F(Cli, CardShowReportsTheFirstStrengthPeak) {
+  // Table 6.13: the nanocomposite's strength 189.37 MPa is the first local maximum of
+  // sigma22 in case 2 (the stress rises again later); 3-digit constants: 0.2 %.
+  ASSERT_EQ(run("card tables --model pnc --out t.h5").code, 0);
+  const auto j = nlohmann::json::parse(run("card show t.h5 --json").out);
+  bool found = false;
+  for (const auto& s : j["strengths"])
+    if (s["case"] == 2) {
+      ASSERT_FALSE(s["peak_pa"].is_null());
+      EXPECT_NEAR(s["peak_pa"].get<double>() / 1e6, 189.37, 189.37 * 2e-3);
+      found = true;
+    }
+  EXPECT_TRUE(found);
+  EXPECT_EQ(j["verdict"]["level"], "usable");
+}
