@@ -3,6 +3,7 @@
 #include "plot.hpp"
 #include "report.hpp"
 
+#include "pnc/core/atomic_file.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
 
@@ -15,6 +16,7 @@ namespace pnc::app {
 
 int run_fit(const FitArgs& a) {
   using namespace pnc::damage;
+  check_output_file(a.out, "--out"); // before the fit, not after it
   FitOptions o;
   o.model = parse_model(a.model, "<command line>: --model");
   o.fit_alpha = a.fit_alpha;

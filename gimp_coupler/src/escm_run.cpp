@@ -775,7 +775,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     if (p.ff_cutoff_sigma > 0) ps.ff.cutoff_sigma = p.ff_cutoff_sigma;
     rc_A = ps.ff.cutoff();
     poly_sigma_A = ps.ff.sigma;
-    std::filesystem::create_directories(o.out_dir);
+    pnc::make_output_directory(o.out_dir);
     if (o.progress)
       std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
                    p.nby);
@@ -888,7 +888,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     fail(src, "substeps", std::to_string(p.substeps),
          "substeps x md_timestep_fs exceeds the continuum CFL step " +
              std::to_string(cfl_dt / units::s_per_fs) + " fs");
-  std::filesystem::create_directories(o.out_dir);
+  pnc::make_output_directory(o.out_dir);
   const std::string out = o.out_dir;
   c.lammps_log = out + "/lammps.log";
   Coupler cp(s, c);

@@ -67,7 +67,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   Solver<D> s;
   RunConfig rc = load_input<D>(o.input, s);
   if (o.threads > 0) s.threads = rc.threads = o.threads;
-  fs::create_directories(fs::path(o.out_dir) / "frames");
+  make_output_directory(o.out_dir);
+  make_output_directory((fs::path(o.out_dir) / "frames").string());
   const std::string ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
   const std::string pvd = (fs::path(o.out_dir) / "particles.pvd").string();
   const std::string hist_csv = (fs::path(o.out_dir) / "history.csv").string();
