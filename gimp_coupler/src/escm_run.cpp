@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/subprocess.hpp"
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 #include "pnc/gimp_coupler/escm_crack.hpp"
 #include "pnc/gimp_coupler/escm_gradient.hpp"
@@ -1337,9 +1338,11 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   pnc::write_text_atomically(r.summary_json, sj.dump(2) + "\n");
   if (o.plot) {
 #ifdef PNC_ESCM_PLOT_SCRIPT
-    const std::string cmd = std::string(PNC_GIMP_PYTHON) + " " + PNC_ESCM_PLOT_SCRIPT + " '" + out +
-                            "' > '" + out + "/plot.log' 2>&1";
-    if (std::system(cmd.c_str()) == 0) {
+    // argument vector, no shell: the output directory is one argument whatever it contains
+    const pnc::SubprocessResult pr =
+        pnc::run_subprocess({PNC_GIMP_PYTHON, PNC_ESCM_PLOT_SCRIPT, out});
+    pnc::write_text_atomically(out + "/plot.log", pr.started ? pr.output : pr.error + "\n");
+    if (pr.ok()) {
       r.plots = {out + "/profile.png", out + "/energy.png"};
       if (p.crack) r.plots.push_back(out + "/crack.png");
     } else {
