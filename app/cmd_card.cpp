@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "report.hpp"
 
+#include "pnc/core/atomic_file.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/moduli.hpp"
 #include "pnc/damage/reference.hpp"
@@ -104,6 +105,7 @@ int run_card_show(const CardShowArgs& a) {
 
 int run_card_tables(const CardTablesArgs& a) {
   using namespace pnc::damage;
+  check_output_file(a.out, "--out");
   const Model m = parse_model(a.model, "<command line>: --model");
   const Card c = card_from_parameters(
       dissertation_parameters(m),

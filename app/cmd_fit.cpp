@@ -3,6 +3,7 @@
 #include "plot.hpp"
 #include "report.hpp"
 
+#include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
@@ -16,6 +17,7 @@ namespace pnc::app {
 
 int run_fit(const FitArgs& a) {
   using namespace pnc::damage;
+  check_output_file(a.out, "--out"); // before the fit, not after it
   FitOptions o;
   o.model = parse_model(a.model, "<command line>: --model");
   if (a.fit_alpha && a.hold_alpha)

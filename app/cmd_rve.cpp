@@ -45,7 +45,7 @@ int run_rve_build(const BuildArgs& a) {
   const rve::PolymerForceField ff;
   a.spec.validate("<command line>");
   if (a.with_clay) a.clay.validate("<command line>");
-  fs::create_directories(a.out);
+  make_output_directory(a.out);
   rve::CompositeInfo ci;
   const rve::System s =
       a.with_clay ? rve::build_composite(a.spec, ff, a.clay, &ci) : rve::build_polymer(a.spec, ff);

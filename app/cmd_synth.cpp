@@ -1,6 +1,7 @@
 // pnc synth: synthetic stress-strain curves from the NDM (dissertation constants or a card).
 #include "commands.hpp"
 
+#include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/reference.hpp"
@@ -15,6 +16,7 @@ namespace pnc::app {
 
 int run_synth(const SynthArgs& a) {
   using namespace pnc::damage;
+  check_output_file(a.out, "--out");
   NdmParameters p;
   std::string from;
   if (!a.card.empty()) {

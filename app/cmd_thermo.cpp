@@ -99,7 +99,7 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
   // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve
   const rve::Recipe r = rve::parse_recipe(rve::preset_json("demo"), "preset demo");
   const fs::path d = fs::path(a.out) / "rve";
-  fs::create_directories(d);
+  make_output_directory(d.string());
   const std::string data = (d / "rve.data").string();
   if (!(a.resume && fs::exists(data))) {
     std::cerr << fmt::format("pnc thermo ti [demo RVE] building {} chains x {} beads\n",
@@ -141,7 +141,7 @@ int run_thermo_ti(TiArgs a) {
   a.spec.vol = parse_list(a.vol, "--vol");
   a.spec.dev = parse_list(a.dev, "--dev");
   a.spec.validate("<command line>");
-  fs::create_directories(a.out);
+  make_output_directory(a.out);
   // one spec per output directory: --resume must not mix protocols
   const std::string sj = spec_json(a.spec).dump(2) + "\n";
   const std::string sp = (fs::path(a.out) / "ti_spec.json").string();
@@ -219,7 +219,7 @@ int run_thermo_ti(TiArgs a) {
         }
     }
     const fs::path pd = fs::path(a.out) / "plots";
-    fs::create_directories(pd);
+    make_output_directory(pd.string());
     write_text_atomically((pd / "dhdl.csv").string(), c1.str());
     write_text_atomically((pd / "dA.csv").string(), c2.str());
     pngs = run_plot({"ti", (pd / "dhdl.csv").string(), (pd / "dA.csv").string(), pd.string()});

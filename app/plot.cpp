@@ -2,6 +2,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/subprocess.hpp"
 #include "pnc/damage/reference.hpp"
 
 #include <cstdio>
@@ -29,24 +30,13 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
   const std::string script =
       (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / script_name).string();
   if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
-  auto quote = [](const std::string& s) {
-    std::string q = "'";
-    for (char ch : s)
-      q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    return q + "'";
-  };
-  std::string cmd = quote(py) + " " + quote(script);
-  for (const auto& a : args)
-    cmd += " " + quote(a);
-  cmd += " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) fail(py, "", "", "cannot start the Python interpreter for plotting");
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, pipe))
-    out += buf;
-  if (::pclose(pipe) != 0)
-    fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  // argument vector, no shell: a quote or ';' in a path or title is data
+  std::vector<std::string> argv = {py, script};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const SubprocessResult r = run_subprocess(argv);
+  if (!r.started) fail(py, "", "", "cannot start the Python interpreter for plotting: " + r.error);
+  const std::string& out = r.output;
+  if (!r.ok()) fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
   std::vector<std::string> pngs;
   std::istringstream lines(out);
   std::string line;
@@ -58,7 +48,7 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
 std::vector<std::string> plot_fit(const damage::StressStrainData& data,
                                   const damage::NdmParameters& p, const std::string& dir,
                                   const std::string& title) {
-  fs::create_directories(dir);
+  make_output_directory(dir, "--plots");
   // Model curve on a fine grid of the driven strain (a monotonic path from zero) and the
   // data points, for every case and active component.
   std::ostringstream csv;

@@ -15,6 +15,7 @@
 #include "pnc/gimp_coupler/escm_lj.hpp"
 
 #include "pnc/core/atomic_file.hpp"
+#include "pnc/core/subprocess.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
   }
   const std::string out = argv[1];
   const bool quick = argc > 2 && std::string(argv[2]) == "--short";
-  std::filesystem::create_directories(out);
+  pnc::make_output_directory(out, "OUT");
   const double eps = 0.2381, sig = 3.405, mass = 39.948, rc = 2.5 * sig;
   const LjFcc lj = lj_fcc(eps, sig, rc, mass);
   const double h = lj.a0_A * units::m_per_A;
@@ -132,9 +133,8 @@ int main(int argc, char** argv) {
               std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count(),
               100 * t.outside_share(), s.bcs[0].reaction[0]);
 #ifdef PNC_ESCM_PLOT
-  const std::string cmd =
-      std::string("/usr/bin/python3 ") + PNC_ESCM_PLOT + " " + out + " > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0)
+  // argument vector, no shell: the output directory is one argument whatever it contains
+  if (!pnc::run_subprocess({"/usr/bin/python3", PNC_ESCM_PLOT, out}).ok())
     std::fprintf(stderr, "plots not written (needs /usr/bin/python3 with matplotlib)\n");
 #endif
   return 0;

@@ -1,8 +1,10 @@
 // The coarse-grained polypropylene MD region of `pnc gimp couple` (escm_polymer.hpp, D100-D108).
 #include "pnc/gimp_coupler/escm_polymer.hpp"
 
+#include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/rve/builder.hpp"
+#include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/runner.hpp"
 
 #include <lammps/library.h>
@@ -92,7 +94,8 @@ void read_positions(const std::string& path, std::vector<Vec>& u,
 }
 
 std::vector<std::string> header(const std::string& boundary, const std::string& data) {
-  return {"units real", "atom_style molecular", "boundary " + boundary, "read_data " + data};
+  return {"units real", "atom_style molecular", "boundary " + boundary,
+          "read_data " + pnc::rve::lammps_path(data, "data file")};
 }
 
 void run(const pnc::rve::StageSpec& st, const pnc::rve::StageBody& body) {
@@ -113,10 +116,9 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
                                  const std::string& src) {
   const auto t0 = std::chrono::steady_clock::now();
   namespace fs = std::filesystem;
-  fs::create_directories(dir);
+  pnc::make_output_directory(dir);
   const std::string dabs = fs::absolute(dir).string();
-  if (dabs.find_first_of(" \t'\"") != std::string::npos)
-    fail(src, "--out", dir, "the polymer region's data file path must not contain blanks");
+  pnc::rve::lammps_path(dabs + "/polymer_block.data", "--out"); // refused here if unquotable
   sp.ff.validate(src);
   PolymerBlock b;
   pnc::rve::BuildSpec bs;

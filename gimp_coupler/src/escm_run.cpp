@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/subprocess.hpp"
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 #include "pnc/gimp_coupler/escm_crack.hpp"
 #include "pnc/gimp_coupler/escm_gradient.hpp"
@@ -775,7 +776,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     if (p.ff_cutoff_sigma > 0) ps.ff.cutoff_sigma = p.ff_cutoff_sigma;
     rc_A = ps.ff.cutoff();
     poly_sigma_A = ps.ff.sigma;
-    std::filesystem::create_directories(o.out_dir);
+    pnc::make_output_directory(o.out_dir);
     if (o.progress)
       std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
                    p.nby);
@@ -888,7 +889,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     fail(src, "substeps", std::to_string(p.substeps),
          "substeps x md_timestep_fs exceeds the continuum CFL step " +
              std::to_string(cfl_dt / units::s_per_fs) + " fs");
-  std::filesystem::create_directories(o.out_dir);
+  pnc::make_output_directory(o.out_dir);
   const std::string out = o.out_dir;
   c.lammps_log = out + "/lammps.log";
   Coupler cp(s, c);
@@ -1337,9 +1338,11 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   pnc::write_text_atomically(r.summary_json, sj.dump(2) + "\n");
   if (o.plot) {
 #ifdef PNC_ESCM_PLOT_SCRIPT
-    const std::string cmd = std::string(PNC_GIMP_PYTHON) + " " + PNC_ESCM_PLOT_SCRIPT + " '" + out +
-                            "' > '" + out + "/plot.log' 2>&1";
-    if (std::system(cmd.c_str()) == 0) {
+    // argument vector, no shell: the output directory is one argument whatever it contains
+    const pnc::SubprocessResult pr =
+        pnc::run_subprocess({PNC_GIMP_PYTHON, PNC_ESCM_PLOT_SCRIPT, out});
+    pnc::write_text_atomically(out + "/plot.log", pr.started ? pr.output : pr.error + "\n");
+    if (pr.ok()) {
       r.plots = {out + "/profile.png", out + "/energy.png"};
       if (p.crack) r.plots.push_back(out + "/crack.png");
     } else {

@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/subprocess.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/gimp_coupler/fracture.hpp"
 #include "pnc/gimp_coupler/input.hpp"
@@ -31,13 +32,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char ch : s)
-    q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return q + "'";
-}
-
 /// Draws energy.png from history.csv; returns a warning ("" on success).
 std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title,
                         const char* script_name = "plot_energy.py") {
@@ -47,18 +41,10 @@ std::string plot_energy(const std::string& csv, const std::string& png, const st
   const std::string script =
       (fs::path(env_dir ? env_dir : PNC_GIMP_SCRIPTS_DIR) / script_name).string();
   if (!fs::exists(script)) return "plot script not found: " + script;
-  const std::string cmd = quote(py) + " " + quote(script) + " " + quote(csv) + " " + quote(png) +
-                          " " + quote(title) + " 2>&1";
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[512];
-    while (fgets(buf, sizeof buf, p))
-      out += buf;
-    const int rc = pclose(p);
-    if (rc != 0) return std::string(script_name) + " failed (" + py + "): " + out;
-  } else {
-    return "cannot run " + py;
-  }
+  // argument vector, no shell: the title and paths are data whatever they contain
+  const SubprocessResult r = run_subprocess({py, script, csv, png, title});
+  if (!r.started) return "cannot run " + py + ": " + r.error;
+  if (!r.ok()) return std::string(script_name) + " failed (" + py + "): " + r.output;
   return "";
 }
 
@@ -67,7 +53,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   Solver<D> s;
   RunConfig rc = load_input<D>(o.input, s);
   if (o.threads > 0) s.threads = rc.threads = o.threads;
-  fs::create_directories(fs::path(o.out_dir) / "frames");
+  make_output_directory(o.out_dir);
+  make_output_directory((fs::path(o.out_dir) / "frames").string());
   const std::string ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
   const std::string pvd = (fs::path(o.out_dir) / "particles.pvd").string();
   const std::string hist_csv = (fs::path(o.out_dir) / "history.csv").string();

@@ -263,6 +263,11 @@ double min_nonbonded_distance(const System& s) {
 }
 
 void write_data_file(const std::string& path, const System& s, const std::string& title) {
+  // the title is the data file's first line: a newline in it would start the header early
+  for (const char c : title)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      fail(path, "title", title,
+           "the data-file title must be one line of printable characters (no control character)");
   AtomicOutput out(path);
   {
     std::ofstream f(out.temp_path());

@@ -86,7 +86,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
                  int equilibrate_ranks) {
   MdOutcome o;
   o.dir = dir;
-  fs::create_directories(dir);
+  make_output_directory(dir);
   const std::string recipe_text = expanded_json(r).dump(2);
   o.recipe_path = (fs::path(dir) / "recipe.json").string();
   if (fs::exists(o.recipe_path)) {
@@ -110,7 +110,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   // --- build
   auto t0 = std::chrono::steady_clock::now();
   const fs::path bdir = fs::path(dir) / "build";
-  fs::create_directories(bdir);
+  make_output_directory(bdir.string());
   o.data_file = (bdir / "rve.data").string();
   o.build_record = (bdir / "build.h5").string();
   if (!(resume && fs::exists(o.data_file) && fs::exists(o.build_record))) {

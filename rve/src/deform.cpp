@@ -6,6 +6,7 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/forcefield.hpp"
+#include "pnc/rve/lammps_path.hpp"
 
 #include <fmt/format.h>
 
@@ -197,7 +198,7 @@ void read_state(Lammps& l, const DeformSpec& spec, const std::string& file) {
   l.cmd("clear");
   l.cmd("units real");
   l.cmd("atom_style " + spec.atom_style);
-  l.cmd("read_restart " + file);
+  l.cmd("read_restart " + lammps_path(file, "restart"));
   l.cmds(spec.force_field);
 }
 
@@ -220,7 +221,7 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     double lo[3], hi[3], xy, yz, xz;
     l.box(lo, hi, xy, yz, xz);
     c.ref_box = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], xy, xz, yz};
-    l.cmd("write_restart " + prev_state(dir, 0));
+    l.cmd("write_restart " + lammps_path(prev_state(dir, 0), "--out"));
     c.r.strain.resize(0, 6);
     c.r.stress_virial.resize(0, 6);
     c.r.stress_virial_se.resize(0, 6);
@@ -294,7 +295,7 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     th[2] = block_mean_se(col[13], spec.blocks).first; // V
     th[3] = block_mean_se(col[14], spec.blocks).first; // density
     strain[voigt] = t;
-    l.cmd("write_restart " + state_path(dir, k));
+    l.cmd("write_restart " + lammps_path(state_path(dir, k), "--out"));
     append_row(c.r.strain, strain);
     append_row(c.r.stress_virial, sv);
     append_row(c.r.stress_virial_se, svse);
@@ -328,7 +329,10 @@ StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks) 
 
 StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume) {
   spec.validate("<deform>");
-  fs::create_directories(dir);
+  // paths that reach LAMMPS commands: refused here, in the parent, if they cannot be quoted
+  lammps_path(spec.start_state, "restart");
+  lammps_path(prev_state(dir, 0), "--out");
+  make_output_directory(dir);
   return [spec, dir, resume](Lammps& l) { case_child(l, spec, dir, resume); };
 }
 

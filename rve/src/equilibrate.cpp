@@ -2,6 +2,7 @@
 #include "pnc/rve/equilibrate.hpp"
 
 #include "pnc/rve/clay.hpp"
+#include "pnc/rve/lammps_path.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -172,7 +173,7 @@ void read_state(Lammps& l, const std::vector<std::string>& ffcmds, const Equilib
                 const std::string& restart) {
   l.cmd("units real");
   l.cmd("atom_style molecular");
-  l.cmd("read_restart " + restart);
+  l.cmd("read_restart " + lammps_path(restart, "restart"));
   l.cmds(ffcmds);
   l.cmd("reset_timestep 0");
   l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
@@ -242,7 +243,10 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                               const EquilibrateSpec& s, const std::string& dir, bool resume,
                               const std::string& recipe_json, bool with_clay, int ranks) {
   s.validate("<equilibrate>");
-  fs::create_directories(dir);
+  // paths that reach LAMMPS commands: refused here, in the parent, if they cannot be quoted
+  lammps_path(data_file, "data file");
+  lammps_path(p(dir, "final", ".restart"), "--out");
+  make_output_directory(dir);
   const double sig = ff.sigma;
   const std::vector<std::string> ffcmds =
       with_clay ? composite_forcefield_commands(ff) : polymer_forcefield_commands(ff);
@@ -266,7 +270,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   stage("pushoff", [&](Lammps& l) {
     l.cmd("units real");
     l.cmd("atom_style molecular");
-    l.cmd("read_data " + data_file);
+    l.cmd("read_data " + lammps_path(data_file, "data file"));
     l.cmds(ffcmds);
     l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
     l.cmd("pair_coeff * * 0.0");
@@ -295,7 +299,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
       if (d >= target) break;
     }
     const bool met = d >= target;
-    l.cmd("write_restart " + p(dir, "pushoff", ".restart"));
+    l.cmd("write_restart " + lammps_path(p(dir, "pushoff", ".restart"), "--out"));
     write_stage(p(dir, "pushoff", ".h5"), "pushoff",
                 fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
                             "{} round(s) of {} steps{}",
@@ -325,7 +329,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     l.cmd("unfix pnc_lim");
     l.cmd("fix pnc_nve " + mob + " nve");
     run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t, false, temp);
-    l.cmd("write_restart " + p(dir, "hot", ".restart"));
+    l.cmd("write_restart " + lammps_path(p(dir, "hot", ".restart"), "--out"));
     write_stage(p(dir, "hot", ".h5"), "hot",
                 fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T{} of the second "
                             "half {:.1f} K",
@@ -354,7 +358,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                         s.temperature, s.damp_fs, s.seed + 7));
       Trace t;
       run_chunks(l, s.clay_steps, 5, t);
-      l.cmd("write_restart " + p(dir, "clay", ".restart"));
+      l.cmd("write_restart " + lammps_path(p(dir, "clay", ".restart"), "--out"));
       write_stage(p(dir, "clay", ".h5"), "clay",
                   fmt::format("polymer fixed; clay minimised (PE {:.1f} -> {:.1f} kcal/mol), then "
                               "{} steps NVE (limit 0.05 A/step) + Langevin {:.0f} K on the clay",
@@ -369,7 +373,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                       s.temperature, s.damp_fs, s.seed + 3));
     Trace t;
     run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
-    l.cmd("write_restart " + p(dir, "cool", ".restart"));
+    l.cmd("write_restart " + lammps_path(p(dir, "cool", ".restart"), "--out"));
     write_stage(
         p(dir, "cool", ".h5"), "cool",
         fmt::format("Langevin ramp {:.0f} -> {:.0f} K over {} steps; final chunk T {:.1f} K",
@@ -394,7 +398,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
         if (rel < s.steady_tolerance) break;
       }
     }
-    l.cmd("write_restart " + p(dir, "langevin", ".restart"));
+    l.cmd("write_restart " + lammps_path(p(dir, "langevin", ".restart"), "--out"));
     write_stage(
         p(dir, "langevin", ".h5"), "langevin",
         fmt::format("{} chunk(s) of {} steps at {:.0f} K; relative change of mean PE "
@@ -450,7 +454,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     double lo[3], hi[3], xy, yz, xz;
     l.box(lo, hi, xy, yz, xz);
     const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);
-    l.cmd("write_restart " + p(dir, "final", ".restart"));
+    l.cmd("write_restart " + lammps_path(p(dir, "final", ".restart"), "--out"));
     // P over chunks: standard error from the chunk means
     double m = tf.mean(2), var = 0;
     for (const auto& r : tf.rows)

@@ -3,12 +3,12 @@
 #include "pnc/rve/lammps_server.hpp"
 
 #include "lammps_wire.hpp"
+#include "pnc/rve/private_channel.hpp"
 
 #include <lammps/library.h>
 #include <mpi.h>
 
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -65,20 +65,6 @@ int env_int(const char* name) {
   return v ? std::atoi(v) : -1;
 }
 
-int connect_abstract(const std::string& name) {
-  const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return -1;
-  sockaddr_un a{};
-  a.sun_family = AF_UNIX;
-  std::memcpy(a.sun_path + 1, name.data(), name.size()); // abstract namespace: sun_path[0] = 0
-  const auto len = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + name.size());
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), len) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 std::vector<char> answer(char status, const std::vector<double>& v) {
   std::vector<char> b(1 + v.size() * sizeof(double));
   b[0] = status;
@@ -96,16 +82,25 @@ LauncherInfo launcher_from_environment() {
   return l;
 }
 
-int serve_lammps(const std::string& socket_name, const std::vector<std::string>& lammps_args) {
+int serve_lammps(const std::string& socket_path, const std::vector<std::string>& lammps_args) {
+  // the token is read and removed from the environment before anything else runs (LAMMPS
+  // `shell` or a child process would otherwise inherit it)
+  const char* t = std::getenv(kLammpsTokenEnv);
+  const std::string token = t ? t : "";
+  unsetenv(kLammpsTokenEnv);
   MPI_Init(nullptr, nullptr);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int fd = -1;
   if (rank == 0) {
-    fd = connect_abstract(socket_name);
+    std::string why;
+    if (token.size() != kTokenChars)
+      why = std::string("no valid token in ") + kLammpsTokenEnv;
+    else
+      fd = connect_private(socket_path, token, why);
     if (fd < 0) {
       std::fprintf(stderr, "pnc lammps server: cannot connect to socket '%s': %s\n",
-                   socket_name.c_str(), std::strerror(errno));
+                   socket_path.c_str(), why.c_str());
       MPI_Abort(MPI_COMM_WORLD, 2);
     }
   }

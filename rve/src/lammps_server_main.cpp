@@ -1,6 +1,7 @@
 // pnc_lammps_server: LAMMPS on the ranks of an mpirun, serving one stage child of pnc
 // (lammps_server.hpp). Started by the runner, not by users:
-//   mpirun -np K pnc_lammps_server SOCKET_NAME [LAMMPS command-line args...]
+//   mpirun -np K pnc_lammps_server SOCKET_PATH [LAMMPS command-line args...]
+// with the channel's token in $PNC_LAMMPS_TOKEN (private_channel.hpp).
 #include "pnc/rve/lammps_server.hpp"
 
 #include <cstdio>
@@ -10,7 +11,7 @@
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: mpirun -np K pnc_lammps_server SOCKET_NAME [LAMMPS args...]\n"
+                 "usage: mpirun -np K pnc_lammps_server SOCKET_PATH [LAMMPS args...]\n"
                  "(started by pnc for stages on K > 1 ranks; not meant to be run by hand)\n");
     return 2;
   }

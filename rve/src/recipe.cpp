@@ -164,11 +164,34 @@ nlohmann::json preset_json(const std::string& name) {
   fail("<command line>", "preset", name, "must be one of: demo, paper, demo_pnc, paper_pnc");
 }
 
+void check_free_text(const std::string& source, const std::string& field, const std::string& value,
+                     std::size_t max_chars) {
+  if (value.empty()) fail(source, field, value, "must not be empty");
+  if (value.size() > max_chars)
+    fail(source, field, value.substr(0, max_chars) + "...",
+         fmt::format("must be at most {} characters (it has {})", max_chars, value.size()));
+  for (const char c : value) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u > 0x7e) {
+      std::string shown;
+      for (const char d : value) {
+        const auto v = static_cast<unsigned char>(d);
+        shown += v < 0x20 || v > 0x7e ? fmt::format("\\x{:02x}", v) : std::string(1, d);
+      }
+      fail(source, field, shown,
+           fmt::format("must be printable ASCII characters only (found byte 0x{:02x}; no newline, "
+                       "tab or other control character)",
+                       u));
+    }
+  }
+}
+
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   Recipe r;
   r.source_json = j;
   Section top(j, "", source);
   top.get("name", r.name);
+  check_free_text(source, "name", r.name);
   top.get("seed", r.seed);
   top.get("model", r.model);
   if (r.model != "pp" && r.model != "pnc")

@@ -8,13 +8,12 @@
 #include <fmt/format.h>
 
 #include "lammps_wire.hpp"
+#include "pnc/rve/private_channel.hpp"
 
 #include <fcntl.h>
-#include <poll.h>
 #include <sched.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -185,25 +184,19 @@ std::string server_executable() {
   return PNC_LAMMPS_SERVER_PATH;
 }
 
-/// Starts `mpirun -np K pnc_lammps_server NAME <lammps args>` with a clean MPI environment
-/// (so that it also works when pnc itself was started by mpirun) and waits until rank 0
-/// connects. Returns the connected socket; throws (pnc error) if mpirun ends first.
+/// Starts `mpirun -np K pnc_lammps_server SOCKET <lammps args>` with a clean MPI environment
+/// (so that it also works when pnc itself was started by mpirun) and the channel's token in
+/// the environment (private_channel.hpp), and waits until rank 0 connects and passes the
+/// checks. Returns the connected socket; throws (pnc error) if mpirun ends first or the
+/// server does not connect within PNC_LAMMPS_CONNECT_TIMEOUT seconds (default 300). The
+/// private directory and its socket are gone when this returns or throws.
 int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_args,
                  pid_t& mpirun_pid) {
-  static int counter = 0;
-  const std::string name = fmt::format("pnc-lammps-{}-{}", getpid(), counter++);
-  const int ls = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_un a{};
-  a.sun_family = AF_UNIX;
-  std::memcpy(a.sun_path + 1, name.data(), name.size());
-  const auto len = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + name.size());
-  if (ls < 0 || bind(ls, reinterpret_cast<sockaddr*>(&a), len) != 0 || listen(ls, 1) != 0)
-    fail("<runner>", spec.name, name,
-         std::string("cannot open the server socket: ") + std::strerror(errno));
+  PrivateListener channel; // throws naming the directory when it cannot be made
   const std::string exe = server_executable();
   const std::string out = spec.log_path + ".mpirun";
-  std::vector<std::string> args = {"mpirun", "-np", std::to_string(spec.ranks), "--bind-to", "none",
-                                   exe,      name};
+  std::vector<std::string> args = {"mpirun", "-np", std::to_string(spec.ranks), "--bind-to",
+                                   "none",   exe,   channel.socket_path()};
   args.insert(args.end(), lammps_args.begin(), lammps_args.end());
   std::fflush(nullptr);
   mpirun_pid = fork();
@@ -223,12 +216,14 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
       setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     }
+    // the token goes through the environment (owner-readable), never argv (world-readable)
+    setenv(kLammpsTokenEnv, channel.token().c_str(), 1);
     cpu_set_t all; // an outer mpirun may have bound this process to one core
     CPU_ZERO(&all);
     for (int c = 0; c < CPU_SETSIZE; ++c)
       CPU_SET(c, &all);
     sched_setaffinity(0, sizeof(all), &all);
-    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd >= 0) {
       dup2(fd, 1);
       dup2(fd, 2);
@@ -241,25 +236,36 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
     std::fprintf(stderr, "pnc: cannot run mpirun: %s\n", std::strerror(errno));
     _exit(127);
   }
-  for (;;) { // accept, giving up when mpirun ends before its rank 0 connects
-    pollfd p{ls, POLLIN, 0};
-    if (poll(&p, 1, 200) > 0) {
-      const int fd = accept4(ls, nullptr, nullptr, SOCK_CLOEXEC);
-      if (fd >= 0) {
-        close(ls);
-        return fd;
-      }
-    }
+  const char* t = std::getenv("PNC_LAMMPS_CONNECT_TIMEOUT");
+  const double timeout = t && std::atof(t) > 0 ? std::atof(t) : 300.0;
+  const double t0 =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  for (;;) { // accept, refusing impostors, until the real rank 0 connects or mpirun ends
+    const int fd = channel.accept_one(mpirun_pid, 200);
+    if (fd >= 0) return fd; // `channel` removes the socket and its directory on return
     int status = 0;
     if (waitpid(mpirun_pid, &status, WNOHANG) == mpirun_pid) {
-      close(ls);
       std::ifstream f(out);
       std::string line, last;
       while (std::getline(f, line))
         if (!line.empty()) last = line;
       fail(out, spec.name, fmt::format("mpirun -np {}", spec.ranks),
-           fmt::format("mpirun ended (status {}) before the LAMMPS server started: {}",
-                       WIFEXITED(status) ? WEXITSTATUS(status) : -1, last));
+           fmt::format("mpirun ended (status {}) before the LAMMPS server connected: {}{}",
+                       WIFEXITED(status) ? WEXITSTATUS(status) : -1, last,
+                       channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
+                                         : std::string()));
+    }
+    const double el =
+        std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+        t0;
+    if (el > timeout) {
+      kill(mpirun_pid, SIGTERM);
+      while (waitpid(mpirun_pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      fail(out, spec.name, fmt::format("mpirun -np {}", spec.ranks),
+           fmt::format("the LAMMPS server did not connect within {} s{}", timeout,
+                       channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
+                                         : std::string()));
     }
   }
 }

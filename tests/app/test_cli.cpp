@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -219,4 +220,55 @@ TEST_F(Cli, CardShowReportsTheFirstStrengthPeak) {
     }
   EXPECT_TRUE(found);
   EXPECT_EQ(j["verdict"]["level"], "usable");
+
+// --out is judged as the user gave it: a link, fifo or directory is never replaced, an empty
+// name or a path under a regular file is a bad input (exit 1) naming the path and the rule,
+// never an internal error and never a temporary file name.
+TEST_F(Cli, OutputThatIsNotARegularFileIsRefused) {
+  std::ofstream(p("victim.txt")) << "keep";
+  fs::create_symlink(p("victim.txt"), p("link.csv"));
+  ASSERT_EQ(::mkfifo(p("fifo.csv").c_str(), 0644), 0);
+  for (const char* out : {"link.csv", "fifo.csv"}) {
+    const Result r = run(std::string("synth --model pp --points 10 --out ") + out);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind(std::string("pnc: error: ") + out + ": field '--out'", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("regular file"), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(fs::is_symlink(p("link.csv")));
+  EXPECT_TRUE(fs::is_fifo(p("fifo.csv")));
+  std::ifstream v(p("victim.txt"));
+  std::string s;
+  v >> s;
+  EXPECT_EQ(s, "keep");
+  const Result c = run("card tables --model pp --out link.csv");
+  EXPECT_EQ(c.code, 1) << c.err;
+  EXPECT_TRUE(fs::is_symlink(p("link.csv")));
+  EXPECT_EQ(listing(), (std::vector<std::string>{"fifo.csv", "link.csv", "victim.txt"}));
+}
+
+TEST_F(Cli, EmptyOrUnwritableOutputIsABadInputNamingThePath) {
+  std::ofstream(p("file.txt")) << "a file";
+  Result r = run("synth --model pp --points 10 --out ''");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("field '--out'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("must not be empty"), std::string::npos) << r.err;
+  // a directory that cannot exist (its parent is a regular file): root cannot write there either
+  for (const char* cmd : {"synth --model pp --points 10 --out file.txt/out.h5",
+                          "card tables --model pp --out file.txt/out.h5",
+                          "fit --data file.txt --out file.txt/out.h5"}) {
+    r = run(cmd);
+    EXPECT_EQ(r.code, 1) << cmd << ": " << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.rfind("pnc: error: file.txt/out.h5: field '--out'", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("not a directory"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << "names the temporary file: " << r.err;
+  }
+  if (run("rve --help").code == 0) { // built with the rve commands
+    r = run("rve build --chains 2 --beads 4 --out file.txt/rve");
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("pnc: error: file.txt/rve: field '--out'", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("not a directory"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(listing(), std::vector<std::string>{"file.txt"});
 }

@@ -152,3 +152,40 @@ TEST(RveRecipe, PresetsRoundTripThroughToml) {
     }
   }
 }
+
+// Free text of a recipe ends up in the first line of a LAMMPS data file, in logs and reports:
+// one line of printable ASCII, bounded length; the error names the field.
+TEST(RveRecipe, NameMustBeOneBoundedLineOfPrintableText) {
+  for (const std::string& bad :
+       {std::string("demo\nAtoms # full"), std::string("tab\there"), std::string("cr\r"),
+        std::string(""), std::string(kMaxTextChars + 1, 'n'), std::string("nul\0x", 5),
+        std::string("del\x7f")}) {
+    const auto e = error_of(json{{"name", bad}});
+    EXPECT_EQ(e.source, "r.json");
+    EXPECT_EQ(e.field, "name") << e.rule;
+    EXPECT_FALSE(e.rule.empty());
+    // the value shown in the message is itself one printable line
+    for (char c : e.value)
+      EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "control character echoed in " << e.value;
+  }
+  // at the limit, with blanks and punctuation: fine
+  const std::string ok = std::string(kMaxTextChars - 6, 'x') + " (a-b)";
+  EXPECT_EQ(parse_recipe(json{{"name", ok}}, "r.json").name, ok);
+}
+
+TEST(RveRecipe, DataFileTitleWithANewlineIsRefused) {
+  const auto d = std::filesystem::temp_directory_path() / "pnc_test_recipe_title";
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  const std::string data = (d / "rve.data").string();
+  System s; // an empty system is enough: the title is checked first
+  try {
+    write_data_file(data, s, "demo\n1000000 atoms");
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().source, data);
+    EXPECT_EQ(e.context().field, "title");
+  }
+  EXPECT_FALSE(std::filesystem::exists(data));
+  std::filesystem::remove_all(d);
+}

@@ -253,7 +253,7 @@ RateResult read_rate(const std::string& path) {
 PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string& dir, bool resume,
                                   const RateProgress& progress) {
   spec.validate("<persistence>");
-  fs::create_directories(dir);
+  make_output_directory(dir);
   const Geometry g = chain_geometry(spec);
   PersistenceResult res;
   res.spec = spec;

@@ -5,6 +5,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/rve/lammps_path.hpp"
 
 #include <lammps/library.h>
 
@@ -227,7 +228,7 @@ void run_points(const SamplingSpec& s,
     for (std::size_t i = b; i < std::min(pending.size(), b + static_cast<std::size_t>(jobs)); ++i) {
       const PointJob j = pending[i]->first;
       const LambdaSystem sys = pending[i]->second;
-      fs::create_directories(fs::path(j.h5).parent_path());
+      make_output_directory(fs::path(j.h5).parent_path().string());
       rve::StageSpec spec{j.label, log_of(j.h5), {}};
       stages.push_back({spec, [s, sys, j](rve::Lammps& l) { point_child(l, s, sys, j); }});
     }
@@ -515,6 +516,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
 
 LambdaSystem polymer_system(const TiSpec& spec, const DeformState& st, const std::string& restart,
                             const std::vector<std::string>& ff) {
+  rve::lammps_path(restart, "restart"); // refused here, in the parent, if it cannot be quoted
   LambdaSystem sys = lj_sampling(spec.path, spec.fd_h, spec.dhdl_method);
   const LjPath p = spec.path;
   const double T = spec.sampling.temperature, damp = spec.damp_fs;
@@ -522,7 +524,7 @@ LambdaSystem polymer_system(const TiSpec& spec, const DeformState& st, const std
   sys.setup = [=](rve::Lammps& l, double lambda, std::uint64_t seed) {
     l.cmd("units real");
     l.cmd("atom_style " + style);
-    l.cmd("read_restart " + restart);
+    l.cmd("read_restart " + rve::lammps_path(restart, "restart"));
     l.cmds(ff);
     l.cmd(fmt::format("pair_style lj/cut {:.15g}", p.cutoff)); // D62: fixed cut-off
     l.cmd("pair_modify shift no tail no");

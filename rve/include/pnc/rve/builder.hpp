@@ -72,7 +72,8 @@ void grow_chains(System& s, const BuildSpec& spec, const PolymerForceField& ff,
 double min_nonbonded_distance(const System& s);
 
 /// LAMMPS data file (atom_style molecular, or full when charges are present), written
-/// atomically. Coefficients are not written: they come from the force-field commands.
+/// atomically. Coefficients are not written: they come from the force-field commands. `title`
+/// is the header line: a control character in it (newline, ...) is a pnc::InputError.
 void write_data_file(const std::string& path, const System& s, const std::string& title);
 
 /// HDF5 record of what was built and how (spec, seed, force field, counts, positions, box,

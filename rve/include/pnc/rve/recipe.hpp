@@ -51,7 +51,15 @@ struct Recipe {
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
-/// Parses and validates. `source` names the file in errors.
+/// Longest free-text field of a recipe (name), in characters.
+inline constexpr std::size_t kMaxTextChars = 64;
+/// Free-text fields (the recipe name, titles) end up in LAMMPS data-file headers, logs and
+/// reports: they must be 1..max_chars printable ASCII characters (0x20..0x7e; no newline, tab
+/// or other control character). Throws pnc::InputError naming `source`, `field` and the rule.
+void check_free_text(const std::string& source, const std::string& field, const std::string& value,
+                     std::size_t max_chars = kMaxTextChars);
+
+/// Parses and validates (the name with check_free_text). `source` names the file in errors.
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
 /// Reads a recipe file: JSON (".json") or TOML (".toml", same sections as tables, same keys);
 /// other extensions are an InputError.

@@ -1,0 +1,46 @@
+// core: programs run with an argument vector, never through a shell (subprocess.hpp).
+#include "pnc/core/error.hpp"
+#include "pnc/core/subprocess.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace {
+fs::path fresh_dir(const char* tag) {
+  const fs::path d = fs::temp_directory_path() /
+                     (std::string("pnc_spawn_") + tag + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+} // namespace
+
+TEST(Subprocess, ArgumentsAreDataNotShellSyntax) {
+  const fs::path d = fresh_dir("spawn");
+  const fs::path marker = d / "X";
+  const std::string evil = "'; touch " + marker.string() + "; echo '$(touch " + marker.string() +
+                           ")`touch " + marker.string() + "`";
+  const auto r = pnc::run_subprocess({"echo", evil});
+  ASSERT_TRUE(r.started) << r.error;
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.output, evil + "\n"); // one argv entry, byte for byte
+  EXPECT_FALSE(fs::exists(marker));
+  fs::remove_all(d);
+}
+
+TEST(Subprocess, CapturesStderrExitCodeAndMissingPrograms) {
+  const auto r = pnc::run_subprocess({"ls", "/no/such/path/for/pnc"});
+  ASSERT_TRUE(r.started);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.output.find("/no/such/path/for/pnc"), std::string::npos) << r.output; // stderr
+  const auto m = pnc::run_subprocess({"/no/such/program-pnc"});
+  EXPECT_FALSE(m.started);
+  EXPECT_FALSE(m.error.empty());
+  EXPECT_THROW(pnc::run_subprocess({}), pnc::InputError);
+}
