@@ -1,5 +1,6 @@
 // pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
 // MD -> fit pipeline (issue #3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+#include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
@@ -354,11 +355,19 @@ void register_rve(CLI::App& app, Action& action) {
   auto ba = std::make_shared<BuildArgs>();
   auto* build = rve->add_subcommand(
       "build", "Build a polymer (or polymer + clay) RVE: LAMMPS data file + HDF5 record");
-  build->add_option("--chains", ba->spec.chains, "Number of chains");
-  build->add_option("--beads", ba->spec.beads_per_chain, "Beads per chain");
-  build->add_option("--density", ba->spec.density, "Target density (g/cm3)");
-  build->add_option("--seed", ba->spec.seed, "Random seed");
-  build->add_option("--min-distance", ba->spec.min_distance, "Minimum non-bonded distance (A)");
+  // Ranges as in BuildSpec::validate (which also caps chains x beads at 1e6).
+  build->add_option("--chains", ba->spec.chains, "Number of chains (1 to 100000)")
+      ->check(CLI::Range(1, 100000));
+  build->add_option("--beads", ba->spec.beads_per_chain, "Beads per chain (4 to 10000)")
+      ->check(CLI::Range(4, 10000));
+  build->add_option("--density", ba->spec.density, "Target density (g/cm3, 0.05 to 3)")
+      ->check(FiniteRange(0.05, 3.0, true));
+  build->add_option("--seed", ba->spec.seed, "Random seed (1 to 900000000)")
+      ->check(CLI::Range(1, 900000000));
+  build
+      ->add_option("--min-distance", ba->spec.min_distance,
+                   "Minimum non-bonded distance (A, 0 to 4)")
+      ->check(FiniteRange(0.0, 4.0, true));
   auto* clay_a = build->add_option("--clay-cells-a", ba->clay.cells_a,
                                    "Add a montmorillonite platelet of this many cells along x1");
   clay_a->check(CLI::Range(1, 1000));

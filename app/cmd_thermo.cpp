@@ -1,6 +1,7 @@
 // pnc thermo ti | pnc thermo persistence: free energy of deformation by thermodynamic
 // integration and persistence length by steered bending (issue #4). Units: LAMMPS real
 // (kcal/mol, A, fs, K) inside thermo/; moduli in Pa and EI also in N m^2 where named.
+#include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
 
@@ -346,6 +347,9 @@ int run_thermo_persistence(PersistenceArgs a) {
 
 } // namespace
 
+// LAMMPS runs at most 2^31 - 1 steps in one `run` command.
+constexpr long kMaxRunSteps = 2000000000L;
+
 void register_thermo(CLI::App& app, Action& action) {
   auto* th = app.add_subcommand(
       "thermo", "Free energy of deformation (TI) and persistence length (LAMMPS, units real)");
@@ -364,25 +368,37 @@ void register_thermo(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 64));
   ti->add_option("--vol", ta->vol, "alpha values of F = (1+alpha) I, comma-separated, or none");
   ti->add_option("--dev", ta->dev, "beta values of F = I + beta(1-delta_ij), or none");
-  ti->add_option("--eps0", ta->spec.path.eps0, "epsilon at lambda = 0 (kcal/mol)");
-  ti->add_option("--eps1", ta->spec.path.eps1, "epsilon at lambda = 1 (kcal/mol)");
-  ti->add_option("--sig0", ta->spec.path.sig0, "sigma at lambda = 0 (A)");
-  ti->add_option("--sig1", ta->spec.path.sig1, "sigma at lambda = 1 (A)");
-  ti->add_option("--cutoff", ta->spec.path.cutoff, "LJ cut-off at every lambda (A)");
+  ti->add_option("--eps0", ta->spec.path.eps0, "epsilon at lambda = 0 (kcal/mol, (0, 100])")
+      ->check(FinitePositive(100));
+  ti->add_option("--eps1", ta->spec.path.eps1, "epsilon at lambda = 1 (kcal/mol, (0, 100])")
+      ->check(FinitePositive(100));
+  ti->add_option("--sig0", ta->spec.path.sig0, "sigma at lambda = 0 (A, (0, 10])")
+      ->check(FinitePositive(10));
+  ti->add_option("--sig1", ta->spec.path.sig1, "sigma at lambda = 1 (A, (0, 10])")
+      ->check(FinitePositive(10));
+  ti->add_option("--cutoff", ta->spec.path.cutoff, "LJ cut-off at every lambda (A, (0, 30])")
+      ->check(FinitePositive(30));
   ti->add_option("--dhdl", ta->spec.dhdl_method,
                  "dH/dlambda sampler: virial (one run, energy + pair virial identity; default) "
                  "or pairs (pair-distance sums after every sample interval)")
       ->check(CLI::IsMember({"virial", "pairs"}));
-  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "fs (default 0.5)");
+  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "fs (default 0.5, (0, 10])")
+      ->check(FinitePositive(10));
   ti->add_option("--equil-steps", ta->spec.sampling.equil_steps,
-                 "Steps discarded per lambda point (default 60000 = 30 ps)");
+                 "Steps discarded per lambda point (default 60000 = 30 ps)")
+      ->check(CLI::Range(0L, kMaxRunSteps));
   ti->add_option("--prod-steps", ta->spec.sampling.prod_steps,
-                 "Steps averaged per lambda point (default 20000 = 10 ps)");
+                 "Steps averaged per lambda point (default 20000 = 10 ps)")
+      ->check(CLI::Range(1L, kMaxRunSteps));
   ti->add_option("--sample-every", ta->spec.sampling.sample_every,
-                 "Steps between dH/dlambda samples (default 100, D64)");
-  ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)");
-  ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300)");
-  ti->add_option("--seed", ta->spec.seed, "Thermostat seed");
+                 "Steps between dH/dlambda samples (default 100, D64)")
+      ->check(CLI::Range(1, 1000000));
+  ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)")
+      ->check(CLI::Range(3, 10000));
+  ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300, (0, 1e4])")
+      ->check(FinitePositive(1e4));
+  ti->add_option("--seed", ta->spec.seed, "Thermostat seed (1 to 800000000)")
+      ->check(CLI::Range(1, 800000000));
   ti->add_option("--jobs", ta->spec.jobs, "Lambda points run at the same time")
       ->check(CLI::Range(1, 64));
   ti->add_flag("--resume", ta->resume, "Continue: finished (state, lambda) points are reused");
@@ -396,21 +412,29 @@ void register_thermo(CLI::App& app, Action& action) {
   pe->add_option("--chain", pa->spec.chain,
                  "pp (CG polypropylene, section 6.1) or harmonic (straight, angle harmonic)")
       ->check(CLI::IsMember({"pp", "harmonic"}));
-  pe->add_option("--beads", pa->spec.beads, "Beads (default 4)");
+  pe->add_option("--beads", pa->spec.beads, "Beads (default 4, 3 to 200)")
+      ->check(CLI::Range(3, 200));
   pe->add_option("--angle-k", pa->spec.angle_K,
-                 "harmonic chain: LAMMPS angle K (kcal/mol/rad^2), k_theta = 2K");
-  pe->add_option("--bond-k", pa->spec.bond_K, "harmonic chain: LAMMPS bond K (kcal/mol/A^2)");
+                 "harmonic chain: LAMMPS angle K (kcal/mol/rad^2), k_theta = 2K")
+      ->check(FinitePositive(1e6));
+  pe->add_option("--bond-k", pa->spec.bond_K, "harmonic chain: LAMMPS bond K (kcal/mol/A^2)")
+      ->check(FinitePositive(1e6));
   pe->add_option("--supports", pa->spec.supports, "pinned (both ends fixed) or roller")
       ->check(CLI::IsMember({"pinned", "roller"}));
-  pe->add_option("--spring-k", pa->spec.spring_k, "Pulling spring (kcal/mol/A^2, default 10)");
+  pe->add_option("--spring-k", pa->spec.spring_k, "Pulling spring (kcal/mol/A^2, default 10)")
+      ->check(FinitePositive(1e6));
   pe->add_option("--rates", pa->rates, "Anchor speeds, A/fs, comma-separated");
-  pe->add_option("--pull-distance", pa->spec.pull_distance, "Anchor travel per pull (A)");
-  pe->add_option("--timestep", pa->spec.timestep_fs, "fs");
-  pe->add_option("--hold-steps", pa->spec.hold_steps, "Steps at zero force before each pull");
-  pe->add_option("--sample-every", pa->spec.sample_every, "Steps between samples of F and d");
-  pe->add_option("--blocks", pa->spec.blocks, "Blocks of the standard errors");
-  pe->add_option("--temperature", pa->spec.temperature, "K");
-  pe->add_option("--seed", pa->spec.seed, "Seed");
+  pe->add_option("--pull-distance", pa->spec.pull_distance, "Anchor travel per pull (A, (0, 1000])")
+      ->check(FinitePositive(1000));
+  pe->add_option("--timestep", pa->spec.timestep_fs, "fs, (0, 10]")->check(FinitePositive(10));
+  pe->add_option("--hold-steps", pa->spec.hold_steps, "Steps at zero force before each pull")
+      ->check(CLI::Range(0L, kMaxRunSteps));
+  pe->add_option("--sample-every", pa->spec.sample_every, "Steps between samples of F and d")
+      ->check(CLI::Range(1, 1000000));
+  pe->add_option("--blocks", pa->spec.blocks, "Blocks of the standard errors")
+      ->check(CLI::Range(3, 10000));
+  pe->add_option("--temperature", pa->spec.temperature, "K, (0, 1e4]")->check(FinitePositive(1e4));
+  pe->add_option("--seed", pa->spec.seed, "Seed (1 to 800000000)")->check(CLI::Range(1, 800000000));
   pe->add_option("--out", pa->out, "Output directory")->required();
   pe->add_flag("--resume", pa->resume, "Reuse finished rates");
   pe->add_flag("--no-plots", pa->no_plots, "Do not draw plots");

@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
 // rule), 2 internal error, 3 a fit that did not converge, 4 a card written with the verdict
 // "not usable" (docs/decisions.md D12d); CLI11's own codes for bad usage.
+#include "checks.hpp"
 #include "commands.hpp"
 #include "registrars.hpp"
 
@@ -52,14 +53,14 @@ int main(int argc, char** argv) {
                 "Accept fitted stiffnesses outside 0.1 MPa..1000 GPa (refused by default as a "
                 "probable unit mistake)");
   fit->add_option("--alpha", fa.alpha, "Value of alpha (default: 0.861 pnc, 0.941 pp)")
-      ->check(CLI::Range(0.5, 1.5));
+      ->check(FiniteRange(0.5, 1.5));
   fit->add_option("--loss", fa.loss, "Robust loss: none, huber, cauchy")
       ->check(CLI::IsMember({"none", "huber", "cauchy"}));
   fit->add_option("--loss-scale", fa.loss_scale,
-                  "Scale of the robust loss (MPa, or data std. errors)")
-      ->check(CLI::PositiveNumber);
-  fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit")
-      ->check(CLI::PositiveNumber);
+                  "Scale of the robust loss (MPa, or data std. errors), in (0, 1e6]")
+      ->check(FinitePositive(1e6));
+  fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit (1 to 1e6)")
+      ->check(CLI::Range(1, 1000000));
   fit->add_option("--prior", fa.prior,
                   "Card whose constants are used where the data cannot determine them "
                   "(default: the dissertation's tables)");
@@ -75,7 +76,7 @@ int main(int argc, char** argv) {
       card->add_subcommand("show", "Constants, errors, derived moduli and strengths of a card");
   show->add_option("card", cs.card, "Material card (HDF5)")->required();
   show->add_option("--max-strain", cs.max_strain, "Strain up to which strengths are searched")
-      ->check(CLI::Range(1e-6, 10.0));
+      ->check(FiniteRange(1e-6, 10.0));
   show->add_flag("--json", cs.json, "Print one JSON object on stdout");
   CardTablesArgs ct;
   ct.command_line = cmdline;
@@ -93,10 +94,16 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pnc", "pp"}));
   synth->add_option("--card", sa.card, "Use this card's constants instead of the dissertation's");
   synth->add_option("--cases", sa.cases, "Case ids (default: the model's cases)")->delimiter(',');
-  synth->add_option("--points", sa.points, "Points per case (>= 3)");
-  synth->add_option("--max-extension", sa.max_extension, "Largest normal strain");
-  synth->add_option("--max-shear", sa.max_shear, "Largest engineering shear strain");
-  synth->add_option("--noise-mpa", sa.noise_mpa, "Standard deviation of the stress noise (MPa)");
+  synth->add_option("--points", sa.points, "Points per case (3 to 100000)")
+      ->check(CLI::Range(3, 100000));
+  synth->add_option("--max-extension", sa.max_extension, "Largest normal strain, in (0, 1)")
+      ->check(FiniteRange(0.0, 1.0, true));
+  synth->add_option("--max-shear", sa.max_shear, "Largest engineering shear strain, in (0, 2)")
+      ->check(FiniteRange(0.0, 2.0, true));
+  synth
+      ->add_option("--noise-mpa", sa.noise_mpa,
+                   "Standard deviation of the stress noise (MPa, 0 to 10000)")
+      ->check(FiniteRange(0.0, 1e4));
   synth->add_option("--seed", sa.seed, "Random seed");
   synth->add_option("--out", sa.out, "Output file (.csv or .h5)")->required();
   synth->add_flag("--json", sa.json, "Print one JSON object on stdout");

@@ -44,10 +44,22 @@ CsvTable read_csv(const std::string& path) {
   int lineno = 0;
   while (std::getline(f, line)) {
     ++lineno;
+    // A UTF-8 byte order mark (spreadsheet exports) is not part of the first line.
+    if (lineno == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     const std::string s = trim(line);
     if (s.empty() || s[0] == '#') continue;
     auto cells = split(s);
     if (t.header.empty()) {
+      for (std::size_t j = 0; j < cells.size(); ++j) {
+        if (cells[j].empty())
+          fail(path, "header (line " + std::to_string(lineno) + ")",
+               "column " + std::to_string(j + 1), "every column needs a name");
+        for (std::size_t k = 0; k < j; ++k)
+          if (cells[k] == cells[j])
+            fail(path, cells[j], "columns " + std::to_string(k + 1) + " and " + std::to_string(j + 1),
+                 "duplicated column name in the header (line " + std::to_string(lineno) +
+                     "): every column must be named once");
+      }
       t.header = cells;
       continue;
     }

@@ -1,5 +1,7 @@
 #include "pnc/core/error.hpp"
 
+#include "pnc/core/params.hpp"
+
 #include <utility>
 
 namespace pnc {
@@ -8,7 +10,8 @@ namespace {
 std::string format_message(const ErrorContext& c) {
   std::string m = c.source.empty() ? std::string("<input>") : c.source;
   if (!c.field.empty()) m += ": field '" + c.field + "'";
-  if (!c.value.empty()) m += ": value '" + c.value + "'";
+  // A value is shown whole up to 200 characters: messages stay one readable line.
+  if (!c.value.empty()) m += ": value '" + clip(c.value, 200) + "'";
   m += ": " + c.rule;
   return m;
 }

@@ -20,6 +20,18 @@ const char* kStderrCols[6] = {"sd11", "sd22", "sd33", "sd23", "sd13", "sd12"};
 constexpr double kMPa = 1e6;
 const char* kCaseRule =
     "deformation case must be an integer 1..6 (1-3 extension x1..x3, 4-6 shear 2-3, 1-3, 1-2)";
+const char* kStrainUnitsRule =
+    "the strain needs the attribute units = \"1 (engineering shear)\" (dimensionless)";
+
+// Pa per unit of a stress dataset's `units` attribute (required: Pa, MPa or GPa).
+double stress_scale(const h5::File& f, const std::string& path, const std::string& ds) {
+  const auto su = f.attr_string(ds, "units");
+  if (!su) fail(path, ds + "@units", "<missing>", "a stress dataset needs units Pa, MPa or GPa");
+  if (*su == "Pa") return 1.0;
+  if (*su == "MPa") return 1e6;
+  if (*su == "GPa") return 1e9;
+  fail(path, ds + "@units", *su, "stress units must be Pa, MPa or GPa");
+}
 } // namespace
 
 const CaseCurve* StressStrainData::find(int id) const {
@@ -126,15 +138,28 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
            std::to_string(strain.rows()) + "x" + std::to_string(strain.cols()) + " / " +
                std::to_string(stress.rows()) + "x" + std::to_string(stress.cols()),
            "strain and stress must both be k x 6 with the same k");
-    const auto su = f.attr_string(g + "/stress", "units").value_or("Pa");
-    const double scale = su == "Pa" ? 1.0 : su == "MPa" ? 1e6 : su == "GPa" ? 1e9 : -1.0;
-    if (scale < 0) fail(path, g + "/stress@units", su, "stress units must be Pa, MPa or GPa");
+    const auto eu = f.attr_string(g + "/strain", "units");
+    if (!eu) fail(path, g + "/strain@units", "<missing>", kStrainUnitsRule);
+    if (eu->rfind("1", 0) != 0) fail(path, g + "/strain@units", *eu, kStrainUnitsRule);
     c.strain = strain;
-    c.stress = stress * scale;
-    if (f.exists(g + "/stress_stderr"))
-      c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
+    c.stress = stress * stress_scale(f, path, g + "/stress");
     if (!c.strain.allFinite() || !c.stress.allFinite())
       fail(path, g, "", "strain and stress must be finite numbers");
+    if (f.exists(g + "/stress_stderr")) {
+      const std::string ds = g + "/stress_stderr";
+      const auto se = f.read_matrix(ds);
+      if (se.rows() != stress.rows() || se.cols() != 6)
+        fail(path, ds, std::to_string(se.rows()) + "x" + std::to_string(se.cols()),
+             "must have the shape of stress (" + std::to_string(stress.rows()) + "x6)");
+      for (Eigen::Index r = 0; r < se.rows(); ++r)
+        for (Eigen::Index k = 0; k < 6; ++k)
+          if (!(se(r, k) >= 0) || !std::isfinite(se(r, k))) {
+            std::ostringstream v;
+            v << se(r, k) << " (row " << r + 1 << ", column " << k + 1 << ")";
+            fail(path, ds, v.str(), "a standard error must be a finite number >= 0");
+          }
+      c.stress_stderr = se * stress_scale(f, path, ds);
+    }
     d.cases.push_back(std::move(c));
   }
   if (d.cases.empty()) fail(path, "/case_<n>", "", "no case groups found");

@@ -186,14 +186,23 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
       return PNC_MATERIAL_BAD_ARGUMENT;
     }
     const pnc::damage::Model model = m->kernel.p.model;
+    const int ns = static_cast<int>(pnc::damage::state_size(model));
+    if (const auto bad = pnc::fe_material::detail::check_state(state0, ns)) {
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "pnc_material_integrate: argument 'state0[%d]': value '%g': %s", bad.index,
+                    bad.value, bad.rule);
+      copy_message(err, errlen, line);
+      return PNC_MATERIAL_BAD_INPUT;
+    }
     const pnc::damage::NdmState s0 = pnc::damage::state_from_array(model, state0);
     pnc::damage::NdmState s1;
     pnc::damage::ErrorBuffer ebuf;
-    // Strain, stress and the row-major tangent are the caller's arrays (the ABI layout), used
-    // in place. The kernel rejects bad input before it writes anything, so on failure stress
-    // and tangent are untouched, as the header promises.
-    const pnc::damage::Status st = pnc::damage::integrate_row_major(m->kernel, s0, s1, strain0,
-                                                                    dstrain, stress, tangent, ebuf);
+    // The result goes to local arrays first and reaches the caller only when it is finite, so
+    // on failure state1, stress and tangent are untouched, as the header promises.
+    double sig[6], K[36], st1[6];
+    const pnc::damage::Status st = pnc::damage::integrate_row_major(
+        m->kernel, s0, s1, strain0, dstrain, sig, tangent ? K : nullptr, ebuf);
     if (st != pnc::damage::Status::ok) {
       char line[512];
       std::snprintf(line, sizeof line,
@@ -205,7 +214,22 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
       copy_message(err, errlen, line);
       return PNC_MATERIAL_BAD_INPUT;
     }
-    pnc::damage::state_to_array(model, s1, state1);
+    pnc::damage::state_to_array(model, s1, st1);
+    if (const auto bad =
+            pnc::fe_material::detail::check_result(sig, st1, ns, tangent ? K : nullptr)) {
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "pnc_material_integrate: result '%s[%d]' of strain0 + dstrain '%g %g %g %g %g "
+                    "%g': value '%g': %s",
+                    bad.what, bad.index, strain0[0] + dstrain[0], strain0[1] + dstrain[1],
+                    strain0[2] + dstrain[2], strain0[3] + dstrain[3], strain0[4] + dstrain[4],
+                    strain0[5] + dstrain[5], bad.value, bad.rule);
+      copy_message(err, errlen, line);
+      return PNC_MATERIAL_BAD_INPUT;
+    }
+    std::memcpy(stress, sig, sizeof sig);
+    if (tangent) std::memcpy(tangent, K, sizeof K);
+    std::memcpy(state1, st1, static_cast<std::size_t>(ns) * sizeof(double));
     return PNC_MATERIAL_OK;
   } catch (const std::exception& e) {
     copy_message(err, errlen, e.what());

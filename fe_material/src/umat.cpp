@@ -3,6 +3,8 @@
 // re-validated on every call (a few dozen flops, no allocation when they are valid).
 #include "pnc/fe_material/umat.h"
 
+#include "abi_util.hpp"
+
 #include "pnc/core/error.hpp"
 #include "pnc/damage/ndm.hpp"
 
@@ -176,15 +178,13 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       e0[map[a]] = stran[a];
       de[map[a]] = dstran[a];
     }
-    std::array<double, 6> sv{};
-    for (int i = 0; i < ns; ++i) {
-      if (!std::isfinite(statev[i])) {
-        reject(w, pnewdt, "STATEV(" + std::to_string(i + 1) + ")", num(statev[i]),
-               "state variables must be finite");
-        return;
-      }
-      sv[static_cast<std::size_t>(i)] = statev[i];
+    if (const auto bad = pnc::fe_material::detail::check_state(statev, ns)) {
+      reject(w, pnewdt, "STATEV(" + std::to_string(bad.index + 1) + ")", num(bad.value), bad.rule);
+      return;
     }
+    std::array<double, 6> sv{};
+    for (int i = 0; i < ns; ++i)
+      sv[static_cast<std::size_t>(i)] = statev[i];
     // Abaqus starts STATEV at zero: a zero kappa means "never loaded" (kappa = 1).
     const int nk = model == Model::pnc ? 3 : 1;
     for (int k = 0; k < nk; ++k)
@@ -201,13 +201,26 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       return;
     }
 
+    // --- nothing reaches Abaqus unless it is finite (the same check as the C ABI)
+    std::array<double, 6> sv1{};
+    pnc::damage::state_to_array(model, s1, sv1.data());
+    if (const auto bad =
+            pnc::fe_material::detail::check_result(sigma.data(), sv1.data(), ns, K.data())) {
+      const std::string what = std::string(bad.what) == "stress"  ? "STRESS"
+                               : std::string(bad.what) == "state" ? "STATEV"
+                                                                  : "DDSDDE";
+      reject(w, pnewdt, what + " (result of STRAN + DSTRAN)", num(bad.value), bad.rule);
+      return;
+    }
+
     // --- back to Abaqus order; DDSDDE column-major
     for (int a = 0; a < nt; ++a) {
       stress[a] = sigma[map[a]];
       for (int b = 0; b < nt; ++b)
         ddsdde[a + b * nt] = K(map[a], map[b]);
     }
-    pnc::damage::state_to_array(model, s1, statev);
+    for (int i = 0; i < ns; ++i)
+      statev[i] = sv1[static_cast<std::size_t>(i)];
     if (sse) *sse = 0.5 * sigma.dot(e0 + de); // secant (damaged) elastic energy density
   } catch (const std::exception& e) {
     reject(w, pnewdt, "(internal)", "", e.what());

@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 #include "pnc/gimp_coupler/escm_crack.hpp"
@@ -98,28 +99,24 @@ void apply_crack(const json& c, Params& p, const std::string& src, const std::st
     p.crack = false;
     return;
   }
-  if (!c.is_object()) fail(src, key, c.dump(), "must be an object (or false)");
+  if (!c.is_object()) fail(src, key, show_json(c), "must be an object (or false)");
   p.crack = true;
   for (auto it = c.begin(); it != c.end(); ++it) {
     const std::string k = it.key();
     const json& v = it.value();
     if (k == "length_cells") {
-      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 2000)
-        fail(src, key + ".length_cells", v.dump(), "an integer >= 1 (cells from the left edge)");
-      p.crack_cells = static_cast<int>(v.get<long>());
+      p.crack_cells = get_integer_as<int>(v, src, key + ".length_cells", 1, 2000);
     } else if (k == "Gc") {
       if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() < 1e3))
-        fail(src, key + ".Gc", v.dump(), "a number in (0, 1e3) J/m^2");
+        fail(src, key + ".Gc", show_json(v), "a number in (0, 1e3) J/m^2");
       p.crack_Gc = v.get<double>();
     } else if (k == "interface_fraction") {
       if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() <= 1))
-        fail(src, key + ".interface_fraction", v.dump(),
+        fail(src, key + ".interface_fraction", show_json(v),
              "a number in (0, 1] (LJ epsilon across the crack line / epsilon, D83)");
       p.crack_f = v.get<double>();
     } else if (k == "every") {
-      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 100000)
-        fail(src, key + ".every", v.dump(), "an integer in [1, 1e5] (coupled steps)");
-      p.crack_every = static_cast<int>(v.get<long>());
+      p.crack_every = get_integer_as<int>(v, src, key + ".every", 1, 100000); // coupled steps
     } else {
       fail(src, key + "." + k, "", "unknown key (length_cells, Gc, interface_fraction, every)");
     }
@@ -129,11 +126,11 @@ void apply_crack(const json& c, Params& p, const std::string& src, const std::st
 /// The "md" object (docs/escm.md "Polymer MD region"): type "lj" | "polymer" and the polymer's
 /// build keys; every key optional.
 void apply_md(const json& m, Params& p, const std::string& src, const std::string& key) {
-  if (!m.is_object()) fail(src, key, m.dump(), "must be an object");
+  if (!m.is_object()) fail(src, key, show_json(m), "must be an object");
   auto number = [&](const std::string& k, double lo, double hi, const std::string& rule) {
     const json& v = m.at(k);
     if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
-      fail(src, key + "." + k, v.dump(), rule);
+      fail(src, key + "." + k, show_json(v), rule);
     return v.get<double>();
   };
   for (auto it = m.begin(); it != m.end(); ++it) {
@@ -141,7 +138,7 @@ void apply_md(const json& m, Params& p, const std::string& src, const std::strin
     const json& v = it.value();
     if (k == "type") {
       if (!v.is_string() || (v.get<std::string>() != "lj" && v.get<std::string>() != "polymer"))
-        fail(src, key + ".type", v.dump(), "\"lj\" or \"polymer\"");
+        fail(src, key + ".type", show_json(v), "\"lj\" or \"polymer\"");
       p.md_type = v.get<std::string>();
     } else if (k == "cell_A") {
       p.cell_A = number(k, 2, 100, "a number in [2, 100] A (cell size at the build density)");
@@ -150,27 +147,22 @@ void apply_md(const json& m, Params& p, const std::string& src, const std::strin
     } else if (k == "density") {
       p.density = number(k, 0.05, 3, "a number in [0.05, 3] g/cm^3 (build density)");
     } else if (k == "beads_per_chain") {
-      p.beads_per_chain = static_cast<int>(number(k, 4, 10000, "an integer in [4, 1e4]"));
-      if (!v.is_number_integer()) fail(src, key + "." + k, v.dump(), "an integer in [4, 1e4]");
+      p.beads_per_chain = get_integer_as<int>(v, src, key + "." + k, 4, 10000);
     } else if (k == "seed") {
-      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 800000000)
-        fail(src, key + ".seed", v.dump(), "an integer in [1, 8e8]");
-      p.md_seed = v.get<long>();
+      p.md_seed = get_integer_as<long>(v, src, key + ".seed", 1, 800000000);
     } else if (k == "temperature") {
       p.poly_T = number(k, 1, 2000, "a number in [1, 2000] K (NPT anneal)");
     } else if (k == "anneal_ps") {
       p.anneal_ps = number(k, 0, 1e4, "a number in [0, 1e4] ps");
     } else if (k == "min_beads_per_cell") {
-      if (!v.is_number_integer() || v.get<long>() < 1 || v.get<long>() > 10000)
-        fail(src, key + "." + k, v.dump(), "an integer in [1, 1e4] (D105)");
-      p.min_beads = static_cast<int>(v.get<long>());
+      p.min_beads = get_integer_as<int>(v, src, key + "." + k, 1, 10000); // D105
     } else if (k == "strain_probe") {
       p.strain_probe = number(k, 1e-5, 0.05, "a number in [1e-5, 0.05] (D102)");
     } else if (k == "forcefield") {
-      if (!v.is_object()) fail(src, key + ".forcefield", v.dump(), "must be an object");
+      if (!v.is_object()) fail(src, key + ".forcefield", show_json(v), "must be an object");
       for (auto f = v.begin(); f != v.end(); ++f) {
         if (!f->is_number() || !(f->get<double>() > 0))
-          fail(src, key + ".forcefield." + f.key(), f->dump(), "a number > 0 (real units)");
+          fail(src, key + ".forcefield." + f.key(), show_json(*f), "a number > 0 (real units)");
         if (f.key() == "sigma")
           p.ff_sigma = f->get<double>();
         else if (f.key() == "epsilon")
@@ -190,19 +182,19 @@ void apply_md(const json& m, Params& p, const std::string& src, const std::strin
       const bool lm =
           v.is_object() && v.size() == 2 && v.contains("lambda_Pa") && v.contains("mu_Pa");
       if (!(en || lm) || !v.begin()->is_number() || !(++v.begin())->is_number())
-        fail(src, key + ".elastic", v.dump(),
+        fail(src, key + ".elastic", show_json(v),
              "\"measure\" or {\"E_Pa\", \"nu\"} or {\"lambda_Pa\", \"mu_Pa\"} (plane strain, Pa)");
       if (en) {
         const double E = v.at("E_Pa").get<double>(), nu = v.at("nu").get<double>();
         if (!(E > 0 && nu > -1 && nu < 0.5))
-          fail(src, key + ".elastic", v.dump(), "E_Pa > 0 and nu in (-1, 0.5)");
+          fail(src, key + ".elastic", show_json(v), "E_Pa > 0 and nu in (-1, 0.5)");
         p.elastic_lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
         p.elastic_mu = E / (2 * (1 + nu));
       } else {
         p.elastic_lambda = v.at("lambda_Pa").get<double>();
         p.elastic_mu = v.at("mu_Pa").get<double>();
         if (!(p.elastic_mu > 0 && p.elastic_lambda + p.elastic_mu > 0))
-          fail(src, key + ".elastic", v.dump(), "mu_Pa > 0 and lambda_Pa + mu_Pa > 0");
+          fail(src, key + ".elastic", show_json(v), "mu_Pa > 0 and lambda_Pa + mu_Pa > 0");
       }
       p.elastic_given = true;
     } else {
@@ -217,36 +209,30 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
   auto num = [&](const std::string& k, double lo, double hi, const char* rule) {
     const json& v = j.at(k);
     if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
-      fail(src, prefix + k, v.dump(), rule);
+      fail(src, prefix + k, show_json(v), rule);
     return v.get<double>();
   };
-  auto integer = [&](const std::string& k, int lo, int hi, const char* rule) {
-    const json& v = j.at(k);
-    if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
-      fail(src, prefix + k, v.dump(), rule);
-    return static_cast<int>(v.get<long>());
+  auto integer = [&](const std::string& k, int lo, int hi, const char*) {
+    return get_integer_as<int>(j.at(k), src, prefix + k, lo, hi);
   };
   auto pair = [&](const std::string& k, int lo, int hi, const char* rule) {
     const json& v = j.at(k);
-    if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
-        v[0].get<long>() < lo || v[1].get<long>() < lo || v[0].get<long>() > hi ||
-        v[1].get<long>() > hi)
-      fail(src, prefix + k, v.dump(), rule);
-    return std::array<int, 2>{static_cast<int>(v[0].get<long>()),
-                              static_cast<int>(v[1].get<long>())};
+    if (!v.is_array() || v.size() != 2) fail(src, prefix + k, show_json(v), rule);
+    return std::array<int, 2>{get_integer_as<int>(v[0], src, prefix + k + "[0]", lo, hi),
+                              get_integer_as<int>(v[1], src, prefix + k + "[1]", lo, hi)};
   };
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!kKeys.count(it.key()) || (!prefix.empty() && (it.key() == "short" || it.key() == "lj")))
       fail(src, prefix + it.key(), "", "unknown key (docs/escm.md, \"Input file\")");
   if (j.contains("lj")) {
     const json& l = j.at("lj");
-    if (!l.is_object()) fail(src, "lj", l.dump(), "must be an object");
+    if (!l.is_object()) fail(src, "lj", show_json(l), "must be an object");
     for (auto it = l.begin(); it != l.end(); ++it) {
       const std::string k = it.key();
       if (k != "epsilon" && k != "sigma" && k != "cutoff" && k != "mass")
         fail(src, "lj." + k, "", "unknown key (epsilon, sigma, cutoff, mass)");
       if (!it->is_number() || !(it->get<double>() > 0))
-        fail(src, "lj." + k, it->dump(), "must be a number > 0 (real units)");
+        fail(src, "lj." + k, show_json(*it), "must be a number > 0 (real units)");
     }
     p.eps = l.value("epsilon", p.eps);
     p.sig = l.value("sigma", p.sig);
@@ -274,7 +260,7 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
   if (j.contains("mode")) {
     const json& v = j.at("mode");
     if (!v.is_string() || (v.get<std::string>() != "neumann" && v.get<std::string>() != "schwarz"))
-      fail(src, prefix + "mode", v.dump(), "\"neumann\" or \"schwarz\"");
+      fail(src, prefix + "mode", show_json(v), "\"neumann\" or \"schwarz\"");
     p.mode = v.get<std::string>();
   }
   if (j.contains("interior_temperature"))
@@ -294,7 +280,7 @@ void apply(const json& j, Params& p, const std::string& src, const std::string& 
     const json& v = j.at("load");
     if (!v.is_string() || (v.get<std::string>() != "tension_x" &&
                            v.get<std::string>() != "tension_y" && v.get<std::string>() != "shear"))
-      fail(src, prefix + "load", v.dump(), "\"tension_x\", \"tension_y\" or \"shear\"");
+      fail(src, prefix + "load", show_json(v), "\"tension_x\", \"tension_y\" or \"shear\"");
     p.load = v.get<std::string>();
   }
   if (j.contains("crack")) apply_crack(j.at("crack"), p, src, prefix + "crack");
@@ -351,21 +337,13 @@ void check_crack(const Params& p, const std::string& src) {
 /// Reads the input and its "short" overrides and checks the geometry, before LAMMPS starts.
 Params read_params(const CoupleOptions& o) {
   const std::string& src = o.input;
-  json j;
-  {
-    std::ifstream f(src);
-    if (!f) fail(src, "", "", "cannot open the input file");
-    try {
-      j = json::parse(f);
-    } catch (const std::exception& e) {
-      fail(src, "", "", std::string("not valid JSON: ") + e.what());
-    }
-  }
+  const json j = parse_json(read_text_file(src), src);
   if (!j.is_object()) fail(src, "", "", "the input must be a JSON object");
   Params p;
   apply(j, p, src, "");
   if (o.short_mode && j.contains("short")) {
-    if (!j.at("short").is_object()) fail(src, "short", j.at("short").dump(), "must be an object");
+    if (!j.at("short").is_object())
+      fail(src, "short", show_json(j.at("short")), "must be an object");
     apply(j.at("short"), p, src, "short.");
   }
   const int rings = p.svc + p.ivc;
@@ -600,11 +578,11 @@ void check_same_input(const std::string& src, const std::string& stored, const s
   };
   json a, b;
   try {
-    a = clean(json::parse(stored));
+    a = clean(parse_json(stored, ckpt));
   } catch (const std::exception&) {
     fail(ckpt, "/run/input", "", "the stored input is not valid JSON");
   }
-  b = clean(json::parse(now));
+  b = clean(parse_json(now, src));
   if (a == b) return;
   auto text = [](const json& o, const std::string& k) {
     return o.is_object() && o.contains(k) ? o.at(k).dump() : std::string("<absent>");
@@ -635,8 +613,8 @@ void check_same_input(const std::string& src, const std::string& stored, const s
     }
     break;
   }
-  fail(src, key, is,
-       "differs from the input this run was started with (" + was + ", stored in " + ckpt +
+  fail(src, key, clip(is),
+       "differs from the input this run was started with (" + clip(was) + ", stored in " + ckpt +
            "): --resume continues a run only with the same input (checkpoint_every_ps and "
            "comment may change); restore the value or start a new run in another --out directory");
 }

@@ -3,6 +3,7 @@
 
 #include "pnc/core/csv.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
 #include "pnc/fe_material/material.hpp"
 
 #include <nlohmann/json.hpp>
@@ -22,9 +23,7 @@ namespace fs = std::filesystem;
 using Vec2 = Eigen::Vector2d;
 
 std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 80) s = s.substr(0, 77) + "...";
-  return s;
+  return show_json(v);
 }
 
 /// Access to one JSON object with the key path and the source for errors.
@@ -70,11 +69,7 @@ struct Node {
     return x;
   }
   long integer(const std::string& k, long def, long lo, long hi) const {
-    if (!has(k)) return def;
-    const json& v = j.at(k);
-    if (!v.is_number_integer() || v.get<long>() < lo || v.get<long>() > hi)
-      bad(k, v, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return v.get<long>();
+    return has(k) ? get_integer_as<long>(j.at(k), src, key(k), lo, hi) : def;
   }
   std::string str(const std::string& k) const {
     const json& v = at(k);
@@ -146,6 +141,32 @@ template <int D> Shape<D> read_shape(const Node& n) {
   return s;
 }
 
+constexpr double kMaxEndTime = 1e6;         ///< s
+constexpr double kMaxEstimatedSteps = 1e10; ///< without time.max_steps
+
+std::string g(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
+  return o.str();
+}
+
+/// A fixed time.dt may not exceed the CFL step the solver computes at t = 0 (cfl h / (c +
+/// |v|max), Solver::stable_dt); without time.max_steps the run must end in a bounded number of
+/// steps (estimated with the step of t = 0).
+void check_time_step(const Node& t, const RunConfig& rc, double cfl_dt) {
+  if (rc.dt > 0 && rc.dt > cfl_dt)
+    t.bad("dt", t.at("dt"),
+          "the fixed step " + g(rc.dt) + " s exceeds the CFL step " + g(cfl_dt) + " s (cfl " +
+              g(rc.cfl) + " x cell_size / (wave speed + largest particle speed)); give a dt <= " +
+              g(cfl_dt) + " s or omit dt");
+  const double dt0 = rc.dt > 0 ? rc.dt : cfl_dt;
+  if (rc.max_steps == 0 && rc.t_end / dt0 > kMaxEstimatedSteps)
+    t.bad("end", t.at("end"),
+          "needs about " + g(rc.t_end / dt0) + " steps of " + g(dt0) +
+              " s (more than 1e10): shorten time.end or set time.max_steps");
+}
+
 fs::path resolve(const std::string& base, const std::string& p) {
   fs::path q(p);
   return q.is_absolute() || base.empty() ? q : fs::path(base) / q;
@@ -154,40 +175,25 @@ fs::path resolve(const std::string& base, const std::string& p) {
 } // namespace
 
 int input_dimension(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) fail(path, "", "", "cannot open the input file");
-  json j;
-  try {
-    j = json::parse(f);
-  } catch (const json::parse_error& e) {
-    fail(path, "", "", std::string("not valid JSON: ") + e.what());
-  }
+  const json j = parse_json(read_text_file(path), path);
   if (!j.is_object()) fail(path, "", "", "the input must be one JSON object");
   if (!j.contains("dimension")) fail(path, "dimension", "<missing>", "required key (2 or 3)");
   const json& d = j["dimension"];
-  if (!d.is_number_integer() || (d.get<int>() != 2 && d.get<int>() != 3))
+  if (!d.is_number_integer() || (d.get<long>() != 2 && d.get<long>() != 3))
     fail(path, "dimension", show(d), "must be 2 (plane strain) or 3");
-  return d.get<int>();
+  return static_cast<int>(d.get<long>());
 }
 
 template <int D> RunConfig load_input(const std::string& path, Solver<D>& solver) {
-  std::ifstream f(path);
-  if (!f) fail(path, "", "", "cannot open the input file");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return load_input_text<D>(ss.str(), path, fs::path(path).parent_path().string(), solver);
+  return load_input_text<D>(read_text_file(path), path, fs::path(path).parent_path().string(),
+                            solver);
 }
 
 template <int D>
 RunConfig load_input_text(const std::string& text, const std::string& source,
                           const std::string& base_dir, Solver<D>& s) {
   using Vec = Eigen::Matrix<double, D, 1>;
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    fail(source, "", "", std::string("not valid JSON: ") + e.what());
-  }
+  const json doc = parse_json(text, source);
   if (!doc.is_object()) fail(source, "", "", "the input must be one JSON object");
   const Node top{doc, "", source};
   top.allow({"dimension", "grid", "particles_per_cell", "materials", "bodies", "boundaries",
@@ -211,9 +217,9 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
       g.bad("cells", c, "must be an array of " + std::to_string(D) + " integers >= 2");
     for (int a = 0; a < D; ++a) {
       const json& e = c[static_cast<std::size_t>(a)];
-      if (!e.is_number_integer() || e.get<long>() < 2 || e.get<long>() > 100000)
-        g.bad("cells", c, "each entry must be an integer in [2, 100000]");
-      s.grid.n[a] = static_cast<int>(e.get<long>()) + 1;
+      s.grid.n[a] = get_integer_as<int>(e, source, g.key("cells") + "[" + std::to_string(a) + "]",
+                                        2, 100000) +
+                    1;
     }
     double nodes = 1;
     for (int a = 0; a < D; ++a)
@@ -476,9 +482,14 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
           } else if (fj.is_array()) {
             cr.front.assign(m, 0);
             for (const auto& e : fj) {
-              if (!e.is_number_integer() || e.get<long>() < 0 || e.get<long>() >= long(m))
+              std::size_t edge = 0;
+              try { // checked, never narrowed; the error keeps the rule about edges
+                edge = get_integer_as<std::size_t>(e, source, c.key("front"), 0,
+                                                   static_cast<std::int64_t>(m) - 1);
+              } catch (const InputError&) {
                 c.bad("front", fj, rule);
-              cr.front[static_cast<std::size_t>(e.get<long>())] = 1;
+              }
+              cr.front[edge] = 1;
             }
           } else {
             c.bad("front", fj, rule);
@@ -594,6 +605,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
   const Node t = top.child("time");
   t.allow({"end", "cfl", "dt", "max_steps"});
   rc.t_end = t.positive("end");
+  if (rc.t_end > kMaxEndTime) t.bad("end", t.at("end"), "must be in (0, 1e6] s");
   rc.cfl = t.num("cfl", 0.5);
   if (!(rc.cfl > 0 && rc.cfl <= 1)) t.bad("cfl", t.at("cfl"), "must be in (0, 1]");
   rc.dt = t.num("dt", 0.0);
@@ -621,6 +633,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
   rc.fracture_every = top.integer("fracture_every", 10, 1, 1000000000L);
   s.threads = rc.threads;
   s.cfl = rc.cfl;
+  check_time_step(t, rc, s.stable_dt());
   return rc;
 }
 

@@ -109,10 +109,17 @@ private:
 } // namespace
 
 void BuildSpec::validate(const std::string& source) const {
-  if (chains < 1) fail(source, "build.chains", std::to_string(chains), "must be >= 1");
-  if (beads_per_chain < 4)
+  if (chains < 1 || chains > 100000)
+    fail(source, "build.chains", std::to_string(chains), "must be in 1..100000");
+  if (beads_per_chain < 4 || beads_per_chain > 10000)
     fail(source, "build.beads_per_chain", std::to_string(beads_per_chain),
-         "must be >= 4 (a torsion needs 4 beads)");
+         "must be in 4..10000 (a torsion needs 4 beads)");
+  // Memory and LAMMPS time grow with the bead count: 1e6 beads is ~700 times the paper's RVE.
+  if (static_cast<long long>(chains) * beads_per_chain > 1000000)
+    fail(source, "build.chains", std::to_string(chains),
+         "chains x beads_per_chain = " +
+             std::to_string(static_cast<long long>(chains) * beads_per_chain) +
+             " beads: at most 1000000 in one RVE");
   if (!(density > 0.05 && density < 3.0))
     fail(source, "build.density", fmt::format("{}", density), "must be in (0.05, 3) g/cm^3");
   if (!(min_distance > 0.0 && min_distance < 4.0))

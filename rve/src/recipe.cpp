@@ -2,13 +2,17 @@
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
 
 #include <fmt/format.h>
 #include <toml.hpp>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 namespace pnc::rve {
 
@@ -16,49 +20,58 @@ namespace {
 
 using json = nlohmann::json;
 
+// Ranges of the integer keys: LAMMPS runs at most 2^31 - 1 steps in one `run`; the builder's
+// limits are in BuildSpec::validate() (at most kMaxBeads beads in all).
+constexpr std::int64_t kMaxSteps = 2000000000;
+constexpr std::int64_t kMaxChains = 100000;
+constexpr std::int64_t kMaxBeadsPerChain = 10000;
+
 class Section {
 public:
   Section(const json& j, std::string path, const std::string& source)
       : j_(j), path_(std::move(path)), source_(source) {
-    if (!j_.is_object()) fail(source_, path_, j_.dump(), "must be a JSON object");
+    if (!j_.is_object()) fail(source_, path_, show_json(j_), "must be a JSON object");
   }
   std::string field(const std::string& key) const {
     return path_.empty() ? key : path_ + "." + key;
   }
   template <class T> void get(const std::string& key, T& out) {
+    static_assert(std::is_same_v<T, bool> || !std::is_integral_v<T>,
+                  "integers are read with get_int and a range");
     seen_.insert(key);
     if (!j_.contains(key)) return;
     const json& v = j_.at(key);
     if constexpr (std::is_same_v<T, bool>) {
-      if (!v.is_boolean()) fail(source_, field(key), v.dump(), "must be true or false");
+      if (!v.is_boolean()) fail(source_, field(key), show_json(v), "must be true or false");
       out = v.get<bool>();
     } else if constexpr (std::is_same_v<T, std::string>) {
-      if (!v.is_string()) fail(source_, field(key), v.dump(), "must be a string");
+      if (!v.is_string()) fail(source_, field(key), show_json(v), "must be a string");
       out = v.get<std::string>();
-    } else if constexpr (std::is_integral_v<T>) {
-      if (!v.is_number_integer() && !v.is_number_unsigned())
-        fail(source_, field(key), v.dump(), "must be an integer");
-      if constexpr (std::is_unsigned_v<T>) {
-        if (v.is_number_integer() && v.get<long long>() < 0)
-          fail(source_, field(key), v.dump(), "must be >= 0");
-      }
-      out = v.get<T>();
     } else {
-      if (!v.is_number()) fail(source_, field(key), v.dump(), "must be a number");
+      if (!v.is_number()) fail(source_, field(key), show_json(v), "must be a number");
+      if (!std::isfinite(v.get<double>()))
+        fail(source_, field(key), show_json(v), "must be a finite number");
       out = v.get<T>();
     }
+  }
+  /// An integer key in [lo, hi] (checked, never narrowed: pnc/core/params.hpp).
+  template <class T>
+  void get_int(const std::string& key, T& out, std::int64_t lo, std::int64_t hi) {
+    seen_.insert(key);
+    if (j_.contains(key)) out = get_integer_as<T>(j_.at(key), source_, field(key), lo, hi);
   }
   void get_cases(const std::string& key, std::vector<int>& out) {
     seen_.insert(key);
     if (!j_.contains(key)) return;
     const json& v = j_.at(key);
     if (!v.is_array() || v.empty())
-      fail(source_, field(key), v.dump(), "must be a non-empty array of case ids 1..6");
+      fail(source_, field(key), show_json(v), "must be a non-empty array of case ids 1..6");
     out.clear();
     for (const auto& e : v) {
-      if (!e.is_number_integer() || e.get<int>() < 1 || e.get<int>() > 6)
-        fail(source_, field(key), e.dump(), "case ids are integers 1..6 (EQUATIONS.md section 2)");
-      out.push_back(e.get<int>());
+      if (!e.is_number_integer() && !e.is_number_unsigned())
+        fail(source_, field(key), show_json(e),
+             "case ids are integers 1..6 (EQUATIONS.md section 2)");
+      out.push_back(get_integer_as<int>(e, source_, field(key), 1, 6));
     }
   }
   Section sub(const std::string& key) {
@@ -72,7 +85,7 @@ public:
         std::string allowed;
         for (const auto& k : seen_)
           allowed += (allowed.empty() ? "" : ", ") + k;
-        fail(source_, field(it.key()), it.value().dump(), "unknown key; allowed: " + allowed);
+        fail(source_, field(it.key()), show_json(it.value()), "unknown key; allowed: " + allowed);
       }
   }
 
@@ -192,7 +205,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   Section top(j, "", source);
   top.get("name", r.name);
   check_free_text(source, "name", r.name);
-  top.get("seed", r.seed);
+  top.get_int("seed", r.seed, 1, 1000000);
   top.get("model", r.model);
   if (r.model != "pp" && r.model != "pnc")
     fail(source, "model", r.model, "must be \"pp\" (pure polymer) or \"pnc\" (with clay)");
@@ -201,21 +214,21 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
          "model \"pnc\" needs a \"clay\" block naming the platelet (cells_a or aspect_ratio, "
          "cells_b), e.g. {\"cells_a\": 7, \"cells_b\": 1}; see the preset paper_pnc");
   if (r.model == "pp" && j.contains("clay"))
-    fail(source, "clay", j.at("clay").dump(), "a clay block needs \"model\": \"pnc\"");
+    fail(source, "clay", show_json(j.at("clay")), "a clay block needs \"model\": \"pnc\"");
   if (r.seed < 1 || r.seed > 1000000)
     fail(source, "seed", std::to_string(r.seed), "must be in 1..1000000");
   {
     Section s = top.sub("build");
-    s.get("chains", r.build.chains);
-    s.get("beads_per_chain", r.build.beads_per_chain);
+    s.get_int("chains", r.build.chains, 1, kMaxChains);
+    s.get_int("beads_per_chain", r.build.beads_per_chain, 4, kMaxBeadsPerChain);
     s.get("density", r.build.density);
     s.get("min_distance", r.build.min_distance);
     s.check_unknown();
   }
   {
     Section s = top.sub("clay");
-    s.get("cells_a", r.clay.cells_a);
-    s.get("cells_b", r.clay.cells_b);
+    s.get_int("cells_a", r.clay.cells_a, 1, 200);
+    s.get_int("cells_b", r.clay.cells_b, 1, 200);
     s.get("aspect_ratio", r.clay.aspect_ratio);
     s.get("min_distance", r.clay.min_distance);
     s.get("gap_x", r.clay.gap_x);
@@ -245,22 +258,22 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("timestep_fs", e.timestep_fs);
     s.get("temperature", e.temperature);
     s.get("damp_fs", e.damp_fs);
-    s.get("pushoff_steps", e.pushoff_steps);
-    s.get("pushoff_max_rounds", e.pushoff_max_rounds);
+    s.get_int("pushoff_steps", e.pushoff_steps, 0, kMaxSteps);
+    s.get_int("pushoff_max_rounds", e.pushoff_max_rounds, 1, 1000);
     s.get("pushoff_A_max", e.pushoff_A_max);
     s.get("pushoff_min_distance_sigma", e.pushoff_min_distance_sigma);
-    s.get("hot_steps", e.hot_steps);
+    s.get_int("hot_steps", e.hot_steps, 0, kMaxSteps);
     s.get("hot_temperature", e.hot_temperature);
-    s.get("clay_steps", e.clay_steps);
-    s.get("cool_steps", e.cool_steps);
-    s.get("langevin_chunk_steps", e.langevin_chunk_steps);
-    s.get("langevin_max_chunks", e.langevin_max_chunks);
+    s.get_int("clay_steps", e.clay_steps, 0, kMaxSteps);
+    s.get_int("cool_steps", e.cool_steps, 0, kMaxSteps);
+    s.get_int("langevin_chunk_steps", e.langevin_chunk_steps, 0, kMaxSteps);
+    s.get_int("langevin_max_chunks", e.langevin_max_chunks, 2, 10000);
     s.get("steady_tolerance", e.steady_tolerance);
     s.get("ensemble", e.ensemble);
     s.get("pressure_atm", e.pressure_atm);
     s.get("pdamp_fs", e.pdamp_fs);
-    s.get("npt_steps", e.npt_steps);
-    s.get("final_steps", e.final_steps);
+    s.get_int("npt_steps", e.npt_steps, 0, kMaxSteps);
+    s.get_int("final_steps", e.final_steps, 0, kMaxSteps);
     s.check_unknown();
   }
   {
@@ -269,11 +282,11 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     if (r.model == "pnc") r.cases = {1, 2, 3, 4, 5, 6};
     s.get_cases("cases", r.cases);
     s.get("strain_max", d.strain_max);
-    s.get("steps", d.steps);
+    s.get_int("steps", d.steps, 1, 100000);
     s.get("timestep_fs", d.timestep_fs);
-    s.get("hold_steps", d.hold_steps);
-    s.get("sample_every", d.sample_every);
-    s.get("blocks", d.blocks);
+    s.get_int("hold_steps", d.hold_steps, 1, kMaxSteps);
+    s.get_int("sample_every", d.sample_every, 1, 1000000);
+    s.get_int("blocks", d.blocks, 2, 10000);
     s.get("temperature", d.temperature);
     s.get("damp_fs", d.damp_fs);
     s.check_unknown();
@@ -281,7 +294,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     Section s = top.sub("analysis");
     s.get("stress", r.stress);
-    s.get("moving_average", r.moving_average);
+    s.get_int("moving_average", r.moving_average, 1, 1001);
     s.get("reference", r.reference);
     s.check_unknown();
     if (r.reference != "subtract" && r.reference != "none")
@@ -301,7 +314,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   }
   {
     Section s = top.sub("run");
-    s.get("jobs", r.jobs);
+    s.get_int("jobs", r.jobs, 1, 64);
     s.check_unknown();
     if (r.jobs < 1 || r.jobs > 64)
       fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
@@ -364,7 +377,7 @@ json toml_to_json(const toml::value& v, const std::string& path, const std::stri
     return o;
   }
   default:
-    fail(source, path, toml::format(v), "dates and times are not recipe values");
+    fail(source, path, clip(toml::format(v)), "dates and times are not recipe values");
   }
 }
 
@@ -406,23 +419,20 @@ std::string recipe_toml(const nlohmann::json& recipe) {
 Recipe read_recipe(const std::string& path) {
   const auto ext = std::filesystem::path(path).extension().string();
   if (ext != ".json" && ext != ".toml") fail(path, "", ext, "a recipe file ends in .json or .toml");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) fail(path, "", "", "cannot open the recipe");
+  const std::string text = read_text_file(path, "the recipe");
   json j;
   if (ext == ".toml") {
+    check_nesting(text, path, Syntax::toml); // toml11 parses nested values recursively
     toml::value t;
     try {
-      t = toml::parse(f, path);
+      std::istringstream in(text);
+      t = toml::parse(in, path);
     } catch (const std::exception& e) {
-      fail(path, "", "", std::string("not valid TOML: ") + e.what());
+      fail(path, "", "", "not valid TOML: " + clip(e.what(), 400));
     }
     j = toml_to_json(t, "", path);
   } else {
-    try {
-      j = json::parse(f);
-    } catch (const json::parse_error& e) {
-      fail(path, "", "", std::string("not valid JSON: ") + e.what());
-    }
+    j = parse_json(text, path);
   }
   return parse_recipe(j, path);
 }

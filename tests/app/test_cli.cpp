@@ -271,4 +271,115 @@ TEST_F(Cli, EmptyOrUnwritableOutputIsABadInputNamingThePath) {
     EXPECT_NE(r.err.find("not a directory"), std::string::npos) << r.err;
   }
   EXPECT_EQ(listing(), std::vector<std::string>{"file.txt"});
+
+// ------------------------------------------------------------------ hardening
+namespace {
+std::string deep_json(int levels) {
+  return std::string(static_cast<std::size_t>(levels), '[') +
+         std::string(static_cast<std::size_t>(levels), ']');
+}
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+} // namespace
+
+// Numeric options have stated ranges; NaN and infinities are refused (CLI::Range lets NaN
+// through), before anything is computed or written.
+TEST_F(Cli, SynthNumbersOutsideTheirRangeOrNonFiniteAreRefused) {
+  for (const char* bad :
+       {"--points 2e9", "--points 2000000000", "--noise-mpa inf", "--noise-mpa nan",
+        "--noise-mpa -1", "--max-extension nan", "--max-shear inf"}) {
+    const Result r = run(std::string("synth --model pp ") + bad + " --out d.csv");
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_NE(r.code, 2) << bad << ": " << r.err; // not an internal error
+    const std::string opt = std::string(bad).substr(0, std::string(bad).find(' '));
+    EXPECT_TRUE(has(r.err, opt)) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(p("d.csv"))) << bad;
+  }
+  EXPECT_EQ(run("synth --model pp --points 5 --noise-mpa 0 --out d.csv").code, 0);
+}
+
+TEST_F(Cli, FitAndCardShowRefuseNonFiniteOptions) {
+  for (const char* bad :
+       {"fit --data x.csv --out c.h5 --alpha nan", "fit --data x.csv --out c.h5 --loss-scale inf",
+        "fit --data x.csv --out c.h5 --loss-scale nan", "card show c.h5 --max-strain nan"}) {
+    const Result r = run(bad);
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_TRUE(has(r.err, "FINITE") || has(r.err, "not finite")) << bad << ": " << r.err;
+  }
+}
+
+// rve build: the bead count has a range (no std::bad_alloc from a huge request).
+TEST_F(Cli, RveBuildRefusesHugeBeadCounts) {
+  if (run("rve build --help").code != 0) GTEST_SKIP() << "built without rve/";
+  for (const char* bad : {"--beads 1e9", "--chains 1e9", "--density nan"}) {
+    const Result r = run(std::string("rve build ") + bad + " --out o");
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_NE(r.code, 2) << bad << ": " << r.err;
+    EXPECT_FALSE(has(r.err, "bad_alloc")) << r.err;
+  }
+  const Result r = run("rve build --chains 100000 --beads 10000 --out o");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "field 'build.chains'")) << r.err;
+  EXPECT_TRUE(has(r.err, "at most 1000000")) << r.err;
+  EXPECT_FALSE(fs::exists(p("o/rve.data")));
+}
+
+// Deeply nested inputs of every JSON reader: one line naming the file and the limit, exit 1,
+// never a signal (SIGSEGV printed the whole value recursively before).
+TEST_F(Cli, DeeplyNestedInputsAreOneLineErrors) {
+  const std::string deep = deep_json(60000);
+  std::ofstream(p("deep.json")) << deep;
+  std::ofstream(p("deep_obj.json")) << "{\"dimension\": 2, \"title\": " << deep << "}";
+  std::ofstream(p("deep.toml")) << "name = " << deep << "\n";
+  std::vector<std::string> cmds;
+  if (run("characterize --help").code == 0)
+    cmds.insert(cmds.end(), {"characterize deep.json --out o", "characterize deep.toml --out o"});
+  if (run("gimp run --help").code == 0)
+    cmds.insert(cmds.end(), {"gimp run deep.json --out o", "gimp run deep_obj.json --out o"});
+  if (run("gimp couple --help").code == 0) cmds.push_back("gimp couple deep_obj.json --out o");
+  if (cmds.empty()) GTEST_SKIP() << "no JSON-reading subcommand in this build";
+  for (const std::string& c : cmds) {
+    const Result r = run(c);
+    EXPECT_EQ(r.code, 1) << c << ": " << r.err.substr(0, 300);
+    EXPECT_EQ(lines(r.err), 1) << c;
+    EXPECT_TRUE(has(r.err, "nest deeper than 64")) << c << ": " << r.err.substr(0, 300);
+    EXPECT_LT(r.err.size(), 600u) << c;
+  }
+}
+
+// gimp run: a time span beyond the stated range is refused before any step; a number beyond
+// a double is an input error (exit 1), not an internal error (exit 2).
+TEST_F(Cli, GimpRunRefusesEndlessTimeAndOverflowingNumbers) {
+  if (run("gimp run --help").code != 0) GTEST_SKIP() << "built without gimp_coupler/";
+  const std::string input = R"({"dimension": 2,
+    "grid": {"cells": [8, 8], "cell_size": 0.1},
+    "materials": [{"name": "m", "type": "linear_elastic", "density": 1000, "E": 1e9, "nu": 0.3}],
+    "bodies": [{"material": "m", "shape": "box", "min": [0.2, 0.2], "max": [0.6, 0.6]}],
+    "time": {"end": END}})";
+  auto with_end = [&](const std::string& end) {
+    std::string t = input;
+    t.replace(t.find("END"), 3, end);
+    return t;
+  };
+  std::ofstream(p("long.json")) << with_end("1e300");
+  std::ofstream(p("huge.json")) << with_end("1e400");
+  Result r = run("gimp run long.json --out o");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "long.json: field 'time.end'")) << r.err;
+  r = run("gimp run huge.json --out o2");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "huge.json: not valid JSON")) << r.err;
+}
+
+// thermo ti: the LJ cut-off has a range; 1e300 and NaN are refused while parsing the command
+// line (before any LAMMPS run).
+TEST_F(Cli, ThermoTiRefusesAnAbsurdCutoff) {
+  if (run("thermo ti --help").code != 0) GTEST_SKIP() << "built without thermo/";
+  for (const char* bad : {"1e300", "nan", "inf", "0"}) {
+    const Result r = run(std::string("thermo ti --demo --out o --cutoff ") + bad);
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_TRUE(has(r.err, "--cutoff")) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(p("o"))) << bad;
+  }
 }

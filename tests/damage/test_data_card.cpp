@@ -188,3 +188,59 @@ TEST_F(Cards, NotACard) {
   EXPECT_NE(error_of([&] { read_card(path("text.h5")); }).find("not an HDF5 file"),
             std::string::npos);
 }
+
+// ------------------------------------------------------------------ hardening of the readers
+// A spreadsheet's UTF-8 byte order mark is not part of the first column's name; a column named
+// twice is ambiguous and refused, naming it.
+TEST_F(DataFiles, CsvWithByteOrderMarkIsReadAndDuplicatedColumnIsRefused) {
+  const std::string row = "2,0,0.01,0,0,0,0,7.08,11.53,5.63,0,0,0\n";
+  write("bom.csv", "\xEF\xBB\xBF" + std::string(kHeader) + row);
+  const StressStrainData d = read_stress_strain(path("bom.csv"));
+  ASSERT_EQ(d.cases.size(), 1u);
+  EXPECT_EQ(d.cases[0].id, 2);
+  EXPECT_DOUBLE_EQ(d.cases[0].stress(0, 1), 11.53e6);
+  write("dup.csv", "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12,s11\n" +
+                       row.substr(0, row.size() - 1) + ",9\n");
+  const std::string m = error_of([&] { read_stress_strain(path("dup.csv")); });
+  EXPECT_NE(m.find("dup.csv: field 's11'"), std::string::npos) << m;
+  EXPECT_NE(m.find("duplicated column"), std::string::npos) << m;
+}
+
+// cases.h5: the stress scale comes from the `units` attribute, so a dataset without it is
+// refused (not read as Pa); a standard error is >= 0. Each message names the dataset.
+TEST_F(DataFiles, CasesH5NeedsUnitsAndNonNegativeStandardErrors) {
+  SynthOptions o;
+  o.points = 5;
+  o.noise_sd = 1e6;
+  o.cases = {2};
+  const StressStrainData d = synthesize(dissertation_parameters(Model::pp), o);
+  auto write_h5 = [&](const std::string& name, const char* skip_units, double stderr_value) {
+    pnc::h5::File f(path(name), pnc::h5::File::Mode::truncate);
+    const auto& c = d.cases[0];
+    const std::string g = "/case_2";
+    f.write_matrix(g + "/strain", c.strain);
+    f.write_matrix(g + "/stress", c.stress);
+    pnc::h5::RowMatrix se = c.stress_stderr;
+    se(1, 2) = stderr_value;
+    f.write_matrix(g + "/stress_stderr", se);
+    for (const char* ds : {"strain", "stress", "stress_stderr"})
+      if (std::string(ds) != skip_units)
+        f.set_attr(g + "/" + ds, "units",
+                   std::string(ds) == "strain" ? "1 (engineering shear)" : "Pa");
+  };
+  write_h5("ok.h5", "", 1e6);
+  EXPECT_EQ(read_stress_strain(path("ok.h5")).cases.at(0).stress_stderr(1, 2), 1e6);
+  for (const char* ds : {"strain", "stress", "stress_stderr"}) {
+    write_h5("nounits.h5", ds, 1e6);
+    const std::string m = error_of([&] { read_stress_strain(path("nounits.h5")); });
+    EXPECT_NE(m.find("nounits.h5: field '/case_2/" + std::string(ds) + "@units'"),
+              std::string::npos)
+        << m;
+  }
+  write_h5("neg.h5", "", -1.0);
+  const std::string m = error_of([&] { read_stress_strain(path("neg.h5")); });
+  EXPECT_NE(m.find("neg.h5: field '/case_2/stress_stderr': value '-1 (row 2, column 3)'"),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find(">= 0"), std::string::npos) << m;
+}

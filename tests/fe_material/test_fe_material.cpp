@@ -854,4 +854,75 @@ TEST(FeMaterialVerdict, ANotUsableCardIsRefusedUnlessTheHostAsks) {
   EXPECT_THROW((void)plugin.from_card(bad), pnc::fe_material::Error);
   EXPECT_EQ(plugin.from_card(bad, true).verdict(), "not usable");
   EXPECT_EQ(plugin.from_card(card_path(Model::pnc, false)).verdict(), "usable");
+
+// ------------------------------------------------------------------ state and result checks
+// Both entry points validate the state they are given and the result they hand back with one
+// shared check (abi_util.hpp): a non-finite state entry, or a finite strain so large that the
+// stress overflows a double (hydrostatic compression of 1e300: no damage, sigma = C0 eps), is
+// an error; nothing is written to the caller's arrays.
+TEST(FeMaterialHardening, NonFiniteStateOrResultIsAnErrorInBothEntries) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  char err[512] = {0};
+  pnc_material* m = pnc_material_create(card_path(Model::pnc, false).c_str(), err, sizeof err);
+  ASSERT_NE(m, nullptr) << err;
+  const double e0[6] = {0, 0, 0, 0, 0, 0}, de[6] = {0.01, 0, 0, 0, 0, 0};
+  const double crush[6] = {-1e300, -1e300, -1e300, 0, 0, 0};
+  auto untouched = [](const double* x, int n) {
+    return std::all_of(x, x + n, [](double v) { return v == -7; });
+  };
+  for (double bad : {nan, inf, -inf})
+    for (int i = 0; i < 6; ++i) {
+      double s0[6], s1[6], stress[6], K[36];
+      pnc_material_init_state(m, s0);
+      s0[i] = bad;
+      std::fill(s1, s1 + 6, -7);
+      std::fill(stress, stress + 6, -7);
+      std::fill(K, K + 36, -7);
+      EXPECT_EQ(pnc_material_integrate(m, s0, s1, e0, de, stress, K, err, sizeof err),
+                PNC_MATERIAL_BAD_INPUT);
+      EXPECT_NE(std::string(err).find("argument 'state0[" + std::to_string(i) + "]'"),
+                std::string::npos)
+          << err;
+      EXPECT_NE(std::string(err).find("state variables must be finite"), std::string::npos);
+      EXPECT_TRUE(untouched(s1, 6) && untouched(stress, 6) && untouched(K, 36));
+    }
+  double s0[6], s1[6], stress[6], K[36];
+  pnc_material_init_state(m, s0);
+  std::fill(s1, s1 + 6, -7);
+  std::fill(stress, stress + 6, -7);
+  std::fill(K, K + 36, -7);
+  for (double* tangent : {K, static_cast<double*>(nullptr)}) {
+    EXPECT_EQ(pnc_material_integrate(m, s0, s1, e0, crush, stress, tangent, err, sizeof err),
+              PNC_MATERIAL_BAD_INPUT);
+    EXPECT_NE(std::string(err).find("non-finite result"), std::string::npos) << err;
+    EXPECT_TRUE(untouched(s1, 6) && untouched(stress, 6) && untouched(K, 36));
+  }
+  // The same strain and state through umat_: rejected with the same rules.
+  const std::vector<double> props = umat_props(params(Model::pnc, false), false);
+  UmatCall call;
+  call.nprops = static_cast<int>(props.size());
+  call.nstatv = 6;
+  std::array<double, 6> ustress{}, stran{}, statev{};
+  std::array<double, 36> ddsdde{};
+  const std::array<double, 6> dcrush = {-1e300, -1e300, -1e300, 0, 0, 0};
+  for (int round = 0; round < 2; ++round) {
+    ustress.fill(-7);
+    ddsdde.fill(-7);
+    statev.fill(0.0);
+    if (round == 0) statev[4] = inf;
+    call.pnewdt = 1e36;
+    ::testing::internal::CaptureStderr();
+    call(ustress.data(), statev.data(), ddsdde.data(), stran.data(),
+         round == 0 ? de : dcrush.data(), props.data());
+    const std::string out = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(call.pnewdt, 0.5) << out;
+    EXPECT_NE(out.find(round == 0 ? "argument 'STATEV(5)': value 'inf': state variables must be "
+                                    "finite"
+                                  : "non-finite result"),
+              std::string::npos)
+        << out;
+    EXPECT_TRUE(untouched(ustress.data(), 6) && untouched(ddsdde.data(), 36)) << out;
+  }
+  pnc_material_destroy(m);
 }

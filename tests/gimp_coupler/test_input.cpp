@@ -662,3 +662,67 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   EXPECT_NEAR(xa.history.rows.back()[kl], 0.6625 + 3 * 0.0625, 1e-12);
   EXPECT_NEAR(summary["cracks"][0]["fronts"][0]["front_length_m"].get<double>(), 0.25, 1e-12);
 }
+
+// ------------------------------------------------------------------ hardening of the input
+// time.end has a stated range; a fixed dt may not exceed the CFL step the solver computes for
+// the input (Solver::stable_dt, cfl h / (c + |v|max)); the message names both steps.
+TEST(GimpInput, TimeEndRangeAndFixedDtAboveTheCflStepAreRefused) {
+  Solver<2> probe;
+  load_input_text<2>(base_input().dump(), "in.json", "", probe);
+  const double cfl_dt = probe.stable_dt();
+  ASSERT_GT(cfl_dt, 0.0);
+  json j = base_input();
+  j["time"]["end"] = 1e300;
+  std::string m = error_of(j);
+  EXPECT_NE(m.find("in.json: field 'time.end': value '1e+300'"), std::string::npos) << m;
+  EXPECT_NE(m.find("(0, 1e6] s"), std::string::npos) << m;
+  j = base_input();
+  j["time"]["dt"] = 3 * cfl_dt;
+  m = error_of(j);
+  EXPECT_NE(m.find("field 'time.dt'"), std::string::npos) << m;
+  EXPECT_NE(m.find("exceeds the CFL step"), std::string::npos) << m;
+  std::ostringstream both;
+  both.precision(6);
+  both << 3 * cfl_dt << " s exceeds the CFL step " << cfl_dt << " s";
+  EXPECT_NE(m.find(both.str()), std::string::npos) << m;
+  j["time"]["dt"] = 0.5 * cfl_dt; // below the CFL step: accepted
+  EXPECT_EQ(error_of(j), "");
+  // Without max_steps the run must end in at most 1e10 steps; with max_steps it is bounded.
+  j = base_input();
+  j["time"]["end"] = 1e6;
+  EXPECT_NE(error_of(j).find("more than 1e10"), std::string::npos);
+  j["time"]["max_steps"] = 10;
+  EXPECT_EQ(error_of(j), "");
+}
+
+// Deeply nested input is an InputError naming the file (not a crash while printing it); a
+// number that does not fit a double is an InputError, not an internal error.
+TEST(GimpInput, DeepNestingAndNumberOverflowAreInputErrors) {
+  Solver<2> s;
+  const std::string deep =
+      "{\"dimension\": 2, \"title\": " + std::string(60000, '[') + std::string(60000, ']') + "}";
+  try {
+    load_input_text<2>(deep, "deep.json", "", s);
+    ADD_FAILURE() << "accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("deep.json"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("nest deeper than 64"), std::string::npos) << e.what();
+  }
+  std::string big = base_input().dump();
+  big.replace(big.find("1200"), 4, "1e400");
+  try {
+    load_input_text<2>(big, "big.json", "", s);
+    ADD_FAILURE() << "accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.json: not valid JSON"), std::string::npos)
+        << e.what();
+  }
+  // A wrong value deep inside a large array is shown capped, not dumped whole.
+  json j = base_input();
+  j["materials"][0]["E"] = json::array();
+  for (int i = 0; i < 10000; ++i)
+    j["materials"][0]["E"].push_back(i);
+  const std::string m = error_of(j);
+  EXPECT_NE(m.find("materials[0].E"), std::string::npos) << m.substr(0, 300);
+  EXPECT_LT(m.size(), 400u);
+}

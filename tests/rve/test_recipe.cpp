@@ -188,4 +188,56 @@ TEST(RveRecipe, DataFileTitleWithANewlineIsRefused) {
   }
   EXPECT_FALSE(std::filesystem::exists(data));
   std::filesystem::remove_all(d);
+
+// Integers are read with a range and never narrowed: 4294967326 (2^32 + 30) is not 30 chains,
+// 4294967298 (2^32 + 2) is not case 2; the same in TOML.
+TEST(RveRecipe, IntegersOutsideTheirRangeAreRefusedNotWrapped) {
+  auto e = error_of(json::parse(R"({"build": {"chains": 4294967326}})"));
+  EXPECT_EQ(e.field, "build.chains");
+  EXPECT_EQ(e.value, "4294967326");
+  EXPECT_EQ(e.rule, "must be an integer in [1, 100000]");
+  e = error_of(json::parse(R"({"deform": {"cases": [4294967298, 6]}})"));
+  EXPECT_EQ(e.field, "deform.cases");
+  EXPECT_EQ(e.value, "4294967298");
+  e = error_of(json::parse(R"({"deform": {"hold_steps": 18446744073709551615}})"));
+  EXPECT_EQ(e.field, "deform.hold_steps");
+  EXPECT_EQ(e.value, "18446744073709551615");
+  e = error_of(json::parse(R"({"seed": 2.0})"));
+  EXPECT_EQ(e.field, "seed");
+  e = error_of(json::parse(R"({"build": {"chains": 1000, "beads_per_chain": 5000}})"));
+  EXPECT_EQ(e.field, "build.chains"); // 5e6 beads: above the 1e6 of one RVE
+  EXPECT_NE(e.rule.find("at most 1000000"), std::string::npos) << e.rule;
+  const auto toml = write_temp("pnc_recipe_wrap.toml", "[build]\nchains = 4294967326\n");
+  try {
+    read_recipe(toml);
+    ADD_FAILURE() << "accepted";
+  } catch (const pnc::InputError& x) {
+    EXPECT_EQ(x.context().field, "build.chains");
+    EXPECT_EQ(x.context().value, "4294967326");
+  }
+  std::filesystem::remove(toml);
+}
+
+// Deep nesting (60000 levels) in a JSON or TOML recipe is an InputError naming the file and
+// the limit, not a crash; so is a JSON number beyond a double.
+TEST(RveRecipe, DeepNestingAndHugeNumbersAreInputErrors) {
+  const std::string deep = std::string(60000, '[') + std::string(60000, ']');
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"pnc_recipe_deep.json", deep},
+      {"pnc_recipe_deep2.json", "{\"name\": " + deep + "}"},
+      {"pnc_recipe_deep.toml", "name = " + deep + "\n"},
+      {"pnc_recipe_big.json", "{\"build\": {\"density\": 1e400}}"}};
+  for (const auto& [name, text] : files) {
+    const auto p = write_temp(name, text);
+    try {
+      read_recipe(p);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const pnc::InputError& e) {
+      EXPECT_EQ(e.context().source, p);
+      const std::string want = name == "pnc_recipe_big.json" ? "not valid JSON" : "nest deeper";
+      EXPECT_NE(e.context().rule.find(want), std::string::npos) << e.what();
+      EXPECT_LT(std::string(e.what()).size(), 600u);
+    }
+    std::filesystem::remove(p);
+  }
 }

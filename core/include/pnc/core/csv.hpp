@@ -2,7 +2,8 @@
 // pnc/core/csv.hpp: a strict reader for numeric CSV tables with a header line.
 //
 // Rules: the first non-empty line is the header (comma-separated names, surrounding
-// whitespace ignored); every following non-empty line has as many cells as the header and
+// whitespace ignored, each name non-empty and used once; a leading UTF-8 byte order mark is
+// skipped); every following non-empty line has as many cells as the header and
 // every cell is a finite decimal number. Lines starting with '#' are comments. Any
 // violation throws pnc::InputError naming the file, the line and column, and the cell.
 #include <string>

@@ -50,7 +50,7 @@ extern "C" {
 
 /* Status codes of pnc_material_integrate(). */
 #define PNC_MATERIAL_OK 0
-#define PNC_MATERIAL_BAD_INPUT 1    /* non-finite strain (or parameter) given to the kernel */
+#define PNC_MATERIAL_BAD_INPUT 1    /* non-finite strain or state, or a non-finite result */
 #define PNC_MATERIAL_BAD_ARGUMENT 2 /* NULL material or array where one is required */
 #define PNC_MATERIAL_INTERNAL 3     /* unexpected failure inside the library */
 
@@ -120,6 +120,9 @@ PNC_MATERIAL_API void pnc_material_init_state(const pnc_material* m, double* sta
  *  strain0 : total strain at the start, dstrain its increment (6 each, see conventions)
  *  stress  : Cauchy stress at the end, Pa (6, written)
  *  tangent : NULL, or 36 entries for the consistent tangent (row-major, Pa)
+ * Every entry of state0 must be finite, and so must every entry of the result (stress,
+ * state1 and, when asked for, the tangent; a finite but huge strain can overflow); otherwise
+ * PNC_MATERIAL_BAD_INPUT. umat_ applies the same checks.
  * Returns PNC_MATERIAL_OK, or another status with a message in err; on failure state1,
  * stress and tangent are not written. */
 PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double* state0,
