@@ -46,7 +46,8 @@ int run_fit(const FitArgs& a) {
                    : a.plots;
     pngs = plot_fit(data, card.params, plot_dir,
                     std::string("NDM fit (") + model_name(o.model) + ") of " +
-                        std::filesystem::path(a.data).filename().string());
+                        std::filesystem::path(a.data).filename().string() + " - card " +
+                        verdict_name(card.verdict.level));
   }
 
   std::cerr << fmt::format("pnc fit: {} points from {} ({} cases), model {}\n", data.points(),

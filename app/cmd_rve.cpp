@@ -217,7 +217,8 @@ int run_characterize(const CharacterizeArgs& a) {
   std::vector<std::string> pngs;
   if (!a.no_plots)
     pngs = plot_fit(data, card.params, (fs::path(a.out) / "plots").string(),
-                    fmt::format("MD ({}) and fitted NDM ({})", r.name, model_name(o.model)));
+                    fmt::format("MD ({}) and fitted NDM ({}) - card {}", r.name,
+                                model_name(o.model), verdict_name(card.verdict.level)));
   const DerivedModuli dm = derive_moduli(card.params);
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
