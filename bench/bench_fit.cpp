@@ -49,7 +49,7 @@ template <Model M, bool FitAlpha> void BM_fit(benchmark::State& state) {
   }
   FitOptions opt;
   opt.model = M;
-  opt.fit_alpha = FitAlpha;
+  opt.alpha_mode = FitAlpha ? pnc::damage::AlphaMode::fit : pnc::damage::AlphaMode::hold;
   FitReport rep;
   try {
     for (auto _ : state) {
