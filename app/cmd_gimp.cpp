@@ -102,7 +102,7 @@ int run_gimp(const GimpRunArgs& a) {
 
 #ifdef PNC_GIMP_HAS_ESCM
 namespace {
-// pnc gimp couple (issue #6, docs/escm.md): an ESCM run (Cases I-III) of an MD region in a
+// pnc gimp couple (docs/escm.md): an ESCM run (Cases I-III) of an MD region in a
 // 2-D GIMP continuum.
 struct GimpCoupleArgs {
   std::string input, out;
@@ -198,7 +198,7 @@ void register_gimp(CLI::App& app, Action& action) {
   run->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
   run->callback([args, &action] { action = [args] { return run_gimp(*args); }; });
 #ifdef PNC_GIMP_HAS_ESCM
-  register_gimp_couple(gimp, action); // issue #6
+  register_gimp_couple(gimp, action); // ESCM, docs/escm.md
 #endif
 }
 

@@ -1,5 +1,5 @@
 // pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (issue #3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"

@@ -1,5 +1,5 @@
 // pnc thermo ti | pnc thermo persistence: free energy of deformation by thermodynamic
-// integration and persistence length by steered bending (issue #4). Units: LAMMPS real
+// integration and persistence length by steered bending (docs/theory.md section 4). Units: LAMMPS real
 // (kcal/mol, A, fs, K) inside thermo/; moduli in Pa and EI also in N m^2 where named.
 #include "checks.hpp"
 #include "plot.hpp"

@@ -10,7 +10,7 @@ class App;
 
 namespace pnc::app {
 using Action = std::function<int()>;
-void register_rve(CLI::App& app, Action& action);  // app/cmd_rve.cpp     (issue #3)
-void register_gimp(CLI::App& app, Action& action); // app/cmd_gimp.cpp    (issue #5)
-void register_thermo(CLI::App& app, Action& action); // app/cmd_thermo.cpp (issue #4)
+void register_rve(CLI::App& app, Action& action);  // app/cmd_rve.cpp     (docs/rve.md)
+void register_gimp(CLI::App& app, Action& action); // app/cmd_gimp.cpp    (docs/gimp.md)
+void register_thermo(CLI::App& app, Action& action); // app/cmd_thermo.cpp (docs/thermo.md)
 } // namespace pnc::app

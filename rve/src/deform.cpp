@@ -24,7 +24,7 @@ using PathM = Eigen::Matrix<double, Eigen::Dynamic, 6>;
 
 int case_voigt(int case_id) {
   if (case_id < 1 || case_id > 6)
-    fail("<deform>", "case", std::to_string(case_id), "must be 1..6 (EQUATIONS.md section 2)");
+    fail("<deform>", "case", std::to_string(case_id), "must be 1..6 (docs/theory.md section 2.1)");
   return case_id - 1; // 1..3 -> 11,22,33; 4 -> 23; 5 -> 13; 6 -> 12
 }
 

@@ -70,7 +70,7 @@ public:
     for (const auto& e : v) {
       if (!e.is_number_integer() && !e.is_number_unsigned())
         fail(source_, field(key), show_json(e),
-             "case ids are integers 1..6 (EQUATIONS.md section 2)");
+             "case ids are integers 1..6 (docs/theory.md section 2.1)");
       out.push_back(get_integer_as<int>(e, source_, field(key), 1, 6));
     }
   }

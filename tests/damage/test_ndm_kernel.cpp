@@ -573,7 +573,7 @@ TEST(Dissertation, Table612FromTheTabulatedConstants) {
   EXPECT_NEAR(dpp.E_eq647 / 1e9, 0.162, 0.0005);
   EXPECT_NEAR(dpp.E1 / 1e9, 0.162, 0.0005); // eq. 6.47 is exact for the isotropic reading
   EXPECT_NEAR(dpnc.E2_eq646_printed / 1e9, 0.567, 0.0005);
-  // Compliance inversion (EQUATIONS.md section 4): E1 = 0.567, E2 = 0.600, E3 = 0.294.
+  // Compliance inversion (docs/theory.md section 1.5): E1 = 0.567, E2 = 0.600, E3 = 0.294.
   EXPECT_NEAR(dpnc.E1 / 1e9, 0.567, 0.0005);
   EXPECT_NEAR(dpnc.E2 / 1e9, 0.600, 0.0005);
   EXPECT_NEAR(dpnc.E3 / 1e9, 0.294, 0.0005);

@@ -102,7 +102,7 @@ TEST(Escm, LjFccLatticeSums) {
   EXPECT_THROW(lj_fcc(-1, kSig, kRc, kMass), std::invalid_argument);
 }
 
-// Invariants of one coupled step (issue #6, validation (c)), with pair forces off so that the
+// Invariants of one coupled step (docs/escm.md, validation (c)), with pair forces off so that the
 // force LAMMPS holds on the atoms is the coupling force alone:
 //  - the continuum is pre-strained uniformly (eps_xx = 1e-3): the x force of the continuum on
 //    the right-hand IVC cells is P_xx = J sigma_xx times the height of the edge of the

@@ -1,4 +1,4 @@
-// `pnc gimp couple` end to end (issue #6): the Case I example in short mode, --json on stdout,
+// `pnc gimp couple` end to end (docs/escm.md): the Case I example in short mode, --json on stdout,
 // bad input exits with 1 and names the key before LAMMPS starts.
 #include "common/run_command.hpp"
 

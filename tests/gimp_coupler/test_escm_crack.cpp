@@ -1,4 +1,4 @@
-// ESCM Cases II and III (issue #6, docs/escm.md "Cases II and III", decisions D80-D84, D90-D93):
+// ESCM Cases II and III (docs/escm.md "Cases II and III", decisions D80-D84, D90-D93):
 // the short modes of examples/escm/case2_mode1_crack.json and case3_mode2_crack.json end to end
 // through `pnc gimp couple`, the energy log of Case II before growth, and the input validation
 // of the crack keys (before LAMMPS starts).

@@ -1,4 +1,4 @@
-// ESCM with the coarse-grained polypropylene MD region (issue #6, docs/escm.md "Polymer MD
+// ESCM with the coarse-grained polypropylene MD region (docs/escm.md "Polymer MD
 // region", decisions D100-D108, D114-D116): the short modes of examples/escm/
 // case1_polymer_tension.json, case2_polymer_crack.json and case3_polymer_crack.json end to end
 // through `pnc gimp couple`.

@@ -1,4 +1,4 @@
-// Checkpoint and resume of a coupled ESCM run (issue #6, docs/escm.md "Checkpoint and resume"):
+// Checkpoint and resume of a coupled ESCM run (docs/escm.md "Checkpoint and resume"):
 // a run stopped after k coupled steps (CoupleOptions::stop_after_steps, with a checkpoint) and
 // continued with --resume ends bit for bit where the uninterrupted run with the same checkpoint
 // schedule ends (Case I and Case II with crack growth before and after the interruption); a

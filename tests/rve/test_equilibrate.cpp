@@ -58,7 +58,7 @@ TEST(RveEquilibrate, ShortProtocolNptAndNvt) {
     EXPECT_TRUE(fs::exists(e.restart));
     if (ens == "nvt") {
       EXPECT_NEAR(e.density, 0.9, 1e-6); // LAMMPS uses its own N_A digits
-      // the BUILD-FACTS observation: at 0.9 g/cm3 the melt is under tension (P < 0)
+      // the D20 observation: at 0.9 g/cm3 the melt is under tension (P < 0)
       EXPECT_LT(e.pressure_virial, 0);
     } else {
       EXPECT_GT(e.density, 0.95); // the melt shrinks at zero pressure with sigma = 2.95 A

@@ -1,6 +1,6 @@
 // Each force-field term: LAMMPS's energy (and the total forces) on a hand-built
 // configuration against an independent closed-form evaluation of the printed forms
-// (EQUATIONS.md section 2) with the unit reading of decision D13.
+// (docs/theory.md section 3.1) with the unit reading of decision D13.
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/runner.hpp"

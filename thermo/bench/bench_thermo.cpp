@@ -1,4 +1,4 @@
-// Cost of the dH/dlambda evaluation relative to the MD steps it samples (issue #4, Speed).
+// Cost of the dH/dlambda evaluation relative to the MD steps it samples (docs/thermo.md, Speed).
 // Runs in one supervised LAMMPS child on an equilibrated polymer restart:
 //   t_plain : `run N` in one piece (NVE + Langevin, the TI's integrator)
 //   t_chunk : the same N steps as N/every runs of `every` steps (`pre no post no`), no sampling

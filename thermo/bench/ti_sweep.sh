@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Wall time of the default TI sweep on the demo RVE (issue #4 "Speed"): builds and
+# Wall time of the default TI sweep on the demo RVE (docs/thermo.md "Speed"): builds and
 # equilibrates the demo RVE (600 beads, rve/ API), then runs `pnc thermo ti` with the
 # dissertation's defaults (9 deformation states x 3 Gauss points, 60000 + 20000 steps of
 # 0.5 fs per point, dH/dlambda every 100 steps (D64)), 2 points at a time on 2 cores.

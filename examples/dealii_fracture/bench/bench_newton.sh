@@ -1,6 +1,6 @@
 #!/bin/sh
 # Cost of one Newton iteration of dealii_fracture versus the number of dofs, and the share
-# of the assembly spent inside the material plugin (issue #7; goal: plugin <= 10 % of the
+# of the assembly spent inside the material plugin (docs/dealii_demo.md; goal: plugin <= 10 % of the
 # assembly).
 #
 #   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none] [TIMEOUT_S=900] [DIM=2]

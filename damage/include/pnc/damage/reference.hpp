@@ -15,7 +15,7 @@ namespace pnc::damage {
 ///      (row "B1", sigma11), B4 = -0.757 (Table 6.11), alpha = 0.941 (decision D9).
 NdmParameters dissertation_parameters(Model m);
 
-/// Deformation cases of section 6.3.1 (numbered as in EQUATIONS.md section 2):
+/// Deformation cases of section 6.3.1 (numbered as in docs/theory.md section 2.1):
 /// 1-3 extension along x1..x3 with the lateral dimensions held, 4-6 simple shear 2-3, 1-3,
 /// 1-2. For a case and an amount t (strain or engineering shear), the small-strain tensor
 /// in engineering Voigt form.

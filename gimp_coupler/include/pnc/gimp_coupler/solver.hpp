@@ -5,7 +5,7 @@
 // Units: SI. Positions, half-lengths m; velocity m/s; mass kg; volume m^3 (2-D: area x 1 m);
 // stress Pa; force N; energy J; body acceleration m/s^2; time s.
 //
-// One step (dissertation eqs. 2.39-2.46, EQUATIONS.md section 1; decisions D30, D33-D35):
+// One step (dissertation eqs. 2.39-2.46, docs/theory.md section 5.2; decisions D30, D33-D35):
 //  0. P2G with S_ip, grad S_ip at x_p^t: m_i, p_i, f_i^int,t = -sum sigma_p grad S V_p,
 //     f_i^ext,t+dt = sum S_ip f_p^ext(t+dt); velocity BCs imposed on p_i.
 //  1. v*_i = (p_i + dt/2 (f^int,t + f^ext)) / m_i; BCs on v*.
@@ -214,7 +214,7 @@ public:
   /// Total reaction of all BCs (N).
   Vec total_reaction() const;
 
-  // --- Coupling hooks (ESCM, issue #6, docs/escm.md) ---
+  // --- Coupling hooks (ESCM, docs/escm.md) ---
   /// Nodes whose velocity (all components, every velocity field) is prescribed to
   /// prescribed_velocity[k] (m/s) at all three constraint stages of step() (after the NodeBCs).
   /// After step(), prescribed_reaction[k] holds the mean force (N) the constraint exerted on the

@@ -4,7 +4,7 @@
 // Units: LAMMPS `real` inside (A, fs, kcal/mol, atm, K); the stresses this header returns
 // and stores are in Pa (tension positive: sigma = -P).
 //
-// Case numbering as EQUATIONS.md section 2 / damage/reference.hpp: 1-3 extension along
+// Case numbering as docs/theory.md section 2.1 / damage/reference.hpp: 1-3 extension along
 // x1..x3 with the lateral box lengths held, 4 simple shear 2-3 (tilt yz = gamma Lz),
 // 5 simple shear 1-3 (tilt xz = gamma Lz), 6 simple shear 1-2 (tilt xy = gamma Ly), in a
 // triclinic box. The pure polymer uses cases 2 and 6.

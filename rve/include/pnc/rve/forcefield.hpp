@@ -4,7 +4,7 @@
 //
 // Units: LAMMPS `real` throughout rve/ -- Angstrom, fs, kcal/mol, g/mol, atm, K.
 //
-// Physical forms (EQUATIONS.md section 2), with the parameters stored here as printed
+// Physical forms (docs/theory.md section 3.1), with the parameters stored here as printed
 // (after the unit reading of decision D13, converted to kcal/mol):
 //   E_bond  = k_l/2 (l - l0)^2                 -> bond harmonic        K = k_l/2
 //   E_angle = k_theta/2 (cos th - cos th0)^2   -> angle cosine/squared K = k_theta/2

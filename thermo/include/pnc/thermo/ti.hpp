@@ -1,6 +1,6 @@
 #pragma once
 // pnc/thermo/ti.hpp: Helmholtz free energy by thermodynamic integration (TI) over a
-// coupling parameter lambda (dissertation sections 3.4.1 and 6.2.2; EQUATIONS.md section 3).
+// coupling parameter lambda (dissertation sections 3.4.1 and 6.2.2; docs/theory.md section 4).
 //
 // Units: LAMMPS `real` throughout -- kcal/mol (energies, dH/dlambda, Delta A), A, fs, K;
 // moduli derived through appendix A are reported in Pa.
@@ -37,7 +37,7 @@
 
 namespace pnc::thermo {
 
-/// Linear LJ ramp of EQUATIONS.md section 3. Defaults: the dissertation's eps0 = 0.0498,
+/// Linear LJ ramp of docs/theory.md eq. 4.1. Defaults: the dissertation's eps0 = 0.0498,
 /// eps1 = 0.498 ("J/mol", read kJ/mol like D13, here in kcal/mol), sig0 = 0.95 A,
 /// sig1 = 2.95 A; cut-off 2.5 sig1 at every lambda (D62).
 struct LjPath {
