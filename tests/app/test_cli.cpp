@@ -271,6 +271,7 @@ TEST_F(Cli, EmptyOrUnwritableOutputIsABadInputNamingThePath) {
     EXPECT_NE(r.err.find("not a directory"), std::string::npos) << r.err;
   }
   EXPECT_EQ(listing(), std::vector<std::string>{"file.txt"});
+}
 
 // ------------------------------------------------------------------ hardening
 namespace {

@@ -854,6 +854,7 @@ TEST(FeMaterialVerdict, ANotUsableCardIsRefusedUnlessTheHostAsks) {
   EXPECT_THROW((void)plugin.from_card(bad), pnc::fe_material::Error);
   EXPECT_EQ(plugin.from_card(bad, true).verdict(), "not usable");
   EXPECT_EQ(plugin.from_card(card_path(Model::pnc, false)).verdict(), "usable");
+}
 
 // ------------------------------------------------------------------ state and result checks
 // Both entry points validate the state they are given and the result they hand back with one

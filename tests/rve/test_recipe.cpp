@@ -188,6 +188,7 @@ TEST(RveRecipe, DataFileTitleWithANewlineIsRefused) {
   }
   EXPECT_FALSE(std::filesystem::exists(data));
   std::filesystem::remove_all(d);
+}
 
 // Integers are read with a range and never narrowed: 4294967326 (2^32 + 30) is not 30 chains,
 // 4294967298 (2^32 + 2) is not case 2; the same in TOML.
