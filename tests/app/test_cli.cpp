@@ -220,6 +220,7 @@ TEST_F(Cli, CardShowReportsTheFirstStrengthPeak) {
     }
   EXPECT_TRUE(found);
   EXPECT_EQ(j["verdict"]["level"], "usable");
+}
 
 // --out is judged as the user gave it: a link, fifo or directory is never replaced, an empty
 // name or a path under a regular file is a bad input (exit 1) naming the path and the rule,
