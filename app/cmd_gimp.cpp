@@ -1,5 +1,9 @@
 // pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md).
 #include "registrars.hpp"
+#include "run_control.hpp"
+
+#include "pnc/core/run_dir.hpp"
+#include "pnc/core/stop.hpp"
 
 #include "pnc/gimp_coupler/run.hpp"
 #ifdef PNC_GIMP_HAS_ESCM
@@ -33,7 +37,14 @@ int run_gimp(const GimpRunArgs& a) {
   o.progress = !a.quiet;
   o.plot = !a.no_plot;
   o.stop_after_steps = a.max_steps;
+  o.stop = &pnc::process_stop();
+  const RunDirLock lock(a.out, command_line());
+  const StopSignals signals;
   const gimp::RunSummary s = gimp::run(o);
+  if (s.stopped)
+    throw pnc::Interrupted(s.stop_signal,
+                           fmt::format("{}: stopped after step {} at t = {:.6g} s; checkpoint {}",
+                                       a.input, s.steps, s.time, s.checkpoint));
 
   std::cerr << fmt::format("pnc gimp run: {} ({}-D{}), {} particles, {} threads\n", a.input,
                            s.dimension, s.dimension == 2 ? ", plane strain" : "", s.particles,
@@ -119,12 +130,17 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   o.plot = !a.no_plot;
   o.resume = a.resume;
   o.stop_after_steps = a.max_steps;
+  o.stop = &pnc::process_stop();
+  const RunDirLock lock(a.out, command_line());
+  const StopSignals signals;
   const gimp::escm::CoupleSummary s = gimp::escm::run_couple(o);
   if (!s.interrupted.empty()) { // checkpoint written; continue with --resume
-    std::cerr << fmt::format("pnc gimp couple: {}: stopped ({}) after {} coupled steps at {:.4g} "
-                             "ps; checkpoint {}: continue with --resume\n",
-                             a.input, s.interrupted, s.steps, s.time_s * 1e12, s.checkpoint);
-    return s.signal ? 128 + s.signal : 0;
+    const std::string where =
+        fmt::format("{}: stopped ({}) after {} coupled steps at {:.4g} ps; checkpoint {}", a.input,
+                    s.interrupted, s.steps, s.time_s * 1e12, s.checkpoint);
+    if (s.signal) throw pnc::Interrupted(s.signal, where);
+    std::cerr << "pnc gimp couple: " << where << ": continue with --resume\n";
+    return 0;
   }
   const auto& e = s.energy;
   std::cerr << fmt::format("pnc gimp couple: {}{}: {} coupled steps to {:.4g} ps in {:.2f} s "

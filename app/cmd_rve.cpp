@@ -4,9 +4,11 @@
 #include "plot.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
+#include "run_control.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
@@ -196,6 +198,10 @@ int run_characterize(const CharacterizeArgs& a) {
   const int eq_ranks = a.equilibrate_ranks > 0
                            ? a.equilibrate_ranks
                            : std::max(ranks, cores > 0 ? std::min(ranks * jobs, cores) : ranks);
+  // one process per run directory for the whole command (MD, fit, report); SIGINT/SIGTERM stop
+  // the stages and leave the checkpoints for --resume (run_control.hpp, core/run_dir.hpp)
+  const RunDirLock lock(a.out, command_line());
+  const StopSignals signals;
   const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks, eq_ranks);
 
   // --- fit

@@ -4,9 +4,11 @@
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
+#include "run_control.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
@@ -142,7 +144,8 @@ int run_thermo_ti(TiArgs a) {
   a.spec.vol = parse_list(a.vol, "--vol");
   a.spec.dev = parse_list(a.dev, "--dev");
   a.spec.validate("<command line>");
-  make_output_directory(a.out);
+  const RunDirLock lock(a.out, command_line()); // one process per run directory
+  const StopSignals signals;                     // SIGINT/SIGTERM: finished points are kept
   // one spec per output directory: --resume must not mix protocols
   const std::string sj = spec_json(a.spec).dump(2) + "\n";
   const std::string sp = (fs::path(a.out) / "ti_spec.json").string();
@@ -153,8 +156,7 @@ int run_thermo_ti(TiArgs a) {
     if (ss.str() != sj)
       fail(sp, "--out", a.out,
            "holds a TI with other settings; use a new --out directory (or the same settings)");
-    if (!a.resume)
-      fail(a.out, "--out", a.out, "already holds this TI: add --resume to continue it");
+    refuse_existing_run(a.out, a.resume, {"ti_spec.json"});
   }
   const auto [restart, ff] = start_state(a);
   write_text_atomically(sp, sj);
@@ -283,6 +285,8 @@ struct PersistenceArgs {
 int run_thermo_persistence(PersistenceArgs a) {
   a.spec.rates = parse_list(a.rates, "--rates");
   a.spec.validate("<command line>");
+  const RunDirLock lock(a.out, command_line()); // one process per run directory
+  const StopSignals signals;                     // SIGINT/SIGTERM: finished rates are kept
   std::cerr << fmt::format("pnc thermo persistence: {} chain of {} beads, supports {}, spring {} "
                            "kcal/mol/A^2, {} rates, pull {} A at {} fs steps, T {} K\n",
                            a.spec.chain, a.spec.beads, a.spec.supports, a.spec.spring_k,

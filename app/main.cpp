@@ -1,27 +1,22 @@
 // pnc: command-line entry point. One subcommand per file (cmd_*.cpp); CLI11 only here.
 // Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
 // rule), 2 internal error, 3 a fit that did not converge, 4 a card written with the verdict
-// "not usable" (docs/decisions.md D12d); CLI11's own codes for bad usage.
+// "not usable" (docs/decisions.md D12d); 128 + N for a long command stopped by signal N
+// (130 SIGINT, 143 SIGTERM) with its work up to the last checkpoint kept and one line
+// "pnc: interrupted by SIGINT: <where>; continue with: <the command> --resume" on stderr;
+// CLI11's own codes for bad usage.
 #include "checks.hpp"
 #include "commands.hpp"
 #include "registrars.hpp"
+#include "run_control.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <sstream>
-
-namespace {
-std::string join_args(int argc, char** argv) {
-  std::ostringstream s;
-  for (int i = 0; i < argc; ++i)
-    s << (i ? " " : "") << argv[i];
-  return s.str();
-}
-} // namespace
 
 int main(int argc, char** argv) {
   using namespace pnc::app;
@@ -30,7 +25,8 @@ int main(int argc, char** argv) {
                "material card (HDF5, SI units) for the fe_material plugin."};
   app.require_subcommand(1);
   app.set_version_flag("--version", pnc::version_string());
-  const std::string cmdline = join_args(argc, argv);
+  set_command_line(argc, argv);
+  const std::string cmdline = command_line();
 
   // --- fit
   FitArgs fa;
@@ -131,6 +127,10 @@ int main(int argc, char** argv) {
     if (*tables) return run_card_tables(ct);
     if (*synth) return run_synth(sa);
     if (action) return action();
+  } catch (const pnc::Interrupted& e) {
+    std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
+              << "; continue with: " << resume_command() << std::endl;
+    return 128 + (e.signal() > 0 ? e.signal() : 2);
   } catch (const pnc::InputError& e) {
     std::cerr << "pnc: error: " << e.what() << "\n";
     return 1;

@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/params.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 #include "pnc/gimp_coupler/escm_crack.hpp"
@@ -18,7 +19,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -531,28 +531,24 @@ json crack_summary(const std::vector<CrackRecord>& log, const json& frames, cons
 
 // ---- Checkpoint and resume (docs/escm.md "Checkpoint and resume") ----
 
-volatile std::sig_atomic_t g_stop_signal = 0;
-void on_stop_signal(int sig) {
-  g_stop_signal = sig;
+/// A stop request (CoupleOptions::stop) ends the run after coupled step `done` when that step
+/// is on the checkpoint schedule (every `every` steps): its checkpoint is one the uninterrupted
+/// run writes too, so the resumed run is bit for bit that run (the Langevin fixes are re-created
+/// at every checkpoint, docs/escm.md). A second request, or no schedule, stops at once.
+bool stop_now(const pnc::StopToken* stop, long done, long every, bool progress) {
+  if (stop == nullptr || !stop->requested()) return false;
+  if (every <= 0 || done % every == 0 || stop->count() >= 2) return true;
+  static const pnc::StopToken* told = nullptr;
+  if (progress && told != stop) {
+    told = stop;
+    std::fprintf(stderr,
+                 "pnc gimp couple: stop requested: stopping at the next checkpoint (step %ld); "
+                 "signal again to stop now (the resumed run then equals this one to round-off, "
+                 "not bit for bit)\n",
+                 (done / every + 1) * every);
+  }
+  return false;
 }
-
-/// SIGINT/SIGTERM ask the coupled loop to stop after the current step (with a checkpoint);
-/// the previous handlers come back when the run ends.
-struct StopSignals {
-  using Handler = void (*)(int);
-  Handler old_int, old_term;
-  StopSignals() {
-    g_stop_signal = 0;
-    old_int = std::signal(SIGINT, on_stop_signal);
-    old_term = std::signal(SIGTERM, on_stop_signal);
-  }
-  ~StopSignals() {
-    std::signal(SIGINT, old_int);
-    std::signal(SIGTERM, old_term);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-};
 
 std::string read_text(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -712,12 +708,8 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     if (o.progress)
       std::fprintf(stderr, "pnc gimp couple: --resume: no checkpoint in %s, starting at t = 0\n",
                    o.out_dir.c_str());
-  } else if (std::filesystem::exists(ckpt_file) ||
-             std::filesystem::exists(std::filesystem::path(o.out_dir) / "summary.json")) {
-    fail(o.out_dir, "--out", o.out_dir,
-         "already holds a run (checkpoint.h5 or summary.json): add --resume to continue it, or "
-         "use a new --out directory");
   }
+  refuse_existing_run(o.out_dir, o.resume, {"checkpoint.h5", "summary.json"});
   // The MD region's continuum calibration: the LJ crystal's lattice sums (D76) or the measured
   // (or given) constants of the built polymer block (D101, D102), in the same struct (a0 = the
   // cell size h; lambda = C12, mu = (C11 - C12) / 2).
@@ -1102,7 +1094,6 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   // Polymer (D107): the left reaction at the end of the settle phase, before any load; a block
   // that is not in equilibrium when the coupling starts shows up here (not kept over a resume).
   double reaction_settle = std::numeric_limits<double>::quiet_NaN();
-  const StopSignals stop_signals;
   const auto w0 = std::chrono::steady_clock::now();
   auto last = w0;
   for (long k = k0; k < nsteps; ++k) {
@@ -1153,13 +1144,13 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                    el / static_cast<double>(k + 1 - k0) * static_cast<double>(nsteps - k - 1));
     }
     const long done = k + 1;
-    const int sig = g_stop_signal;
-    if (done < nsteps && (sig != 0 || (o.stop_after_steps > 0 && done >= o.stop_after_steps))) {
+    const bool stop = stop_now(o.stop, done, ckpt_every, o.progress);
+    if (done < nsteps && (stop || (o.stop_after_steps > 0 && done >= o.stop_after_steps))) {
       write_ckpt(done,
                  wall_before +
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
-      r.interrupted = sig ? "signal " + std::to_string(sig) : "max_steps";
-      r.signal = sig;
+      r.signal = stop ? o.stop->signal() : 0;
+      r.interrupted = stop ? "signal " + std::to_string(r.signal) : "max_steps";
       break;
     }
     if (ckpt_every > 0 && done % ckpt_every == 0 && done < nsteps)

@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/gimp_coupler/fracture.hpp"
@@ -206,8 +207,9 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   double dt = 0.0;
   const double eps_t = 1e-12 * rc.t_end;
   bool last_framed = true;
+  auto stop_requested = [&] { return o.stop != nullptr && o.stop->requested(); };
   while (s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps) &&
-         (o.stop_after_steps == 0 || s.steps < o.stop_after_steps)) {
+         (o.stop_after_steps == 0 || s.steps < o.stop_after_steps) && !stop_requested()) {
     dt = rc.dt > 0 ? rc.dt : s.stable_dt();
     dt = std::min(dt, rc.t_end - s.time);
     if (x.next_output_time > s.time + eps_t) dt = std::min(dt, x.next_output_time - s.time);
@@ -259,11 +261,12 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                                s.steps, s.time, 100 * s.time / rc.t_end, dt, el, eta);
     }
   }
-  // Stopped by --max-steps before the end: leave frames and history as an uninterrupted run
-  // would have them (the checkpoint carries the rest); --resume continues.
-  const bool interrupted = o.stop_after_steps > 0 && s.steps >= o.stop_after_steps &&
-                           s.time < rc.t_end - eps_t &&
-                           (rc.max_steps == 0 || s.steps < rc.max_steps);
+  // Stopped by --max-steps or a stop request before the end: leave frames and history as an
+  // uninterrupted run would have them (the checkpoint carries the rest); --resume continues.
+  const bool unfinished = s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps);
+  const bool stopped = unfinished && stop_requested();
+  const bool interrupted =
+      unfinished && (stopped || (o.stop_after_steps > 0 && s.steps >= o.stop_after_steps));
   if (!last_framed && !interrupted) {
     if (x.history.rows.empty() || x.history.rows.back()[0] != static_cast<double>(s.steps))
       record(dt);
@@ -271,6 +274,16 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   }
   x.history.write_csv(hist_csv);
   write_checkpoint<D>(ckpt, s, x);
+  sum.history_csv = hist_csv;
+  sum.checkpoint = ckpt;
+  if (stopped) { // the checkpoint is the whole state: no plots, no summary.json
+    sum.stopped = true;
+    sum.stop_signal = o.stop->signal();
+    sum.steps = s.steps;
+    sum.steps_this_run = s.steps - step0;
+    sum.time = s.time;
+    return sum;
+  }
 
   const double run_s = std::chrono::duration<double>(Clock::now() - run0).count();
   sum.particles = s.particles.size();
@@ -284,8 +297,6 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   sum.threads = s.threads;
   sum.frames = static_cast<int>(x.frame_files.size());
   sum.pvd = pvd;
-  sum.history_csv = hist_csv;
-  sum.checkpoint = ckpt;
   sum.particle_steps_per_second = run_s > 0 ? static_cast<double>(sum.steps_this_run) *
                                                   static_cast<double>(sum.particles) / run_s
                                             : 0.0;
@@ -382,6 +393,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
 
 RunSummary run(const RunOptions& o) {
   if (o.out_dir.empty()) fail("<command line>", "--out", "", "an output folder is required");
+  refuse_existing_run(o.out_dir, o.resume, {"checkpoint.h5", "history.csv", "summary.json"});
   const int d = input_dimension(o.input);
   return d == 2 ? run_dim<2>(o) : run_dim<3>(o);
 }

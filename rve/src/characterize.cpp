@@ -3,6 +3,8 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/run_dir.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/rve/clay.hpp"
 
@@ -101,8 +103,8 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
       if (!fs::is_empty(fs::path(dir)))
         fail(dir, "--out", dir,
              "holds a run of another recipe; use a new --out directory or delete it");
-    } else if (!resume && fs::exists(fs::path(dir) / "cases")) {
-      fail(dir, "--out", dir, "already holds a run of this recipe: add --resume to continue it");
+    } else {
+      refuse_existing_run(dir, resume, {"cases", "cases.h5"});
     }
   }
   write_text_atomically(o.recipe_path, recipe_text + "\n");
@@ -156,6 +158,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   }
   o.seconds_build = seconds_since(t0);
 
+  pnc::throw_if_stopped("after the build");
   // --- equilibrate
   t0 = std::chrono::steady_clock::now();
   const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
@@ -196,6 +199,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
                              "each; LAMMPS logs in {}/cases/case_<n>/lammps.log\n",
                              stages.size(), std::max(1, jobs), ranks, dir);
   const auto outcomes = run_stages(stages, jobs);
+  pnc::throw_if_stopped("the running cases stopped; their checkpoints are kept");
   std::string first_error;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     if (outcomes[i].ok) {

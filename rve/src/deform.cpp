@@ -4,9 +4,11 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/lammps_path.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include <fmt/format.h>
 
@@ -333,12 +335,15 @@ StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume)
   lammps_path(spec.start_state, "restart");
   lammps_path(prev_state(dir, 0), "--out");
   make_output_directory(dir);
-  return [spec, dir, resume](Lammps& l) { case_child(l, spec, dir, resume); };
+  return stoppable([spec, dir, resume](Lammps& l) { case_child(l, spec, dir, resume); });
 }
 
 StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
   auto body = case_body(spec, dir, resume);
-  return run_stage(case_stage(spec, dir), body);
+  StageOutcome o = run_stage(case_stage(spec, dir), body);
+  pnc::throw_if_stopped(fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id,
+                                    ckpt_path(dir)));
+  return o;
 }
 
 CaseResult read_case(const std::string& dir) {

@@ -3,10 +3,12 @@
 
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/lammps_path.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
 
 #include <fmt/format.h>
@@ -260,7 +262,8 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
               << std::flush;
     const StageOutcome o =
-        run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, body);
+        run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, stoppable(body));
+    pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
     if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
     const std::string crit =
         h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");

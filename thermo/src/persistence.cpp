@@ -4,8 +4,11 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/rve/runner.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -254,6 +257,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
                                   const RateProgress& progress) {
   spec.validate("<persistence>");
   make_output_directory(dir);
+  refuse_existing_run(dir, resume, {"rate_0.h5", "persistence.h5"});
   const Geometry g = chain_geometry(spec);
   PersistenceResult res;
   res.spec = spec;
@@ -270,9 +274,10 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
       const double rate = spec.rates[i];
       const std::uint64_t seed = spec.seed * 100 + i * 2;
       const auto o = rve::run_stage({fmt::format("bending rate {}", rate), rf.log, {}},
-                                    [&spec, &g, rate, seed, &rf](rve::Lammps& l) {
+                                    rve::stoppable([&spec, &g, rate, seed, &rf](rve::Lammps& l) {
                                       rate_child(l, spec, g, rate, seed, rf.h5);
-                                    });
+                                    }));
+      pnc::throw_if_stopped(fmt::format("bending rate {} stopped; finished rates are kept", rate));
       if (!o.ok) fail(o.log_path, fmt::format("bending rate {} A/fs", rate), "", o.error);
       ++ran;
     }

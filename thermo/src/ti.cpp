@@ -5,7 +5,9 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/rve/lammps_path.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include <lammps/library.h>
 
@@ -230,9 +232,11 @@ void run_points(const SamplingSpec& s,
       const LambdaSystem sys = pending[i]->second;
       make_output_directory(fs::path(j.h5).parent_path().string());
       rve::StageSpec spec{j.label, log_of(j.h5), {}};
-      stages.push_back({spec, [s, sys, j](rve::Lammps& l) { point_child(l, s, sys, j); }});
+      stages.push_back(
+          {spec, rve::stoppable([s, sys, j](rve::Lammps& l) { point_child(l, s, sys, j); })});
     }
     const auto outcomes = rve::run_stages(stages, jobs);
+    pnc::throw_if_stopped("the running lambda points stopped; finished points are kept");
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       if (!outcomes[i].ok)
         fail(outcomes[i].log_path, "lambda point " + outcomes[i].name, "", outcomes[i].error);

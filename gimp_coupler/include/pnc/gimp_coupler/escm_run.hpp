@@ -10,6 +10,7 @@
 // (continuum tip, J, G_I, G_II, crack-face opening and sliding, atomistic separation) and
 // crack.png. Units: input in LAMMPS real for
 // the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
+#include "pnc/core/stop.hpp"
 #include "pnc/gimp_coupler/escm.hpp"
 
 #include <array>
@@ -30,6 +31,11 @@ struct CoupleOptions {
   /// > 0: stop after this many coupled steps in total, writing a checkpoint (the run is then
   /// continued with `resume`).
   long stop_after_steps = 0;
+  /// Polled after every coupled step. A request stops the run, with a checkpoint, at the next
+  /// step of the checkpoint schedule (checkpoint_every_ps), so that the resumed run is bit for
+  /// bit the uninterrupted one; a second request, or a run without a schedule, stops after the
+  /// current step (resumable, equal to round-off only: docs/escm.md "Checkpoint and resume").
+  const pnc::StopToken* stop = nullptr;
 };
 
 struct CoupleSummary {
@@ -53,14 +59,16 @@ struct CoupleSummary {
   int checkpoints = 0;              ///< written in this session
   double checkpoint_s = 0.0;        ///< wall time of writing them, s
   std::size_t checkpoint_bytes = 0; ///< size of the last one (both files)
-  /// Empty when the run finished; "max_steps" (stop_after_steps reached) or "signal N"
-  /// (SIGINT/SIGTERM): stopped after a checkpoint, summary.json and plots not written.
+  /// Empty when the run finished; "max_steps" (stop_after_steps reached) or "signal N" (a stop
+  /// request, CoupleOptions::stop): stopped after a checkpoint, summary.json and plots not
+  /// written.
   std::string interrupted;
   int signal = 0; ///< the signal that stopped the run, 0 if none
 };
 
 /// Validates the input (throws pnc::InputError naming file, key, value, rule) before LAMMPS
-/// starts, then runs. Throws std::runtime_error for failures during the run.
+/// starts, then runs. Without `resume`, a directory that holds a run (checkpoint.h5 or
+/// summary.json) is refused (pnc::refuse_existing_run). Throws std::runtime_error for failures during the run.
 CoupleSummary run_couple(const CoupleOptions& o);
 
 } // namespace pnc::gimp::escm

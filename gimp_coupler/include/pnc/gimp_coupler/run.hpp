@@ -7,6 +7,7 @@
 // /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), G.png (2-D runs with
 // crack tips: J, G_I, G_II in J/m^2 versus crack length and time, scripts/plot_G.py),
 // summary.json.
+#include "pnc/core/stop.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <functional>
@@ -24,6 +25,9 @@ struct RunOptions {
   bool plot = true;          ///< energy.png
   long stop_after_steps = 0; ///< stop when the total step count reaches this (0: no limit);
                              ///< not part of the input, so the run can be resumed
+  /// Polled after every step: when requested, the run stops there as with stop_after_steps
+  /// (history and checkpoint written, no plots, no summary.json) and returns with `stopped`.
+  const pnc::StopToken* stop = nullptr;
 };
 
 struct RunSummary {
@@ -45,8 +49,12 @@ struct RunSummary {
   int crack_increments = 0; ///< crack growth increments in this run
   std::vector<std::string> reaction_names;
   std::vector<std::vector<double>> reactions; ///< last step, N, per boundary
+  bool stopped = false; ///< stopped on RunOptions::stop before the end (continue with resume)
+  int stop_signal = 0;  ///< the signal that asked for it (StopToken::signal())
 };
 
+/// Without `resume`, a directory that holds a run (checkpoint.h5, history.csv or summary.json)
+/// is refused (pnc::refuse_existing_run); with it, the run continues from checkpoint.h5.
 RunSummary run(const RunOptions& o);
 
 } // namespace pnc::gimp

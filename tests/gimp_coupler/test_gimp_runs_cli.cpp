@@ -1,0 +1,130 @@
+// `pnc gimp run` and its run directory (core/run_dir.hpp, app/run_control.hpp): one process per
+// --out directory (a second one is refused at once, naming the holder), an existing run needs
+// --resume, and SIGINT/SIGTERM stop the run at a step boundary with a checkpoint, exit code
+// 128 + signal and one line naming the command that continues it; the continued run ends
+// bit for bit where the uninterrupted one ends.
+#include "common/run_command.hpp"
+#include "common/spawn.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using pnc::test::slurp;
+
+namespace {
+
+const std::string exe = PNC_EXE;
+
+/// The plate example on one thread, to `end` seconds of simulated time, as dir/in.json.
+std::string plate_input(const fs::path& dir, double end) {
+  std::ifstream f(std::string(PNC_SOURCE_DIR) + "/examples/gimp/plate_hole_tension.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  j["time"]["end"] = end;
+  j["threads"] = 1;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string p = (dir / "in.json").string();
+  std::ofstream(p) << j.dump(2);
+  return p;
+}
+
+std::string run_args(const std::string& in, const fs::path& out) {
+  return exe + " gimp run " + in + " --out " + out.string() + " --no-plot";
+}
+
+// About 5 s of wall time on one core: long enough to be found running, short for a test.
+constexpr double kLongEnd = 3e-4;
+
+} // namespace
+
+TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
+  const fs::path d = fs::temp_directory_path() / "pnc_gimp_lock";
+  const std::string in = plate_input(d, kLongEnd);
+  const fs::path out = d / "out";
+  const pid_t first = pnc::test::spawn(run_args(in, out) + " --quiet 2>" + (d / "first.txt").string());
+  // the lock file names its holder once the first process has the directory
+  ASSERT_TRUE(pnc::test::wait_for_text((out / ".pnc.lock").string(),
+                                       "pid " + std::to_string(first), 20));
+  // a second process is refused at once (also with --resume), naming the directory and the
+  // holder's pid and command
+  const auto second = pnc::test::run_command(run_args(in, out) + " --resume --quiet 2>&1");
+  EXPECT_EQ(second.code, 1) << second.out;
+  EXPECT_NE(second.out.find(out.string()), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("pid " + std::to_string(first)), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("gimp run"), std::string::npos) << second.out;
+  // so is a coupled run into the same directory
+  const auto couple = pnc::test::run_command(exe + " gimp couple " + in + " --out " +
+                                             out.string() + " --resume 2>&1");
+  EXPECT_NE(couple.code, 0) << couple.out;
+  EXPECT_NE(couple.out.find("pid " + std::to_string(first)), std::string::npos) << couple.out;
+
+  // SIGTERM stops the first one: exit 128 + 15, the resume command named
+  ::kill(first, SIGTERM);
+  const auto e = pnc::test::wait_for(first, 30);
+  ASSERT_TRUE(e.ended);
+  EXPECT_EQ(e.code, 128 + SIGTERM) << slurp((d / "first.txt").string());
+  EXPECT_NE(slurp((d / "first.txt").string()).find("pnc: interrupted by SIGTERM"),
+            std::string::npos);
+  // the lock ends with its process: the directory can be continued at once
+  const auto third = pnc::test::run_command(run_args(in, out) + " --resume --quiet --max-steps " +
+                                            "100000 2>&1");
+  EXPECT_EQ(third.code, 0) << third.out;
+}
+
+TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
+  const fs::path d = fs::temp_directory_path() / "pnc_gimp_existing";
+  const std::string in = plate_input(d, 2e-5);
+  const fs::path out = d / "out";
+  const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
+  ASSERT_EQ(a.code, 0) << a.out;
+  const std::string ckpt = slurp((out / "checkpoint.h5").string());
+  const auto b = pnc::test::run_command(run_args(in, out) + " --quiet 2>&1");
+  EXPECT_EQ(b.code, 1) << b.out;
+  EXPECT_NE(b.out.find(out.string()), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("--resume"), std::string::npos) << b.out;
+  EXPECT_EQ(slurp((out / "checkpoint.h5").string()), ckpt) << "the refused run wrote";
+  // with --resume it continues
+  const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume 2>&1");
+  EXPECT_EQ(c.code, 0) << c.out;
+}
+
+TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
+  const fs::path d = fs::temp_directory_path() / "pnc_gimp_sigint";
+  const std::string in = plate_input(d, kLongEnd);
+  const auto straight = pnc::test::run_command(run_args(in, d / "a") + " --quiet 2>&1");
+  ASSERT_EQ(straight.code, 0) << straight.out;
+
+  const fs::path out = d / "b";
+  const std::string err = (d / "b_err.txt").string();
+  const pid_t pid = pnc::test::spawn(run_args(in, out) + " 2>" + err);
+  // running: the first progress line (every 2 s) comes after the t = 0 checkpoint
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "pnc gimp: step", 30)) << slurp(err);
+  ::kill(pid, SIGINT);
+  const auto e = pnc::test::wait_for(pid, 30);
+  ASSERT_TRUE(e.ended);
+  const std::string msg = slurp(err);
+  EXPECT_EQ(e.code, 128 + SIGINT) << msg;
+  EXPECT_NE(msg.find("pnc: interrupted by SIGINT"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("continue with: " + exe + " gimp run " + in + " --out " + out.string() +
+                     " --no-plot --resume"),
+            std::string::npos)
+      << msg;
+  EXPECT_FALSE(fs::exists(out / "summary.json")) << "stopped before the end";
+
+  const auto resumed =
+      pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
+  ASSERT_EQ(resumed.code, 0) << resumed.out;
+  const auto j = nlohmann::json::parse(resumed.out);
+  EXPECT_TRUE(j["resumed"].get<bool>());
+  EXPECT_GT(j["steps_this_run"].get<long>(), 0);
+  EXPECT_LT(j["steps_this_run"].get<long>(), j["steps"].get<long>());
+  EXPECT_EQ(slurp((d / "a" / "history.csv").string()), slurp((out / "history.csv").string()));
+  EXPECT_EQ(slurp((d / "a" / "particles.pvd").string()),
+            slurp((out / "particles.pvd").string()));
+}
