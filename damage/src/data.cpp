@@ -116,6 +116,7 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
       fail(path, "/" + name, idtxt, "group name must be case_<n> with n in 1..6");
     }
     if (id < 1 || id > 6) fail(path, "/" + name, idtxt, kCaseRule);
+    if (d.find(id)) fail(path, "/" + name, idtxt, "two groups name the same case");
     CaseCurve c;
     c.id = id;
     const std::string g = "/" + name;
@@ -131,8 +132,16 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
     if (scale < 0) fail(path, g + "/stress@units", su, "stress units must be Pa, MPa or GPa");
     c.strain = strain;
     c.stress = stress * scale;
-    if (f.exists(g + "/stress_stderr"))
+    if (f.exists(g + "/stress_stderr")) {
       c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
+      if (c.stress_stderr.rows() != stress.rows() || c.stress_stderr.cols() != 6)
+        fail(path, g + "/stress_stderr",
+             std::to_string(c.stress_stderr.rows()) + "x" +
+                 std::to_string(c.stress_stderr.cols()),
+             "must be k x 6 like stress");
+      if (!c.stress_stderr.allFinite() || (c.stress_stderr.array() < 0).any())
+        fail(path, g + "/stress_stderr", "", "standard errors must be finite numbers >= 0");
+    }
     if (!c.strain.allFinite() || !c.stress.allFinite())
       fail(path, g, "", "strain and stress must be finite numbers");
     d.cases.push_back(std::move(c));
