@@ -88,9 +88,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     rotation = rot;
   }
   char err[512] = "";
-  pnc_material* m = pnc_material_create_from_constants(pnc ? "pnc" : "pp", k.data(),
-                                                       static_cast<int>(k.size()), rotation, err,
-                                                       sizeof err);
+  pnc_material* m = pnc_material_create_from_constants(
+      pnc ? "pnc" : "pp", k.data(), static_cast<int>(k.size()), rotation, err, sizeof err);
   if (!m) {
     if (err[0] == '\0') bug("create_from_constants returned NULL without a message", err);
     return 0;

@@ -136,8 +136,7 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
       c.stress_stderr = f.read_matrix(g + "/stress_stderr") * scale;
       if (c.stress_stderr.rows() != stress.rows() || c.stress_stderr.cols() != 6)
         fail(path, g + "/stress_stderr",
-             std::to_string(c.stress_stderr.rows()) + "x" +
-                 std::to_string(c.stress_stderr.cols()),
+             std::to_string(c.stress_stderr.rows()) + "x" + std::to_string(c.stress_stderr.cols()),
              "must be k x 6 like stress");
       if (!c.stress_stderr.allFinite() || (c.stress_stderr.array() < 0).any())
         fail(path, g + "/stress_stderr", "", "standard errors must be finite numbers >= 0");

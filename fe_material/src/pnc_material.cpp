@@ -186,14 +186,40 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
       return PNC_MATERIAL_BAD_ARGUMENT;
     }
     const pnc::damage::Model model = m->kernel.p.model;
+    const int ns = static_cast<int>(pnc::damage::state_size(model));
+    for (int i = 0; i < ns; ++i)
+      if (!std::isfinite(state0[i])) {
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "pnc_material_integrate: argument 'state0[%d]': value '%g': the state must "
+                      "be finite (start from pnc_material_init_state)",
+                      i, state0[i]);
+        copy_message(err, errlen, line);
+        return PNC_MATERIAL_BAD_INPUT;
+      }
     const pnc::damage::NdmState s0 = pnc::damage::state_from_array(model, state0);
     pnc::damage::NdmState s1;
     pnc::damage::ErrorBuffer ebuf;
-    // Strain, stress and the row-major tangent are the caller's arrays (the ABI layout), used
-    // in place. The kernel rejects bad input before it writes anything, so on failure stress
-    // and tangent are untouched, as the header promises.
-    const pnc::damage::Status st = pnc::damage::integrate_row_major(m->kernel, s0, s1, strain0,
-                                                                    dstrain, stress, tangent, ebuf);
+    // The kernel works on local arrays (the ABI layout) that are copied out only when every
+    // result is finite: finite but huge strains or constants can overflow the stress or the
+    // tangent, and on failure the caller's arrays stay untouched, as the header promises.
+    double sig[6], tan[36];
+    pnc::damage::Status st = pnc::damage::integrate_row_major(m->kernel, s0, s1, strain0, dstrain,
+                                                              sig, tangent ? tan : nullptr, ebuf);
+    if (st == pnc::damage::Status::ok) {
+      bool finite = true;
+      for (int i = 0; i < 6; ++i)
+        finite = finite && std::isfinite(sig[i]);
+      for (int i = 0; tangent && i < 36; ++i)
+        finite = finite && std::isfinite(tan[i]);
+      for (int i = 0; i < 3; ++i)
+        finite = finite && std::isfinite(s1.kappa[i]) && std::isfinite(s1.D[i]);
+      if (!finite) {
+        ebuf.set("the stress, tangent or state overflows (not finite): strain or constants too "
+                 "large");
+        st = pnc::damage::Status::bad_input;
+      }
+    }
     if (st != pnc::damage::Status::ok) {
       char line[512];
       std::snprintf(line, sizeof line,
@@ -205,6 +231,8 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
       copy_message(err, errlen, line);
       return PNC_MATERIAL_BAD_INPUT;
     }
+    std::memcpy(stress, sig, sizeof sig);
+    if (tangent) std::memcpy(tangent, tan, sizeof tan);
     pnc::damage::state_to_array(model, s1, state1);
     return PNC_MATERIAL_OK;
   } catch (const std::exception& e) {

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -159,7 +160,7 @@ int input_dimension(const std::string& path) {
   json j;
   try {
     j = json::parse(f);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) { // parse_error, or out_of_range for a number overflow
     fail(path, "", "", std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object()) fail(path, "", "", "the input must be one JSON object");
@@ -185,7 +186,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) { // parse_error, or out_of_range for a number overflow
     fail(source, "", "", std::string("not valid JSON: ") + e.what());
   }
   if (!doc.is_object()) fail(source, "", "", "the input must be one JSON object");
@@ -340,9 +341,14 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
         }
       }
       std::array<long, D> k0{}, k1{};
+      // Clamped in floating point before the conversion: a body far outside the grid gives
+      // quotients beyond the range of long (converting those is undefined behaviour).
+      const auto cell_index = [](double q, long n) {
+        return q > 0 ? static_cast<long>(std::min(q, static_cast<double>(n))) : 0L;
+      };
       for (int a = 0; a < D; ++a) {
-        k0[a] = std::max(0L, static_cast<long>(std::floor((sh.lo[a] - s.grid.origin[a]) / d)));
-        k1[a] = std::min(ns[a], static_cast<long>(std::ceil((sh.hi[a] - s.grid.origin[a]) / d)));
+        k0[a] = cell_index(std::floor((sh.lo[a] - s.grid.origin[a]) / d), ns[a]);
+        k1[a] = cell_index(std::ceil((sh.hi[a] - s.grid.origin[a]) / d), ns[a]);
       }
       std::array<long, D> q = k0;
       while (true) {

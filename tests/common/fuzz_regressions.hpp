@@ -17,8 +17,8 @@ namespace pnc::test {
 /// The regression inputs of one fuzz target, sorted; empty if there are none.
 inline std::vector<std::string> fuzz_regressions(const std::string& target) {
   std::vector<std::string> out;
-  const std::filesystem::path dir = std::filesystem::path(PNC_SOURCE_DIR) / "fuzz" /
-                                    "regressions" / target;
+  const std::filesystem::path dir =
+      std::filesystem::path(PNC_SOURCE_DIR) / "fuzz" / "regressions" / target;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(dir, ec))
     if (e.is_regular_file()) out.push_back(e.path().string());

@@ -50,7 +50,7 @@ extern "C" {
 
 /* Status codes of pnc_material_integrate(). */
 #define PNC_MATERIAL_OK 0
-#define PNC_MATERIAL_BAD_INPUT 1    /* non-finite strain (or parameter) given to the kernel */
+#define PNC_MATERIAL_BAD_INPUT 1    /* non-finite strain or state, or a result that overflows */
 #define PNC_MATERIAL_BAD_ARGUMENT 2 /* NULL material or array where one is required */
 #define PNC_MATERIAL_INTERNAL 3     /* unexpected failure inside the library */
 
