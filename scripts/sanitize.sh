@@ -83,6 +83,9 @@ if [ "$fuzz" = 1 ]; then
   work="$build/fuzz-work"
   artifacts="$build/fuzz-artifacts"
   rm -rf "$work"
+  # the targets' scratch files (fuzz/fuzz_util.hpp): a crashing input leaves its file behind
+  export TMPDIR="$work/tmp"
+  mkdir -p "$TMPDIR"
   failed=()
   targets=("$build"/fuzz/fuzz_*)
   [ -x "${targets[0]}" ] || { echo "pnc sanitize: no fuzz targets in $build/fuzz" >&2; exit 1; }
