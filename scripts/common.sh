@@ -11,6 +11,7 @@ PNC_PACKAGES=(
   libeigen3-dev libceres-dev libhdf5-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtoml11-dev
   liblammps-dev lammps libdeal.ii-dev
   libgtest-dev googletest libbenchmark-dev
+  clang llvm # scripts/sanitize.sh: ASan/UBSan build and libFuzzer targets (fuzz/)
   python3 python3-matplotlib python3-numpy
 )
 

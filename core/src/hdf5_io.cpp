@@ -52,14 +52,32 @@ H5::H5Object* open_object(H5::H5File& f, const std::string& name, ObjectHolder& 
     holder.group.emplace(f.openGroup("/"));
   } else {
     H5O_info_t info;
-    H5Oget_info_by_name(f.getId(), name.c_str(), &info, H5P_DEFAULT);
+    if (H5Oget_info_by_name(f.getId(), name.c_str(), &info, H5P_DEFAULT) < 0)
+      throw H5::Exception("H5Oget_info_by_name", "cannot read the object header");
     if (info.type == H5O_TYPE_GROUP)
       holder.group.emplace(f.openGroup(name));
-    else
+    else if (info.type == H5O_TYPE_DATASET)
       holder.dataset.emplace(f.openDataSet(name));
+    else
+      throw H5::Exception("open_object", "neither a group nor a dataset");
   }
   return holder.get();
 }
+
+// A corrupt file makes the HDF5 C++ API throw H5::Exception (not a std::exception) from calls
+// as innocent as nameExists(): every read turns it into an InputError naming file and object.
+template <class F>
+auto guarded(const std::string& file, const std::string& object, const char* what, F&& f) {
+  try {
+    return f();
+  } catch (const H5::Exception& e) {
+    fail(file, object, "", std::string(what) + ": " + e.getDetailMsg());
+  }
+}
+
+// Largest dataset pnc reads (elements): 2^27 doubles = 1 GiB. A corrupt or hostile header can
+// declare any extent in a tiny file; this bounds what one read may allocate.
+constexpr hsize_t kMaxElements = hsize_t(1) << 27;
 } // namespace
 
 File::File(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>()) {
@@ -135,13 +153,15 @@ void File::set_attr(const std::string& object, const std::string& name, double v
 }
 
 bool File::exists(const std::string& object) const {
-  auto parts = split_path(object);
-  std::string cur;
-  for (const auto& p : parts) {
-    cur += "/" + p;
-    if (!impl_->file.nameExists(cur)) return false;
-  }
-  return true;
+  return guarded(impl_->path, object, "cannot look up the object (corrupt file?)", [&] {
+    auto parts = split_path(object);
+    std::string cur;
+    for (const auto& p : parts) {
+      cur += "/" + p;
+      if (!impl_->file.nameExists(cur)) return false;
+    }
+    return true;
+  });
 }
 
 namespace {
@@ -172,6 +192,10 @@ RowMatrix File::read_matrix(const std::string& dataset) const {
     if (sp.getSimpleExtentNdims() != 2) fail(impl_->path, dataset, "", "expected a 2-D dataset");
     hsize_t dims[2];
     sp.getSimpleExtentDims(dims);
+    if (dims[0] > kMaxElements || dims[1] > kMaxElements ||
+        (dims[1] > 0 && dims[0] > kMaxElements / dims[1]))
+      fail(impl_->path, dataset, std::to_string(dims[0]) + "x" + std::to_string(dims[1]),
+           "dataset too large (at most 2^27 elements)");
     RowMatrix m(static_cast<Eigen::Index>(dims[0]), static_cast<Eigen::Index>(dims[1]));
     if (m.size() > 0) ds.read(m.data(), H5::PredType::NATIVE_DOUBLE);
     return m;
@@ -184,7 +208,10 @@ std::vector<double> File::read_vector(const std::string& dataset) const {
   if (!exists(dataset)) missing(impl_->path, dataset);
   try {
     H5::DataSet ds = impl_->file.openDataSet(dataset);
-    std::vector<double> v(static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
+    const hssize_t n = ds.getSpace().getSimpleExtentNpoints();
+    if (n < 0 || static_cast<hsize_t>(n) > kMaxElements)
+      fail(impl_->path, dataset, std::to_string(n), "dataset too large (at most 2^27 elements)");
+    std::vector<double> v(static_cast<std::size_t>(n));
     if (!v.empty()) ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
     return v;
   } catch (const H5::Exception& e) {
@@ -196,6 +223,9 @@ std::string File::read_string(const std::string& dataset) const {
   if (!exists(dataset)) missing(impl_->path, dataset);
   try {
     H5::DataSet ds = impl_->file.openDataSet(dataset);
+    // as for attributes: HDF5 would read every element into the one string
+    if (ds.getSpace().getSimpleExtentNpoints() != 1)
+      fail(impl_->path, dataset, "", "expected a single text value");
     std::string s;
     ds.read(s, ds.getStrType());
     return s;
@@ -207,11 +237,14 @@ std::string File::read_string(const std::string& dataset) const {
 std::optional<std::string> File::attr_string(const std::string& object,
                                              const std::string& name) const {
   if (!exists(object) && object != "/") return std::nullopt;
-  ObjectHolder h;
-  H5::H5Object* o = open_object(impl_->file, object, h);
-  if (!o->attrExists(name)) return std::nullopt;
   try {
+    ObjectHolder h;
+    H5::H5Object* o = open_object(impl_->file, object, h);
+    if (!o->attrExists(name)) return std::nullopt;
     H5::Attribute a = o->openAttribute(name);
+    // HDF5 reads every element into the one string: only a single element is safe to read
+    if (a.getSpace().getSimpleExtentNpoints() != 1)
+      fail(impl_->path, object + "@" + name, "", "attribute must be a single text value");
     std::string s;
     a.read(a.getStrType(), s);
     return s;
@@ -222,13 +255,15 @@ std::optional<std::string> File::attr_string(const std::string& object,
 
 std::optional<double> File::attr_double(const std::string& object, const std::string& name) const {
   if (!exists(object) && object != "/") return std::nullopt;
-  ObjectHolder h;
-  H5::H5Object* o = open_object(impl_->file, object, h);
-  if (!o->attrExists(name)) return std::nullopt;
   try {
+    ObjectHolder h;
+    H5::H5Object* o = open_object(impl_->file, object, h);
+    if (!o->attrExists(name)) return std::nullopt;
     H5::Attribute a = o->openAttribute(name);
     if (a.getTypeClass() != H5T_FLOAT && a.getTypeClass() != H5T_INTEGER)
       fail(impl_->path, object + "@" + name, "", "attribute must be a number");
+    if (a.getSpace().getSimpleExtentNpoints() != 1)
+      fail(impl_->path, object + "@" + name, "", "attribute must be a single number");
     double v = 0;
     a.read(H5::PredType::NATIVE_DOUBLE, &v);
     return v;
@@ -240,10 +275,12 @@ std::optional<double> File::attr_double(const std::string& object, const std::st
 std::vector<std::string> File::children(const std::string& group) const {
   std::vector<std::string> out;
   if (!exists(group) && group != "/") return out;
-  H5::Group g = impl_->file.openGroup(group);
-  for (hsize_t i = 0; i < g.getNumObjs(); ++i)
-    out.push_back(g.getObjnameByIdx(i));
-  return out;
+  return guarded(impl_->path, group, "cannot list the group", [&] {
+    H5::Group g = impl_->file.openGroup(group);
+    for (hsize_t i = 0; i < g.getNumObjs(); ++i)
+      out.push_back(g.getObjnameByIdx(i));
+    return out;
+  });
 }
 
 } // namespace pnc::h5

@@ -17,6 +17,26 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::string units_of(const std::string& name) {
   return name == "alpha" ? "1" : "Pa";
 }
+
+// A count or id stored as a double: converting NaN or a value beyond int is undefined
+// behaviour, so it is checked first.
+int to_int(double v, const std::string& path, const std::string& field) {
+  if (!(v >= -2147483648.0 && v <= 2147483647.0)) {
+    std::ostringstream s;
+    s << v;
+    fail(path, field, s.str(), "must be a whole number within the range of int");
+  }
+  return static_cast<int>(v);
+}
+
+// A /fit table: at least `cols` columns.
+h5::RowMatrix read_table(const h5::File& f, const std::string& ds, Eigen::Index cols) {
+  h5::RowMatrix m = f.read_matrix(ds);
+  if (m.rows() > 0 && m.cols() < cols)
+    fail(f.path(), ds, std::to_string(m.rows()) + "x" + std::to_string(m.cols()),
+         "must have at least " + std::to_string(cols) + " columns");
+  return m;
+}
 } // namespace
 
 Card card_from_parameters(const NdmParameters& p, const std::string& note) {
@@ -207,9 +227,12 @@ Card read_card(const std::string& path) {
     r.message = f.attr_string("/fit", "message").value_or("");
     r.loss = f.attr_string("/fit", "loss").value_or("");
     r.converged = f.attr_string("/fit", "converged").value_or("no") == "yes";
-    r.iterations = static_cast<int>(f.attr_double("/fit", "iterations").value_or(0));
-    r.residuals = static_cast<int>(f.attr_double("/fit", "residuals").value_or(0));
-    r.free_parameters = static_cast<int>(f.attr_double("/fit", "free_parameters").value_or(0));
+    const auto count = [&](const char* name) {
+      return to_int(f.attr_double("/fit", name).value_or(0), path, std::string("/fit@") + name);
+    };
+    r.iterations = count("iterations");
+    r.residuals = count("residuals");
+    r.free_parameters = count("free_parameters");
     r.initial_cost = f.attr_double("/fit", "initial_cost").value_or(kNaN);
     r.final_cost = f.attr_double("/fit", "final_cost").value_or(kNaN);
     r.seconds = f.attr_double("/fit", "seconds").value_or(kNaN);
@@ -218,15 +241,17 @@ Card read_card(const std::string& path) {
     r.alpha_choice = f.attr_string("/fit", "alpha_choice").value_or("");
     r.chi2 = f.attr_double("/fit", "chi2").value_or(kNaN);
     r.chi2_p = f.attr_double("/fit", "chi2_p").value_or(kNaN);
-    r.dof = static_cast<int>(f.attr_double("/fit", "dof").value_or(0));
+    r.dof = count("dof");
     if (f.exists("/fit/r2")) {
-      const auto m = f.read_matrix("/fit/r2");
+      const auto m = read_table(f, "/fit/r2", 5); // version 1: 5 columns, version 2: 10
       for (Eigen::Index i = 0; i < m.rows(); ++i) {
-        ComponentFit cf{static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)),
-                        static_cast<int>(m(i, 2)), m(i, 3), m(i, 4)};
+        const auto cell = [&](Eigen::Index j) {
+          return to_int(m(i, j), path, "/fit/r2 (row " + std::to_string(i) + ")");
+        };
+        ComponentFit cf{cell(0), cell(1), cell(2), m(i, 3), m(i, 4)};
         if (m.cols() >= 10) {
           cf.chi2 = m(i, 5);
-          cf.runs = static_cast<int>(m(i, 6));
+          cf.runs = cell(6);
           cf.runs_expected = m(i, 7);
           cf.runs_p = m(i, 8);
           cf.lag1 = m(i, 9);
@@ -235,7 +260,7 @@ Card read_card(const std::string& path) {
       }
     }
     if (f.exists("/fit/regression")) {
-      const auto m = f.read_matrix("/fit/regression");
+      const auto m = read_table(f, "/fit/regression", 5);
       std::istringstream labels(
           f.exists("/fit/regression_labels") ? f.read_string("/fit/regression_labels") : "");
       for (Eigen::Index i = 0; i < m.rows(); ++i) {
@@ -244,7 +269,8 @@ Card read_card(const std::string& path) {
         const auto comma = line.find(',');
         lin = line.substr(0, comma);
         dam = comma == std::string::npos ? "" : line.substr(comma + 1);
-        r.regression.push_back({static_cast<int>(m(i, 0)), static_cast<int>(m(i, 1)), lin, dam,
+        const std::string row = "/fit/regression (row " + std::to_string(i) + ")";
+        r.regression.push_back({to_int(m(i, 0), path, row), to_int(m(i, 1), path, row), lin, dam,
                                 m(i, 2), m(i, 3), m(i, 4)});
       }
     }

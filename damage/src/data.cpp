@@ -128,6 +128,7 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
       fail(path, "/" + name, idtxt, "group name must be case_<n> with n in 1..6");
     }
     if (id < 1 || id > 6) fail(path, "/" + name, idtxt, kCaseRule);
+    if (d.find(id)) fail(path, "/" + name, idtxt, "two groups name the same case");
     CaseCurve c;
     c.id = id;
     const std::string g = "/" + name;

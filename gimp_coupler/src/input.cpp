@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -346,9 +347,14 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
         }
       }
       std::array<long, D> k0{}, k1{};
+      // Clamped in floating point before the conversion: a body far outside the grid gives
+      // quotients beyond the range of long (converting those is undefined behaviour).
+      const auto cell_index = [](double q, long n) {
+        return q > 0 ? static_cast<long>(std::min(q, static_cast<double>(n))) : 0L;
+      };
       for (int a = 0; a < D; ++a) {
-        k0[a] = std::max(0L, static_cast<long>(std::floor((sh.lo[a] - s.grid.origin[a]) / d)));
-        k1[a] = std::min(ns[a], static_cast<long>(std::ceil((sh.hi[a] - s.grid.origin[a]) / d)));
+        k0[a] = cell_index(std::floor((sh.lo[a] - s.grid.origin[a]) / d), ns[a]);
+        k1[a] = cell_index(std::ceil((sh.hi[a] - s.grid.origin[a]) / d), ns[a]);
       }
       std::array<long, D> q = k0;
       while (true) {

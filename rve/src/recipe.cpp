@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -408,6 +409,45 @@ void write_toml_table(const json& t, const std::string& name, std::string& out) 
     if (v.is_object()) write_toml_table(v, name.empty() ? k : name + "." + k, out);
 }
 
+// Offset of the first byte that is not valid UTF-8 (RFC 3629: no overlong forms, no
+// surrogates, at most U+10FFFF), or npos. TOML files are UTF-8; toml11 3.7's own error path
+// for invalid UTF-8 inside a literal string reads out of bounds (found by fuzz_recipe_toml),
+// so the text is checked before toml11 sees it.
+std::size_t invalid_utf8_at(const std::string& s) {
+  const auto* b = reinterpret_cast<const unsigned char*>(s.data());
+  const std::size_t n = s.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned c = b[i];
+    std::size_t len = 0;
+    unsigned lo = 0x80, hi = 0xbf; // allowed range of the second byte
+    if (c < 0x80)
+      len = 1;
+    else if (c >= 0xc2 && c <= 0xdf)
+      len = 2;
+    else if (c == 0xe0)
+      len = 3, lo = 0xa0;
+    else if ((c >= 0xe1 && c <= 0xec) || c == 0xee || c == 0xef)
+      len = 3;
+    else if (c == 0xed)
+      len = 3, hi = 0x9f;
+    else if (c == 0xf0)
+      len = 4, lo = 0x90;
+    else if (c >= 0xf1 && c <= 0xf3)
+      len = 4;
+    else if (c == 0xf4)
+      len = 4, hi = 0x8f;
+    else
+      return i;
+    if (i + len > n) return i;
+    for (std::size_t k = 1; k < len; ++k) {
+      const unsigned d = b[i + k];
+      if (k == 1 ? (d < lo || d > hi) : (d < 0x80 || d > 0xbf)) return i;
+    }
+    i += len;
+  }
+  return std::string::npos;
+}
+
 } // namespace
 
 std::string recipe_toml(const nlohmann::json& recipe) {
@@ -422,6 +462,10 @@ Recipe read_recipe(const std::string& path) {
   const std::string text = read_text_file(path, "the recipe");
   json j;
   if (ext == ".toml") {
+    if (const auto at = invalid_utf8_at(text); at != std::string::npos)
+      fail(path, "",
+           fmt::format("byte 0x{:02x} at offset {}", static_cast<unsigned char>(text[at]), at),
+           "not valid TOML: a TOML file must be UTF-8");
     check_nesting(text, path, Syntax::toml); // toml11 parses nested values recursively
     toml::value t;
     try {

@@ -94,7 +94,9 @@ TEST(SecureOutput, RefusesTargetsThatAreNotRegularFiles) {
   fs::create_directory(dir);
   const std::pair<fs::path, const char*> cases[] = {
       {link, "symbolic link"}, {fifo, "fifo"}, {dir, "directory"}};
-  for (const auto& [path, kind] : cases) {
+  for (const auto& c : cases) {
+    const fs::path& path = c.first; // not a structured binding: Clang 14 cannot capture those
+    const char* kind = c.second;
     const auto e = error_of([&] { pnc::write_text_atomically(path.string(), "x"); });
     EXPECT_EQ(e.source, path.string()); // the user's path, not a temporary name
     EXPECT_NE(e.rule.find(kind), std::string::npos) << e.rule;
