@@ -66,7 +66,7 @@ TEST(FeMaterialRobust, OverflowingStressIsBadInputNotInfinity) {
     const double huge[6] = {1e300, -1e300, 0, 0, 0, 1e305};
     EXPECT_EQ(integrate_once(mat, huge, untouched, err), PNC_MATERIAL_BAD_INPUT);
     EXPECT_TRUE(untouched);
-    EXPECT_NE(err.find("overflows"), std::string::npos) << err;
+    EXPECT_NE(err.find("non-finite result"), std::string::npos) << err; // the shared check
     EXPECT_NE(err.find("strain0 + dstrain"), std::string::npos) << err;
     // an ordinary damaging increment still works
     const double fine[6] = {0, 0.05, 0, 0, 0, 0.02};
