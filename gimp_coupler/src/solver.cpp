@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -308,11 +309,23 @@ template <int D> void Solver<D>::external_forces(double t) {
     P.fext[p] = P.m[p] * g;
   for (const auto& tr : tractions) {
     const double f = tr.ramp(t);
+    // decision D44: the traction acts on the surface the selected strip spans. Its force,
+    // traction x (projected area of the strip), is shared among the strip's particles in
+    // proportion to their volume: particle p gets V_p / depth, with depth the strip's extent
+    // along `axis` in the reference configuration (particle faces). A strip one particle deep
+    // gives each particle its face area; a deeper strip the same total force at any resolution.
+    if (tr.particles.empty()) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t p : tr.particles) {
-      double area = 1.0;
+      lo = std::min(lo, P.x0[p][tr.axis] - P.l[p][tr.axis]);
+      hi = std::max(hi, P.x0[p][tr.axis] + P.l[p][tr.axis]);
+    }
+    const double depth = hi - lo;
+    for (std::size_t p : tr.particles) {
+      double volume = 1.0;
       for (int a = 0; a < D; ++a)
-        if (a != tr.axis) area *= 2.0 * P.l[p][a];
-      P.fext[p] += f * area * tr.traction;
+        volume *= 2.0 * P.l[p][a];
+      P.fext[p] += f * (volume / depth) * tr.traction;
     }
   }
 }
