@@ -1,5 +1,6 @@
 // pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
+// cases.h5 and cards in Pa.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
@@ -236,10 +237,13 @@ int run_characterize(const CharacterizeArgs& a) {
   rep_md +=
       fmt::format("{} -- {} UTC. Command: `{}`.\n\n", version_string(), utc_timestamp(), command);
   rep_md += "## RVE\n\n";
-  rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
-                        "force field of section 6.1 (decision D13 units).\n\n",
-                        r.build.chains, r.build.beads_per_chain,
-                        r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
+  if (r.system.enabled) // your own system (rve/user_system.hpp)
+    rep_md += rve::user_system_report(r.system);
+  else
+    rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
+                          "force field of section 6.1 (decision D13 units).\n\n",
+                          r.build.chains, r.build.beads_per_chain,
+                          r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
   nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
   if (r.model == "pnc") {
     const auto cp = fs::path(md.build_record).parent_path() / "clay.json";
@@ -269,8 +273,9 @@ int run_characterize(const CharacterizeArgs& a) {
       "| temperature | {:.1f} K |\n| void fraction (1 A grid, farther than sigma from every bead) "
       "| {:.4f} |\n"
       "| smallest pair distance | {:.3f} A |\n\n",
-      r.equilibrate.ensemble, e.density, e.pressure_total, e.pressure_total_se, e.pressure_virial,
-      e.temperature, e.void_fraction, e.min_distance);
+      r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble, e.density,
+      e.pressure_total, e.pressure_total_se, e.pressure_virial, e.temperature, e.void_fraction,
+      e.min_distance);
   rep_md += fmt::format(
       "Deformation: cases {}, strain 0 -> {} in {} steps, hold {} steps of {} fs, "
       "samples every {} steps. Stress handed to the fit: {}.\n\n",
@@ -306,8 +311,7 @@ int run_characterize(const CharacterizeArgs& a) {
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model)
-            << verdict_text(card.verdict);
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
@@ -326,10 +330,14 @@ int run_characterize(const CharacterizeArgs& a) {
     j["report"] = report_path;
     j["plots"] = pngs;
     j["equilibrated"] = {
-        {"ensemble", r.equilibrate.ensemble},       {"density_g_cm3", e.density},
-        {"pressure_atm", e.pressure_total},         {"pressure_stderr_atm", e.pressure_total_se},
-        {"pressure_virial_atm", e.pressure_virial}, {"temperature_K", e.temperature},
-        {"void_fraction", e.void_fraction},         {"min_distance_A", e.min_distance}};
+        {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
+        {"density_g_cm3", e.density},
+        {"pressure_atm", e.pressure_total},
+        {"pressure_stderr_atm", e.pressure_total_se},
+        {"pressure_virial_atm", e.pressure_virial},
+        {"temperature_K", e.temperature},
+        {"void_fraction", e.void_fraction},
+        {"min_distance_A", e.min_distance}};
     if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
