@@ -103,15 +103,17 @@ void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std:
     l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {} zero yes", s.temperature,
                       s.t_end(), s.damp_fs, seed + 1));
   } else {
-    l.cmd(fmt::format("fix pnc_npt all npt temp {:.10g} {:.10g} {:.10g} iso {3:.10g} {3:.10g} "
+    l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {1:.10g} {2:.10g} iso {3:.10g} {3:.10g} "
                       "{4:.10g}",
                       s.temperature, s.t_end(), s.damp_fs, s.pressure_atm, s.pdamp_fs));
   }
-  const long chunk = s.steps / 10;
+  // 10 chunks (a multiple of 10 steps each; steps >= 100), sampled every 10 steps: a pressure
+  // compute every step would cost an MPI reduction per step
+  const long chunk = s.steps / 100 * 10;
   l.cmd(fmt::format("thermo {}", chunk));
-  l.cmd(fmt::format("fix pnc_avg all ave/time 1 {0} {0} c_thermo_temp c_thermo_pe c_thermo_press "
+  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {1} {0} c_thermo_temp c_thermo_pe c_thermo_press "
                     "c_pnc_pv v_pnc_rho v_pnc_vol",
-                    chunk));
+                    chunk, chunk / 10));
   Rows rows;
   for (int i = 0; i < 10; ++i) {
     l.cmd(fmt::format("run {} start 0 stop {}", chunk, s.steps)); // one ramp over the stage
@@ -147,8 +149,9 @@ void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std:
   } else {
     how += ", NVE + Langevin";
   }
-  how += fmt::format("; second half: T {:.1f} K, P {:.0f} atm (total){}", mean_of(rows, 0, 5),
-                     mean_of(rows, 2, 5), created ? "; velocities created at the start" : "");
+  how += fmt::format("; second half: T {:.1f} K, P {:.0f} atm (total){}",
+                     mean_of(rows, 0, rows.size() / 2), mean_of(rows, 2, rows.size() / 2),
+                     created ? "; velocities created at the start" : "");
   l.cmd("write_restart " + lammps_path(restart, "--out"));
   write_h5(h5path, name, how, rows, rj);
 }

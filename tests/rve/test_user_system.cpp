@@ -1,8 +1,10 @@
 // "Characterize your own system": recipe parsing and validation (JSON and TOML), the shipped
 // examples, and the LJ FCC crystal through the CLI against lattice sums computed here.
 #include "pnc/core/error.hpp"
+#include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/rve/deform.hpp"
+#include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 
 #include "common/run_command.hpp"
@@ -248,5 +250,58 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
   EXPECT_EQ(changed.code, 1);
   EXPECT_NE(changed.out.find("system.data_file"), std::string::npos) << changed.out;
   EXPECT_NE(changed.out.find("changed since this run was made"), std::string::npos) << changed.out;
+  fs::remove_all(d);
+}
+
+// The user stages on the bead-spring example's data file, shortened: every stage writes its
+// record, the NPT stage hands on its mean volume (decision D123), the final measurement
+// reports the last dynamic stage's temperature, and --resume re-runs nothing.
+TEST(RveUserSystem, UserStagesRunMeasureAndResume) {
+  const auto d = scratch("pnc_test_user_sys_stages");
+  Recipe r = read_recipe((kExamples / "bead_spring_glass" / "recipe.toml").string());
+  UserSystem u = r.system;
+  u.stages.clear();
+  UserStage m;
+  m.kind = "minimize";
+  m.ftol = 2.0;
+  UserStage npt;
+  npt.kind = "npt";
+  npt.temperature = 30;
+  npt.steps = 400;
+  npt.timestep_fs = 10;
+  npt.damp_fs = 1000;
+  npt.pdamp_fs = 10000;
+  UserStage lan;
+  lan.kind = "langevin";
+  lan.temperature = 30;
+  lan.steps = 600;
+  lan.timestep_fs = 10;
+  lan.damp_fs = 100; // 60 damping times: the kinetic temperature is relaxed to 30 K
+  u.stages = {m, npt, lan};
+  const std::string eq = (d / "eq").string();
+  const auto e = equilibrate_user(u, u.input_file, eq, false, "{}", 3, 1);
+  ASSERT_EQ(e.criteria.size(), 4u);
+  EXPECT_NE(e.criteria[1].find("NPT"), std::string::npos) << e.criteria[1];
+  for (const char* f : {"stage_1_minimize", "stage_2_npt", "stage_3_langevin", "final"})
+    for (const char* ext : {".h5", ".restart", ".log"})
+      EXPECT_TRUE(fs::exists(fs::path(eq) / (std::string(f) + ext))) << f << ext;
+  // the box after NPT has the mean volume of its second half: the density of the start state
+  // equals that mean (the Langevin stage keeps the box)
+  const auto tr =
+      pnc::h5::File((fs::path(eq) / "stage_2_npt.h5").string(), pnc::h5::File::Mode::read)
+          .read_matrix("/trace");
+  const Eigen::Index k = tr.rows() - tr.rows() / 2;
+  const double vmean = tr.col(5).tail(k).mean(); // A^3
+  // 600 beads of 50 g/mol; 1e-6: LAMMPS's g/mol/A^3 -> g/cm^3 factor uses an older N_A
+  EXPECT_NEAR(e.density, 600 * 50.0 / (0.602214076 * vmean), 1e-6 * e.density);
+  // equilibrium chunk means of T for 600 beads fluctuate by a few % (sd of the instantaneous
+  // kinetic T is sqrt(2/(3N)) = 3.3 %); 15 % catches missing velocities or unit errors
+  EXPECT_NEAR(e.temperature, 30.0, 4.5);
+  EXPECT_GT(e.min_distance, 2.0); // A; no overlap (sigma = 4 A)
+  EXPECT_TRUE(std::isnan(e.void_fraction));
+  const auto t1 = fs::last_write_time(fs::path(eq) / "stage_2_npt.h5");
+  const auto again = equilibrate_user(u, u.input_file, eq, true, "{}", 3, 1);
+  EXPECT_EQ(fs::last_write_time(fs::path(eq) / "stage_2_npt.h5"), t1);
+  EXPECT_EQ(again.density, e.density);
   fs::remove_all(d);
 }
