@@ -277,10 +277,13 @@ int run_characterize(const CharacterizeArgs& a) {
       e.pressure_total, e.pressure_total_se, e.pressure_virial, e.temperature, e.void_fraction,
       e.min_distance);
   rep_md += fmt::format(
-      "Deformation: cases {}, strain 0 -> {} in {} steps, hold {} steps of {} fs, "
-      "samples every {} steps. Stress handed to the fit: {}.\n\n",
-      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps, r.deform.hold_steps,
-      r.deform.timestep_fs, r.deform.sample_every, data.stress_definition);
+      "Deformation: cases {}, strain 0 -> {} in {} steps, {}. Stress handed to the fit: {}.\n\n",
+      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps,
+      r.deform.temperature == 0 // static rows (decision D120)
+          ? std::string("static at 0 K (no hold)")
+          : fmt::format("hold {} steps of {} fs, samples every {} steps", r.deform.hold_steps,
+                        r.deform.timestep_fs, r.deform.sample_every),
+      data.stress_definition);
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, o.model));
