@@ -324,3 +324,18 @@ TEST(RveUserSystem, UserStagesRunMeasureAndResume) {
   EXPECT_EQ(again.density, e.density);
   fs::remove_all(d);
 }
+
+// The committed data files are what the committed generator scripts write.
+TEST(RveUserSystem, GeneratorsReproduceTheShippedDataFiles) {
+  if (pnc::test::run_command("python3 -c 0 >/dev/null 2>&1").code != 0)
+    GTEST_SKIP() << "no python3";
+  const auto d = scratch("pnc_test_user_sys_gen");
+  for (const auto& [ex, file] :
+       {std::pair{"lj_fcc", "fcc.data"}, std::pair{"bead_spring_glass", "chains.data"}}) {
+    const auto r = pnc::test::run_command("python3 " + (kExamples / ex / "make_data.py").string() +
+                                          " " + (d / file).string());
+    ASSERT_EQ(r.code, 0) << ex << r.out;
+    EXPECT_EQ(slurp(d / file), slurp(kExamples / ex / file)) << ex;
+  }
+  fs::remove_all(d);
+}
