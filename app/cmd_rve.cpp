@@ -1,6 +1,5 @@
 // pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
-// cases.h5 and cards in Pa.
+// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
@@ -314,7 +313,8 @@ int run_characterize(const CharacterizeArgs& a) {
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model)
+            << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);

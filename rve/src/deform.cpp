@@ -384,8 +384,8 @@ StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume)
 StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
   auto body = case_body(spec, dir, resume);
   StageOutcome o = run_stage(case_stage(spec, dir), body);
-  pnc::throw_if_stopped(
-      fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id, ckpt_path(dir)));
+  pnc::throw_if_stopped(fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id,
+                                    ckpt_path(dir)));
   return o;
 }
 
