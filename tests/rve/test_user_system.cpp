@@ -113,7 +113,7 @@ TEST(RveUserSystem, ShippedExamplesParse) {
   const Recipe bs = read_recipe((kExamples / "bead_spring_glass" / "recipe.toml").string());
   ASSERT_EQ(bs.system.stages.size(), 4u);
   EXPECT_EQ(bs.system.stages[0].kind, "minimize");
-  EXPECT_EQ(bs.system.stages[2].t_end(), 30.0);
+  EXPECT_EQ(bs.system.stages[2].t_end(), 10.0);
   EXPECT_EQ(bs.system.stages[3].kind, "npt");
   EXPECT_GT(bs.deform.temperature, 0.0);
 }
