@@ -339,3 +339,39 @@ TEST(RveUserSystem, GeneratorsReproduceTheShippedDataFiles) {
   }
   fs::remove_all(d);
 }
+
+// The bead-spring example through the CLI, shortened (finite temperature, atom_style molecular,
+// bonds): the cases re-issue the user's force field, the holds carry standard errors.
+TEST(RveUserSystem, BeadSpringShortRunThroughCli) {
+  const auto d = scratch("pnc_test_user_sys_bs");
+  Recipe full = read_recipe((kExamples / "bead_spring_glass" / "recipe.toml").string());
+  json j = expanded_json(full); // absolute data path + hash
+  for (auto& st : j["equilibrate"]["stages"])
+    if (st.contains("steps")) st["steps"] = 600;
+  j["deform"]["steps"] = 3;
+  j["deform"]["hold_steps"] = 200;
+  std::ofstream(d / "short.json") << j.dump(2);
+  const std::string out = (d / "out").string();
+  const auto r = pnc::test::run_command(
+      std::string(PNC_EXE) + " characterize " + (d / "short.json").string() + " --out " + out +
+      " --json --no-plots --equilibrate-ranks 1 2>" + (d / "err.txt").string());
+  ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4) << r.code << slurp(d / "err.txt");
+  const auto o = json::parse(r.out);
+  EXPECT_EQ(o["equilibrated"]["ensemble"], "user stages");
+  // the reported T and P are the means of the second half of the last (NPT) stage's chunks
+  // (decision D123; 600 steps are too short for T to have relaxed to 10 K)
+  const auto tr = pnc::h5::File((fs::path(out) / "equilibrate" / "stage_4_npt.h5").string(),
+                                pnc::h5::File::Mode::read)
+                      .read_matrix("/trace");
+  const Eigen::Index k = tr.rows() - tr.rows() / 2;
+  EXPECT_NEAR(o["equilibrated"]["temperature_K"].get<double>(), tr.col(0).tail(k).mean(), 1e-9);
+  EXPECT_NEAR(o["equilibrated"]["pressure_atm"].get<double>(), tr.col(2).tail(k).mean(), 1e-9);
+  for (const char* f : {"build/system.data", "build/system.json", "equilibrate/stage_4_npt.h5",
+                        "equilibrate/final.restart", "cases/case_6/checkpoint.h5", "card.h5"})
+    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  const auto cases = pnc::damage::read_stress_strain_h5((fs::path(out) / "cases.h5").string());
+  ASSERT_EQ(cases.cases.size(), 2u);
+  EXPECT_EQ(cases.cases[0].stress_stderr.rows(), 3);
+  EXPECT_GT(cases.cases[0].stress_stderr(0, 1), 0.0);
+  fs::remove_all(d);
+}
