@@ -236,10 +236,13 @@ int run_characterize(const CharacterizeArgs& a) {
   rep_md +=
       fmt::format("{} -- {} UTC. Command: `{}`.\n\n", version_string(), utc_timestamp(), command);
   rep_md += "## RVE\n\n";
-  rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
-                        "force field of section 6.1 (decision D13 units).\n\n",
-                        r.build.chains, r.build.beads_per_chain,
-                        r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
+  if (r.system.enabled) // your own system (rve/user_system.hpp)
+    rep_md += rve::user_system_report(r.system);
+  else
+    rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
+                          "force field of section 6.1 (decision D13 units).\n\n",
+                          r.build.chains, r.build.beads_per_chain,
+                          r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
   nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
   if (r.model == "pnc") {
     const auto cp = fs::path(md.build_record).parent_path() / "clay.json";
@@ -269,13 +272,17 @@ int run_characterize(const CharacterizeArgs& a) {
       "| temperature | {:.1f} K |\n| void fraction (1 A grid, farther than sigma from every bead) "
       "| {:.4f} |\n"
       "| smallest pair distance | {:.3f} A |\n\n",
-      r.equilibrate.ensemble, e.density, e.pressure_total, e.pressure_total_se, e.pressure_virial,
-      e.temperature, e.void_fraction, e.min_distance);
+      r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble, e.density,
+      e.pressure_total, e.pressure_total_se, e.pressure_virial, e.temperature, e.void_fraction,
+      e.min_distance);
   rep_md += fmt::format(
-      "Deformation: cases {}, strain 0 -> {} in {} steps, hold {} steps of {} fs, "
-      "samples every {} steps. Stress handed to the fit: {}.\n\n",
-      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps, r.deform.hold_steps,
-      r.deform.timestep_fs, r.deform.sample_every, data.stress_definition);
+      "Deformation: cases {}, strain 0 -> {} in {} steps, {}. Stress handed to the fit: {}.\n\n",
+      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps,
+      r.deform.temperature == 0 // static rows (decision D120)
+          ? std::string("static at 0 K (no hold)")
+          : fmt::format("hold {} steps of {} fs, samples every {} steps", r.deform.hold_steps,
+                        r.deform.timestep_fs, r.deform.sample_every),
+      data.stress_definition);
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, o.model));
@@ -326,10 +333,14 @@ int run_characterize(const CharacterizeArgs& a) {
     j["report"] = report_path;
     j["plots"] = pngs;
     j["equilibrated"] = {
-        {"ensemble", r.equilibrate.ensemble},       {"density_g_cm3", e.density},
-        {"pressure_atm", e.pressure_total},         {"pressure_stderr_atm", e.pressure_total_se},
-        {"pressure_virial_atm", e.pressure_virial}, {"temperature_K", e.temperature},
-        {"void_fraction", e.void_fraction},         {"min_distance_A", e.min_distance}};
+        {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
+        {"density_g_cm3", e.density},
+        {"pressure_atm", e.pressure_total},
+        {"pressure_stderr_atm", e.pressure_total_se},
+        {"pressure_virial_atm", e.pressure_virial},
+        {"temperature_K", e.temperature},
+        {"void_fraction", e.void_fraction},
+        {"min_distance_A", e.min_distance}};
     if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);

@@ -97,6 +97,10 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
     if (r.model != "pp")
       fail(rp, "model", r.model,
            "thermo ti ramps a single-type LJ; the nanocomposite (model pnc) is not supported yet");
+    if (r.system.enabled) // the built-in force field would be applied to the user's atoms
+      fail(rp, "system", r.system.input_file,
+           "thermo ti works on the built-in polymer force field; a run of your own system "
+           "(recipe \"system\", docs/rve.md) is not supported yet");
     return {rs, rve::polymer_forcefield_commands(r.ff)};
   }
   // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve

@@ -39,7 +39,11 @@ void write_cases_h5(const std::string& path, const Recipe& r,
       (r.moving_average > 1
            ? fmt::format("; {}-point moving average over strain steps", r.moving_average)
            : std::string("; no moving average")) +
-      "; MD by pnc rve (LAMMPS), block-averaged standard errors";
+      (r.deform.temperature == 0
+           ? std::string("; static deformation at 0 K (run 0 after the affine remap") +
+                 (r.deform.minimize ? " and an energy minimisation at fixed box" : "") +
+                 "), no standard errors (decision D120)"
+           : std::string("; MD by pnc rve (LAMMPS), block-averaged standard errors"));
   for (const auto& c : cases) {
     damage::CaseCurve cc;
     cc.id = c.case_id;
@@ -77,6 +81,9 @@ void write_cases_h5(const std::string& path, const Recipe& r,
       cc.stress = s;
       cc.stress_stderr = se;
     }
+    // static rows have no standard errors: none are written, the fit takes its no-data-errors
+    // path (uniform weights; decision D120)
+    if (r.deform.temperature == 0) cc.stress_stderr.resize(0, 6);
     d.cases.push_back(cc);
   }
   std::sort(d.cases.begin(), d.cases.end(),
@@ -89,6 +96,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   MdOutcome o;
   o.dir = dir;
   make_output_directory(dir);
+  if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
   const std::string recipe_text = expanded_json(r).dump(2);
   o.recipe_path = (fs::path(dir) / "recipe.json").string();
   if (fs::exists(o.recipe_path)) {
@@ -115,7 +123,10 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   make_output_directory(bdir.string());
   o.data_file = (bdir / "rve.data").string();
   o.build_record = (bdir / "build.h5").string();
-  if (!(resume && fs::exists(o.data_file) && fs::exists(o.build_record))) {
+  if (r.system.enabled) {
+    o.data_file = prepare_user_input(r.system, bdir.string(), resume);
+    o.build_record = (bdir / "system.json").string();
+  } else if (!(resume && fs::exists(o.data_file) && fs::exists(o.build_record))) {
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
@@ -162,11 +173,17 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   // --- equilibrate
   t0 = std::chrono::steady_clock::now();
   const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
-  std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}, {} MPI rank(s)\n",
-                           r.equilibrate.ensemble, eq_ranks);
+  std::cerr << fmt::format("pnc characterize [equilibrate] {}, {} MPI rank(s)\n",
+                           r.system.enabled
+                               ? fmt::format("{} user stage(s)", r.system.stages.size())
+                               : "ensemble " + r.equilibrate.ensemble,
+                           eq_ranks);
   o.equilibrated =
-      equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
-                  resume, recipe_text, r.model == "pnc", eq_ranks);
+      r.system.enabled
+          ? equilibrate_user(r.system, o.data_file, (fs::path(dir) / "equilibrate").string(),
+                             resume, recipe_text, r.seed, eq_ranks)
+          : equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
+                        resume, recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate = seconds_since(t0);
 
   // --- cases
@@ -181,6 +198,10 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
     d.force_field =
         r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
     d.recipe_json = recipe_text;
+    if (r.system.enabled) { // the user's force field, re-issued after every read_restart
+      d.force_field = r.system.forcefield;
+      d.atom_style = r.system.atom_style;
+    }
     const std::string cdir = (fs::path(dir) / "cases" / fmt::format("case_{}", id)).string();
     if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {
       const CaseResult c = read_case(cdir);

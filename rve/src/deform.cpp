@@ -94,6 +94,9 @@ PathM moving_average(const PathM& m, int points) {
 
 namespace {
 
+/// Force tolerance of the static minimisation, kcal/mol/A (2-norm of the global force vector).
+constexpr double kStaticFtol = 1e-10;
+
 std::string ckpt_path(const std::string& dir) {
   return (fs::path(dir) / "checkpoint.h5").string();
 }
@@ -135,6 +138,11 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.write_scalar("/blocks", spec.blocks);
     f.write_scalar("/temperature", spec.temperature);
     f.set_attr("/temperature", "units", "K");
+    f.write_string("/mode", spec.temperature == 0
+                                ? std::string("static (0 K): affine remap, ") +
+                                      (spec.minimize ? "minimisation at fixed box, " : "") +
+                                      "run 0; standard errors not measured (NaN)"
+                                : std::string("hold: NVE + Langevin, block-averaged samples"));
     f.write_string("/start_state", spec.start_state);
     f.write_string("/recipe", spec.recipe_json.empty() ? "{}" : spec.recipe_json);
     f.write_string("/lammps_version", "20210929 (Debian 20220106)");
@@ -204,6 +212,32 @@ void read_state(Lammps& l, const DeformSpec& spec, const std::string& file) {
   l.cmds(spec.force_field);
 }
 
+/// Static row (decision D120): no velocities, optional minimisation of the atom positions at
+/// the fixed (remapped) box, then the stress of `run 0`. With zero velocities the kinetic term
+/// vanishes, so the total and the virial stress agree.
+void static_row(Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv, Eigen::RowVectorXd& st,
+                Eigen::RowVectorXd& th) {
+  l.cmd("velocity all set 0.0 0.0 0.0");
+  l.cmd("compute pnc_pv all pressure NULL virial");
+  l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz "
+        "c_pnc_pv[1] c_pnc_pv[2] c_pnc_pv[3] c_pnc_pv[4] c_pnc_pv[5] c_pnc_pv[6]");
+  if (spec.minimize) {
+    l.cmd("min_style cg");
+    // etol 0: stop on the force norm (kcal/mol/A) or the iteration limits
+    l.cmd(fmt::format("minimize 0.0 {:.10g} 10000 100000", kStaticFtol));
+  }
+  l.cmd("run 0");
+  static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
+  for (int v = 0; v < 6; ++v) {
+    sv[v] = -l.compute_value("pnc_pv", lmp_of_voigt[v]) * pa_per_atm;
+    st[v] = -l.compute_value("thermo_press", lmp_of_voigt[v]) * pa_per_atm;
+  }
+  th[0] = l.thermo("temp");
+  th[1] = l.thermo("pe");
+  th[2] = l.thermo("vol");
+  th[3] = l.thermo("density");
+}
+
 void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   using clock = std::chrono::steady_clock;
   const int voigt = case_voigt(spec.case_id);
@@ -255,47 +289,54 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     } else {
       l.cmd(fmt::format("change_box all xy final {:.15g} remap units box", B[6] + t * L0[1]));
     }
-    l.cmd("fix pnc_nve all nve");
-    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
-                      spec.temperature, spec.damp_fs, spec.seed + static_cast<std::uint64_t>(k)));
-    l.cmd(fmt::format("fix pnc_mom all momentum {} linear 1 1 1", spec.momentum_every));
-    l.cmd("compute pnc_pv all pressure NULL virial");
-    l.cmd("variable pnc_vol equal vol");
-    l.cmd("variable pnc_rho equal density");
-    l.cmd(fmt::format("fix pnc_samp all vector {} c_pnc_pv[1] c_pnc_pv[2] c_pnc_pv[3] c_pnc_pv[4] "
+    static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
+    static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
+    Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
+    if (spec.temperature == 0) {
+      static_row(l, spec, sv, st, th); // decision D120
+      svse.setConstant(std::nan(""));  // not measured: never a weight (decision D120)
+      stse.setConstant(std::nan(""));
+    } else {
+      l.cmd("fix pnc_nve all nve");
+      l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
+                        spec.temperature, spec.damp_fs, spec.seed + static_cast<std::uint64_t>(k)));
+      l.cmd(fmt::format("fix pnc_mom all momentum {} linear 1 1 1", spec.momentum_every));
+      l.cmd("compute pnc_pv all pressure NULL virial");
+      l.cmd("variable pnc_vol equal vol");
+      l.cmd("variable pnc_rho equal density");
+      l.cmd(
+          fmt::format("fix pnc_samp all vector {} c_pnc_pv[1] c_pnc_pv[2] c_pnc_pv[3] c_pnc_pv[4] "
                       "c_pnc_pv[5] c_pnc_pv[6] c_thermo_press[1] c_thermo_press[2] "
                       "c_thermo_press[3] c_thermo_press[4] c_thermo_press[5] c_thermo_press[6] "
                       "c_thermo_temp v_pnc_vol v_pnc_rho",
                       spec.sample_every));
-    // potential energy is extensive: fix vector keeps it apart from the intensive columns
-    l.cmd(fmt::format("fix pnc_pe all vector {} c_thermo_pe", spec.sample_every));
-    l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz");
-    l.cmd(fmt::format("thermo {}", std::max<long>(1, spec.hold_steps / 10)));
-    l.cmd(fmt::format("run {}", spec.hold_steps));
-    // Samples: stored on every multiple of sample_every from step 0 through hold_steps;
-    // the step-0 sample (the state just after the remap, before any hold) is left out.
-    const int nrows = static_cast<int>(spec.hold_steps / spec.sample_every) + 1;
-    std::vector<std::vector<double>> col(16); // 12 stresses, T, V, density, PE
-    for (int i = 1; i < nrows; ++i) {
-      for (int j = 0; j < 15; ++j)
-        col[j].push_back(l.fix_value("pnc_samp", i, j));
-      col[15].push_back(l.fix_value("pnc_pe", i));
+      // potential energy is extensive: fix vector keeps it apart from the intensive columns
+      l.cmd(fmt::format("fix pnc_pe all vector {} c_thermo_pe", spec.sample_every));
+      l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz");
+      l.cmd(fmt::format("thermo {}", std::max<long>(1, spec.hold_steps / 10)));
+      l.cmd(fmt::format("run {}", spec.hold_steps));
+      // Samples: stored on every multiple of sample_every from step 0 through hold_steps;
+      // the step-0 sample (the state just after the remap, before any hold) is left out.
+      const int nrows = static_cast<int>(spec.hold_steps / spec.sample_every) + 1;
+      std::vector<std::vector<double>> col(16); // 12 stresses, T, V, density, PE
+      for (int i = 1; i < nrows; ++i) {
+        for (int j = 0; j < 15; ++j)
+          col[j].push_back(l.fix_value("pnc_samp", i, j));
+        col[15].push_back(l.fix_value("pnc_pe", i));
+      }
+      for (int v = 0; v < 6; ++v) {
+        auto [m1, e1] = block_mean_se(col[lmp_of_voigt[v]], spec.blocks);
+        auto [m2, e2] = block_mean_se(col[6 + lmp_of_voigt[v]], spec.blocks);
+        sv[v] = -m1 * pa_per_atm;
+        svse[v] = e1 * pa_per_atm;
+        st[v] = -m2 * pa_per_atm;
+        stse[v] = e2 * pa_per_atm;
+      }
+      th[0] = block_mean_se(col[12], spec.blocks).first; // T
+      th[1] = block_mean_se(col[15], spec.blocks).first; // PE
+      th[2] = block_mean_se(col[13], spec.blocks).first; // V
+      th[3] = block_mean_se(col[14], spec.blocks).first; // density
     }
-    static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
-    static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
-    Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
-    for (int v = 0; v < 6; ++v) {
-      auto [m1, e1] = block_mean_se(col[lmp_of_voigt[v]], spec.blocks);
-      auto [m2, e2] = block_mean_se(col[6 + lmp_of_voigt[v]], spec.blocks);
-      sv[v] = -m1 * pa_per_atm;
-      svse[v] = e1 * pa_per_atm;
-      st[v] = -m2 * pa_per_atm;
-      stse[v] = e2 * pa_per_atm;
-    }
-    th[0] = block_mean_se(col[12], spec.blocks).first; // T
-    th[1] = block_mean_se(col[15], spec.blocks).first; // PE
-    th[2] = block_mean_se(col[13], spec.blocks).first; // V
-    th[3] = block_mean_se(col[14], spec.blocks).first; // density
     strain[voigt] = t;
     l.cmd("write_restart " + lammps_path(state_path(dir, k), "--out"));
     append_row(c.r.strain, strain);
@@ -310,10 +351,12 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     fs::remove(prev_state(dir, k), ec);
     const double el = std::chrono::duration<double>(clock::now() - t_start).count();
     const double eta = el / (k - first + 1) * (spec.steps - k);
-    std::cerr << fmt::format("  case {}: step {}/{} strain {:+.5f}  s{} = {:+9.2f} +- {:.2f} MPa "
+    std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  s{} = {:+11.4f}{} MPa "
                              "(virial)  T = {:.1f} K  ETA {:.0f} s\n",
                              spec.case_id, k, spec.steps, t, voigt_names[voigt], sv[voigt] * 1e-6,
-                             svse[voigt] * 1e-6, th[0], eta)
+                             spec.temperature == 0 ? std::string(" (static)")
+                                                   : fmt::format(" +- {:.2f}", svse[voigt] * 1e-6),
+                             th[0], eta)
               << std::flush;
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }

@@ -210,7 +210,18 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   top.get("model", r.model);
   if (r.model != "pp" && r.model != "pnc")
     fail(source, "model", r.model, "must be \"pp\" (pure polymer) or \"pnc\" (with clay)");
-  if (r.model == "pnc" && !j.contains("clay"))
+  const bool user = j.contains("system"); // your own system (user_system.hpp), decision D121
+  if (user) {
+    for (const char* k : {"build", "clay", "forcefield"})
+      if (j.contains(k))
+        fail(source, k, show_json(j.at(k)),
+             "a recipe with a \"system\" section (your own data file and force field) has no "
+             "builder, clay or built-in force-field section");
+    r.system = parse_user_system(
+        j.at("system"), j.contains("equilibrate") ? &j.at("equilibrate") : nullptr, source);
+    top.sub("system");
+  }
+  if (r.model == "pnc" && !j.contains("clay") && !user)
     fail(source, "model", r.model,
          "model \"pnc\" needs a \"clay\" block naming the platelet (cells_a or aspect_ratio, "
          "cells_b), e.g. {\"cells_a\": 7, \"cells_b\": 1}; see the preset paper_pnc");
@@ -253,7 +264,9 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("cutoff_sigma", r.ff.cutoff_sigma);
     s.check_unknown();
   }
-  {
+  if (user) {
+    top.sub("equilibrate"); // the user's stages, parsed by parse_user_system
+  } else {
     auto& e = r.equilibrate;
     Section s = top.sub("equilibrate");
     s.get("timestep_fs", e.timestep_fs);
@@ -290,6 +303,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get_int("blocks", d.blocks, 2, 10000);
     s.get("temperature", d.temperature);
     s.get("damp_fs", d.damp_fs);
+    s.get("minimize", d.minimize);
     s.check_unknown();
   }
   {
@@ -338,6 +352,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   // the cutoff must fit the smallest box: 2 r_c < L at the build density
   double L = std::cbrt(r.build.chains * r.build.beads_per_chain * r.ff.bead_mass /
                        (r.build.density * avogadro_per_A3_cm3));
+  if (user) return r; // LAMMPS checks the user's box against the cutoffs
   if (r.model == "pnc") {
     const auto box = composite_box(r.build, r.ff, r.clay, source);
     L = std::min({box[0], box[1], box[2]});
@@ -524,11 +539,20 @@ nlohmann::json expanded_json(const Recipe& r) {
         {"sample_every", d.sample_every},
         {"blocks", d.blocks},
         {"temperature", d.temperature},
-        {"damp_fs", d.damp_fs}}},
+        {"damp_fs", d.damp_fs},
+        {"minimize", d.minimize}}},
       {"analysis",
        {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
       {"run", {{"jobs", r.jobs}}}};
+  if (r.system.enabled) {
+    const json u = user_system_json(r.system);
+    out.erase("build");
+    out.erase("forcefield");
+    out["system"] = u.at("system");
+    out["equilibrate"] = u.at("equilibrate");
+    return out;
+  }
   if (r.model == "pnc")
     out["clay"] = {{"cells_a", r.clay.cells_a},
                    {"cells_b", r.clay.cells_b},

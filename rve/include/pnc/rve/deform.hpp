@@ -39,11 +39,15 @@ struct DeformSpec {
   double strain_max = 0.1; ///< final engineering strain (or gamma); may be negative
   int steps = 40;          ///< strain steps
   double timestep_fs = 0.5;
-  long hold_steps = 10000;  ///< MD steps per strain step (5 ps at 0.5 fs)
-  int sample_every = 10;    ///< 5 fs at 0.5 fs
-  int blocks = 10;          ///< blocks for the standard error
-  double temperature = 300; ///< K
-  double damp_fs = 100;     ///< Langevin damping time
+  long hold_steps = 10000; ///< MD steps per strain step (5 ps at 0.5 fs)
+  int sample_every = 10;   ///< 5 fs at 0.5 fs
+  int blocks = 10;         ///< blocks for the standard error
+  /// K; 0 = static deformation (decision D120): per row the affine remap, an optional energy
+  /// minimisation at fixed box (`minimize`), the stress of `run 0`; no hold, no standard errors
+  /// (stored as NaN in checkpoint.h5, absent from cases.h5)
+  double temperature = 300;
+  bool minimize = true; ///< static deformation only: relax the atoms at fixed box per row
+  double damp_fs = 100; ///< Langevin damping time
   int momentum_every = 100;
   std::uint64_t seed = 1;
   std::string atom_style = "molecular";

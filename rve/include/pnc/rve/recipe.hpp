@@ -18,11 +18,13 @@
 //     "analysis":    { "stress": "virial" | "total", "moving_average": odd >= 1,
 //                      "reference": "subtract" | "none" },
 //     "fit":         { "fit_alpha": bool },
-//     "run":         { "jobs": N } }
+//     "run":         { "jobs": N },
+//     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/user_system.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -48,6 +50,10 @@ struct Recipe {
   std::string reference = "subtract";
   bool fit_alpha = false;
   int jobs = 1;
+  /// "system": the user's own data/restart file and force field instead of the builder
+  /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
+  /// holds the user's stages.
+  UserSystem system;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
