@@ -276,6 +276,7 @@ int run_characterize(const CharacterizeArgs& a) {
       "samples every {} steps. Stress handed to the fit: {}.\n\n",
       nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps, r.deform.hold_steps,
       r.deform.timestep_fs, r.deform.sample_every, data.stress_definition);
+  rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, o.model));
