@@ -96,6 +96,10 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
   auto recipe = nlohmann::json::parse(tiny);
   recipe["run"]["replicas"] = 2;
   recipe["name"] = "tiny-replicas";
+  // the machinery is under test, not the physics: shorter equilibration and reference hold
+  recipe["equilibrate"]["hot_steps"] = 500;
+  recipe["equilibrate"]["npt_steps"] = 500;
+  recipe["deform"]["reference_holds"] = 1;
   std::ofstream(d / "tiny2.json") << recipe.dump();
   const std::string out = (d / "out").string();
   const Proc r = run("characterize " + (d / "tiny2.json").string() + " --out " + out +
