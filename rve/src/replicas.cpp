@@ -23,6 +23,8 @@ std::uint64_t splitmix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 constexpr std::uint64_t kSeedRange = 800000000; // LAMMPS seeds < 900000000, + row offsets
+/// From this many replicas on, every point's own between-replica variance is its error (D130)
+constexpr int kPointVarianceReplicas = 8;
 } // namespace
 
 std::uint64_t replica_build_seed(std::uint64_t seed, int replica) {
@@ -155,6 +157,7 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
       // decision D130: between-replica mean and standard error sd / sqrt(N)
       cc.stress.resize(n, 6);
       cc.stress_stderr.resize(n, 6);
+      PathM var(n, 6);
       for (Eigen::Index k = 0; k < n; ++k)
         for (int j = 0; j < 6; ++j) {
           std::vector<double> v;
@@ -162,7 +165,17 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
             v.push_back(cc.replica_stress[rep](k, j));
           const ReplicaEstimate e = replica_mean_se(v);
           cc.stress(k, j) = e.mean;
-          cc.stress_stderr(k, j) = e.se;
+          var(k, j) = e.sd * e.sd;
+        }
+      // a point's variance from N < kPointVarianceReplicas replicas has few degrees of freedom
+      // (N = 2: one) and can be near zero by chance, an infinite fit weight: it is not used
+      // below the variance pooled over the rows of the curve (per component), D130
+      const Eigen::RowVectorXd pooled = var.colwise().mean();
+      for (Eigen::Index k = 0; k < n; ++k)
+        for (int j = 0; j < 6; ++j) {
+          const double v =
+              nrep < kPointVarianceReplicas ? std::max(var(k, j), pooled[j]) : var(k, j);
+          cc.stress_stderr(k, j) = std::sqrt(v / nrep);
         }
       cc.reference_stderr = Eigen::RowVectorXd::Zero(6);
       if (subtract)

@@ -262,3 +262,21 @@ TEST(RveStatistics, ReplicaSeedsAndDirectories) {
   EXPECT_EQ(replica_dir("/x", 1, 1), "/x");
   EXPECT_EQ(replica_dir("/x", 3, 2), "/x/replica_2");
 }
+
+// Two replicas that agree exactly at one strain step: that point's own between-replica
+// variance is zero (one degree of freedom), an infinite fit weight. The point error is the
+// variance pooled over the curve's rows instead (D130).
+TEST(RveStatistics, FewReplicasNeverGiveAPointAZeroError) {
+  Recipe r;
+  std::vector<double> y1 = {0, 1e6, 2e6, 3e6, 4e6}, y2 = {0, 1e6, 4e6, 3e6, 8e6};
+  const std::vector<double> se(5, 1e5);
+  const CombinedCases c =
+      combine_cases(r, {{synthetic_case(2, y1, se, 0.01)}, {synthetic_case(2, y2, se, 0.01)}});
+  const CombinedCase& cc = c.cases[0];
+  // rows (k >= 1): differences 0, 2e6, 0, 4e6; variances d^2 / 2 = 0, 2e12, 0, 8e12
+  const double pooled = (0 + 2e12 + 0 + 8e12) / 4;
+  EXPECT_NEAR(cc.stress_stderr(0, 1), std::sqrt(pooled / 2), 1e-6);
+  EXPECT_NEAR(cc.stress_stderr(1, 1), std::sqrt(pooled / 2), 1e-6); // own 2e12 < pooled
+  EXPECT_NEAR(cc.stress_stderr(3, 1), std::sqrt(8e12 / 2), 1e-6);   // own above pooled
+  EXPECT_NEAR(cc.stress(3, 1), 6e6, 1e-6);
+}
