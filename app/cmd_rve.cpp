@@ -335,6 +335,7 @@ int run_characterize(const CharacterizeArgs& a) {
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
     j["verdict"] = verdict_json(card.verdict);
+    j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
     j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
     j["seconds"] = {{"build", md.seconds_build},
                     {"equilibrate", md.seconds_equilibrate},

@@ -337,4 +337,24 @@ std::string statistics_markdown(const CombinedCases& c) {
   return s;
 }
 
+nlohmann::json statistics_json(const CombinedCases& c) {
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json j = {{"error_method", c.error_method},
+                      {"replicas", c.replicas},
+                      {"holds_checked", c.holds_checked},
+                      {"holds_inflated", c.holds_inflated}};
+  j["cases"] = nlohmann::json::array();
+  for (const auto& cc : c.cases) {
+    nlohmann::json rs = nlohmann::json::array();
+    for (double v : cc.replica_slopes)
+      rs.push_back(num(v));
+    j["cases"].push_back({{"case", cc.id},
+                          {"linear_slope_Pa", num(cc.slope)},
+                          {"linear_slope_stderr_Pa", num(cc.slope_se)},
+                          {"coverage_factor_68", num(cc.slope_coverage_factor)},
+                          {"replica_slopes_Pa", rs}});
+  }
+  return j;
+}
+
 } // namespace pnc::rve

@@ -108,6 +108,9 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
                      " --json --no-plots 2>" + (d / "err.txt").string());
   ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4)
       << r.code << " " << r.out << slurp((d / "err.txt").string());
+  const auto js = nlohmann::json::parse(r.out);
+  EXPECT_EQ(js["statistics"]["error_method"], "replicas");
+  EXPECT_EQ(js["statistics"]["cases"][0]["replica_slopes_Pa"].size(), 2u);
   std::vector<fs::path> ckpts;
   for (const char* rep : {"replica_1", "replica_2"}) {
     for (const char* f : {"build/rve.data", "build/build.h5", "equilibrate/final.h5"})

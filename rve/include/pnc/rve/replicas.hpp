@@ -19,6 +19,8 @@
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/statistics.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -72,5 +74,7 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
 
 /// Markdown paragraph for report.md: error method, replicas, block check, slopes.
 std::string statistics_markdown(const CombinedCases& c);
+/// The same as JSON for `pnc characterize --json` (keys state units: _Pa).
+nlohmann::json statistics_json(const CombinedCases& c);
 
 } // namespace pnc::rve
