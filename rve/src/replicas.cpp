@@ -329,8 +329,12 @@ std::string statistics_markdown(const CombinedCases& c) {
                      c.holds_inflated, c.holds_checked);
   s += "| case | linear-range slope | standard error | 68 % interval |\n|---|---|---|---|\n";
   for (const auto& cc : c.cases)
-    s += fmt::format("| {} | {:.4f} GPa | {:.4f} GPa | +- {:.4f} GPa |\n", cc.id, cc.slope * 1e-9,
-                     cc.slope_se * 1e-9, cc.slope_coverage_factor * cc.slope_se * 1e-9);
+    s += std::isfinite(cc.slope)
+             ? fmt::format("| {} | {:.4f} GPa | {:.4f} GPa | +- {:.4f} GPa |\n", cc.id,
+                           cc.slope * 1e-9, cc.slope_se * 1e-9,
+                           cc.slope_coverage_factor * cc.slope_se * 1e-9)
+             : fmt::format("| {} | not computed (needs analysis.reference = \"subtract\") | | |\n",
+                           cc.id);
   s += "\nSlope of the driven component through the origin over strain <= strain_max/2, with "
        "the reference stress's error counted once for the whole curve (D131); a check on the "
        "fitted constants, whose own standard errors treat the points as independent.\n\n";

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <set>
 
@@ -103,6 +104,9 @@ TEST(RveStatistics, ShortBlocksAreFlaggedAndTheirErrorInflatedLongBlocksKept) {
       flagged += h.blocks_ok ? 0 : 1;
     }
     const ReplicaEstimate mb = replica_mean_se(sb), mu = replica_mean_se(su);
+    std::cout << blocks << " blocks: E[se_block^2]/Var = " << mb.mean / var_true
+              << ", E[se_used^2]/Var = " << mu.mean / var_true << ", flagged " << flagged << "/"
+              << reps << "\n";
     // the block estimator itself is what the exact expectation says (Monte Carlo error)
     EXPECT_NEAR(mb.mean, e_block, 4 * mb.se) << blocks;
     if (static_cast<double>(b) < kMinBlockOverInefficiency * g_ineff) {
@@ -167,6 +171,8 @@ TEST(RveStatistics, BetweenReplicaErrorOfAFittedSlopeCoversTheTruth) {
       if (std::fabs(cc.slope - E) <= cc.slope_se) ++covered_naive;
     }
     const double p = 0.6826894921370859;
+    std::cout << "N = " << nrep << " replicas: coverage " << static_cast<double>(covered) / sets
+              << " (t factor), " << static_cast<double>(covered_naive) / sets << " (se alone)\n";
     EXPECT_NEAR(static_cast<double>(covered) / sets, p, binomial_band(p, sets)) << nrep;
     // without the Student factor the interval is too short for few replicas: P(|T_1| <= 1)
     // = 0.5, P(|T_3| <= 1) = 0.609
@@ -209,6 +215,8 @@ TEST(RveStatistics, ReferenceErrorPropagationMatchesMonteCarlo) {
     naive = slope_through_origin(t, yy, ss, 0.0).se;
   }
   const ReplicaEstimate mc = replica_mean_se(slopes);
+  std::cout << "slope scatter: Monte Carlo " << mc.sd << ", propagated " << reported
+            << ", independent-quadrature " << naive << " Pa\n";
   const double sd_rel = 1 / std::sqrt(2.0 * (sets - 1)); // relative s.e. of a sample sd
   EXPECT_NEAR(mc.mean, E, 4 * mc.se);
   EXPECT_NEAR(mc.sd / reported, 1.0, 4 * sd_rel);
