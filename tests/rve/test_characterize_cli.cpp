@@ -154,6 +154,9 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
   }
   EXPECT_NE(slurp((fs::path(out) / "report.md").string()).find("between-replica standard errors"),
             std::string::npos);
+  EXPECT_NE(slurp((fs::path(out) / "report.md").string())
+                .find("Between-replica errors of the fitted constants"),
+            std::string::npos);
   // --resume after the finished run recomputes nothing
   std::vector<fs::file_time_type> times;
   for (const auto& p : ckpts)
