@@ -358,9 +358,11 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     const double el = std::chrono::duration<double>(clock::now() - t_start).count();
     const double eta = el / (k - first + 1) * (spec.steps - k);
     std::cerr << fmt::format("  case {}: step {}/{} strain {:+.5f}  s{} = {:+9.2f} +- {:.2f} MPa "
-                             "(virial)  T = {:.1f} K  ETA {:.0f} s\n",
-                             spec.case_id, k, spec.steps, t, voigt_names[voigt], sv[voigt] * 1e-6,
-                             svse[voigt] * 1e-6, th[0], eta)
+                             "(total; virial only {:+.2f}{})  T = {:.1f} K  ETA {:.0f} s\n",
+                             spec.case_id, k, spec.steps, t, voigt_names[voigt], st[voigt] * 1e-6,
+                             stse[voigt] * 1e-6, sv[voigt] * 1e-6,
+                             it[voigt] > 0.5 ? "; blocks too short, error inflated" : "", th[0],
+                             eta)
               << std::flush;
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }
