@@ -17,6 +17,7 @@
 #include "pnc/rve/characterize.hpp"
 #include "pnc/rve/lammps_server.hpp"
 #include "pnc/rve/recipe.hpp"
+#include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/runner.hpp"
 
 #include <CLI/CLI.hpp>
@@ -215,6 +216,8 @@ int run_characterize(const CharacterizeArgs& a) {
   o.validate();
   const StressStrainData data = read_stress_strain(md.cases_h5);
   const FitReport rep = fit_ndm(data, o);
+  // decision D130: with >= 2 replicas every replica is fitted on its own as well
+  const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
   Card card = card_from_fit(rep, data, "none");
   const std::string card_path = (fs::path(a.out) / "card.h5").string();
   const std::string command =
@@ -283,7 +286,9 @@ int run_characterize(const CharacterizeArgs& a) {
           : fmt::format("hold {} steps of {} fs, samples every {} steps", r.deform.hold_steps,
                         r.deform.timestep_fs, r.deform.sample_every),
       data.stress_definition);
+  rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
+  rep_md += rve::replica_fits_markdown(replica_fits, rep);
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, o.model));
   rep_md +=
@@ -345,6 +350,7 @@ int run_characterize(const CharacterizeArgs& a) {
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
     j["verdict"] = verdict_json(card.verdict);
+    j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
     j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
     j["seconds"] = {{"build", md.seconds_build},
                     {"equilibrate", md.seconds_equilibrate},

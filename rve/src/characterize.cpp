@@ -24,116 +24,49 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+std::string case_dir(const std::string& dir, int replicas, int replica, int id) {
+  return (fs::path(replica_dir(dir, replicas, replica)) / "cases" / fmt::format("case_{}", id))
+      .string();
+}
 } // namespace
 
 void write_cases_h5(const std::string& path, const Recipe& r,
                     const std::vector<CaseResult>& cases) {
-  damage::StressStrainData d;
-  d.source = path;
-  d.stress_definition =
-      (r.stress == "virial" ? std::string("virial only, no kinetic term (eq. 6.23, Zhou 2003)")
-                            : std::string("virial + kinetic term")) +
-      (r.reference == "subtract"
-           ? std::string("; relative to the zero-strain hold (sigma - sigma_0)")
-           : std::string("; absolute, zero-strain row included")) +
-      (r.moving_average > 1
-           ? fmt::format("; {}-point moving average over strain steps", r.moving_average)
-           : std::string("; no moving average")) +
-      (r.deform.temperature == 0
-           ? std::string("; static deformation at 0 K (run 0 after the affine remap") +
-                 (r.deform.minimize ? " and an energy minimisation at fixed box" : "") +
-                 "), no standard errors (decision D120)"
-           : std::string("; MD by pnc rve (LAMMPS), block-averaged standard errors"));
-  for (const auto& c : cases) {
-    damage::CaseCurve cc;
-    cc.id = c.case_id;
-    Eigen::Matrix<double, Eigen::Dynamic, 6> s =
-        r.stress == "virial" ? c.stress_virial : c.stress_total;
-    Eigen::Matrix<double, Eigen::Dynamic, 6> se =
-        r.stress == "virial" ? c.stress_virial_se : c.stress_total_se;
-    cc.strain = c.strain;
-    if (r.reference == "subtract") {
-      const Eigen::Index n = s.rows() - 1;
-      if (n < 1) fail(path, fmt::format("case_{}", c.case_id), "", "has no strain step");
-      cc.strain = c.strain.bottomRows(n);
-      const Eigen::RowVectorXd s0 = s.row(0), e0 = se.row(0);
-      Eigen::Matrix<double, Eigen::Dynamic, 6> rs = s.bottomRows(n), re = se.bottomRows(n);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        rs.row(i) -= s0;
-        re.row(i) = (re.row(i).array().square() + e0.array().square()).sqrt().matrix();
-      }
-      s = rs;
-      se = re;
-    }
-    if (r.moving_average > 1) {
-      cc.stress = moving_average(s, r.moving_average);
-      // s.e. of a window mean: sqrt(sum se^2) / n (independent step means)
-      Eigen::Matrix<double, Eigen::Dynamic, 6> v = se.array().square().matrix();
-      const auto mv = moving_average(v, r.moving_average);
-      cc.stress_stderr.resize(se.rows(), 6);
-      const Eigen::Index n = se.rows(), h = r.moving_average / 2;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const double w =
-            static_cast<double>(std::min(n - 1, i + h) - std::max<Eigen::Index>(0, i - h) + 1);
-        cc.stress_stderr.row(i) = (mv.row(i).array() / w).sqrt().matrix();
-      }
-    } else {
-      cc.stress = s;
-      cc.stress_stderr = se;
-    }
-    // static rows have no standard errors: none are written, the fit takes its no-data-errors
-    // path (uniform weights; decision D120)
-    if (r.deform.temperature == 0) cc.stress_stderr.resize(0, 6);
-    d.cases.push_back(cc);
-  }
-  std::sort(d.cases.begin(), d.cases.end(),
-            [](const auto& a, const auto& b) { return a.id < b.id; });
-  damage::write_stress_strain_h5(path, d);
+  write_replica_cases_h5(path, r, {cases});
 }
 
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks,
-                 int equilibrate_ranks) {
-  MdOutcome o;
-  o.dir = dir;
-  make_output_directory(dir);
-  if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
-  const std::string recipe_text = expanded_json(r).dump(2);
-  o.recipe_path = (fs::path(dir) / "recipe.json").string();
-  if (fs::exists(o.recipe_path)) {
-    std::ifstream f(o.recipe_path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    if (ss.str() != recipe_text + "\n") {
-      if (resume)
-        fail(o.recipe_path, "", "",
-             "--resume with a recipe different from the one this directory was made with; "
-             "use a new --out directory");
-      if (!fs::is_empty(fs::path(dir)))
-        fail(dir, "--out", dir,
-             "holds a run of another recipe; use a new --out directory or delete it");
-    } else {
-      refuse_existing_run(dir, resume, {"cases", "cases.h5"});
-    }
-  }
-  write_text_atomically(o.recipe_path, recipe_text + "\n");
+CombinedCases write_replica_cases_h5(const std::string& path, const Recipe& r,
+                                     const std::vector<std::vector<CaseResult>>& results) {
+  // decisions D130-D134: replicas, reference state, no smoothing in the fit, checked errors
+  CombinedCases c = combine_cases(r, results);
+  write_combined_cases_h5(path, r, c, results);
+  return c;
+}
 
+namespace {
+
+/// Build and equilibration of one replica in `rdir` (its own seeds: replica_build_seed).
+void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
+                     const std::string& recipe_text, int eq_ranks, MdOutcome& o,
+                     ReplicaOutcome& ro) {
   // --- build
   auto t0 = std::chrono::steady_clock::now();
-  const fs::path bdir = fs::path(dir) / "build";
+  make_output_directory(rdir);
+  const fs::path bdir = fs::path(rdir) / "build";
   make_output_directory(bdir.string());
-  o.data_file = (bdir / "rve.data").string();
-  o.build_record = (bdir / "build.h5").string();
-  if (r.system.enabled) {
-    o.data_file = prepare_user_input(r.system, bdir.string(), resume);
-    o.build_record = (bdir / "system.json").string();
-  } else if (!(resume && fs::exists(o.data_file) && fs::exists(o.build_record))) {
+  ro.data_file = (bdir / "rve.data").string();
+  ro.build_record = (bdir / "build.h5").string();
+  if (r.system.enabled) { // the user's own data/restart file (decision D121)
+    ro.data_file = prepare_user_input(r.system, bdir.string(), resume);
+    ro.build_record = (bdir / "system.json").string();
+  } else if (!(resume && fs::exists(ro.data_file) && fs::exists(ro.build_record))) {
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
     const System s = r.model == "pnc" ? build_composite(r.build, r.ff, r.clay, &ci)
                                       : build_polymer(r.build, r.ff);
-    write_data_file(o.data_file, s, "pnc characterize " + r.name);
-    write_build_record(o.build_record, s, r.build, r.ff, recipe_text);
+    write_data_file(ro.data_file, s, "pnc characterize " + r.name);
+    write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
     if (r.model == "pnc") {
       const nlohmann::json cj = {
           {"cells_a", r.clay.cells_a},
@@ -167,80 +100,136 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
-  o.seconds_build = seconds_since(t0);
+  o.seconds_build += seconds_since(t0);
 
   pnc::throw_if_stopped("after the build");
   // --- equilibrate
   t0 = std::chrono::steady_clock::now();
-  const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
   std::cerr << fmt::format("pnc characterize [equilibrate] {}, {} MPI rank(s)\n",
                            r.system.enabled
                                ? fmt::format("{} user stage(s)", r.system.stages.size())
                                : "ensemble " + r.equilibrate.ensemble,
                            eq_ranks);
-  o.equilibrated =
-      r.system.enabled
-          ? equilibrate_user(r.system, o.data_file, (fs::path(dir) / "equilibrate").string(),
-                             resume, recipe_text, r.seed, eq_ranks)
-          : equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
-                        resume, recipe_text, r.model == "pnc", eq_ranks);
-  o.seconds_equilibrate = seconds_since(t0);
+  const std::string edir = (fs::path(rdir) / "equilibrate").string();
+  ro.equilibrated = r.system.enabled
+                        ? equilibrate_user(r.system, ro.data_file, edir, resume, recipe_text,
+                                           r.seed, eq_ranks)
+                        : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
+                                      recipe_text, r.model == "pnc", eq_ranks);
+  o.seconds_equilibrate += seconds_since(t0);
+}
+
+} // namespace
+
+MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks,
+                 int equilibrate_ranks) {
+  MdOutcome o;
+  o.dir = dir;
+  make_output_directory(dir);
+  if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
+  const std::string recipe_text = expanded_json(r).dump(2);
+  o.recipe_path = (fs::path(dir) / "recipe.json").string();
+  if (fs::exists(o.recipe_path)) {
+    std::ifstream f(o.recipe_path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (ss.str() != recipe_text + "\n") {
+      if (resume)
+        fail(o.recipe_path, "", "",
+             "--resume with a recipe different from the one this directory was made with; "
+             "use a new --out directory");
+      if (!fs::is_empty(fs::path(dir)))
+        fail(dir, "--out", dir,
+             "holds a run of another recipe; use a new --out directory or delete it");
+    } else {
+      refuse_existing_run(dir, resume, {"cases", "cases.h5", "replica_1"});
+    }
+  }
+  write_text_atomically(o.recipe_path, recipe_text + "\n");
+
+  const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
+  const int nrep = std::max(1, r.replicas);
+  // decision D130: every replica its own build seed and its own equilibration
+  for (int rep = 1; rep <= nrep; ++rep) {
+    Recipe rr = r;
+    rr.seed = replica_build_seed(r.seed, rep);
+    rr.build.seed = rr.seed;
+    rr.equilibrate.seed = rr.seed;
+    if (nrep > 1) std::cerr << fmt::format("pnc characterize [replica {}/{}]\n", rep, nrep);
+    ReplicaOutcome ro;
+    ro.dir = replica_dir(dir, nrep, rep);
+    prepare_replica(rr, ro.dir, resume, recipe_text, eq_ranks, o, ro);
+    o.replicas.push_back(ro);
+    pnc::throw_if_stopped("after the equilibration");
+  }
+  o.data_file = o.replicas[0].data_file;
+  o.build_record = o.replicas[0].build_record;
+  o.equilibrated = o.replicas[0].equilibrated;
 
   // --- cases
-  t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   std::vector<std::pair<StageSpec, StageBody>> stages;
-  std::vector<int> run_ids;
-  for (int id : r.cases) {
-    DeformSpec d = r.deform;
-    d.case_id = id;
-    d.seed = static_cast<std::uint64_t>(r.seed) * 100 + static_cast<std::uint64_t>(id);
-    d.start_state = o.equilibrated.restart;
-    d.force_field =
-        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
-    d.recipe_json = recipe_text;
-    if (r.system.enabled) { // the user's force field, re-issued after every read_restart
-      d.force_field = r.system.forcefield;
-      d.atom_style = r.system.atom_style;
-    }
-    const std::string cdir = (fs::path(dir) / "cases" / fmt::format("case_{}", id)).string();
-    if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {
-      const CaseResult c = read_case(cdir);
-      if (c.rows_done >= d.steps + 1) {
-        std::cerr << fmt::format("pnc characterize [case {}] done (resumed)\n", id);
-        continue;
+  std::vector<std::string> run_ids;
+  for (int rep = 1; rep <= nrep; ++rep)
+    for (int id : r.cases) {
+      DeformSpec d = r.deform;
+      d.case_id = id;
+      d.seed = replica_case_seed(r.seed, rep, id);
+      d.start_state = o.replicas[rep - 1].equilibrated.restart;
+      d.force_field = r.model == "pnc" ? composite_forcefield_commands(r.ff)
+                                       : polymer_forcefield_commands(r.ff);
+      d.recipe_json = recipe_text;
+      if (r.system.enabled) { // the user's force field, re-issued after every read_restart
+        d.force_field = r.system.forcefield;
+        d.atom_style = r.system.atom_style;
       }
-      std::cerr << fmt::format("pnc characterize [case {}] resuming after step {}/{}\n", id,
-                               c.rows_done - 1, d.steps);
+      const std::string cdir = case_dir(dir, nrep, rep, id);
+      const std::string name =
+          nrep > 1 ? fmt::format("replica {} case {}", rep, id) : fmt::format("case {}", id);
+      if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {
+        const CaseResult c = read_case(cdir);
+        if (c.rows_done >= d.steps + 1) {
+          std::cerr << fmt::format("pnc characterize [{}] done (resumed)\n", name);
+          continue;
+        }
+        std::cerr << fmt::format("pnc characterize [{}] resuming after step {}/{}\n", name,
+                                 c.rows_done - 1, d.steps);
+      }
+      stages.push_back({case_stage(d, cdir, ranks), case_body(d, cdir, resume)});
+      run_ids.push_back(name);
     }
-    stages.push_back({case_stage(d, cdir, ranks), case_body(d, cdir, resume)});
-    run_ids.push_back(id);
-  }
   if (!stages.empty())
     std::cerr << fmt::format("pnc characterize [cases] {} case(s), {} at a time, {} MPI rank(s) "
-                             "each; LAMMPS logs in {}/cases/case_<n>/lammps.log\n",
-                             stages.size(), std::max(1, jobs), ranks, dir);
+                             "each; LAMMPS logs in {}/{}cases/case_<n>/lammps.log\n",
+                             stages.size(), std::max(1, jobs), ranks, dir,
+                             nrep > 1 ? "replica_<r>/" : "");
+
   const auto outcomes = run_stages(stages, jobs);
   pnc::throw_if_stopped("the running cases stopped; their checkpoints are kept");
   std::string first_error;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     if (outcomes[i].ok) {
-      std::cerr << fmt::format("pnc characterize [case {}] finished in {:.1f} s\n", run_ids[i],
+      std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", run_ids[i],
                                outcomes[i].seconds);
     } else {
-      std::cerr << fmt::format("pnc characterize [case {}] FAILED: {} (log {})\n", run_ids[i],
+      std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", run_ids[i],
                                outcomes[i].error, outcomes[i].log_path);
       if (first_error.empty())
-        first_error = fmt::format("case {}: {} (log {})", run_ids[i], outcomes[i].error,
-                                  outcomes[i].log_path);
+        first_error =
+            fmt::format("{}: {} (log {})", run_ids[i], outcomes[i].error, outcomes[i].log_path);
     }
   }
   if (!first_error.empty())
     fail(dir, "cases", "", first_error + "; finished steps are kept: rerun with --resume");
-  for (int id : r.cases)
-    o.cases.push_back(read_case((fs::path(dir) / "cases" / fmt::format("case_{}", id)).string()));
+  std::vector<std::vector<CaseResult>> results(static_cast<std::size_t>(nrep));
+  for (int rep = 1; rep <= nrep; ++rep)
+    for (int id : r.cases)
+      results[rep - 1].push_back(read_case(case_dir(dir, nrep, rep, id)));
+  o.cases = results[0];
   o.seconds_cases = seconds_since(t0);
   o.cases_h5 = (fs::path(dir) / "cases.h5").string();
-  write_cases_h5(o.cases_h5, r, o.cases);
+  o.statistics = write_replica_cases_h5(o.cases_h5, r, results);
+  o.statistics_markdown = statistics_markdown(o.statistics);
   return o;
 }
 

@@ -9,6 +9,7 @@
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/stage_stop.hpp"
+#include "pnc/rve/statistics.hpp"
 
 #include <fmt/format.h>
 
@@ -42,6 +43,9 @@ void DeformSpec::validate(const std::string& source) const {
   if (sample_every < 1)
     fail(source, "deform.sample_every", std::to_string(sample_every), "must be >= 1");
   if (blocks < 2) fail(source, "deform.blocks", std::to_string(blocks), "must be >= 2");
+  if (reference_holds < 1 || reference_holds > 1000)
+    fail(source, "deform.reference_holds", std::to_string(reference_holds),
+         "must be in 1..1000 (the zero-strain hold lasts reference_holds x hold_steps)");
   if (hold_steps < static_cast<long>(sample_every) * blocks)
     fail(source, "deform.hold_steps", std::to_string(hold_steps),
          fmt::format("must be >= sample_every * blocks = {} (one sample per block at least)",
@@ -136,6 +140,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.set_attr("/timestep", "units", "fs");
     f.write_scalar("/sample_every", spec.sample_every);
     f.write_scalar("/blocks", spec.blocks);
+    f.write_scalar("/reference_holds", spec.reference_holds);
     f.write_scalar("/temperature", spec.temperature);
     f.set_attr("/temperature", "units", "K");
     f.write_string("/mode", spec.temperature == 0
@@ -165,6 +170,18 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
           "virial only, no kinetic term (eq. 6.23, Zhou 2003): compute pressure NULL virial");
       f.set_attr("/stress_total", "definition",
                  "virial + kinetic term (compute pressure thermo_temp)");
+      const std::pair<const char*, const PathM*> checks[] = {
+          {"/stress_virial_tau", &c.r.stress_virial_tau_fs},
+          {"/stress_total_tau", &c.r.stress_total_tau_fs},
+          {"/stress_virial_stderr_inflated", &c.r.stress_virial_inflated},
+          {"/stress_total_stderr_inflated", &c.r.stress_total_inflated}};
+      for (const auto& [name, m] : checks)
+        f.write_matrix(name, to_row(*m));
+      f.set_attr("/stress_virial_tau", "units", "fs (integrated autocorrelation time, D132)");
+      f.set_attr("/stress_total_tau", "units", "fs (integrated autocorrelation time, D132)");
+      f.set_attr("/stress_total_stderr_inflated", "definition",
+                 "1: blocks shorter than 5 statistical inefficiencies, the standard error was "
+                 "inflated to sqrt(2 tau var / n) (D132); 0: block standard error");
       f.write_matrix("/thermo", to_row(c.r.thermo));
       f.set_attr("/thermo", "units",
                  "columns: T (K), PE (kcal/mol), V (A^3), density (g/cm^3); step means");
@@ -188,6 +205,15 @@ Checkpoint read_checkpoint(const std::string& dir) {
     c.r.stress_total = f.read_matrix("/stress_total");
     c.r.stress_total_se = f.read_matrix("/stress_total_stderr");
     c.r.thermo = f.read_matrix("/thermo");
+    // rows written before decision D132 have no autocorrelation check: NaN (not measured)
+    const auto opt = [&](const char* name) -> PathM {
+      if (f.exists(name)) return f.read_matrix(name);
+      return PathM::Constant(c.r.rows_done, 6, std::nan(""));
+    };
+    c.r.stress_virial_tau_fs = opt("/stress_virial_tau");
+    c.r.stress_total_tau_fs = opt("/stress_total_tau");
+    c.r.stress_virial_inflated = opt("/stress_virial_stderr_inflated");
+    c.r.stress_total_inflated = opt("/stress_total_stderr_inflated");
   } else {
     c.r.strain.resize(0, 6);
     c.r.stress_virial.resize(0, 6);
@@ -195,6 +221,10 @@ Checkpoint read_checkpoint(const std::string& dir) {
     c.r.stress_total.resize(0, 6);
     c.r.stress_total_se.resize(0, 6);
     c.r.thermo.resize(0, 4);
+    c.r.stress_virial_tau_fs.resize(0, 6);
+    c.r.stress_total_tau_fs.resize(0, 6);
+    c.r.stress_virial_inflated.resize(0, 6);
+    c.r.stress_total_inflated.resize(0, 6);
   }
   return c;
 }
@@ -264,6 +294,10 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     c.r.stress_total.resize(0, 6);
     c.r.stress_total_se.resize(0, 6);
     c.r.thermo.resize(0, 4);
+    c.r.stress_virial_tau_fs.resize(0, 6);
+    c.r.stress_total_tau_fs.resize(0, 6);
+    c.r.stress_virial_inflated.resize(0, 6);
+    c.r.stress_total_inflated.resize(0, 6);
     c.r.rows_done = 0;
     write_checkpoint(dir, spec, c);
   }
@@ -292,10 +326,15 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
     static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
     Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
+    Eigen::RowVectorXd tv(6), tt(6), iv(6), it(6); // autocorrelation times (fs), inflated flags
     if (spec.temperature == 0) {
       static_row(l, spec, sv, st, th); // decision D120
       svse.setConstant(std::nan(""));  // not measured: never a weight (decision D120)
       stse.setConstant(std::nan(""));
+      tv.setConstant(std::nan(""));
+      tt.setConstant(std::nan(""));
+      iv.setZero();
+      it.setZero();
     } else {
       l.cmd("fix pnc_nve all nve");
       l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
@@ -313,24 +352,32 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
       // potential energy is extensive: fix vector keeps it apart from the intensive columns
       l.cmd(fmt::format("fix pnc_pe all vector {} c_thermo_pe", spec.sample_every));
       l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz");
-      l.cmd(fmt::format("thermo {}", std::max<long>(1, spec.hold_steps / 10)));
-      l.cmd(fmt::format("run {}", spec.hold_steps));
-      // Samples: stored on every multiple of sample_every from step 0 through hold_steps;
+      // decision D131: the zero-strain hold that measures the reference stress is longer
+      const long hold = k == 0 ? spec.hold_steps * spec.reference_holds : spec.hold_steps;
+      l.cmd(fmt::format("thermo {}", std::max<long>(1, hold / 10)));
+      l.cmd(fmt::format("run {}", hold));
+      // Samples: stored on every multiple of sample_every from step 0 through the hold;
       // the step-0 sample (the state just after the remap, before any hold) is left out.
-      const int nrows = static_cast<int>(spec.hold_steps / spec.sample_every) + 1;
+      const int nrows = static_cast<int>(hold / spec.sample_every) + 1;
       std::vector<std::vector<double>> col(16); // 12 stresses, T, V, density, PE
       for (int i = 1; i < nrows; ++i) {
         for (int j = 0; j < 15; ++j)
           col[j].push_back(l.fix_value("pnc_samp", i, j));
         col[15].push_back(l.fix_value("pnc_pe", i));
       }
+      const double dt_sample = spec.timestep_fs * spec.sample_every; // fs between samples
       for (int v = 0; v < 6; ++v) {
-        auto [m1, e1] = block_mean_se(col[lmp_of_voigt[v]], spec.blocks);
-        auto [m2, e2] = block_mean_se(col[6 + lmp_of_voigt[v]], spec.blocks);
-        sv[v] = -m1 * pa_per_atm;
-        svse[v] = e1 * pa_per_atm;
-        st[v] = -m2 * pa_per_atm;
-        stse[v] = e2 * pa_per_atm;
+        // decision D132: block errors checked against the autocorrelation time
+        const HoldEstimate h1 = checked_block_se(col[lmp_of_voigt[v]], spec.blocks);
+        const HoldEstimate h2 = checked_block_se(col[6 + lmp_of_voigt[v]], spec.blocks);
+        sv[v] = -h1.mean * pa_per_atm;
+        svse[v] = h1.se * pa_per_atm;
+        st[v] = -h2.mean * pa_per_atm;
+        stse[v] = h2.se * pa_per_atm;
+        tv[v] = h1.tau_int * dt_sample;
+        tt[v] = h2.tau_int * dt_sample;
+        iv[v] = h1.blocks_ok ? 0.0 : 1.0;
+        it[v] = h2.blocks_ok ? 0.0 : 1.0;
       }
       th[0] = block_mean_se(col[12], spec.blocks).first; // T
       th[1] = block_mean_se(col[15], spec.blocks).first; // PE
@@ -345,19 +392,30 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     append_row(c.r.stress_total, st);
     append_row(c.r.stress_total_se, stse);
     append_row(c.r.thermo, th);
+    append_row(c.r.stress_virial_tau_fs, tv);
+    append_row(c.r.stress_total_tau_fs, tt);
+    append_row(c.r.stress_virial_inflated, iv);
+    append_row(c.r.stress_total_inflated, it);
     c.r.rows_done = k + 1;
     write_checkpoint(dir, spec, c);
     std::error_code ec;
     fs::remove(prev_state(dir, k), ec);
     const double el = std::chrono::duration<double>(clock::now() - t_start).count();
     const double eta = el / (k - first + 1) * (spec.steps - k);
-    std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  s{} = {:+11.4f}{} MPa "
-                             "(virial)  T = {:.1f} K  ETA {:.0f} s\n",
-                             spec.case_id, k, spec.steps, t, voigt_names[voigt], sv[voigt] * 1e-6,
-                             spec.temperature == 0 ? std::string(" (static)")
-                                                   : fmt::format(" +- {:.2f}", svse[voigt] * 1e-6),
-                             th[0], eta)
-              << std::flush;
+    if (spec.temperature == 0)
+      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  s{} = {:+11.4f} MPa "
+                               "(static)  ETA {:.0f} s\n",
+                               spec.case_id, k, spec.steps, t, voigt_names[voigt],
+                               st[voigt] * 1e-6, eta)
+                << std::flush;
+    else
+      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.5f}  s{} = {:+9.2f} +- {:.2f} MPa "
+                               "(total; virial only {:+.2f}{})  T = {:.1f} K  ETA {:.0f} s\n",
+                               spec.case_id, k, spec.steps, t, voigt_names[voigt], st[voigt] * 1e-6,
+                               stse[voigt] * 1e-6, sv[voigt] * 1e-6,
+                               it[voigt] > 0.5 ? "; blocks too short, error inflated" : "", th[0],
+                               eta)
+                << std::flush;
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }
 }
@@ -384,8 +442,8 @@ StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume)
 StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
   auto body = case_body(spec, dir, resume);
   StageOutcome o = run_stage(case_stage(spec, dir), body);
-  pnc::throw_if_stopped(fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id,
-                                    ckpt_path(dir)));
+  pnc::throw_if_stopped(
+      fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id, ckpt_path(dir)));
   return o;
 }
 

@@ -107,8 +107,8 @@ const char* demo_text = R"({
                    "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 20000,
                    "final_steps": 5000 },
   "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 20, "timestep_fs": 1.0,
-              "hold_steps": 5000, "sample_every": 10, "blocks": 10 },
-  "analysis": { "stress": "virial", "moving_average": 5, "reference": "subtract" },
+              "hold_steps": 5000, "sample_every": 10, "blocks": 10, "reference_holds": 5 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
 
@@ -123,8 +123,9 @@ const char* paper_text = R"({
                    "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
                    "final_steps": 20000 },
   "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
-              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300 },
-  "analysis": { "stress": "virial", "moving_average": 13, "reference": "subtract" },
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
+              "reference_holds": 10 },
+  "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
 
@@ -142,8 +143,9 @@ const char* paper_pnc_text = R"({
                    "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
                    "final_steps": 20000 },
   "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
-              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300 },
-  "analysis": { "stress": "virial", "moving_average": 13, "reference": "subtract" },
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
+              "reference_holds": 4 },
+  "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
 
@@ -159,8 +161,8 @@ const char* demo_pnc_text = R"({
                    "langevin_max_chunks": 3, "ensemble": "npt", "pressure_atm": 0.0,
                    "npt_steps": 10000, "final_steps": 2000 },
   "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.05, "steps": 10, "timestep_fs": 0.5,
-              "hold_steps": 2000, "sample_every": 10, "blocks": 10 },
-  "analysis": { "stress": "virial", "moving_average": 3, "reference": "subtract" },
+              "hold_steps": 2000, "sample_every": 10, "blocks": 10, "reference_holds": 1 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
 
@@ -301,6 +303,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get_int("hold_steps", d.hold_steps, 1, kMaxSteps);
     s.get_int("sample_every", d.sample_every, 1, 1000000);
     s.get_int("blocks", d.blocks, 2, 10000);
+    s.get_int("reference_holds", d.reference_holds, 1, 1000);
     s.get("temperature", d.temperature);
     s.get("damp_fs", d.damp_fs);
     s.get("minimize", d.minimize);
@@ -330,6 +333,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     Section s = top.sub("run");
     s.get_int("jobs", r.jobs, 1, 64);
+    s.get_int("replicas", r.replicas, 1, 64); // decision D130
     s.check_unknown();
     if (r.jobs < 1 || r.jobs > 64)
       fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
@@ -538,13 +542,14 @@ nlohmann::json expanded_json(const Recipe& r) {
         {"hold_steps", d.hold_steps},
         {"sample_every", d.sample_every},
         {"blocks", d.blocks},
+        {"reference_holds", d.reference_holds},
         {"temperature", d.temperature},
         {"damp_fs", d.damp_fs},
         {"minimize", d.minimize}}},
       {"analysis",
        {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
-      {"run", {{"jobs", r.jobs}}}};
+      {"run", {{"jobs", r.jobs}, {"replicas", r.replicas}}}};
   if (r.system.enabled) {
     const json u = user_system_json(r.system);
     out.erase("build");

@@ -1,5 +1,6 @@
 // pnc characterize end to end on a tiny recipe (seconds): outputs, JSON, resume without
 // recomputation, and a bad recipe's error line.
+#include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
 
 #include "common/run_command.hpp"
@@ -9,7 +10,9 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -69,7 +72,9 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   EXPECT_DOUBLE_EQ(data.cases[0].strain(2, 1), 0.03);
   EXPECT_DOUBLE_EQ(data.cases[1].strain(0, 5), 0.01);
   EXPECT_EQ(data.cases[0].stress_stderr.rows(), 3);
-  EXPECT_NE(data.stress_definition.find("virial only"), std::string::npos);
+  // the total stress by default (D134); errors from checked blocks of one structure (D132)
+  EXPECT_NE(data.stress_definition.find("virial + kinetic"), std::string::npos);
+  EXPECT_NE(data.stress_definition.find("block standard errors"), std::string::npos);
   EXPECT_NE(data.stress_definition.find("zero-strain hold"), std::string::npos);
   // resume of a finished run recomputes nothing (case checkpoints untouched)
   const auto t2 = fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5");
@@ -81,6 +86,90 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   const Proc refuse = run("characterize " + (d / "tiny.json").string() + " --out " + out + " 2>&1");
   EXPECT_EQ(refuse.code, 1);
   EXPECT_NE(refuse.out.find("--resume"), std::string::npos) << refuse.out;
+  fs::remove_all(d);
+}
+
+// Two independent replicas (decision D130): own build and equilibration each, every case on
+// every replica, between-replica errors in cases.h5, and --resume after the run does nothing.
+TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing) {
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_char_replicas";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  auto recipe = nlohmann::json::parse(tiny);
+  recipe["run"]["replicas"] = 2;
+  recipe["name"] = "tiny-replicas";
+  // the machinery is under test, not the physics: shorter equilibration and reference hold
+  recipe["equilibrate"]["hot_steps"] = 500;
+  recipe["equilibrate"]["npt_steps"] = 500;
+  recipe["deform"]["reference_holds"] = 1;
+  std::ofstream(d / "tiny2.json") << recipe.dump();
+  const std::string out = (d / "out").string();
+  const Proc r = run("characterize " + (d / "tiny2.json").string() + " --out " + out +
+                     " --json --no-plots 2>" + (d / "err.txt").string());
+  ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4)
+      << r.code << " " << r.out << slurp((d / "err.txt").string());
+  const auto js = nlohmann::json::parse(r.out);
+  EXPECT_EQ(js["statistics"]["error_method"], "replicas");
+  EXPECT_EQ(js["statistics"]["cases"][0]["replica_slopes_Pa"].size(), 2u);
+  std::vector<fs::path> ckpts;
+  for (const char* rep : {"replica_1", "replica_2"}) {
+    for (const char* f : {"build/rve.data", "build/build.h5", "equilibrate/final.h5"})
+      EXPECT_TRUE(fs::exists(fs::path(out) / rep / f)) << rep << "/" << f;
+    for (const char* c : {"cases/case_2/checkpoint.h5", "cases/case_6/checkpoint.h5"}) {
+      ckpts.push_back(fs::path(out) / rep / c);
+      EXPECT_TRUE(fs::exists(ckpts.back())) << ckpts.back();
+    }
+  }
+  EXPECT_FALSE(fs::exists(fs::path(out) / "cases")); // no single-replica layout next to it
+  // independent structures: the two builds differ
+  EXPECT_NE(slurp(out + "/replica_1/build/rve.data"), slurp(out + "/replica_2/build/rve.data"));
+  const std::string h5 = (fs::path(out) / "cases.h5").string();
+  const auto data = pnc::damage::read_stress_strain_h5(h5);
+  ASSERT_EQ(data.cases.size(), 2u);
+  EXPECT_NE(data.stress_definition.find("between-replica"), std::string::npos);
+  {
+    pnc::h5::File f(h5, pnc::h5::File::Mode::read);
+    EXPECT_EQ(f.attr_string("/", "error_method").value_or(""), "replicas");
+    // the point error is sd/sqrt(2) of the two replicas' fit rows, never below the variance
+    // pooled over the rows of the curve (D130), recomputed here
+    for (const int id : {2, 6}) {
+      const std::string c = "/case_" + std::to_string(id);
+      const auto a = f.read_matrix("/replicas/replica_1" + c + "/stress");
+      const auto b = f.read_matrix("/replicas/replica_2" + c + "/stress");
+      const auto m = f.read_matrix(c + "/stress");
+      const auto se = f.read_matrix(c + "/stress_stderr");
+      ASSERT_EQ(a.rows(), 3);
+      for (Eigen::Index j = 0; j < 6; ++j) {
+        // variance of two values: (a - b)^2 / 2
+        double pooled = 0;
+        for (Eigen::Index k = 0; k < a.rows(); ++k)
+          pooled += 0.5 * std::pow(a(k, j) - b(k, j), 2) / static_cast<double>(a.rows());
+        for (Eigen::Index k = 0; k < a.rows(); ++k) {
+          EXPECT_NEAR(m(k, j), 0.5 * (a(k, j) + b(k, j)), 1e-6 * (1 + std::fabs(m(k, j))));
+          const double v = std::max(0.5 * std::pow(a(k, j) - b(k, j), 2), pooled);
+          EXPECT_NEAR(se(k, j), std::sqrt(v / 2), 1e-6 * (1 + se(k, j)));
+        }
+      }
+    }
+  }
+  EXPECT_NE(slurp((fs::path(out) / "report.md").string()).find("between-replica standard errors"),
+            std::string::npos);
+  EXPECT_NE(slurp((fs::path(out) / "report.md").string())
+                .find("Between-replica errors of the fitted constants"),
+            std::string::npos);
+  // --resume after the finished run recomputes nothing
+  std::vector<fs::file_time_type> times;
+  for (const auto& p : ckpts)
+    times.push_back(fs::last_write_time(p));
+  const auto tb = fs::last_write_time(fs::path(out) / "replica_2/build/rve.data");
+  const Proc again = run("characterize " + (d / "tiny2.json").string() + " --out " + out +
+                         " --resume --no-plots 2>" + (d / "err2.txt").string());
+  EXPECT_EQ(again.code, r.code);
+  for (std::size_t i = 0; i < ckpts.size(); ++i)
+    EXPECT_EQ(fs::last_write_time(ckpts[i]), times[i]) << ckpts[i];
+  EXPECT_EQ(fs::last_write_time(fs::path(out) / "replica_2/build/rve.data"), tb);
+  const std::string err2 = slurp((d / "err2.txt").string());
+  EXPECT_EQ(err2.find("finished in"), std::string::npos) << err2; // no case ran again
   fs::remove_all(d);
 }
 

@@ -28,7 +28,7 @@ const char* tiny_long = R"({
                    "langevin_chunk_steps": 200, "langevin_max_chunks": 2,
                    "npt_steps": 1000, "final_steps": 200 },
   "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 12, "timestep_fs": 1.0,
-              "hold_steps": 400, "sample_every": 10, "blocks": 4 },
+              "hold_steps": 400, "sample_every": 10, "blocks": 4, "reference_holds": 1 },
   "analysis": { "moving_average": 1 },
   "run": { "jobs": 2 }
 })";

@@ -35,8 +35,17 @@ TEST(RveRecipe, PresetsParse) {
   EXPECT_DOUBLE_EQ(paper.deform.timestep_fs, 0.5); // section 6.3
   EXPECT_EQ(paper.deform.hold_steps, 10000);       // 5 ps
   EXPECT_EQ(paper.deform.sample_every, 10);        // 5 fs
-  EXPECT_EQ(paper.moving_average, 13);
-  EXPECT_EQ(paper.stress, "virial"); // eq. 6.23 by default
+  EXPECT_EQ(paper.moving_average, 1);              // no smoothing in the fit data (D133)
+  EXPECT_EQ(paper.stress, "virial"); // the dissertation's eq. 6.23, said so in the preset
+  EXPECT_EQ(demo.stress, "total");   // everything else: the total stress (D134)
+  EXPECT_EQ(parse_recipe(json::object(), "x").stress, "total");
+  EXPECT_EQ(parse_recipe(json::object(), "x").replicas, 1);
+  for (const auto& n : preset_names()) {
+    const Recipe p = parse_recipe(preset_json(n), n);
+    EXPECT_EQ(p.moving_average, 1) << n;
+    EXPECT_TRUE(preset_json(n)["analysis"].contains("stress")) << n; // each says which
+  }
+  EXPECT_EQ(parse_recipe(json{{"run", {{"replicas", 64}}}}, "x").replicas, 64);
   // the expanded form parses back to the same expanded form
   EXPECT_EQ(expanded_json(parse_recipe(expanded_json(paper), "x")), expanded_json(paper));
   EXPECT_THROW(preset_json("nope"), pnc::InputError);
@@ -69,6 +78,13 @@ TEST(RveRecipe, InvalidRecipesNameFieldValueRule) {
   EXPECT_EQ(e.field, "deform.cases"); // pp uses cases 2 and 6
   e = error_of(json{{"deform", {{"hold_steps", 50}}}});
   EXPECT_EQ(e.field, "deform.hold_steps");
+  for (const int bad : {0, 65}) {
+    e = error_of(json{{"run", {{"replicas", bad}}}});
+    EXPECT_EQ(e.field, "run.replicas");
+    EXPECT_EQ(e.value, std::to_string(bad));
+  }
+  e = error_of(json{{"deform", {{"reference_holds", 0}}}});
+  EXPECT_EQ(e.field, "deform.reference_holds");
 }
 
 namespace {

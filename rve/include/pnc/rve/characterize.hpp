@@ -10,19 +10,31 @@
 //   equilibrate/<stage>.{log,h5,restart}
 //   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
 //   cases.h5                         strain/stress (+ standard errors) per case, the stress
-//                                    chosen by the recipe, moving average applied
+//                                    chosen by the recipe, never smoothed (replicas.hpp)
+// With "run": {"replicas": N >= 2} (decision D130) build/, equilibrate/ and cases/ are in
+// replica_<r>/ (r = 1..N), each replica with its own build seed and equilibration; recipe.json
+// and cases.h5 stay at the top.
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
+#include "pnc/rve/replicas.hpp"
 
 #include <string>
 #include <vector>
 
 namespace pnc::rve {
 
-struct MdOutcome {
-  std::string dir, recipe_path, data_file, build_record, cases_h5;
+struct ReplicaOutcome {
+  std::string dir, data_file, build_record;
   EquilibratedState equilibrated;
-  std::vector<CaseResult> cases;
+};
+
+struct MdOutcome {
+  std::string dir, recipe_path, data_file, build_record, cases_h5; ///< of replica 1
+  EquilibratedState equilibrated;                                  ///< of replica 1
+  std::vector<CaseResult> cases;                                   ///< of replica 1
+  std::vector<ReplicaOutcome> replicas;                            ///< every replica, in order
+  CombinedCases statistics;        ///< what went into cases.h5 (replicas.hpp)
+  std::string statistics_markdown; ///< a "## Statistics" section for report.md
   double seconds_build = 0, seconds_equilibrate = 0, seconds_cases = 0;
 };
 
@@ -36,9 +48,12 @@ struct MdOutcome {
 MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks = 1,
                  int equilibrate_ranks = 0);
 
-/// cases.h5 from the case checkpoints: the stress of `r.stress`, moving average of
-/// `r.moving_average` points over strain steps (standard error of a window mean:
-/// sqrt(sum se_i^2) / n), labelled in `stress_definition`.
+/// cases.h5 from the case checkpoints of one replica (write_replica_cases_h5 with N = 1).
 void write_cases_h5(const std::string& path, const Recipe& r, const std::vector<CaseResult>& cases);
+/// cases.h5 from `results[replica][case]`: the stress of `r.stress` relative to each replica's
+/// reference, mean over replicas with between-replica errors for N >= 2, never smoothed (a
+/// moving average is stored for display only), labelled in `stress_definition` (D130-D134).
+CombinedCases write_replica_cases_h5(const std::string& path, const Recipe& r,
+                                     const std::vector<std::vector<CaseResult>>& results);
 
 } // namespace pnc::rve

@@ -16,11 +16,14 @@
 //     (the uninterrupted run and a resumed run therefore execute identical commands);
 //   * the box is set to F_k applied to the reference box, atoms remapped (change_box remap);
 //   * hold: NVE + Langevin (T, damp, seed + k, zero yes) and fix momentum (linear, every
-//     `momentum_every` steps), `hold_steps` of `timestep_fs`;
+//     `momentum_every` steps), `hold_steps` of `timestep_fs` (row 0, the zero-strain hold that
+//     measures the reference stress: `reference_holds` x `hold_steps`, decision D131);
 //   * every `sample_every` steps the six stress components are sampled twice: virial only
 //     (compute pressure NULL virial, eq. 6.23) and with the kinetic term (thermo_temp);
 //   * per step: mean of the samples and its standard error by block averaging (`blocks`
-//     contiguous blocks, s.e. = sd(block means)/sqrt(blocks));
+//     contiguous blocks, s.e. = sd(block means)/sqrt(blocks)), checked against the integrated
+//     autocorrelation time of the samples (statistics.hpp, decision D132): blocks shorter than
+//     5 statistical inefficiencies are flagged and their error inflated;
 //   * the state is written (restart k), then checkpoint.h5 is replaced atomically with all
 //     finished steps, then the restart of step k-1 is removed. A kill at any moment leaves
 //     a consistent checkpoint; `resume` continues after its last finished step.
@@ -42,6 +45,7 @@ struct DeformSpec {
   long hold_steps = 10000; ///< MD steps per strain step (5 ps at 0.5 fs)
   int sample_every = 10;   ///< 5 fs at 0.5 fs
   int blocks = 10;         ///< blocks for the standard error
+  int reference_holds = 4; ///< row 0 lasts reference_holds x hold_steps (decision D131)
   /// K; 0 = static deformation (decision D120): per row the affine remap, an optional energy
   /// minimisation at fixed box (`minimize`), the stress of `run 0`; no hold, no standard errors
   /// (stored as NaN in checkpoint.h5, absent from cases.h5)
@@ -68,6 +72,11 @@ struct CaseResult {
   Eigen::Matrix<double, Eigen::Dynamic, 6> stress_total_se;  ///< Pa
   Eigen::Matrix<double, Eigen::Dynamic, 4>
       thermo; ///< per step: T (K), PE (kcal/mol), V (A^3), density (g/cm3)
+  /// Integrated autocorrelation time of the stress samples (fs) and whether the block error
+  /// was inflated because the blocks were too short (1) or not (0); NaN in rows written by a
+  /// pnc before decision D132 (not measured).
+  Eigen::Matrix<double, Eigen::Dynamic, 6> stress_virial_tau_fs, stress_total_tau_fs;
+  Eigen::Matrix<double, Eigen::Dynamic, 6> stress_virial_inflated, stress_total_inflated;
 };
 
 /// Runs (or resumes, when `resume` and `dir`/checkpoint.h5 exists) one case in a child

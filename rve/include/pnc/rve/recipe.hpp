@@ -14,11 +14,12 @@
 //     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
 //     "equilibrate": { EquilibrateSpec fields by name },
 //     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
-//                      "sample_every", "blocks", "temperature", "damp_fs" },
-//     "analysis":    { "stress": "virial" | "total", "moving_average": odd >= 1,
-//                      "reference": "subtract" | "none" },
+//                      "sample_every", "blocks", "reference_holds", "temperature",
+//                      "damp_fs" },
+//     "analysis":    { "stress": "total" | "virial", "moving_average": odd >= 1 (display
+//                      only, never fitted: D133), "reference": "subtract" | "none" },
 //     "fit":         { "fit_alpha": bool },
-//     "run":         { "jobs": N },
+//     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
 //     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
@@ -43,10 +44,15 @@ struct Recipe {
   EquilibrateSpec equilibrate;
   DeformSpec deform; ///< template: case_id, seed, start_state filled per case
   std::vector<int> cases = {2, 6};
-  std::string stress = "virial"; ///< which stress goes to the fit: "virial" (eq. 6.23) or "total"
-  int moving_average = 13;       ///< points of the moving average over strain steps (1 = off)
-  /// "subtract": the fit gets sigma(eps_k) - sigma(0) (row 0 = hold at zero strain), decision
-  /// D18; "none": the raw stress, row 0 included.
+  /// which stress goes to the fit: "total" (with the kinetic term, the default: decision D134)
+  /// or "virial" (eq. 6.23, the dissertation's; biases every normal constant by -rho k_B T)
+  std::string stress = "total";
+  /// points of a moving average over strain steps stored for display only (1 = off); the fit
+  /// always gets the unsmoothed points and their own errors (decision D133)
+  int moving_average = 1;
+  /// "subtract": the fit gets sigma(eps_k) - sigma_ref, sigma_ref the mean of the zero-strain
+  /// holds (row 0) of all cases of a replica (decisions D18, D131); "none": the raw stress,
+  /// row 0 included.
   std::string reference = "subtract";
   bool fit_alpha = false;
   int jobs = 1;
@@ -54,6 +60,8 @@ struct Recipe {
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
   /// holds the user's stages.
   UserSystem system;
+  /// independent replicas: own build seed, own equilibration, every case (decision D130)
+  int replicas = 1;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
