@@ -169,6 +169,33 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
                   resume, recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate = seconds_since(t0);
 
+  // --- phase check (phase_check.hpp): solid on the hold time scale?
+  if (r.phase_check.enabled) {
+    t0 = std::chrono::steady_clock::now();
+    std::cerr << "pnc characterize [phase check] G(t), bulk modulus, cavitation at "
+              << r.deform.temperature << " K\n";
+    PhaseCheckInput pin;
+    pin.start_state = o.equilibrated.restart;
+    pin.force_field =
+        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
+    pin.temperature = r.deform.temperature;
+    pin.damp_fs = r.deform.damp_fs;
+    pin.timestep_fs = r.deform.timestep_fs;
+    pin.hold_steps = r.deform.hold_steps;
+    pin.hold_sample_every = r.deform.sample_every;
+    pin.probe_A = r.ff.sigma;
+    pin.seed = static_cast<std::uint64_t>(r.seed) * 100 + 50;
+    pin.recipe_json = recipe_text;
+    pin.equilibrate_dir = (fs::path(dir) / "equilibrate").string();
+    if (r.equilibrate.ensemble == "npt") // chunk of equilibrate.cpp run_chunks(.., 10, ..)
+      pin.npt_chunk_fs = static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) /
+                                                                    10 * 10)) *
+                         r.equilibrate.timestep_fs;
+    o.phase = run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), resume,
+                              eq_ranks);
+    o.seconds_phase = seconds_since(t0);
+  }
+
   // --- cases
   t0 = std::chrono::steady_clock::now();
   std::vector<std::pair<StageSpec, StageBody>> stages;

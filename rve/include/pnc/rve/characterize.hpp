@@ -8,6 +8,7 @@
 //   recipe.json                      the expanded recipe (a resumed run must match it)
 //   build/rve.data, build/build.h5   builder output and record
 //   equilibrate/<stage>.{log,h5,restart}
+//   phase/phase.{h5,log}             phase check (phase_check.hpp), when the recipe enables it
 //   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
 //   cases.h5                         strain/stress (+ standard errors) per case, the stress
 //                                    chosen by the recipe, moving average applied
@@ -22,8 +23,9 @@ namespace pnc::rve {
 struct MdOutcome {
   std::string dir, recipe_path, data_file, build_record, cases_h5;
   EquilibratedState equilibrated;
+  PhaseCheckResult phase; ///< phase.done false when the recipe does not enable the check
   std::vector<CaseResult> cases;
-  double seconds_build = 0, seconds_equilibrate = 0, seconds_cases = 0;
+  double seconds_build = 0, seconds_equilibrate = 0, seconds_phase = 0, seconds_cases = 0;
 };
 
 /// Runs the MD pipeline. With `resume`, finished parts are reused and cases continue from

@@ -17,12 +17,15 @@
 //                      "sample_every", "blocks", "temperature", "damp_fs" },
 //     "analysis":    { "stress": "virial" | "total", "moving_average": odd >= 1,
 //                      "reference": "subtract" | "none" },
+//     "phase_check": { "enabled", "steps", "sample_every", "blocks", "shear_strain",
+//                      "bulk_strain", "cavitation_strain", "cavitation_steps" } (phase_check.hpp)
 //     "fit":         { "fit_alpha": bool },
 //     "run":         { "jobs": N } }
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/phase_check.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +43,7 @@ struct Recipe {
   PolymerForceField ff;
   EquilibrateSpec equilibrate;
   DeformSpec deform; ///< template: case_id, seed, start_state filled per case
+  PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
   std::vector<int> cases = {2, 6};
   std::string stress = "virial"; ///< which stress goes to the fit: "virial" (eq. 6.23) or "total"
   int moving_average = 13;       ///< points of the moving average over strain steps (1 = off)
