@@ -188,11 +188,11 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
     pin.recipe_json = recipe_text;
     pin.equilibrate_dir = (fs::path(dir) / "equilibrate").string();
     if (r.equilibrate.ensemble == "npt") // chunk of equilibrate.cpp run_chunks(.., 10, ..)
-      pin.npt_chunk_fs = static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) /
-                                                                    10 * 10)) *
-                         r.equilibrate.timestep_fs;
-    o.phase = run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), resume,
-                              eq_ranks);
+      pin.npt_chunk_fs =
+          static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) / 10 * 10)) *
+          r.equilibrate.timestep_fs;
+    o.phase =
+        run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), resume, eq_ranks);
     o.seconds_phase = seconds_since(t0);
   }
 

@@ -61,25 +61,6 @@ void read_state(Lammps& l, const PhaseCheckInput& in) {
   l.cmd(fmt::format("timestep {:.10g}", in.timestep_fs));
 }
 
-struct MeanSe {
-  double mean = kNaN, se = kNaN;
-  bool ok = false; ///< at least 4 blocks of >= kMinBlockOverTau correlation times
-};
-
-/// Block mean and s.e. with blocks of at least kMinBlockOverTau integrated times (at most 10).
-MeanSe block_stat(const std::vector<double>& x) {
-  MeanSe m;
-  if (x.size() < 8) return m;
-  const double tau = integrated_time(x, 1.0);
-  const int nb =
-      std::min<int>(10, static_cast<int>(static_cast<double>(x.size()) / (kMinBlockOverTau * tau)));
-  m.ok = nb >= 4;
-  const auto [mean, se] = block_mean_se(x, std::max(4, nb));
-  m.mean = mean;
-  m.se = se;
-  return m;
-}
-
 std::vector<double> part(const std::vector<double>& x, double from, double to) {
   const auto n = static_cast<double>(x.size());
   return {x.begin() + static_cast<long>(from * n), x.begin() + static_cast<long>(to * n)};
@@ -189,12 +170,21 @@ void autocorrelation_run(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInp
     r.acf_G_Pa.push_back(acf.value[k] * to_G);
     r.acf_G_se_Pa.push_back(acf.se[k] * to_G);
   }
-  const auto kp = std::min<std::size_t>(
-      static_cast<std::size_t>(std::lround(kPlateauTime_s / r.dt_s)), r.acf_G_Pa.size() - 1);
+  const std::size_t last = r.acf_G_Pa.size() - 1;
+  auto lag = [&](double t) {
+    return std::min(last, static_cast<std::size_t>(std::lround(t / r.dt_s)));
+  };
+  auto win = [&](std::size_t k0, std::size_t k1, double& m, double& se) {
+    std::tie(m, se) = window_mean(acf, k0, k1);
+    m *= to_G;
+    se *= to_G;
+  };
   r.G_t0_Pa = r.acf_G_Pa[0];
   r.G_t0_se_Pa = r.acf_G_se_Pa[0];
-  r.G_plateau_Pa = r.acf_G_Pa[kp];
-  r.G_plateau_se_Pa = r.acf_G_se_Pa[kp];
+  r.G_at_plateau_time_Pa = r.acf_G_Pa[lag(kPlateauTime_s)];
+  r.G_at_plateau_time_se_Pa = r.acf_G_se_Pa[lag(kPlateauTime_s)];
+  win(lag(0.5 * kPlateauTime_s), lag(1.5 * kPlateauTime_s), r.G_plateau_Pa, r.G_plateau_se_Pa);
+  win(lag(0.5 * r.hold_time_s), last, r.G_acf_late_Pa, r.G_acf_late_se_Pa);
   r.G_acf_hold_Pa = r.acf_G_Pa.back();
   r.G_acf_hold_se_Pa = r.acf_G_se_Pa.back();
   r.tau_int_s = acf.tau_int;
@@ -254,11 +244,16 @@ void write_phase_h5(const std::string& path, const PhaseCheckSpec& s, const Phas
     put(f, "/acf/block_length", r.block_s, "s");
     f.write_scalar("/acf/blocks", s.blocks);
     f.write_scalar("/acf/blocks_ok", r.blocks_ok ? 1.0 : 0.0);
+    f.write_scalar("/holds_blocks_ok", r.holds_blocks_ok ? 1.0 : 0.0);
     const std::pair<const char*, double> vals[] = {
         {"/G_t0", r.G_t0_Pa},
         {"/G_t0_stderr", r.G_t0_se_Pa},
         {"/G_plateau", r.G_plateau_Pa},
         {"/G_plateau_stderr", r.G_plateau_se_Pa},
+        {"/G_at_plateau_time", r.G_at_plateau_time_Pa},
+        {"/G_at_plateau_time_stderr", r.G_at_plateau_time_se_Pa},
+        {"/G_acf_late", r.G_acf_late_Pa},
+        {"/G_acf_late_stderr", r.G_acf_late_se_Pa},
         {"/G_acf_hold", r.G_acf_hold_Pa},
         {"/G_acf_hold_stderr", r.G_acf_hold_se_Pa},
         {"/G_hold", r.G_hold_Pa},
@@ -292,20 +287,20 @@ void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
   // decision D126: shear step pair, second half of each hold
   const Hold sp = hold(l, in, 's', s.shear_strain, in.hold_steps, in.seed + 1, false);
   const Hold sm = hold(l, in, 's', -s.shear_strain, in.hold_steps, in.seed + 2, false);
-  const MeanSe a = block_stat(part(sp.pxy, 0.5, 1.0)), b = block_stat(part(sm.pxy, 0.5, 1.0));
+  const MeanSe a = hold_mean_se(part(sp.pxy, 0.5, 1.0)), b = hold_mean_se(part(sm.pxy, 0.5, 1.0));
   // sigma = -P: G = (sigma(+) - sigma(-)) / (2 gamma)
   r.G_hold_Pa = -(a.mean - b.mean) * pa_per_atm / (2 * s.shear_strain);
   r.G_hold_se_Pa = std::hypot(a.se, b.se) * pa_per_atm / (2 * s.shear_strain);
   // decision D127: volume pair, K = -dP/dlnV
   const Hold vp = hold(l, in, 'v', s.bulk_strain, in.hold_steps, in.seed + 3, false);
   const Hold vm = hold(l, in, 'v', -s.bulk_strain, in.hold_steps, in.seed + 4, false);
-  const MeanSe c = block_stat(part(vp.p, 0.5, 1.0)), d = block_stat(part(vm.p, 0.5, 1.0));
+  const MeanSe c = hold_mean_se(part(vp.p, 0.5, 1.0)), d = hold_mean_se(part(vm.p, 0.5, 1.0));
   const double dlnv = std::log((1 + s.bulk_strain) / (1 - s.bulk_strain));
   r.K_Pa = -(c.mean - d.mean) * pa_per_atm / dlnv;
   r.K_se_Pa = std::hypot(c.se, d.se) * pa_per_atm / dlnv;
   // decision D129: cavitation hold
   const Hold cv = hold(l, in, 'v', s.cavitation_strain, s.cavitation_steps, in.seed + 5, true);
-  const MeanSe p1 = block_stat(part(cv.p, 0.0, 0.25)), p2 = block_stat(part(cv.p, 0.75, 1.0));
+  const MeanSe p1 = hold_mean_se(part(cv.p, 0.0, 0.25)), p2 = hold_mean_se(part(cv.p, 0.75, 1.0));
   r.cav_strain = s.cavitation_strain;
   r.cav_P_first_Pa = p1.mean * pa_per_atm;
   r.cav_P_first_se_Pa = p1.se * pa_per_atm;
@@ -320,6 +315,7 @@ void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
       rise > kResolvedSigmas * std::hypot(r.cav_P_first_se_Pa, r.cav_P_last_se_Pa) &&
       rise > 0.5 * std::fabs(r.cav_P_first_Pa);
   r.cavitates = void_grows || p_relaxes;
+  r.holds_blocks_ok = a.ok && b.ok && c.ok && d.ok && p1.ok && p2.ok;
   density_drift(in, r);
   classify(r);
   write_phase_h5(h5_path(dir), s, in, r);
@@ -346,11 +342,16 @@ PhaseCheckResult read_phase_check(const std::string& dir) {
   r.tau_int_s = f.read_scalar("/acf/tau_int");
   r.block_s = f.read_scalar("/acf/block_length");
   r.blocks_ok = f.read_scalar("/acf/blocks_ok") != 0.0;
+  r.holds_blocks_ok = f.read_scalar("/holds_blocks_ok") != 0.0;
   const std::pair<const char*, double*> vals[] = {
       {"/G_t0", &r.G_t0_Pa},
       {"/G_t0_stderr", &r.G_t0_se_Pa},
       {"/G_plateau", &r.G_plateau_Pa},
       {"/G_plateau_stderr", &r.G_plateau_se_Pa},
+      {"/G_at_plateau_time", &r.G_at_plateau_time_Pa},
+      {"/G_at_plateau_time_stderr", &r.G_at_plateau_time_se_Pa},
+      {"/G_acf_late", &r.G_acf_late_Pa},
+      {"/G_acf_late_stderr", &r.G_acf_late_se_Pa},
       {"/G_acf_hold", &r.G_acf_hold_Pa},
       {"/G_acf_hold_stderr", &r.G_acf_hold_se_Pa},
       {"/G_hold", &r.G_hold_Pa},

@@ -69,6 +69,7 @@ AcfEstimate autocorrelation(const std::vector<std::vector<double>>& series, doub
   e.block_length = static_cast<double>(per) * dt;
   e.blocks_ok = e.block_length >= kMinBlockOverTau * e.tau_int;
   std::vector<double> bv(static_cast<std::size_t>(blocks));
+  e.block_values.reserve(K + 1);
   for (std::size_t k = 0; k <= K; ++k) {
     for (std::size_t b = 0; b < bv.size(); ++b) {
       double s = 0;
@@ -85,11 +86,56 @@ AcfEstimate autocorrelation(const std::vector<std::vector<double>>& series, doub
     for (double v : bv)
       var += (v - m) * (v - m);
     var /= static_cast<double>(bv.size() - 1);
+    e.block_values.push_back(bv);
     e.lag.push_back(static_cast<double>(k) * dt);
     e.value.push_back(m);
     e.se.push_back(std::sqrt(var / static_cast<double>(bv.size())));
   }
   return e;
+}
+
+std::pair<double, double> window_mean(const AcfEstimate& e, std::size_t k0, std::size_t k1) {
+  k1 = std::min(k1, e.block_values.size() - 1);
+  k0 = std::min(k0, k1);
+  const std::size_t nb = e.block_values[0].size();
+  std::vector<double> w(nb, 0.0);
+  for (std::size_t k = k0; k <= k1; ++k)
+    for (std::size_t b = 0; b < nb; ++b)
+      w[b] += e.block_values[k][b] / static_cast<double>(k1 - k0 + 1);
+  double m = 0;
+  for (double v : w)
+    m += v;
+  m /= static_cast<double>(nb);
+  double var = 0;
+  for (double v : w)
+    var += (v - m) * (v - m);
+  return {m, std::sqrt(var / static_cast<double>(nb - 1) / static_cast<double>(nb))};
+}
+
+MeanSe hold_mean_se(const std::vector<double>& x) {
+  MeanSe m;
+  m.mean = m.se = kNaN;
+  if (x.size() < 8) return m;
+  const double tau = integrated_time(x, 1.0);
+  const int nb =
+      std::min<int>(10, static_cast<int>(static_cast<double>(x.size()) / (kMinBlockOverTau * tau)));
+  m.ok = nb >= 4;
+  m.blocks = std::max(4, nb);
+  const std::size_t per = x.size() / static_cast<std::size_t>(m.blocks);
+  std::vector<double> bm(static_cast<std::size_t>(m.blocks), 0.0);
+  double all = 0;
+  for (std::size_t b = 0; b < bm.size(); ++b) {
+    for (std::size_t i = 0; i < per; ++i)
+      bm[b] += x[b * per + i];
+    bm[b] /= static_cast<double>(per);
+    all += bm[b];
+  }
+  m.mean = all / static_cast<double>(bm.size());
+  double var = 0;
+  for (double v : bm)
+    var += (v - m.mean) * (v - m.mean);
+  m.se = std::sqrt(var / static_cast<double>(bm.size() - 1) / static_cast<double>(bm.size()));
+  return m;
 }
 
 std::pair<double, double> slope_se(const std::vector<double>& t, const std::vector<double>& y) {
@@ -119,7 +165,7 @@ std::pair<double, double> slope_se(const std::vector<double>& t, const std::vect
 
 // decision D128
 void classify(PhaseCheckResult& r) {
-  const double plateau = r.G_hold_Pa + r.G_plateau_Pa;
+  const double plateau = r.G_hold_Pa + std::max(0.0, r.G_plateau_Pa);
   const bool resolved = r.G_hold_Pa > kResolvedSigmas * r.G_hold_se_Pa;
   const double frac = plateau > 0 ? r.G_hold_Pa / plateau : kNaN;
   r.solid = resolved && std::isfinite(frac) && frac >= kSolidFraction;
@@ -136,16 +182,26 @@ void classify(PhaseCheckResult& r) {
                       plateau * 1e-9, r.solid ? ">=" : "<", 100 * kSolidFraction);
   r.summary = fmt::format(
       "The RVE {} (hold {:.3g} ps at {:.1f} K): {}. Stress autocorrelation G_acf(t): {:.3g} +- "
-      "{:.2g} GPa at t = 0, {:.3g} +- {:.2g} GPa at {:.1f} ps, {:.3g} +- {:.2g} GPa at the hold "
-      "time. Bulk modulus K = {:.3g} +- {:.2g} GPa.",
-      r.solid ? "is a solid on the hold time scale" : "relaxes within a hold: it flows",
+      "{:.2g} GPa at t = 0, {:.3g} +- {:.2g} GPa at {:.1f} ps (mean over {:.2g}-{:.2g} ps: {:.3g} "
+      "+- {:.2g} GPa), "
+      "{:.3g} +- {:.2g} GPa at the hold time. Bulk modulus K = {:.3g} +- {:.2g} GPa.",
+      r.solid     ? "is a solid on the hold time scale"
+      : !resolved ? "relaxes within a hold as far as these data show (no shear stress is resolved "
+                    "after a step strain)"
+                  : "relaxes within a hold (most of its short-time shear modulus is gone after "
+                    "one hold)",
       r.hold_time_s * 1e12, r.temperature_K, why, r.G_t0_Pa * 1e-9, r.G_t0_se_Pa * 1e-9,
-      r.G_plateau_Pa * 1e-9, r.G_plateau_se_Pa * 1e-9, kPlateauTime_s * 1e12,
-      r.G_acf_hold_Pa * 1e-9, r.G_acf_hold_se_Pa * 1e-9, r.K_Pa * 1e-9, r.K_se_Pa * 1e-9);
+      r.G_at_plateau_time_Pa * 1e-9, r.G_at_plateau_time_se_Pa * 1e-9, kPlateauTime_s * 1e12,
+      0.5 * kPlateauTime_s * 1e12, 1.5 * kPlateauTime_s * 1e12, r.G_plateau_Pa * 1e-9,
+      r.G_plateau_se_Pa * 1e-9, r.G_acf_hold_Pa * 1e-9, r.G_acf_hold_se_Pa * 1e-9, r.K_Pa * 1e-9,
+      r.K_se_Pa * 1e-9);
   if (!r.blocks_ok)
     r.summary += fmt::format(" The autocorrelation blocks ({:.3g} ps) are shorter than {:.0f} "
                              "correlation times ({:.3g} ps): its error bars may be too small.",
                              r.block_s * 1e12, kMinBlockOverTau, r.tau_int_s * 1e12);
+  if (!r.holds_blocks_ok)
+    r.summary += " Some hold means had fewer than 4 blocks of 5 correlation times: their error "
+                 "bars may be too small.";
   if (r.cavitates)
     r.summary += fmt::format(" Under a volumetric expansion of {:.3g} the box cavitates (void "
                              "fraction {:.4f} -> {:.4f}, P {:.3g} -> {:.3g} MPa).",
@@ -168,6 +224,10 @@ nlohmann::json phase_json(const PhaseCheckResult& r) {
           {"G_plateau_Pa", jnum(r.G_plateau_Pa)},
           {"G_plateau_stderr_Pa", jnum(r.G_plateau_se_Pa)},
           {"plateau_time_s", kPlateauTime_s},
+          {"G_at_plateau_time_Pa", jnum(r.G_at_plateau_time_Pa)},
+          {"G_at_plateau_time_stderr_Pa", jnum(r.G_at_plateau_time_se_Pa)},
+          {"G_acf_late_Pa", jnum(r.G_acf_late_Pa)},
+          {"G_acf_late_stderr_Pa", jnum(r.G_acf_late_se_Pa)},
           {"G_acf_hold_Pa", jnum(r.G_acf_hold_Pa)},
           {"G_acf_hold_stderr_Pa", jnum(r.G_acf_hold_se_Pa)},
           {"G_hold_Pa", jnum(r.G_hold_Pa)},
@@ -175,6 +235,7 @@ nlohmann::json phase_json(const PhaseCheckResult& r) {
           {"tau_int_s", jnum(r.tau_int_s)},
           {"block_s", jnum(r.block_s)},
           {"blocks_ok", r.blocks_ok},
+          {"holds_blocks_ok", r.holds_blocks_ok},
           {"K_Pa", jnum(r.K_Pa)},
           {"K_stderr_Pa", jnum(r.K_se_Pa)},
           {"cavitation_strain", r.cav_strain},
@@ -193,7 +254,12 @@ std::string phase_markdown(const PhaseCheckResult& r) {
   s += fmt::format("| G_acf(0) (stress autocorrelation) | {:.4g} +- {:.2g} GPa |\n",
                    r.G_t0_Pa * 1e-9, r.G_t0_se_Pa * 1e-9);
   s += fmt::format("| G_acf({:.1f} ps) | {:.4g} +- {:.2g} GPa |\n", kPlateauTime_s * 1e12,
-                   r.G_plateau_Pa * 1e-9, r.G_plateau_se_Pa * 1e-9);
+                   r.G_at_plateau_time_Pa * 1e-9, r.G_at_plateau_time_se_Pa * 1e-9);
+  s += fmt::format("| plateau: mean G_acf over {:.2g}-{:.2g} ps | {:.4g} +- {:.2g} GPa |\n",
+                   0.5 * kPlateauTime_s * 1e12, 1.5 * kPlateauTime_s * 1e12, r.G_plateau_Pa * 1e-9,
+                   r.G_plateau_se_Pa * 1e-9);
+  s += fmt::format("| mean G_acf over t_hold/2 .. t_hold | {:.4g} +- {:.2g} GPa |\n",
+                   r.G_acf_late_Pa * 1e-9, r.G_acf_late_se_Pa * 1e-9);
   s += fmt::format("| G_acf(t_hold = {:.3g} ps) | {:.4g} +- {:.2g} GPa |\n", r.hold_time_s * 1e12,
                    r.G_acf_hold_Pa * 1e-9, r.G_acf_hold_se_Pa * 1e-9);
   s += fmt::format("| G_hold (shear step pair, second half of the hold) | {:.4g} +- {:.2g} GPa |\n",
@@ -214,8 +280,8 @@ std::string phase_markdown(const PhaseCheckResult& r) {
                      "ns |\n",
                      r.drift_kg_m3_s * 1e-9, r.drift_se_kg_m3_s * 1e-9);
   s += fmt::format("\nClassification (decision D128): solid when G_hold > {:.0f} s.e. and G_hold "
-                   ">= {:.0f} % of G_hold + G_acf({:.1f} ps). Numbers in {}/phase.h5.\n\n",
-                   kResolvedSigmas, 100 * kSolidFraction, kPlateauTime_s * 1e12, "phase");
+                   ">= {:.0f} % of G_hold + max(0, plateau). Numbers in {}/phase.h5.\n\n",
+                   kResolvedSigmas, 100 * kSolidFraction, "phase");
   return s;
 }
 

@@ -53,7 +53,10 @@ TEST(PhaseAcf, ErrorBarCoverageOverIndependentSeriesIsNominal) {
   const double s2 = 1.0, tau = 8.0, phi = std::exp(-1.0 / tau);
   const int runs = 400;
   const int lags[] = {0, 8, 16};
-  int hit[3] = {0, 0, 0};
+  int hit[3] = {0, 0, 0}, whit = 0;
+  double wexact = 0; // window mean over lags 4..12 (how the plateau is formed)
+  for (int k = 4; k <= 12; ++k)
+    wexact += s2 * std::pow(phi, k) / 9;
   for (int r = 0; r < runs; ++r) {
     std::vector<std::vector<double>> c;
     for (int k = 0; k < 3; ++k)
@@ -61,7 +64,11 @@ TEST(PhaseAcf, ErrorBarCoverageOverIndependentSeriesIsNominal) {
     const AcfEstimate e = autocorrelation(c, 1.0, 16, 10);
     for (int i = 0; i < 3; ++i)
       if (std::fabs(e.value[lags[i]] - s2 * std::pow(phi, lags[i])) < kT9 * e.se[lags[i]]) ++hit[i];
+    const auto [wm, wse] = window_mean(e, 4, 12);
+    if (std::fabs(wm - wexact) < kT9 * wse) ++whit;
   }
+  EXPECT_GT(whit / 400.0, 0.906);
+  EXPECT_LT(whit / 400.0, 0.994);
   for (int i = 0; i < 3; ++i) {
     const double cov = static_cast<double>(hit[i]) / runs;
     EXPECT_GT(cov, 0.906) << "lag " << lags[i];
@@ -151,4 +158,24 @@ TEST(PhaseRecipe, KeyDefaultsValidationAndPresets) {
   const std::string s = err(R"({"phase_check": {"enabled": true, "steps": 15000},
                                 "deform": {"hold_steps": 10000}})");
   EXPECT_NE(s.find("2 x deform.hold_steps"), std::string::npos) << s;
+}
+
+TEST(PhaseHold, HoldMeanErrorCoverageAndBlockRule) {
+  // hold means: 400 OU runs of 400 samples, tau_int ~ 5.5 samples -> 10 blocks of 40 (>= 5
+  // tau): coverage of +-t_9 s.e. of the exact mean 0 in [0.906, 0.994]
+  std::mt19937_64 g(77);
+  const double phi = std::exp(-1.0 / 5.0);
+  int hit = 0, ok = 0;
+  for (int r = 0; r < 400; ++r) {
+    const MeanSe m = hold_mean_se(ou(400, 1.0, phi, g));
+    ok += m.ok;
+    hit += std::fabs(m.mean) < (m.blocks == 10 ? kT9 : 3.182) * m.se;
+  }
+  EXPECT_EQ(ok, 400);
+  EXPECT_GT(hit / 400.0, 0.906);
+  EXPECT_LT(hit / 400.0, 0.994);
+  // tau ~ 50 samples: 4 blocks of 5 tau do not fit in 400 samples -> flagged
+  const MeanSe slow = hold_mean_se(ou(400, 1.0, std::exp(-1.0 / 50.0), g));
+  EXPECT_FALSE(slow.ok);
+  EXPECT_EQ(slow.blocks, 4);
 }

@@ -25,7 +25,8 @@
 //  5 density drift: least-squares slope of the NPT chunk means of the second half of the
 //    equilibration's NPT run (equilibrate/final.h5 /trace_npt), when that ensemble was used.
 // Classification (decision D128): "solid on the hold time scale" when G_hold > kResolvedSigmas
-// standard errors and G_hold >= kSolidFraction * (G_hold + G_acf(kPlateauTime_s)); else
+// standard errors and G_hold >= kSolidFraction * (G_hold + max(0, G_plateau)), G_plateau the mean
+// of G_acf over 0.25 .. 0.75 ps; else
 // "relaxes within a hold". G(t) = G_eq + G_acf(t) for a solid in a fixed box (the stress
 // autocorrelation of a solid decays to zero; its equilibrium modulus G_eq is what the step
 // pair measures), so G_hold + G_acf(0.5 ps) is the short-time plateau.
@@ -60,8 +61,8 @@ struct PhaseCheckSpec {
   long steps = 20000;              ///< NVE steps of the autocorrelation run
   int sample_every = 5;            ///< steps between stress samples of the autocorrelation run
   int blocks = 10;                 ///< blocks of time origins for the standard errors
-  double shear_strain = 0.01;      ///< gamma of the shear step pair
-  double bulk_strain = 0.02;       ///< volumetric strain of the bulk pair (+-)
+  double shear_strain = 0.03;      ///< gamma of the shear step pair
+  double bulk_strain = 0.03;       ///< volumetric strain of the bulk pair (+-)
   double cavitation_strain = 0.04; ///< volumetric expansion of the cavitation hold
   long cavitation_steps = 10000;   ///< steps of the cavitation hold
   void validate(const std::string& source) const;
@@ -92,8 +93,13 @@ struct AcfEstimate {
   double tau_int = 0;        ///< integrated correlation time (unit of dt), mean over components
   double block_length = 0;   ///< time origins per block x dt
   int blocks = 0;
-  bool blocks_ok = false; ///< block_length >= kMinBlockOverTau * tau_int
+  bool blocks_ok = false;                        ///< block_length >= kMinBlockOverTau * tau_int
+  std::vector<std::vector<double>> block_values; ///< [lag][block]: the block estimates
 };
+
+/// Mean of an estimate over lags k0..k1 (inclusive) and its block standard error (the window
+/// mean is formed in every block, so correlations between lags are accounted for).
+std::pair<double, double> window_mean(const AcfEstimate& e, std::size_t k0, std::size_t k1);
 
 /// <ds(0) ds(k dt)> for k = 0..max_lag averaged over the given series (each a component of
 /// the same run, equal length N > max_lag + blocks), deviations from each series' mean. Time
@@ -107,6 +113,16 @@ AcfEstimate autocorrelation(const std::vector<std::vector<double>>& series, doub
 /// window (stop at the first W >= 5 tau); rho from the series' own mean. Unit of dt.
 double integrated_time(const std::vector<double>& x, double dt);
 
+/// Mean and standard error of a hold's series (samples equally spaced): block means with
+/// blocks of at least kMinBlockOverTau integrated correlation times, at most 10 and at least 4
+/// blocks; `ok` false when 4 such blocks do not fit (the error bar may then be too small).
+struct MeanSe {
+  double mean = 0, se = 0;
+  int blocks = 0;
+  bool ok = false;
+};
+MeanSe hold_mean_se(const std::vector<double>& x);
+
 /// Least-squares slope of y(t) and its standard error (residual variance, n-2 dof).
 std::pair<double, double> slope_se(const std::vector<double>& t, const std::vector<double>& y);
 
@@ -119,12 +135,19 @@ struct PhaseCheckResult {
   // 1 autocorrelation, Pa
   std::vector<double> acf_t_s, acf_G_Pa, acf_G_se_Pa;
   double G_t0_Pa = 0, G_t0_se_Pa = 0;
-  double G_plateau_Pa = 0, G_plateau_se_Pa = 0; ///< at kPlateauTime_s
+  /// plateau: mean of G_acf over kPlateauTime_s/2 .. 3 kPlateauTime_s/2 (bond vibrations
+  /// make the point value oscillate); the point value at kPlateauTime_s
+  double G_plateau_Pa = 0, G_plateau_se_Pa = 0;
+  double G_at_plateau_time_Pa = 0, G_at_plateau_time_se_Pa = 0;
+  /// mean of G_acf over t_hold/2 .. t_hold (the window of G_hold)
+  double G_acf_late_Pa = 0, G_acf_late_se_Pa = 0;
   double G_acf_hold_Pa = 0, G_acf_hold_se_Pa = 0;
   double tau_int_s = 0, block_s = 0;
   bool blocks_ok = false;
   // 2 shear step pair
   double G_hold_Pa = 0, G_hold_se_Pa = 0;
+  /// every hold mean (shear, volume, cavitation) had >= 4 blocks of >= 5 correlation times
+  bool holds_blocks_ok = false;
   // 3 bulk pair
   double K_Pa = 0, K_se_Pa = 0;
   // 4 cavitation
