@@ -199,6 +199,10 @@ void classify(PhaseCheckResult& r) {
     r.summary += fmt::format(" The autocorrelation blocks ({:.3g} ps) are shorter than {:.0f} "
                              "correlation times ({:.3g} ps): its error bars may be too small.",
                              r.block_s * 1e12, kMinBlockOverTau, r.tau_int_s * 1e12);
+  if (!(r.K_Pa > kResolvedSigmas * r.K_se_Pa))
+    r.summary += fmt::format(" K is not resolved (not > {:.0f} standard errors): a larger "
+                             "phase_check.bulk_strain or a larger RVE would resolve it.",
+                             kResolvedSigmas);
   if (!r.holds_blocks_ok)
     r.summary += " Some hold means had fewer than 4 blocks of 5 correlation times: their error "
                  "bars may be too small.";

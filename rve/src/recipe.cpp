@@ -108,7 +108,8 @@ const char* demo_text = R"({
                    "final_steps": 5000 },
   "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 20, "timestep_fs": 1.0,
               "hold_steps": 5000, "sample_every": 10, "blocks": 10 },
-  "phase_check": { "enabled": true, "steps": 20000, "sample_every": 5 },
+  "phase_check": { "enabled": true, "steps": 12000, "sample_every": 5,
+                   "cavitation_steps": 5000 },
   "analysis": { "stress": "virial", "moving_average": 5, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
