@@ -213,6 +213,16 @@ int run_characterize(const CharacterizeArgs& a) {
   // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
   o.alpha_mode = r.fit_alpha ? AlphaMode::fit : AlphaMode::automatic;
   o.check_units = false;
+  // decision D128: a material that relaxes within a hold does not define its shear and damage
+  // constants; only the normal (bulk-like) block of C0 stays fitted
+  if (md.phase.done && !md.phase.solid)
+    for (const auto& n : constant_names(o.model))
+      if (!(n.size() == 3 && n[0] == 'C' && n[1] <= '3' && n[2] <= '3'))
+        o.undefined.push_back(
+            {n, fmt::format("the phase check finds that the RVE relaxes within a hold (G_hold = "
+                            "{:.3g} +- {:.2g} GPa; phase/phase.h5), so shear and damage "
+                            "responses are not carried over a strain hold",
+                            md.phase.G_hold_Pa * 1e-9, md.phase.G_hold_se_Pa * 1e-9)});
   o.validate();
   const StressStrainData data = read_stress_strain(md.cases_h5);
   const FitReport rep = fit_ndm(data, o);
@@ -278,6 +288,7 @@ int run_characterize(const CharacterizeArgs& a) {
       r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble, e.density,
       e.pressure_total, e.pressure_total_se, e.pressure_virial, e.temperature, e.void_fraction,
       e.min_distance);
+  if (md.phase.done) rep_md += rve::phase_markdown(md.phase);
   rep_md += fmt::format(
       "Deformation: cases {}, strain 0 -> {} in {} steps, {}. Stress handed to the fit: {}.\n\n",
       nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps,
@@ -312,9 +323,10 @@ int run_characterize(const CharacterizeArgs& a) {
       rep_md += fmt::format("![{0}]({0})\n", fs::relative(p, a.out).string());
   }
   rep_md +=
-      fmt::format("\nWall time: build {:.1f} s, equilibration {:.1f} s, cases {:.1f} s, total "
-                  "{:.1f} s (this invocation).\n",
-                  md.seconds_build, md.seconds_equilibrate, md.seconds_cases, total_s);
+      fmt::format("\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
+                  "cases {:.1f} s, total {:.1f} s (this invocation).\n",
+                  md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases,
+                  total_s);
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 
@@ -323,6 +335,10 @@ int run_characterize(const CharacterizeArgs& a) {
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
+  if (md.phase.done)
+    std::cerr << "pnc characterize: phase check: " << md.phase.phase
+              << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
+              << "\n";
   std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
             << "\n  report: " << report_path << "\n";
   for (const auto& p : pngs)
@@ -347,6 +363,7 @@ int run_characterize(const CharacterizeArgs& a) {
         {"void_fraction", e.void_fraction},
         {"min_distance_A", e.min_distance}};
     if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
+    if (md.phase.done) j["phase_check"] = rve::phase_json(md.phase);
     j["constants"] = constants_json(card);
     j["fit"] = fit_json(card.fit);
     j["verdict"] = verdict_json(card.verdict);
@@ -354,6 +371,7 @@ int run_characterize(const CharacterizeArgs& a) {
     j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
     j["seconds"] = {{"build", md.seconds_build},
                     {"equilibrate", md.seconds_equilibrate},
+                    {"phase_check", md.seconds_phase},
                     {"cases", md.seconds_cases},
                     {"total", total_s}};
     std::cout << j.dump() << std::endl;

@@ -9,6 +9,7 @@
 #include <ceres/ceres.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -275,6 +276,11 @@ void FitOptions::validate() const {
   if (prior && prior->model != model)
     fail(src, "prior", model_name(prior->model),
          std::string("prior card is for another model than ") + model_name(model));
+  for (const auto& u : undefined) {
+    if (constant_index(model, u.name) < 0)
+      fail(src, "undefined", u.name, std::string("not a constant of model ") + model_name(model));
+    if (u.reason.empty()) fail(src, "undefined." + u.name, "", "needs a reason");
+  }
 }
 
 
@@ -319,8 +325,11 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   }
   // alpha (D12b): fitted when the data pass the onset of alpha0 somewhere, unless told.
   const bool past_onset = colnorm[n - 1] != 0.0;
-  const bool fit_alpha = opt.alpha_mode == AlphaMode::fit ||
-                         (opt.alpha_mode == AlphaMode::automatic && past_onset);
+  const bool alpha_undefined =
+      std::any_of(opt.undefined.begin(), opt.undefined.end(),
+                  [&](const UndefinedConstant& u) { return u.name == names[ns - 1]; });
+  const bool fit_alpha = !alpha_undefined && (opt.alpha_mode == AlphaMode::fit ||
+                                              (opt.alpha_mode == AlphaMode::automatic && past_onset));
   {
     std::ostringstream a;
     a << (fit_alpha ? "fitted" : "held at " + std::to_string(alpha0)) << " ("
@@ -334,6 +343,17 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
     rep.note[ns - 1] = opt.alpha_mode == AlphaMode::hold
                            ? (opt.alpha ? "held by option" : "held by option; " + held_note)
                            : "the data never reach damage onset; held at " + std::to_string(alpha0);
+  }
+  // Constants the caller declares undefined by the data (e.g. the phase check of pnc
+  // characterize: shear and damage constants of a material that relaxes within a hold).
+  rep.declared_undefined = opt.undefined;
+  for (const auto& u : opt.undefined) {
+    const auto js = static_cast<std::size_t>(constant_index(m, u.name));
+    rep.fitted[js] = false;
+    rep.status[js] = "not identified";
+    rep.note[js] = u.reason + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
+    theta[js] = theta_prior[js];
+    if (js + 1 == ns) rep.alpha_choice += "; declared undefined by the caller: " + u.reason;
   }
 
   // Solve; constants the data do not determine at the solution are held at the prior and

@@ -71,6 +71,14 @@ double reference_scale(const NdmParameters& p, std::size_t j) {
 
 void judge_constants(const FitReport& rep, const VerdictLimits& L, Verdict& v) {
   const auto& names = constant_names(rep.params.model);
+  if (!rep.declared_undefined.empty()) {
+    std::string list;
+    for (const auto& u : rep.declared_undefined)
+      list += (list.empty() ? "" : ", ") + u.name;
+    v.warn(fmt::format("{} constant(s) are not defined by these data ({}): {}; they are held "
+                       "at the prior and carry no information from this run",
+                       rep.declared_undefined.size(), list, rep.declared_undefined[0].reason));
+  }
   for (std::size_t j = 0; j < names.size() && j < rep.status.size(); ++j) {
     if (rep.status[j] == "not identified")
       v.warn(names[j] + " is not identified: " + rep.note[j]);

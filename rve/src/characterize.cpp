@@ -166,6 +166,39 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   o.build_record = o.replicas[0].build_record;
   o.equilibrated = o.replicas[0].equilibrated;
 
+  // --- phase check (phase_check.hpp): solid on the hold time scale? On replica 1 (the
+  // replicas share the recipe: one structure answers the question for the protocol).
+  if (r.phase_check.enabled) {
+    const auto tp = std::chrono::steady_clock::now();
+    std::cerr << "pnc characterize [phase check] G(t), bulk modulus, cavitation at "
+              << r.deform.temperature << " K\n";
+    PhaseCheckInput pin;
+    pin.start_state = o.equilibrated.restart;
+    pin.force_field =
+        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
+    pin.probe_A = r.ff.sigma;
+    if (r.system.enabled) { // the user's force field; no bead size for the void measure
+      pin.force_field = r.system.forcefield;
+      pin.atom_style = r.system.atom_style;
+      pin.probe_A = 0;
+    }
+    pin.temperature = r.deform.temperature;
+    pin.damp_fs = r.deform.damp_fs;
+    pin.timestep_fs = r.deform.timestep_fs;
+    pin.hold_steps = r.deform.hold_steps;
+    pin.hold_sample_every = r.deform.sample_every;
+    pin.seed = replica_build_seed(r.seed, 1) * 100 + 50;
+    pin.recipe_json = recipe_text;
+    pin.equilibrate_dir = (fs::path(o.replicas[0].dir) / "equilibrate").string();
+    if (!r.system.enabled && r.equilibrate.ensemble == "npt") // equilibrate.cpp's NPT chunks
+      pin.npt_chunk_fs =
+          static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) / 10 * 10)) *
+          r.equilibrate.timestep_fs;
+    o.phase =
+        run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), resume, eq_ranks);
+    o.seconds_phase = seconds_since(tp);
+  }
+
   // --- cases
   auto t0 = std::chrono::steady_clock::now();
   std::vector<std::pair<StageSpec, StageBody>> stages;

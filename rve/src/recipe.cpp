@@ -108,6 +108,8 @@ const char* demo_text = R"({
                    "final_steps": 5000 },
   "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 20, "timestep_fs": 1.0,
               "hold_steps": 5000, "sample_every": 10, "blocks": 10, "reference_holds": 5 },
+  "phase_check": { "enabled": true, "steps": 12000, "sample_every": 5,
+                   "cavitation_steps": 5000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
@@ -125,6 +127,7 @@ const char* paper_text = R"({
   "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
               "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
               "reference_holds": 10 },
+  "phase_check": { "enabled": true, "steps": 40000, "sample_every": 10 },
   "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
@@ -145,6 +148,7 @@ const char* paper_pnc_text = R"({
   "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
               "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
               "reference_holds": 4 },
+  "phase_check": { "enabled": true, "steps": 40000, "sample_every": 10 },
   "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
@@ -162,6 +166,8 @@ const char* demo_pnc_text = R"({
                    "npt_steps": 10000, "final_steps": 2000 },
   "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.05, "steps": 10, "timestep_fs": 0.5,
               "hold_steps": 2000, "sample_every": 10, "blocks": 10, "reference_holds": 1 },
+  "phase_check": { "enabled": true, "steps": 10000, "sample_every": 10,
+                   "cavitation_steps": 4000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
   "run": { "jobs": 2 }
 })";
@@ -310,6 +316,20 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.check_unknown();
   }
   {
+    auto& pc = r.phase_check;
+    Section s = top.sub("phase_check");
+    s.get("enabled", pc.enabled);
+    s.get_int("steps", pc.steps, 1000, kMaxSteps);
+    s.get_int("sample_every", pc.sample_every, 1, 1000);
+    s.get_int("blocks", pc.blocks, 4, 1000);
+    s.get("shear_strain", pc.shear_strain);
+    s.get("bulk_strain", pc.bulk_strain);
+    s.get("cavitation_strain", pc.cavitation_strain);
+    s.get_int("cavitation_steps", pc.cavitation_steps, 100, kMaxSteps);
+    s.check_unknown();
+    pc.validate(source);
+  }
+  {
     Section s = top.sub("analysis");
     s.get("stress", r.stress);
     s.get_int("moving_average", r.moving_average, 1, 1001);
@@ -349,6 +369,11 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   r.build.validate(source);
   r.ff.validate(source);
   r.equilibrate.validate(source);
+  if (r.phase_check.enabled && r.phase_check.steps < 2 * r.deform.hold_steps)
+    fail(source, "phase_check.steps", std::to_string(r.phase_check.steps),
+         fmt::format("must be >= 2 x deform.hold_steps = {} (G(t) is measured up to the hold "
+                     "time from at least as many time origins)",
+                     2 * r.deform.hold_steps));
   DeformSpec probe = r.deform;
   probe.start_state = "<equilibrated state>";
   probe.seed = r.seed;
@@ -548,6 +573,15 @@ nlohmann::json expanded_json(const Recipe& r) {
         {"minimize", d.minimize}}},
       {"analysis",
        {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
+      {"phase_check",
+       {{"enabled", r.phase_check.enabled},
+        {"steps", r.phase_check.steps},
+        {"sample_every", r.phase_check.sample_every},
+        {"blocks", r.phase_check.blocks},
+        {"shear_strain", r.phase_check.shear_strain},
+        {"bulk_strain", r.phase_check.bulk_strain},
+        {"cavitation_strain", r.phase_check.cavitation_strain},
+        {"cavitation_steps", r.phase_check.cavitation_steps}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
       {"run", {{"jobs", r.jobs}, {"replicas", r.replicas}}}};
   if (r.system.enabled) {

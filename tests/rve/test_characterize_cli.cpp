@@ -38,6 +38,8 @@ const char* tiny = R"({
                    "npt_steps": 1000, "final_steps": 200 },
   "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
               "hold_steps": 200, "sample_every": 10, "blocks": 4 },
+  "phase_check": { "enabled": true, "steps": 1000, "sample_every": 5,
+                   "cavitation_steps": 200 },
   "analysis": { "moving_average": 1 },
   "run": { "jobs": 2 }
 })";
@@ -57,10 +59,31 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["command"], "characterize");
   EXPECT_EQ(r.code == 4, j["verdict"]["level"] == "not usable") << j["verdict"].dump();
-  EXPECT_NE(slurp((fs::path(out) / "report.md").string()).find("## Verdict: "), std::string::npos);
-  for (const char* f :
-       {"cases.h5", "card.h5", "report.md", "recipe.json", "build/rve.data", "build/build.h5",
-        "equilibrate/final.h5", "cases/case_2/checkpoint.h5", "cases/case_6/checkpoint.h5"})
+  const std::string report = slurp((fs::path(out) / "report.md").string());
+  EXPECT_NE(report.find("## Verdict: "), std::string::npos);
+  // the phase check: in the report (words and numbers), the JSON and phase/phase.h5; a
+  // relaxing RVE has its shear and damage constants held as not identified, and says why
+  EXPECT_TRUE(fs::exists(fs::path(out) / "phase/phase.h5"));
+  EXPECT_NE(report.find("## Phase check: "), std::string::npos) << report;
+  EXPECT_NE(report.find("G_hold"), std::string::npos);
+  const auto& pc = j["phase_check"];
+  ASSERT_TRUE(pc.is_object()) << j.dump();
+  EXPECT_TRUE(pc["G_t0_Pa"].is_number());
+  EXPECT_GT(pc["G_t0_Pa"].get<double>(), 0.0); // a variance times V/kT
+  EXPECT_TRUE(pc["G_hold_stderr_Pa"].is_number());
+  EXPECT_TRUE(pc["K_Pa"].is_number());
+  EXPECT_DOUBLE_EQ(pc["hold_time_s"].get<double>(), 200 * 1e-15);
+  const bool solid = pc["solid"].get<bool>();
+  EXPECT_EQ(pc["phase"], solid ? "solid on the hold time scale" : "relaxes within a hold");
+  EXPECT_NE(report.find(pc["phase"].get<std::string>()), std::string::npos);
+  if (!solid) {
+    for (const char* n : {"C44", "B1", "B2", "B4", "alpha"})
+      EXPECT_EQ(j["constants"][n]["status"], "not identified") << n;
+    EXPECT_NE(j["verdict"].dump().find("not defined by these data"), std::string::npos);
+  }
+  for (const char* f : {"cases.h5", "card.h5", "report.md", "recipe.json", "build/rve.data",
+                        "build/build.h5", "equilibrate/final.h5", "phase/phase.h5",
+                        "cases/case_2/checkpoint.h5", "cases/case_6/checkpoint.h5"})
     EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
   EXPECT_GT(j["equilibrated"]["density_g_cm3"].get<double>(), 0.5);
   EXPECT_GE(j["equilibrated"]["void_fraction"].get<double>(), 0.0);

@@ -34,6 +34,13 @@ namespace pnc::damage {
 enum class AlphaMode { automatic, fit, hold };
 const char* alpha_mode_name(AlphaMode m);
 
+/// A constant the caller knows the data cannot define (e.g. the shear and damage constants of
+/// a material that relaxes within a strain hold, pnc/rve/phase_check.hpp), with the reason.
+struct UndefinedConstant {
+  std::string name;   ///< constant name of the model (constant_names), e.g. "C44", "alpha"
+  std::string reason; ///< shown in the card's note and in the verdict
+};
+
 struct FitOptions {
   Model model = Model::pnc;
   AlphaMode alpha_mode = AlphaMode::automatic;
@@ -52,6 +59,9 @@ struct FitOptions {
   double stiffness_min = 1e5;  ///< 0.1 MPa
   double stiffness_max = 1e12; ///< 1000 GPa
   bool check_units = true;
+  /// Constants declared undefined by the data: held at the prior (alpha: at its start value)
+  /// with status "not identified" and the reason; the verdict warns and says why.
+  std::vector<UndefinedConstant> undefined;
 
   /// Throws pnc::InputError naming the option and the constraint it breaks.
   void validate() const;
@@ -92,6 +102,8 @@ struct FitReport {
   std::vector<std::string> status;
   std::vector<std::string> note; ///< why a constant was held, per constant
   std::string alpha_choice;      ///< how alpha was treated and why
+  /// the caller's FitOptions::undefined, as given (names and reasons)
+  std::vector<UndefinedConstant> declared_undefined;
   /// "data standard errors" or "sandwich (HC3)": where the standard errors come from
   std::string error_model;
   double chi2 = std::numeric_limits<double>::quiet_NaN(); ///< sum of r^2 (data errors only)

@@ -8,6 +8,7 @@
 //   recipe.json                      the expanded recipe (a resumed run must match it)
 //   build/rve.data, build/build.h5   builder output and record
 //   equilibrate/<stage>.{log,h5,restart}
+//   phase/phase.{h5,log}             phase check (phase_check.hpp), when the recipe enables it
 //   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
 //   cases.h5                         strain/stress (+ standard errors) per case, the stress
 //                                    chosen by the recipe, never smoothed (replicas.hpp)
@@ -26,16 +27,18 @@ namespace pnc::rve {
 struct ReplicaOutcome {
   std::string dir, data_file, build_record;
   EquilibratedState equilibrated;
+  PhaseCheckResult phase; ///< phase.done false when the recipe does not enable the check
 };
 
 struct MdOutcome {
   std::string dir, recipe_path, data_file, build_record, cases_h5; ///< of replica 1
   EquilibratedState equilibrated;                                  ///< of replica 1
+  PhaseCheckResult phase;                                          ///< of replica 1
   std::vector<CaseResult> cases;                                   ///< of replica 1
   std::vector<ReplicaOutcome> replicas;                            ///< every replica, in order
   CombinedCases statistics;        ///< what went into cases.h5 (replicas.hpp)
   std::string statistics_markdown; ///< a "## Statistics" section for report.md
-  double seconds_build = 0, seconds_equilibrate = 0, seconds_cases = 0;
+  double seconds_build = 0, seconds_equilibrate = 0, seconds_phase = 0, seconds_cases = 0;
 };
 
 /// Runs the MD pipeline. With `resume`, finished parts are reused and cases continue from

@@ -18,6 +18,8 @@
 //                      "damp_fs" },
 //     "analysis":    { "stress": "total" | "virial", "moving_average": odd >= 1 (display
 //                      only, never fitted: D133), "reference": "subtract" | "none" },
+//     "phase_check": { "enabled", "steps", "sample_every", "blocks", "shear_strain",
+//                      "bulk_strain", "cavitation_strain", "cavitation_steps" } (phase_check.hpp)
 //     "fit":         { "fit_alpha": bool },
 //     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
 //     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
@@ -25,6 +27,7 @@
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/phase_check.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <nlohmann/json.hpp>
@@ -43,6 +46,7 @@ struct Recipe {
   PolymerForceField ff;
   EquilibrateSpec equilibrate;
   DeformSpec deform; ///< template: case_id, seed, start_state filled per case
+  PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
   std::vector<int> cases = {2, 6};
   /// which stress goes to the fit: "total" (with the kinetic term, the default: decision D134)
   /// or "virial" (eq. 6.23, the dissertation's; biases every normal constant by -rho k_B T)
