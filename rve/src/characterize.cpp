@@ -119,10 +119,14 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
-    const System s = r.model == "pnc" ? build_composite(r.build, r.ff, r.clay, &ci)
-                                      : build_polymer(r.build, r.ff);
+    const System s = r.model == "pnc"  ? build_composite(r.build, r.ff, r.clay, &ci)
+                     : r.model == "kg" ? build_bead_spring(r.build, r.kg)
+                                       : build_polymer(r.build, r.ff);
     write_data_file(o.data_file, s, "pnc characterize " + r.name);
-    write_build_record(o.build_record, s, r.build, r.ff, recipe_text);
+    if (r.model == "kg")
+      write_bead_spring_record(o.build_record, s, r.build, r.kg, recipe_text);
+    else
+      write_build_record(o.build_record, s, r.build, r.ff, recipe_text);
     if (r.model == "pnc") {
       const nlohmann::json cj = {
           {"cells_a", r.clay.cells_a},
@@ -151,8 +155,9 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
                                ci.thickness, ci.aspect_ratio, ci.volume_fraction,
                                ci.weight_fraction, min_polymer_clay_distance(s));
     }
-    std::cerr << fmt::format("  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n",
-                             s.x.size(), s.length()[0], min_nonbonded_distance(s));
+    std::cerr << fmt::format(
+        "  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n", s.x.size(),
+        s.length()[0], r.model == "kg" ? min_unbonded_distance(s) : min_nonbonded_distance(s));
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
@@ -164,9 +169,11 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
   const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
   std::cerr << fmt::format("pnc characterize [equilibrate] ensemble {}, {} MPI rank(s)\n",
                            r.equilibrate.ensemble, eq_ranks);
-  o.equilibrated =
-      equilibrate(o.data_file, r.ff, r.equilibrate, (fs::path(dir) / "equilibrate").string(),
-                  resume, recipe_text, r.model == "pnc", eq_ranks);
+  const std::string eq_dir = (fs::path(dir) / "equilibrate").string();
+  o.equilibrated = r.model == "kg" ? equilibrate_glass(o.data_file, r.kg, r.equilibrate, eq_dir,
+                                                       resume, recipe_text, eq_ranks)
+                                   : equilibrate(o.data_file, r.ff, r.equilibrate, eq_dir, resume,
+                                                 recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate = seconds_since(t0);
 
   // --- cases
@@ -178,8 +185,9 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
     d.case_id = id;
     d.seed = static_cast<std::uint64_t>(r.seed) * 100 + static_cast<std::uint64_t>(id);
     d.start_state = o.equilibrated.restart;
-    d.force_field =
-        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
+    d.force_field = r.model == "pnc"  ? composite_forcefield_commands(r.ff)
+                    : r.model == "kg" ? bead_spring_commands(r.kg)
+                                      : polymer_forcefield_commands(r.ff);
     d.recipe_json = recipe_text;
     const std::string cdir = (fs::path(dir) / "cases" / fmt::format("case_{}", id)).string();
     if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {
