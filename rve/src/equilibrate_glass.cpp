@@ -139,7 +139,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
   // 3. quench: Nose-Hoover NPT at pressure_atm, T ramped hot_temperature -> temperature
   stage("quench", [&](Lammps& l) {
     read_state(l, ffcmds, s, p(dir, "melt", ".restart"));
-    l.cmd(fmt::format("fix pnc_npt all npt temp {:.10g} {:.10g} {:.10g} iso {3:.10g} {3:.10g} "
+    l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {1:.10g} {2:.10g} iso {3:.10g} {3:.10g} "
                       "{4:.10g}",
                       s.hot_temperature, s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
     Trace t;

@@ -3,7 +3,9 @@
 // T = 0 crystal, at the thermostat's temperature), and that it is a solid on the time scale of
 // a strain hold while its melt is not: after a small shear step the shear stress of a Maxwell
 // body with relaxation time tau_M falls by exp(-dt / tau_M) between two windows dt apart; a
-// solid on the hold time scale (tau_M >= the hold t_h) keeps at least exp(-dt / t_h) of it.
+// solid on the hold time scale (tau_M >= the hold t_h) keeps at least exp(-dt / t_h) of it,
+// while the melt (T* = 1, chains of 15 beads: Rouse time ~ 20-100 tau, ~ the hold)
+// carries no shear stress at the end of the hold.
 // `pnc recipe show demo_glass` (JSON and TOML) reads back as the preset.
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/bead_spring.hpp"
@@ -30,15 +32,16 @@ pnc::test::CommandResult run(const std::string& args) {
   return pnc::test::run_command(std::string(PNC_EXE) + " " + args);
 }
 
-// 200 beads; 20 fs steps (0.008 tau); melt 24 tau, quench 82 tau, glass hold 33 tau
+// 600 beads; 20 fs steps (0.008 tau); melt 16 tau, quench 82 tau, glass hold 25 tau; one MPI
+// rank per stage (a small system on 2 ranks of a busy machine is slower than on 1)
 const char* tiny_glass = R"({
   "name": "tiny_glass", "seed": 5, "model": "kg",
-  "build": { "chains": 20, "beads_per_chain": 10, "density": 0.9, "min_distance": 3.5 },
+  "build": { "chains": 40, "beads_per_chain": 15, "density": 0.9, "min_distance": 3.5 },
   "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
-                   "damp_fs": 2000.0, "pushoff_steps": 1000, "hot_steps": 3000,
-                   "cool_steps": 10000, "pdamp_fs": 20000.0, "npt_steps": 4000,
+                   "damp_fs": 2000.0, "pushoff_steps": 1000, "hot_steps": 2000,
+                   "cool_steps": 10000, "pdamp_fs": 20000.0, "npt_steps": 3000,
                    "final_steps": 1000 },
-  "deform": { "cases": [2, 6], "strain_max": 0.02, "steps": 2, "timestep_fs": 20.0,
+  "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 20.0,
               "hold_steps": 1000, "sample_every": 10, "blocks": 5, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1 },
@@ -95,8 +98,12 @@ Relaxation shear_relaxation(const std::string& restart, double T, double gamma, 
       v += (c[k] - m) * (c[k] - m) / 9;
     se = std::sqrt(v / 10);
   };
+  std::string trace;
+  for (double v : c)
+    trace += fmt::format(" {:.0f}", v);
+  std::cerr << tag << " shear stress minus reference, 40 chunks (atm):" << trace << "\n";
   Relaxation r;
-  window(10, r.early, r.early_se);
+  window(0, r.early, r.early_se);
   window(30, r.late, r.late_se);
   return r;
 }
@@ -110,8 +117,8 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
   std::ofstream(d / "tiny.json") << tiny_glass;
   const std::string out = (d / "out").string();
   const auto r = run("characterize " + (d / "tiny.json").string() + " --out " + out +
-                     " --json --no-plots 2>" + (d / "err.txt").string());
-  // 2 strain points a case: the fit may be "not usable" (4) or not converge (3)
+                     " --equilibrate-ranks 1 --json --no-plots 2>" + (d / "err.txt").string());
+  // 3 strain points a case: the fit may be "not usable" (4) or not converge (3)
   ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4) << r.code << " " << r.out;
   for (const char* f :
        {"build/rve.data", "build/build.h5", "equilibrate/pushoff.h5", "equilibrate/melt.h5",
@@ -127,20 +134,21 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
   EXPECT_LT(rho, 1.09);
   const double T = j["equilibrated"]["temperature_K"].get<double>();
   EXPECT_NEAR(T, 80.0, 0.05 * 80.0); // Langevin target; 200 beads: sd(T)/T ~ 0.06 per sample
-  // solid on the hold time scale: the two windows are dt = t_h / 2 apart, so a solid keeps
-  // >= exp(-1/2) of the early shear stress (3 standard errors of the difference allowed)
+  // solid on the hold time scale: the window centres are dt = 3 t_h / 4 apart, so a solid keeps
+  // >= exp(-3/4) of the early shear stress (3 standard errors of the difference allowed)
   const auto g = shear_relaxation((fs::path(out) / "equilibrate/final.restart").string(), 80.0,
-                                  0.03, d, "glass");
-  ASSERT_GT(g.early, 5 * g.early_se) << "no measurable shear stress after the step";
-  const double se_g = std::hypot(g.late_se, std::exp(-0.5) * g.early_se);
-  EXPECT_GE(g.late, std::exp(-0.5) * g.early - 3 * se_g)
+                                  0.02, d, "glass");
+  EXPECT_GT(g.late, 5 * g.late_se) << "glass: no shear stress left at the end of the hold";
+  const double se_g = std::hypot(g.late_se, std::exp(-0.75) * g.early_se);
+  EXPECT_GE(g.late, std::exp(-0.75) * g.early - 3 * se_g)
       << "glass: early " << g.early << " late " << g.late << " atm";
-  // the melt (T* = 1, build density) relaxes: the same criterion must fail for it
+  // the melt (T* = 1, build density) has relaxed by the end of the hold: zero within 3 s.e.
   const auto m = shear_relaxation((fs::path(out) / "equilibrate/melt.restart").string(), 400.0,
-                                  0.03, d, "melt");
-  const double se_m = std::hypot(m.late_se, std::exp(-0.5) * m.early_se);
-  EXPECT_LT(m.late, std::exp(-0.5) * m.early - 3 * se_m)
-      << "melt: early " << m.early << " late " << m.late << " atm";
+                                  0.02, d, "melt");
+  EXPECT_LT(std::fabs(m.late), 3 * m.late_se)
+      << "melt: early " << m.early << " late " << m.late << " +- " << m.late_se << " atm";
+  // and the glass's late stress is above the melt's by more than their noise
+  EXPECT_GT(g.late - m.late, 5 * std::hypot(g.late_se, m.late_se));
   fs::remove_all(d);
 }
 
