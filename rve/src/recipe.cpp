@@ -179,10 +179,11 @@ const char* demo_glass_text = R"({
                    "hot_steps": 10000, "cool_steps": 25000, "ensemble": "npt",
                    "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 10000,
                    "final_steps": 2500 },
-  "deform": { "cases": [2, 6], "strain_max": 0.12, "steps": 30, "timestep_fs": 20.0,
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 30, "timestep_fs": 20.0,
               "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "fit_alpha": true },
   "run": { "jobs": 2 }
 })";
 
@@ -198,10 +199,11 @@ const char* paper_glass_text = R"({
                    "hot_steps": 50000, "cool_steps": 125000, "ensemble": "npt",
                    "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 25000,
                    "final_steps": 5000 },
-  "deform": { "cases": [2, 6], "strain_max": 0.12, "steps": 40, "timestep_fs": 20.0,
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 40, "timestep_fs": 20.0,
               "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "fit_alpha": true },
   "run": { "jobs": 2 }
 })";
 
