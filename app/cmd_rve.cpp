@@ -1,5 +1,6 @@
 // pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
+// cases.h5 and cards in Pa.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
@@ -208,7 +209,8 @@ int run_characterize(const CharacterizeArgs& a) {
   // --- fit
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
   FitOptions o;
-  o.model = parse_model(r.model, md.recipe_path + ": model");
+  // the bead-spring glass (model kg) is a pure polymer: the pure-polymer NDM (decision D138)
+  o.model = parse_model(r.model == "kg" ? std::string("pp") : r.model, md.recipe_path + ": model");
   // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
   // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
   o.alpha_mode = r.fit_alpha ? AlphaMode::fit : AlphaMode::automatic;
@@ -251,6 +253,14 @@ int run_characterize(const CharacterizeArgs& a) {
   rep_md += "## RVE\n\n";
   if (r.system.enabled) // your own system (rve/user_system.hpp)
     rep_md += rve::user_system_report(r.system);
+  else if (r.model == "kg")
+    rep_md += fmt::format(
+        "{} chains x {} beads ({} beads, {} g/mol), built at {} g/cm3, seed {}; glassy "
+        "bead-spring polymer (FENE + LJ 12-6, sigma {} A, eps/k_B {:.0f} K, tau {:.0f} fs, "
+        "stress unit eps/sigma^3 = {:.1f} MPa; decision D135).\n\n",
+        r.build.chains, r.build.beads_per_chain, r.build.chains * r.build.beads_per_chain,
+        r.kg.bead_mass, r.build.density, r.seed, r.kg.sigma, r.kg.temperature_unit(), r.kg.tau_fs(),
+        r.kg.stress_unit_pa() * 1e-6);
   else
     rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
                           "force field of section 6.1 (decision D13 units).\n\n",
@@ -322,16 +332,14 @@ int run_characterize(const CharacterizeArgs& a) {
     for (const auto& p : pngs)
       rep_md += fmt::format("![{0}]({0})\n", fs::relative(p, a.out).string());
   }
-  rep_md +=
-      fmt::format("\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
-                  "cases {:.1f} s, total {:.1f} s (this invocation).\n",
-                  md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases,
-                  total_s);
+  rep_md += fmt::format(
+      "\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
+      "cases {:.1f} s, total {:.1f} s (this invocation).\n",
+      md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases, total_s);
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model)
-            << verdict_text(card.verdict);
+  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);

@@ -63,10 +63,14 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
-    const System s = r.model == "pnc" ? build_composite(r.build, r.ff, r.clay, &ci)
-                                      : build_polymer(r.build, r.ff);
+    const System s = r.model == "pnc"  ? build_composite(r.build, r.ff, r.clay, &ci)
+                     : r.model == "kg" ? build_bead_spring(r.build, r.kg)
+                                       : build_polymer(r.build, r.ff);
     write_data_file(ro.data_file, s, "pnc characterize " + r.name);
-    write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
+    if (r.model == "kg")
+      write_bead_spring_record(ro.build_record, s, r.build, r.kg, recipe_text);
+    else
+      write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
     if (r.model == "pnc") {
       const nlohmann::json cj = {
           {"cells_a", r.clay.cells_a},
@@ -95,8 +99,9 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                                ci.thickness, ci.aspect_ratio, ci.volume_fraction,
                                ci.weight_fraction, min_polymer_clay_distance(s));
     }
-    std::cerr << fmt::format("  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n",
-                             s.x.size(), s.length()[0], min_nonbonded_distance(s));
+    std::cerr << fmt::format(
+        "  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n", s.x.size(),
+        s.length()[0], r.model == "kg" ? min_unbonded_distance(s) : min_nonbonded_distance(s));
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
@@ -111,11 +116,12 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                                : "ensemble " + r.equilibrate.ensemble,
                            eq_ranks);
   const std::string edir = (fs::path(rdir) / "equilibrate").string();
-  ro.equilibrated = r.system.enabled
-                        ? equilibrate_user(r.system, ro.data_file, edir, resume, recipe_text,
-                                           r.seed, eq_ranks)
-                        : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
-                                      recipe_text, r.model == "pnc", eq_ranks);
+  ro.equilibrated = r.system.enabled  ? equilibrate_user(r.system, ro.data_file, edir, resume,
+                                                         recipe_text, r.seed, eq_ranks)
+                    : r.model == "kg" ? equilibrate_glass(ro.data_file, r.kg, r.equilibrate, edir,
+                                                          resume, recipe_text, eq_ranks)
+                                      : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
+                                                    recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate += seconds_since(t0);
 }
 
@@ -174,9 +180,10 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
               << r.deform.temperature << " K\n";
     PhaseCheckInput pin;
     pin.start_state = o.equilibrated.restart;
-    pin.force_field =
-        r.model == "pnc" ? composite_forcefield_commands(r.ff) : polymer_forcefield_commands(r.ff);
-    pin.probe_A = r.ff.sigma;
+    pin.force_field = r.model == "pnc"  ? composite_forcefield_commands(r.ff)
+                      : r.model == "kg" ? bead_spring_commands(r.kg)
+                                        : polymer_forcefield_commands(r.ff);
+    pin.probe_A = r.model == "kg" ? r.kg.sigma : r.ff.sigma;
     if (r.system.enabled) { // the user's force field; no bead size for the void measure
       pin.force_field = r.system.forcefield;
       pin.atom_style = r.system.atom_style;
@@ -209,8 +216,9 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
       d.case_id = id;
       d.seed = replica_case_seed(r.seed, rep, id);
       d.start_state = o.replicas[rep - 1].equilibrated.restart;
-      d.force_field = r.model == "pnc" ? composite_forcefield_commands(r.ff)
-                                       : polymer_forcefield_commands(r.ff);
+      d.force_field = r.model == "pnc"  ? composite_forcefield_commands(r.ff)
+                      : r.model == "kg" ? bead_spring_commands(r.kg)
+                                        : polymer_forcefield_commands(r.ff);
       d.recipe_json = recipe_text;
       if (r.system.enabled) { // the user's force field, re-issued after every read_restart
         d.force_field = r.system.forcefield;

@@ -1,6 +1,8 @@
 // Equilibration protocol (sections 3.3.1-3.3.2), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
+#include "equilibrate_detail.hpp"
+
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/stage_stop.hpp"
@@ -120,105 +122,109 @@ double void_fraction(const std::vector<double>& x, const double lo[3], const dou
   return static_cast<double>(empty) / static_cast<double>(total);
 }
 
-namespace {
+using namespace eqdetail;
 
-std::string p(const std::string& dir, const std::string& stage, const char* ext) {
-  return (fs::path(dir) / (stage + ext)).string();
-}
-
-/// Means over chunks of a run: T (K), PE (kcal/mol), P total (atm), P virial (atm),
-/// density (g/cm3), volume (A^3).
-struct Trace {
-  std::vector<std::array<double, 6>> rows;
-  double mean(int c, std::size_t from = 0) const {
-    double s = 0;
-    for (std::size_t i = from; i < rows.size(); ++i)
-      s += rows[i][c];
-    return s / static_cast<double>(rows.size() - from);
-  }
-};
-
-void define_measures(Lammps& l) {
-  l.cmd("compute pnc_pv all pressure NULL virial");
-  l.cmd("variable pnc_rho equal density");
-  l.cmd("variable pnc_vol equal vol");
-  l.cmd("variable pnc_pe equal pe");
-  l.cmd("thermo_style custom step temp pe press c_pnc_pv density vol");
-}
-
-/// `whole_ramp`: thermostat ramps (Tstart -> Tstop) span all chunks (run ... start/stop),
-/// not each chunk; assumes the timestep counter is 0 at the call. `temp`: the temperature
-/// compute traced (thermo_temp = all atoms; a group's when part of the system is frozen).
-void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false,
-                const std::string& temp = "thermo_temp") {
-  if (steps <= 0) return;
-  long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
-  const int n = static_cast<int>((steps + chunk - 1) / chunk);
-  l.cmd(fmt::format("thermo {}", chunk));
-  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {} {} c_{} c_thermo_pe c_thermo_press "
-                    "c_pnc_pv v_pnc_rho v_pnc_vol",
-                    chunk / 10, chunk, temp));
-  for (int i = 0; i < n; ++i) {
-    if (whole_ramp)
-      l.cmd(fmt::format("run {} start 0 stop {}", chunk, chunk * n));
+void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
+                           const EquilibrateSpec& s, const std::string& dir,
+                           const std::string& from_restart, bool with_clay, double cutoff,
+                           double sig, const std::string& recipe_json) {
+  const std::string mob = with_clay ? "pnc_poly" : "all";
+  read_state(l, ffcmds, s, from_restart);
+  Trace tn, tf;
+  std::string how;
+  if (s.ensemble == "npt") {
+    if (with_clay) // x1 (along the platelet) held, x2 and x3 coupled
+      l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} y {2:.10g} "
+                        "{2:.10g} {3:.10g} z {2:.10g} {2:.10g} {3:.10g} couple yz",
+                        s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
     else
-      l.cmd(fmt::format("run {}", chunk));
-    std::array<double, 6> r{};
-    for (int c = 0; c < 6; ++c)
-      r[c] = l.fix_value("pnc_avg", c);
-    t.rows.push_back(r);
+      l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} iso {2:.10g} "
+                        "{2:.10g} {3:.10g}",
+                        s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
+    run_chunks(l, s.npt_steps, 10, tn);
+    l.cmd("unfix pnc_npt");
+    const double vmean = tn.mean(5, tn.rows.size() / 2);
+    double lo[3], hi[3], xy, yz, xz;
+    l.box(lo, hi, xy, yz, xz);
+    const double ratio = vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+    const double f = with_clay ? std::sqrt(ratio) : std::cbrt(ratio);
+    std::string cb = "change_box all";
+    for (int a = 0; a < 3; ++a) {
+      const double fa = (with_clay && a == 0) ? 1.0 : f;
+      const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * fa;
+      cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
+    }
+    l.cmd(cb + " remap units box");
+    how = fmt::format(
+        "NPT at {:.1f} atm{} for {} steps (mean density of the second half {:.4f} "
+        "g/cm3), box set to its mean volume {:.1f} A^3, then NVT (Langevin) for {} steps",
+        s.pressure_atm, with_clay ? " on x2, x3 (coupled; x1 held)" : "", s.npt_steps,
+        tn.mean(4, tn.rows.size() / 2), vmean, s.final_steps);
+  } else {
+    how = fmt::format("NVT at the build density, Langevin for {} steps", s.final_steps);
   }
-  l.cmd("unfix pnc_avg");
-}
-
-void read_state(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
-                const std::string& restart) {
-  l.cmd("units real");
-  l.cmd("atom_style molecular");
-  l.cmd("read_restart " + lammps_path(restart, "restart"));
-  l.cmds(ffcmds);
-  l.cmd("reset_timestep 0");
-  l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
-  define_measures(l);
-}
-
-double min_pair_distance(Lammps& l, double cutoff, const std::string& group = "all") {
-  // neighbour pairs within the pair cutoff (excluded 1-2/1-3/1-4 pairs are not listed)
-  l.cmd("compute pnc_pl " + group + " pair/local dist");
-  l.cmd("compute pnc_dmin all reduce min c_pnc_pl");
-  l.cmd("run 0");
-  const double d = l.compute_value("pnc_dmin");
-  l.cmd("uncompute pnc_dmin");
-  l.cmd("uncompute pnc_pl");
-  return std::min(d, cutoff);
-}
-
-void write_stage(const std::string& path, const std::string& stage, const std::string& criterion,
-                 const Trace& t, const std::string& recipe_json) {
-  AtomicOutput out(path);
+  l.cmd("fix pnc_nve all nve");
+  l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                    s.damp_fs, s.seed + 5));
+  run_chunks(l, s.final_steps, 10, tf);
+  l.cmd("unfix pnc_lan");
+  l.cmd("unfix pnc_nve");
+  const double dmin = min_pair_distance(l, cutoff, mob);
+  double lo[3], hi[3], xy, yz, xz;
+  l.box(lo, hi, xy, yz, xz);
+  const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);
+  l.cmd("write_restart " + lammps_path(p(dir, "final", ".restart"), "--out"));
+  // P over chunks: standard error from the chunk means
+  double m = tf.mean(2), var = 0;
+  for (const auto& r : tf.rows)
+    var += (r[2] - m) * (r[2] - m);
+  const double se = std::sqrt(var / static_cast<double>(tf.rows.size() - 1) /
+                              static_cast<double>(tf.rows.size()));
+  const std::string crit = fmt::format(
+      "{}; density {:.4f} g/cm3, P {:.0f} +- {:.0f} atm (total), {:.0f} atm (virial only), "
+      "T {:.1f} K, void fraction {:.4f}, min pair distance {:.3f} A",
+      how, tf.mean(4), m, se, tf.mean(3), tf.mean(0), vf, dmin);
+  AtomicOutput out(p(dir, "final", ".h5"));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
     f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-    f.set_attr("/", "stage", stage);
+    f.set_attr("/", "stage", "final");
     f.set_attr("/", "pnc_version", version_string());
     f.set_attr("/", "created_utc", utc_timestamp());
-    f.write_string("/criterion", criterion);
+    f.write_string("/criterion", crit);
     f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
-    if (!t.rows.empty()) {
-      h5::RowMatrix m(static_cast<Eigen::Index>(t.rows.size()), 6);
+    f.write_string("/ensemble", s.ensemble);
+    f.write_scalar("/density", tf.mean(4));
+    f.set_attr("/density", "units", "g/cm^3");
+    f.write_scalar("/pressure_total", m);
+    f.set_attr("/pressure_total", "units", "atm");
+    f.write_scalar("/pressure_total_stderr", se);
+    f.set_attr("/pressure_total_stderr", "units", "atm");
+    f.write_scalar("/pressure_virial", tf.mean(3));
+    f.set_attr("/pressure_virial", "units", "atm");
+    f.write_scalar("/temperature", tf.mean(0));
+    f.set_attr("/temperature", "units", "K");
+    f.write_scalar("/void_fraction", vf);
+    f.set_attr("/void_fraction", "definition",
+               "fraction of the points of a 1 A grid farther than sigma from every bead centre");
+    f.write_scalar("/min_distance", dmin);
+    f.set_attr("/min_distance", "units", "A");
+    auto put = [&](const char* name, const Trace& t) {
+      if (t.rows.empty()) return;
+      h5::RowMatrix mm(static_cast<Eigen::Index>(t.rows.size()), 6);
       for (std::size_t i = 0; i < t.rows.size(); ++i)
         for (int c = 0; c < 6; ++c)
-          m(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
-      f.write_matrix("/trace", m);
-      f.set_attr("/trace", "units",
+          mm(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
+      f.write_matrix(name, mm);
+      f.set_attr(name, "units",
                  "chunk means: T (K), PE (kcal/mol), P total (atm), P virial (atm), density "
                  "(g/cm^3), volume (A^3)");
-    }
+    };
+    put("/trace", tf);
+    put("/trace_npt", tn);
   }
   out.commit();
 }
-
-} // namespace
 
 EquilibratedState read_equilibrated(const std::string& dir) {
   const std::string path = p(dir, "final", ".h5");
@@ -232,7 +238,7 @@ EquilibratedState read_equilibrated(const std::string& dir) {
   e.temperature = f.read_scalar("/temperature");
   e.void_fraction = f.read_scalar("/void_fraction");
   e.min_distance = f.read_scalar("/min_distance");
-  for (const char* st : {"pushoff", "hot", "clay", "cool", "langevin", "final"}) {
+  for (const char* st : {"pushoff", "hot", "clay", "cool", "langevin", "melt", "quench", "final"}) {
     const std::string sp = p(dir, st, ".h5");
     if (fs::exists(sp))
       e.criteria.push_back(std::string(st) + ": " +
@@ -413,101 +419,8 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   });
 
   stage("final", [&](Lammps& l) {
-    read_state(l, ffcmds, s, p(dir, "langevin", ".restart"));
-    Trace tn, tf;
-    std::string how;
-    if (s.ensemble == "npt") {
-      if (with_clay) // x1 (along the platelet) held, x2 and x3 coupled
-        l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} y {2:.10g} "
-                          "{2:.10g} {3:.10g} z {2:.10g} {2:.10g} {3:.10g} couple yz",
-                          s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
-      else
-        l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {0:.10g} {1:.10g} iso {2:.10g} "
-                          "{2:.10g} {3:.10g}",
-                          s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
-      run_chunks(l, s.npt_steps, 10, tn);
-      l.cmd("unfix pnc_npt");
-      const double vmean = tn.mean(5, tn.rows.size() / 2);
-      double lo[3], hi[3], xy, yz, xz;
-      l.box(lo, hi, xy, yz, xz);
-      const double ratio = vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
-      const double f = with_clay ? std::sqrt(ratio) : std::cbrt(ratio);
-      std::string cb = "change_box all";
-      for (int a = 0; a < 3; ++a) {
-        const double fa = (with_clay && a == 0) ? 1.0 : f;
-        const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * fa;
-        cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
-      }
-      l.cmd(cb + " remap units box");
-      how = fmt::format(
-          "NPT at {:.1f} atm{} for {} steps (mean density of the second half {:.4f} "
-          "g/cm3), box set to its mean volume {:.1f} A^3, then NVT (Langevin) for {} steps",
-          s.pressure_atm, with_clay ? " on x2, x3 (coupled; x1 held)" : "", s.npt_steps,
-          tn.mean(4, tn.rows.size() / 2), vmean, s.final_steps);
-    } else {
-      how = fmt::format("NVT at the build density, Langevin for {} steps", s.final_steps);
-    }
-    l.cmd("fix pnc_nve all nve");
-    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
-                      s.damp_fs, s.seed + 5));
-    run_chunks(l, s.final_steps, 10, tf);
-    l.cmd("unfix pnc_lan");
-    l.cmd("unfix pnc_nve");
-    const double dmin = min_pair_distance(l, ff.cutoff(), mob);
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);
-    l.cmd("write_restart " + lammps_path(p(dir, "final", ".restart"), "--out"));
-    // P over chunks: standard error from the chunk means
-    double m = tf.mean(2), var = 0;
-    for (const auto& r : tf.rows)
-      var += (r[2] - m) * (r[2] - m);
-    const double se = std::sqrt(var / static_cast<double>(tf.rows.size() - 1) /
-                                static_cast<double>(tf.rows.size()));
-    const std::string crit = fmt::format(
-        "{}; density {:.4f} g/cm3, P {:.0f} +- {:.0f} atm (total), {:.0f} atm (virial only), "
-        "T {:.1f} K, void fraction {:.4f}, min pair distance {:.3f} A",
-        how, tf.mean(4), m, se, tf.mean(3), tf.mean(0), vf, dmin);
-    AtomicOutput out(p(dir, "final", ".h5"));
-    {
-      h5::File f(out.temp_path(), h5::File::Mode::truncate);
-      f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-      f.set_attr("/", "stage", "final");
-      f.set_attr("/", "pnc_version", version_string());
-      f.set_attr("/", "created_utc", utc_timestamp());
-      f.write_string("/criterion", crit);
-      f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
-      f.write_string("/ensemble", s.ensemble);
-      f.write_scalar("/density", tf.mean(4));
-      f.set_attr("/density", "units", "g/cm^3");
-      f.write_scalar("/pressure_total", m);
-      f.set_attr("/pressure_total", "units", "atm");
-      f.write_scalar("/pressure_total_stderr", se);
-      f.set_attr("/pressure_total_stderr", "units", "atm");
-      f.write_scalar("/pressure_virial", tf.mean(3));
-      f.set_attr("/pressure_virial", "units", "atm");
-      f.write_scalar("/temperature", tf.mean(0));
-      f.set_attr("/temperature", "units", "K");
-      f.write_scalar("/void_fraction", vf);
-      f.set_attr("/void_fraction", "definition",
-                 "fraction of the points of a 1 A grid farther than sigma from every bead centre");
-      f.write_scalar("/min_distance", dmin);
-      f.set_attr("/min_distance", "units", "A");
-      auto put = [&](const char* name, const Trace& t) {
-        if (t.rows.empty()) return;
-        h5::RowMatrix mm(static_cast<Eigen::Index>(t.rows.size()), 6);
-        for (std::size_t i = 0; i < t.rows.size(); ++i)
-          for (int c = 0; c < 6; ++c)
-            mm(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
-        f.write_matrix(name, mm);
-        f.set_attr(name, "units",
-                   "chunk means: T (K), PE (kcal/mol), P total (atm), P virial (atm), density "
-                   "(g/cm^3), volume (A^3)");
-      };
-      put("/trace", tf);
-      put("/trace_npt", tn);
-    }
-    out.commit();
+    final_stage(l, ffcmds, s, dir, p(dir, "langevin", ".restart"), with_clay, ff.cutoff(), sig,
+                recipe_json);
   });
   EquilibratedState e = read_equilibrated(dir);
   return e;

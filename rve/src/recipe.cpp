@@ -172,10 +172,53 @@ const char* demo_pnc_text = R"({
   "run": { "jobs": 2 }
 })";
 
+// Glassy bead-spring polymer (model kg, decisions D135-D139): sigma 5 A, eps/k_B 400 K,
+// m 80 g/mol (tau 2.45 ps, eps/sigma^3 44.2 MPa); melt at 400 K (T* 1), quench at P = 0 to
+// 80 K (T* 0.2), 20 fs steps (0.008 tau). Measured wall times: docs/rve.md.
+const char* demo_glass_text = R"({
+  "name": "demo_glass",
+  "seed": 1,
+  "model": "kg",
+  "build": { "chains": 40, "beads_per_chain": 25, "density": 0.9, "min_distance": 3.5 },
+  "forcefield": { "sigma": 5.0, "epsilon": 0.79488268, "bead_mass": 80.0,
+                  "fene_K_reduced": 30.0, "fene_R0_sigma": 1.5, "cutoff_sigma": 2.5 },
+  "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
+                   "damp_fs": 2000.0, "pushoff_steps": 2000, "pushoff_A_max": 40.0,
+                   "hot_steps": 10000, "cool_steps": 25000, "ensemble": "npt",
+                   "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 10000,
+                   "final_steps": 2500 },
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 30, "timestep_fs": 20.0,
+              "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+              "damp_fs": 2000.0 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "fit_alpha": true },
+  "run": { "jobs": 2 }
+})";
+
+const char* paper_glass_text = R"({
+  "name": "paper_glass",
+  "seed": 1,
+  "model": "kg",
+  "build": { "chains": 100, "beads_per_chain": 40, "density": 0.9, "min_distance": 3.5 },
+  "forcefield": { "sigma": 5.0, "epsilon": 0.79488268, "bead_mass": 80.0,
+                  "fene_K_reduced": 30.0, "fene_R0_sigma": 1.5, "cutoff_sigma": 2.5 },
+  "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
+                   "damp_fs": 2000.0, "pushoff_steps": 5000, "pushoff_A_max": 40.0,
+                   "hot_steps": 50000, "cool_steps": 125000, "ensemble": "npt",
+                   "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 25000,
+                   "final_steps": 5000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 40, "timestep_fs": 20.0,
+              "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+              "damp_fs": 2000.0 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "fit_alpha": true },
+  "run": { "jobs": 2 }
+})";
+
 } // namespace
 
 std::vector<std::string> preset_names() {
-  return {"demo", "paper", "demo_pnc", "paper_pnc"};
+  return {"demo", "paper", "demo_pnc", "paper_pnc", "demo_glass", "paper_glass"};
 }
 
 nlohmann::json preset_json(const std::string& name) {
@@ -183,7 +226,10 @@ nlohmann::json preset_json(const std::string& name) {
   if (name == "paper") return json::parse(paper_text);
   if (name == "demo_pnc") return json::parse(demo_pnc_text);
   if (name == "paper_pnc") return json::parse(paper_pnc_text);
-  fail("<command line>", "preset", name, "must be one of: demo, paper, demo_pnc, paper_pnc");
+  if (name == "demo_glass") return json::parse(demo_glass_text);
+  if (name == "paper_glass") return json::parse(paper_glass_text);
+  fail("<command line>", "preset", name,
+       "must be one of: demo, paper, demo_pnc, paper_pnc, demo_glass, paper_glass");
 }
 
 void check_free_text(const std::string& source, const std::string& field, const std::string& value,
@@ -216,8 +262,10 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   check_free_text(source, "name", r.name);
   top.get_int("seed", r.seed, 1, 1000000);
   top.get("model", r.model);
-  if (r.model != "pp" && r.model != "pnc")
-    fail(source, "model", r.model, "must be \"pp\" (pure polymer) or \"pnc\" (with clay)");
+  if (r.model != "pp" && r.model != "pnc" && r.model != "kg")
+    fail(source, "model", r.model,
+         "must be \"pp\" (pure polymer), \"pnc\" (with clay) or \"kg\" (glassy bead-spring "
+         "polymer)");
   const bool user = j.contains("system"); // your own system (user_system.hpp), decision D121
   if (user) {
     for (const char* k : {"build", "clay", "forcefield"})
@@ -233,7 +281,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     fail(source, "model", r.model,
          "model \"pnc\" needs a \"clay\" block naming the platelet (cells_a or aspect_ratio, "
          "cells_b), e.g. {\"cells_a\": 7, \"cells_b\": 1}; see the preset paper_pnc");
-  if (r.model == "pp" && j.contains("clay"))
+  if (r.model != "pnc" && j.contains("clay"))
     fail(source, "clay", show_json(j.at("clay")), "a clay block needs \"model\": \"pnc\"");
   if (r.seed < 1 || r.seed > 1000000)
     fail(source, "seed", std::to_string(r.seed), "must be in 1..1000000");
@@ -265,7 +313,24 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
       r.clay.validate(source);
     }
   }
-  {
+  if (r.model == "kg") {
+    Section s = top.sub("forcefield");
+    s.get("sigma", r.kg.sigma);
+    s.get("epsilon", r.kg.epsilon);
+    s.get("bead_mass", r.kg.bead_mass);
+    s.get("fene_K_reduced", r.kg.fene_K_reduced);
+    s.get("fene_R0_sigma", r.kg.fene_R0_sigma);
+    s.get("cutoff_sigma", r.kg.cutoff_sigma);
+    s.get("bond_length_sigma", r.kg.bond_length_sigma);
+    s.check_unknown();
+    // keys of the polypropylene protocol that the glass protocol does not use (D137)
+    if (j.contains("equilibrate") && j.at("equilibrate").is_object())
+      for (const char* k :
+           {"langevin_chunk_steps", "langevin_max_chunks", "steady_tolerance", "clay_steps"})
+        if (j.at("equilibrate").contains(k))
+          fail(source, std::string("equilibrate.") + k, show_json(j.at("equilibrate").at(k)),
+               "not used by model kg (its protocol: pushoff, melt, quench, final; docs/rve.md)");
+  } else {
     Section s = top.sub("forcefield");
     s.get("sigma", r.ff.sigma);
     s.get("epsilon", r.ff.epsilon);
@@ -359,11 +424,11 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
       fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
   }
   top.check_unknown();
-  if (r.model == "pp")
+  if (r.model == "pp" || r.model == "kg")
     for (int c : r.cases)
       if (c != 2 && c != 6)
         fail(source, "deform.cases", std::to_string(c),
-             "the pure polymer (model pp) uses cases 2 and 6 (section 6.3.2)");
+             "the pure polymer (models pp and kg) uses cases 2 and 6 (section 6.3.2)");
   r.equilibrate.seed = r.seed;
   r.build.seed = r.seed;
   r.build.validate(source);
@@ -374,23 +439,32 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
          fmt::format("must be >= 2 x deform.hold_steps = {} (G(t) is measured up to the hold "
                      "time from at least as many time origins)",
                      2 * r.deform.hold_steps));
+  if (r.model == "kg") {
+    r.kg.validate(source);
+    check_glass_protocol(r.equilibrate, source);
+    if (!(r.build.min_distance < r.kg.bond_length()))
+      fail(source, "build.min_distance", fmt::format("{}", r.build.min_distance),
+           fmt::format("model kg: must be below the bond length {:.3f} A", r.kg.bond_length()));
+  }
   DeformSpec probe = r.deform;
   probe.start_state = "<equilibrated state>";
   probe.seed = r.seed;
   probe.validate(source);
   // the cutoff must fit the smallest box: 2 r_c < L at the build density
-  double L = std::cbrt(r.build.chains * r.build.beads_per_chain * r.ff.bead_mass /
+  const double bead_mass = r.model == "kg" ? r.kg.bead_mass : r.ff.bead_mass;
+  const double cutoff = r.model == "kg" ? r.kg.cutoff() : r.ff.cutoff();
+  double L = std::cbrt(r.build.chains * r.build.beads_per_chain * bead_mass /
                        (r.build.density * avogadro_per_A3_cm3));
   if (user) return r; // LAMMPS checks the user's box against the cutoffs
   if (r.model == "pnc") {
     const auto box = composite_box(r.build, r.ff, r.clay, source);
     L = std::min({box[0], box[1], box[2]});
   }
-  if (2 * r.ff.cutoff() >= L)
+  if (2 * cutoff >= L)
     fail(source, "build.chains", std::to_string(r.build.chains),
          fmt::format("the box ({:.2f} A at the build density) must exceed twice the LJ cutoff "
                      "({:.2f} A): use more chains",
-                     L, 2 * r.ff.cutoff()));
+                     L, 2 * cutoff));
   return r;
 }
 
@@ -591,6 +665,18 @@ nlohmann::json expanded_json(const Recipe& r) {
     out["system"] = u.at("system");
     out["equilibrate"] = u.at("equilibrate");
     return out;
+  }
+  if (r.model == "kg") {
+    out["forcefield"] = {{"sigma", r.kg.sigma},
+                         {"epsilon", r.kg.epsilon},
+                         {"bead_mass", r.kg.bead_mass},
+                         {"fene_K_reduced", r.kg.fene_K_reduced},
+                         {"fene_R0_sigma", r.kg.fene_R0_sigma},
+                         {"cutoff_sigma", r.kg.cutoff_sigma},
+                         {"bond_length_sigma", r.kg.bond_length_sigma}};
+    for (const char* k :
+         {"langevin_chunk_steps", "langevin_max_chunks", "steady_tolerance", "clay_steps"})
+      out["equilibrate"].erase(k);
   }
   if (r.model == "pnc")
     out["clay"] = {{"cells_a", r.clay.cells_a},

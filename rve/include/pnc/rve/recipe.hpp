@@ -12,6 +12,9 @@
 //     "clay":        { "cells_a" | "aspect_ratio", "cells_b", "min_distance", "gap_x" }
 //                    (model "pnc" only; clay.hpp; cases default to 1..6)
 //     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
+//                    model "kg": { "sigma", "epsilon", "bead_mass", "fene_K_reduced",
+//                    "fene_R0_sigma", "cutoff_sigma", "bond_length_sigma" } (A, kcal/mol,
+//                    g/mol, eps/sigma^2, sigma, sigma, sigma); bead_spring.hpp
 //     "equilibrate": { EquilibrateSpec fields by name },
 //     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
 //                      "sample_every", "blocks", "reference_holds", "temperature",
@@ -23,6 +26,7 @@
 //     "fit":         { "fit_alpha": bool },
 //     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
 //     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
+#include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
@@ -40,12 +44,15 @@ namespace pnc::rve {
 struct Recipe {
   std::string name = "custom";
   std::uint64_t seed = 1;
-  std::string model = "pp"; ///< "pp" (pure polymer) or "pnc" (with the clay platelet)
+  /// "pp" (pure polymer), "pnc" (with the clay platelet) or "kg" (glassy bead-spring polymer,
+  /// bead_spring.hpp; fitted with the pure-polymer NDM)
+  std::string model = "pp";
   BuildSpec build;
   ClaySpec clay; ///< used when model == "pnc"
   PolymerForceField ff;
+  BeadSpringForceField kg; ///< model "kg": its "forcefield" section
   EquilibrateSpec equilibrate;
-  DeformSpec deform; ///< template: case_id, seed, start_state filled per case
+  DeformSpec deform;          ///< template: case_id, seed, start_state filled per case
   PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
   std::vector<int> cases = {2, 6};
   /// which stress goes to the fit: "total" (with the kinetic term, the default: decision D134)
@@ -82,7 +89,8 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
 /// Reads a recipe file: JSON (".json") or TOML (".toml", same sections as tables, same keys);
 /// other extensions are an InputError.
 Recipe read_recipe(const std::string& path);
-/// The presets "demo", "paper", "demo_pnc", "paper_pnc" as JSON (what `pnc recipe show` prints).
+/// The presets "demo", "paper", "demo_pnc", "paper_pnc", "demo_glass", "paper_glass" as JSON (what
+/// `pnc recipe show` prints).
 nlohmann::json preset_json(const std::string& name);
 std::vector<std::string> preset_names();
 /// A recipe (JSON form, e.g. preset_json) written as TOML; read_recipe reads it back.

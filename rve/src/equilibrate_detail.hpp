@@ -1,0 +1,127 @@
+#pragma once
+// Helpers shared by the equilibration protocols (equilibrate.cpp: polymer and composite;
+// equilibrate_glass.cpp: the bead-spring glass). Private to rve/src. Units real.
+#include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/lammps_path.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/version.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pnc::rve::eqdetail {
+
+inline std::string p(const std::string& dir, const std::string& stage, const char* ext) {
+  return (std::filesystem::path(dir) / (stage + ext)).string();
+}
+
+/// Means over chunks of a run: T (K), PE (kcal/mol), P total (atm), P virial (atm),
+/// density (g/cm3), volume (A^3).
+struct Trace {
+  std::vector<std::array<double, 6>> rows;
+  double mean(int c, std::size_t from = 0) const {
+    double s = 0;
+    for (std::size_t i = from; i < rows.size(); ++i)
+      s += rows[i][c];
+    return s / static_cast<double>(rows.size() - from);
+  }
+};
+
+inline void define_measures(Lammps& l) {
+  l.cmd("compute pnc_pv all pressure NULL virial");
+  l.cmd("variable pnc_rho equal density");
+  l.cmd("variable pnc_vol equal vol");
+  l.cmd("variable pnc_pe equal pe");
+  l.cmd("thermo_style custom step temp pe press c_pnc_pv density vol");
+}
+
+/// `whole_ramp`: thermostat ramps (Tstart -> Tstop) span all chunks (run ... start/stop),
+/// not each chunk; assumes the timestep counter is 0 at the call. `temp`: the temperature
+/// compute traced (thermo_temp = all atoms; a group's when part of the system is frozen).
+inline void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false,
+                       const std::string& temp = "thermo_temp") {
+  if (steps <= 0) return;
+  long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
+  const int n = static_cast<int>((steps + chunk - 1) / chunk);
+  l.cmd(fmt::format("thermo {}", chunk));
+  l.cmd(fmt::format("fix pnc_avg all ave/time 10 {} {} c_{} c_thermo_pe c_thermo_press "
+                    "c_pnc_pv v_pnc_rho v_pnc_vol",
+                    chunk / 10, chunk, temp));
+  for (int i = 0; i < n; ++i) {
+    if (whole_ramp)
+      l.cmd(fmt::format("run {} start 0 stop {}", chunk, chunk * n));
+    else
+      l.cmd(fmt::format("run {}", chunk));
+    std::array<double, 6> r{};
+    for (int c = 0; c < 6; ++c)
+      r[c] = l.fix_value("pnc_avg", c);
+    t.rows.push_back(r);
+  }
+  l.cmd("unfix pnc_avg");
+}
+
+inline void read_state(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
+                       const std::string& restart) {
+  l.cmd("units real");
+  l.cmd("atom_style molecular");
+  l.cmd("read_restart " + lammps_path(restart, "restart"));
+  l.cmds(ffcmds);
+  l.cmd("reset_timestep 0");
+  l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
+  define_measures(l);
+}
+
+inline double min_pair_distance(Lammps& l, double cutoff, const std::string& group = "all") {
+  // neighbour pairs within the pair cutoff (excluded 1-2/1-3/1-4 pairs are not listed)
+  l.cmd("compute pnc_pl " + group + " pair/local dist");
+  l.cmd("compute pnc_dmin all reduce min c_pnc_pl");
+  l.cmd("run 0");
+  const double d = l.compute_value("pnc_dmin");
+  l.cmd("uncompute pnc_dmin");
+  l.cmd("uncompute pnc_pl");
+  return std::min(d, cutoff);
+}
+
+inline void write_stage(const std::string& path, const std::string& stage,
+                        const std::string& criterion, const Trace& t,
+                        const std::string& recipe_json) {
+  AtomicOutput out(path);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    f.set_attr("/", "format", "pnc-rve-equilibration-stage");
+    f.set_attr("/", "stage", stage);
+    f.set_attr("/", "pnc_version", version_string());
+    f.set_attr("/", "created_utc", utc_timestamp());
+    f.write_string("/criterion", criterion);
+    f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+    if (!t.rows.empty()) {
+      h5::RowMatrix m(static_cast<Eigen::Index>(t.rows.size()), 6);
+      for (std::size_t i = 0; i < t.rows.size(); ++i)
+        for (int c = 0; c < 6; ++c)
+          m(static_cast<Eigen::Index>(i), c) = t.rows[i][c];
+      f.write_matrix("/trace", m);
+      f.set_attr("/trace", "units",
+                 "chunk means: T (K), PE (kcal/mol), P total (atm), P virial (atm), density "
+                 "(g/cm^3), volume (A^3)");
+    }
+  }
+  out.commit();
+}
+
+/// Stage "final" (equilibrate.hpp stage 6): from `from_restart`, NPT at spec.pressure_atm
+/// (ensemble "npt"; with the clay on x2, x3 only), the box set to the mean volume of the second
+/// half, NVT (Langevin) for final_steps, then the measurement written to `dir`/final.h5 and the
+/// state to `dir`/final.restart. `cutoff` (A) bounds the reported smallest pair distance, `sig`
+/// (A) is the void-fraction probe radius. Defined in equilibrate.cpp.
+void final_stage(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
+                 const std::string& dir, const std::string& from_restart, bool with_clay,
+                 double cutoff, double sig, const std::string& recipe_json);
+
+} // namespace pnc::rve::eqdetail
