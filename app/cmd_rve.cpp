@@ -231,6 +231,12 @@ int run_characterize(const CharacterizeArgs& a) {
   // decision D130: with >= 2 replicas every replica is fitted on its own as well
   const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
   Card card = card_from_fit(rep, data, "none");
+  // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
+  // points in the linear range)
+  MdCardGates gates;
+  gates.replicas = md.statistics.replicas;
+  gates.deterministic = r.deform.temperature == 0;
+  judge_md_card(rep, data, gates, card.verdict);
   const std::string card_path = (fs::path(a.out) / "card.h5").string();
   const std::string command =
       fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out, a.resume ? " --resume" : "");

@@ -49,26 +49,6 @@ void judge_statistics(const FitReport& rep, const VerdictLimits& L, Verdict& v) 
                        rep.chi2 / rep.dof, rep.dof, rep.chi2_p));
 }
 
-// The scale a constant's standard error is compared with: its own value, and for a damage
-// constant also the undamaged stiffness of the entries of C1 it multiplies (a damage constant
-// may truly be zero, as A26 of the tables is).
-double reference_scale(const NdmParameters& p, std::size_t j) {
-  double ref = std::abs(p.k[j]);
-  const std::string& name = constant_names(p.model)[j];
-  if (name[0] != 'A' && name[0] != 'B') return ref;
-  NdmParameters unit;
-  unit.model = p.model;
-  unit.k[j] = 1.0;
-  const Matrix6 C0 = stiffness_c0(p);
-  for (int m = 0; m < 3; ++m) {
-    const Matrix6 dC = stiffness_c1_dD(unit, m);
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b)
-        if (dC(a, b) != 0.0) ref = std::max(ref, std::abs(C0(a, b)));
-  }
-  return ref;
-}
-
 void judge_constants(const FitReport& rep, const VerdictLimits& L, Verdict& v) {
   const auto& names = constant_names(rep.params.model);
   if (!rep.declared_undefined.empty()) {
@@ -80,11 +60,10 @@ void judge_constants(const FitReport& rep, const VerdictLimits& L, Verdict& v) {
                        rep.declared_undefined.size(), list, rep.declared_undefined[0].reason));
   }
   for (std::size_t j = 0; j < names.size() && j < rep.status.size(); ++j) {
-    if (rep.status[j] == "not identified")
-      v.warn(names[j] + " is not identified: " + rep.note[j]);
+    if (rep.status[j] == "not identified") v.warn(names[j] + " is not identified: " + rep.note[j]);
     if (!rep.fitted[j] || j >= rep.std_error.size()) continue;
     const double se = rep.std_error[j], val = rep.params.k[j];
-    const double ref = reference_scale(rep.params, j);
+    const double ref = detail::constant_scale(rep.params, j);
     if (std::isfinite(se) && se > L.relative_error_warning * ref)
       v.warn(fmt::format("{} = {:.4g} +- {:.2g}: the standard error exceeds {:.0f} % of its "
                          "scale {:.3g} (the value, or for a damage constant the stiffness it "
@@ -116,8 +95,8 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
   const double nus[6] = {d.nu12, d.nu13, d.nu23, d.nu21, d.nu31, d.nu32};
   for (double nu : nus)
     if (nu < 0) {
-      v.warn(fmt::format("a Poisson ratio is negative ({:.3g}): auxetic, unusual for a polymer",
-                         nu));
+      v.warn(
+          fmt::format("a Poisson ratio is negative ({:.3g}): auxetic, unusual for a polymer", nu));
       break;
     }
   // Tensile (or positive shear) stress before the damage onset in every driven case.
@@ -134,6 +113,26 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
   }
 }
 } // namespace
+
+// The scale a constant's standard error is compared with: its own value, and for a damage
+// constant also the undamaged stiffness of the entries of C1 it multiplies (a damage constant
+// may truly be zero, as A26 of the tables is).
+double detail::constant_scale(const NdmParameters& p, std::size_t j) {
+  double ref = std::abs(p.k[j]);
+  const std::string& name = constant_names(p.model)[j];
+  if (name[0] != 'A' && name[0] != 'B') return ref;
+  NdmParameters unit;
+  unit.model = p.model;
+  unit.k[j] = 1.0;
+  const Matrix6 C0 = stiffness_c0(p);
+  for (int m = 0; m < 3; ++m) {
+    const Matrix6 dC = stiffness_c1_dD(unit, m);
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b)
+        if (dC(a, b) != 0.0) ref = std::max(ref, std::abs(C0(a, b)));
+  }
+  return ref;
+}
 
 const char* verdict_name(VerdictLevel v) {
   switch (v) {

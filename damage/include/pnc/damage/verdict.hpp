@@ -6,6 +6,8 @@
 // same, marked); `pnc card show` and the reports print the verdict; the fe_material plugin
 // refuses a `not usable` card unless the host asks for it explicitly. The rules and their
 // thresholds are decision D12d (docs/decisions.md); VerdictLimits holds the thresholds.
+#include "pnc/damage/ndm.hpp"
+
 #include <string>
 #include <vector>
 
@@ -33,16 +35,45 @@ struct VerdictLimits {
   /// standard error above this fraction of the constant's scale (|value|, or for a damage
   /// constant the largest undamaged stiffness it reduces)
   double relative_error_warning = 0.5;
-  double modulus_min = 1e6;            ///< Pa; a Young's modulus below is no solid polymer
-  double modulus_max = 1e12;           ///< Pa
+  double modulus_min = 1e6;  ///< Pa; a Young's modulus below is no solid polymer
+  double modulus_max = 1e12; ///< Pa
 };
 
-struct FitReport; // fit.hpp
+struct FitReport;        // fit.hpp
+struct StressStrainData; // data.hpp
+
+/// What "usable" means for a card fitted to molecular-dynamics data (`pnc characterize`,
+/// decision D12f). A card passes only when every driven curve has `min_linear_points` points
+/// before the damage onset, every fitted constant has a standard error within
+/// `max_relative_error` of its scale, the point errors come from at least `min_replicas`
+/// independent replicas, and chi^2/dof against those errors lies in [chi2_dof_min,
+/// chi2_dof_max]; each gate that fails is a warning (the card stays loadable, marked
+/// "usable with warnings"). R^2 >= VerdictLimits::r2_warning is judged by judge_fit already.
+struct MdCardGates {
+  int replicas = 1;                 ///< independent replicas behind the point errors (input)
+  int min_replicas = 4;             ///< fewer: errors of one structure (thermal noise only)
+  int min_linear_points = 8;        ///< per driven curve, before the fitted damage onset
+  double max_relative_error = 0.10; ///< standard error / the constant's scale
+  double chi2_dof_min = 0.5;        ///< below: errors too large (or correlated points)
+  double chi2_dof_max = 2.0;        ///< above: the model or the errors are wrong
+  /// static (0 K) data have no noise: the replica and chi^2 gates do not apply
+  bool deterministic = false;
+};
 
 /// The verdict of a fit: from R^2 per curve, chi^2/dof and its p-value, the runs tests,
 /// identifiability, the solver's termination, and physical checks (C0 positive definite,
 /// Young's moduli in [modulus_min, modulus_max], Poisson ratios, tensile stress positive
 /// before the damage onset in every driven case).
 Verdict judge_fit(const FitReport& report, const VerdictLimits& limits = {});
+
+/// Adds the MD gates (MdCardGates) to `v`, from the fit and the data it was fitted to.
+void judge_md_card(const FitReport& report, const StressStrainData& data, const MdCardGates& gates,
+                   Verdict& v);
+
+namespace detail {
+/// The scale a constant's standard error is compared with: |value|, and for a damage constant
+/// at least the largest undamaged stiffness of the C1 entries it multiplies.
+double constant_scale(const NdmParameters& p, std::size_t j);
+} // namespace detail
 
 } // namespace pnc::damage
