@@ -82,6 +82,37 @@ SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, dou
   return slope_through_origin(t, y, s, se_common);
 }
 
+/// stress_definition of cases.h5: the stress, reference, smoothing and error model in words.
+std::string describe(const Recipe& r, const CombinedCases& out, std::size_t ncases) {
+  const bool subtract = r.reference == "subtract";
+  const int nrep = out.replicas;
+  // the words "virial only" / "zero-strain hold" are what readers (and tests) look for
+  std::string def =
+      r.stress == "virial"
+          ? "virial only, no kinetic term (eq. 6.23, Zhou 2003; the dissertation's choice: "
+            "normal constants biased by -rho k_B T, D134)"
+          : "virial + kinetic term (total stress, D134)";
+  def += subtract ? fmt::format("; relative to the zero-strain hold (sigma - sigma_0, sigma_0 "
+                                "the mean of the {} x hold zero-strain holds of all {} case(s) "
+                                "of a replica; its error is common to every point, D131)",
+                                r.deform.reference_holds, ncases)
+                  : std::string("; absolute, zero-strain row included");
+  def += r.moving_average > 1
+             ? fmt::format("; no moving average in the fit data (the {}-point moving average is "
+                           "stored for display only, D133)",
+                           r.moving_average)
+             : std::string("; no moving average");
+  def += nrep >= 2
+             ? fmt::format("; errors: between-replica standard error sd/sqrt(N) over N = {} "
+                           "independent replicas (own structure and equilibration each, D130)",
+                           nrep)
+             : fmt::format("; errors: block standard errors of one structure (thermal noise "
+                           "only), checked against the autocorrelation time: {} of {} holds "
+                           "inflated (D132)",
+                           out.holds_inflated, out.holds_checked);
+  return "MD by pnc rve (LAMMPS): " + def;
+}
+
 } // namespace
 
 CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseResult>>& results) {
@@ -204,37 +235,14 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
   std::sort(out.cases.begin(), out.cases.end(),
             [](const auto& a, const auto& b) { return a.id < b.id; });
   out.error_method = nrep >= 2 ? "replicas" : "blocks";
-  // the words "virial only" / "zero-strain hold" are what readers (and tests) look for
-  std::string def =
-      r.stress == "virial"
-          ? "virial only, no kinetic term (eq. 6.23, Zhou 2003; the dissertation's choice: "
-            "normal constants biased by -rho k_B T, D134)"
-          : "virial + kinetic term (total stress, D134)";
-  def += subtract ? fmt::format("; relative to the zero-strain hold (sigma - sigma_0, sigma_0 "
-                                "the mean of the {} x hold zero-strain holds of all {} case(s) "
-                                "of a replica; its error is common to every point, D131)",
-                                r.deform.reference_holds, ncases)
-                  : std::string("; absolute, zero-strain row included");
-  def += r.moving_average > 1
-             ? fmt::format("; no moving average in the fit data (the {}-point moving average is "
-                           "stored for display only, D133)",
-                           r.moving_average)
-             : std::string("; no moving average");
-  def += nrep >= 2
-             ? fmt::format("; errors: between-replica standard error sd/sqrt(N) over N = {} "
-                           "independent replicas (own structure and equilibration each, D130)",
-                           nrep)
-             : fmt::format("; errors: block standard errors of one structure (thermal noise "
-                           "only), checked against the autocorrelation time: {} of {} holds "
-                           "inflated (D132)",
-                           out.holds_inflated, out.holds_checked);
+  out.stress_definition = describe(r, out, ncases);
   if (r.deform.temperature == 0) {
-    def += std::string("; static deformation at 0 K (run 0 after the affine remap") +
-           (r.deform.minimize ? " and an energy minimisation at fixed box" : "") +
-           "), no standard errors (decision D120)";
+    out.stress_definition += std::string("; static deformation at 0 K (run 0 after the affine "
+                                         "remap") +
+                             (r.deform.minimize ? " and an energy minimisation at fixed box" : "") +
+                             "), no standard errors (decision D120)";
     out.error_method = "none (static rows, D120)";
   }
-  out.stress_definition = "MD by pnc rve (LAMMPS): " + def;
   return out;
 }
 
