@@ -273,12 +273,12 @@ std::string phase_markdown(const PhaseCheckResult& r) {
   s += fmt::format("| correlation time / block length | {:.3g} ps / {:.3g} ps ({}) |\n",
                    r.tau_int_s * 1e12, r.block_s * 1e12, r.blocks_ok ? "ok" : "blocks TOO SHORT");
   s += fmt::format("| K (volume pair) | {:.4g} +- {:.2g} GPa |\n", r.K_Pa * 1e-9, r.K_se_Pa * 1e-9);
-  s += fmt::format("| cavitation hold (volumetric strain {:.3g}): P first / last quarter | "
+  s += fmt::format("| cavitation hold (volumetric strain {:.3g}): P second / last quarter | "
                    "{:.3g} +- {:.2g} / {:.3g} +- {:.2g} MPa |\n",
                    r.cav_strain, r.cav_P_first_Pa * 1e-6, r.cav_P_first_se_Pa * 1e-6,
                    r.cav_P_last_Pa * 1e-6, r.cav_P_last_se_Pa * 1e-6);
-  s += fmt::format("| void fraction first / last quarter | {:.4f} / {:.4f}{} |\n", r.cav_void_first,
-                   r.cav_void_last, r.cavitates ? " (CAVITATES)" : "");
+  s += fmt::format("| void fraction after the first quarter / at the end | {:.4f} / {:.4f}{} |\n",
+                   r.cav_void_first, r.cav_void_last, r.cavitates ? " (CAVITATES)" : "");
   if (std::isfinite(r.drift_kg_m3_s))
     s += fmt::format("| density drift, second half of the NPT run | {:.3g} +- {:.2g} kg/m^3 per "
                      "ns |\n",
