@@ -310,11 +310,10 @@ int run_characterize(const CharacterizeArgs& a) {
     for (const auto& p : pngs)
       rep_md += fmt::format("![{0}]({0})\n", fs::relative(p, a.out).string());
   }
-  rep_md +=
-      fmt::format("\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
-                  "cases {:.1f} s, total {:.1f} s (this invocation).\n",
-                  md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases,
-                  total_s);
+  rep_md += fmt::format(
+      "\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
+      "cases {:.1f} s, total {:.1f} s (this invocation).\n",
+      md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases, total_s);
   const std::string report_path = (fs::path(a.out) / "report.md").string();
   write_text_atomically(report_path, rep_md);
 

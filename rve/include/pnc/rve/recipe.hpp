@@ -42,7 +42,7 @@ struct Recipe {
   ClaySpec clay; ///< used when model == "pnc"
   PolymerForceField ff;
   EquilibrateSpec equilibrate;
-  DeformSpec deform; ///< template: case_id, seed, start_state filled per case
+  DeformSpec deform;          ///< template: case_id, seed, start_state filled per case
   PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
   std::vector<int> cases = {2, 6};
   std::string stress = "virial"; ///< which stress goes to the fit: "virial" (eq. 6.23) or "total"
