@@ -176,10 +176,11 @@ void classify(PhaseCheckResult& r) {
                       "is not resolved (not > {:.0f} standard errors)",
                       r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, kResolvedSigmas);
   else
-    why = fmt::format("G_hold = {:.3g} +- {:.2g} GPa is {:.0f} % of the short-time plateau "
-                      "G_hold + G_acf({:.1f} ps) = {:.3g} GPa ({} {:.0f} %)",
-                      r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, 100 * frac, kPlateauTime_s * 1e12,
-                      plateau * 1e-9, r.solid ? ">=" : "<", 100 * kSolidFraction);
+    why = fmt::format(
+        "G_hold = {:.3g} +- {:.2g} GPa is {:.0f} % of the short-time plateau "
+        "G_hold + max(0, mean G_acf over {:.2g}-{:.2g} ps) = {:.3g} GPa ({} {:.0f} %)",
+        r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, 100 * frac, 0.5 * kPlateauTime_s * 1e12,
+        1.5 * kPlateauTime_s * 1e12, plateau * 1e-9, r.solid ? ">=" : "<", 100 * kSolidFraction);
   r.summary = fmt::format(
       "The RVE {} (hold {:.3g} ps at {:.1f} K): {}. Stress autocorrelation G_acf(t): {:.3g} +- "
       "{:.2g} GPa at t = 0, {:.3g} +- {:.2g} GPa at {:.1f} ps (mean over {:.2g}-{:.2g} ps: {:.3g} "
