@@ -8,8 +8,8 @@
 
 #include <ceres/ceres.h>
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -328,8 +328,9 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   const bool alpha_undefined =
       std::any_of(opt.undefined.begin(), opt.undefined.end(),
                   [&](const UndefinedConstant& u) { return u.name == names[ns - 1]; });
-  const bool fit_alpha = !alpha_undefined && (opt.alpha_mode == AlphaMode::fit ||
-                                              (opt.alpha_mode == AlphaMode::automatic && past_onset));
+  const bool fit_alpha =
+      !alpha_undefined &&
+      (opt.alpha_mode == AlphaMode::fit || (opt.alpha_mode == AlphaMode::automatic && past_onset));
   {
     std::ostringstream a;
     a << (fit_alpha ? "fitted" : "held at " + std::to_string(alpha0)) << " ("
@@ -351,7 +352,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
     const auto js = static_cast<std::size_t>(constant_index(m, u.name));
     rep.fitted[js] = false;
     rep.status[js] = "not identified";
-    rep.note[js] = u.reason + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
+    rep.note[js] =
+        u.reason + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
     theta[js] = theta_prior[js];
     if (js + 1 == ns) rep.alpha_choice += "; declared undefined by the caller: " + u.reason;
   }

@@ -300,7 +300,7 @@ void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
   r.K_se_Pa = std::hypot(c.se, d.se) * pa_per_atm / dlnv;
   // decision D129: cavitation hold
   const Hold cv = hold(l, in, 'v', s.cavitation_strain, s.cavitation_steps, in.seed + 5, true);
-  const MeanSe p1 = hold_mean_se(part(cv.p, 0.0, 0.25)), p2 = hold_mean_se(part(cv.p, 0.75, 1.0));
+  const MeanSe p1 = hold_mean_se(part(cv.p, 0.25, 0.5)), p2 = hold_mean_se(part(cv.p, 0.75, 1.0));
   r.cav_strain = s.cavitation_strain;
   r.cav_P_first_Pa = p1.mean * pa_per_atm;
   r.cav_P_first_se_Pa = p1.se * pa_per_atm;
@@ -310,10 +310,13 @@ void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
   r.cav_void_last = cv.void_last;
   const bool void_grows = cv.void_last - cv.void_first > kCavitationVoidGrowth;
   const double rise = r.cav_P_last_Pa - r.cav_P_first_Pa;
+  // decision D129: tension relaxing toward zero (an overshoot past zero is not relaxation)
   const bool p_relaxes =
-      r.cav_P_first_Pa < 0 &&
-      rise > kResolvedSigmas * std::hypot(r.cav_P_first_se_Pa, r.cav_P_last_se_Pa) &&
-      rise > 0.5 * std::fabs(r.cav_P_first_Pa);
+      r.cav_P_first_Pa < 0 && rise > 0 &&
+      std::fabs(r.cav_P_last_Pa) <
+          std::fabs(r.cav_P_first_Pa) -
+              kResolvedSigmas * std::hypot(r.cav_P_first_se_Pa, r.cav_P_last_se_Pa) &&
+      std::fabs(r.cav_P_last_Pa) < 0.5 * std::fabs(r.cav_P_first_Pa);
   r.cavitates = void_grows || p_relaxes;
   r.holds_blocks_ok = a.ok && b.ok && c.ok && d.ok && p1.ok && p2.ok;
   density_drift(in, r);

@@ -176,10 +176,11 @@ void classify(PhaseCheckResult& r) {
                       "is not resolved (not > {:.0f} standard errors)",
                       r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, kResolvedSigmas);
   else
-    why = fmt::format("G_hold = {:.3g} +- {:.2g} GPa is {:.0f} % of the short-time plateau "
-                      "G_hold + G_acf({:.1f} ps) = {:.3g} GPa ({} {:.0f} %)",
-                      r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, 100 * frac, kPlateauTime_s * 1e12,
-                      plateau * 1e-9, r.solid ? ">=" : "<", 100 * kSolidFraction);
+    why = fmt::format(
+        "G_hold = {:.3g} +- {:.2g} GPa is {:.0f} % of the short-time plateau "
+        "G_hold + max(0, mean G_acf over {:.2g}-{:.2g} ps) = {:.3g} GPa ({} {:.0f} %)",
+        r.G_hold_Pa * 1e-9, r.G_hold_se_Pa * 1e-9, 100 * frac, 0.5 * kPlateauTime_s * 1e12,
+        1.5 * kPlateauTime_s * 1e12, plateau * 1e-9, r.solid ? ">=" : "<", 100 * kSolidFraction);
   r.summary = fmt::format(
       "The RVE {} (hold {:.3g} ps at {:.1f} K): {}. Stress autocorrelation G_acf(t): {:.3g} +- "
       "{:.2g} GPa at t = 0, {:.3g} +- {:.2g} GPa at {:.1f} ps (mean over {:.2g}-{:.2g} ps: {:.3g} "
@@ -273,12 +274,12 @@ std::string phase_markdown(const PhaseCheckResult& r) {
   s += fmt::format("| correlation time / block length | {:.3g} ps / {:.3g} ps ({}) |\n",
                    r.tau_int_s * 1e12, r.block_s * 1e12, r.blocks_ok ? "ok" : "blocks TOO SHORT");
   s += fmt::format("| K (volume pair) | {:.4g} +- {:.2g} GPa |\n", r.K_Pa * 1e-9, r.K_se_Pa * 1e-9);
-  s += fmt::format("| cavitation hold (volumetric strain {:.3g}): P first / last quarter | "
+  s += fmt::format("| cavitation hold (volumetric strain {:.3g}): P second / last quarter | "
                    "{:.3g} +- {:.2g} / {:.3g} +- {:.2g} MPa |\n",
                    r.cav_strain, r.cav_P_first_Pa * 1e-6, r.cav_P_first_se_Pa * 1e-6,
                    r.cav_P_last_Pa * 1e-6, r.cav_P_last_se_Pa * 1e-6);
-  s += fmt::format("| void fraction first / last quarter | {:.4f} / {:.4f}{} |\n", r.cav_void_first,
-                   r.cav_void_last, r.cavitates ? " (CAVITATES)" : "");
+  s += fmt::format("| void fraction after the first quarter / at the end | {:.4f} / {:.4f}{} |\n",
+                   r.cav_void_first, r.cav_void_last, r.cavitates ? " (CAVITATES)" : "");
   if (std::isfinite(r.drift_kg_m3_s))
     s += fmt::format("| density drift, second half of the NPT run | {:.3g} +- {:.2g} kg/m^3 per "
                      "ns |\n",

@@ -97,7 +97,7 @@ PhaseCheckSpec spec() {
   s.steps = 8000;     // 40 ps NVE
   s.sample_every = 2; // 10 fs
   s.blocks = 10;
-  s.shear_strain = 0.01;
+  s.shear_strain = 0.03;
   s.bulk_strain = 0.02;
   s.cavitation_strain = 0.01;
   s.cavitation_steps = 1000;

@@ -20,8 +20,9 @@
 //  3 bulk pair: holds at isotropic volumetric strain +-bulk_strain; K = -dP/dlnV from the
 //    total pressure of the second halves (decision D127).
 //  4 cavitation: one hold (`cavitation_steps`) at isotropic volumetric expansion
-//    `cavitation_strain`; pressure and void fraction (equilibrate.hpp void_fraction) in the
-//    first and last quarter.
+//    `cavitation_strain`; pressure of the second and the last quarter (the first holds the
+//    remap transient), void fraction (equilibrate.hpp void_fraction) after the first quarter
+//    and at the end.
 //  5 density drift: least-squares slope of the NPT chunk means of the second half of the
 //    equilibration's NPT run (equilibrate/final.h5 /trace_npt), when that ensemble was used.
 // Classification (decision D128): "solid on the hold time scale" when G_hold > kResolvedSigmas
@@ -51,8 +52,9 @@ inline constexpr double kPlateauTime_s = 0.5e-12;
 /// Solid: the modulus still carried after a hold is at least this fraction of the plateau.
 inline constexpr double kSolidFraction = 0.5;
 /// Cavitation (decision D129): the void fraction grows by more than this (absolute) between
-/// the first and the last quarter of the expansion hold, or the pressure relaxes toward zero
-/// by more than kResolvedSigmas standard errors and by more than half its first-quarter value.
+/// the end of the first and the end of the expansion hold, or the tension relaxes toward zero:
+/// |P| of the last quarter below |P| of the second quarter (the first holds the transient of
+/// the affine remap) by more than kResolvedSigmas standard errors and by more than half.
 inline constexpr double kCavitationVoidGrowth = 0.005;
 
 /// Recipe key "phase_check" (all optional; validate() names the dotted field).
