@@ -1,12 +1,14 @@
 // `pnc thermo work` (thermo/work.hpp) on synthetic run directories (recipe.json,
 // equilibrate/final.h5, cases.h5 written here): closed forms of the trapezoid, the error
 // propagation by Monte Carlo, the two-temperature split, and the input checks. No LAMMPS.
+#include "common/run_command.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/thermo/work.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -226,4 +228,51 @@ TEST(ThermoWork, SofteningIsFlagged) {
       scratch("soft"), 300, {1}, uniaxial(40, 5e-4),
       [](double x) { return x < 0.01 ? 1e9 * x : 1e7 * (1 - 40 * (x - 0.01)); }, 1e5)));
   EXPECT_TRUE(r.cases[0].softening);
+}
+
+// `pnc thermo work` end to end: two runs, --json keys with units, work.h5 units attributes,
+// work.csv columns, and the CLI's error for a missing run directory.
+TEST(ThermoWork, CliTwoRunsJsonH5Csv) {
+  const double C0 = 4e9, C1 = -5e6, h = 1e-4;
+  const auto e = uniaxial(20, h);
+  const auto d1 = make_run(
+      scratch("cli1"), 250, {1}, e, [&](double x) { return (C0 + C1 * 250) * x; }, 1e5);
+  const auto d2 = make_run(
+      scratch("cli2"), 350, {1}, e, [&](double x) { return (C0 + C1 * 350) * x; }, 1e5);
+  const fs::path out = scratch("cliout");
+  const auto r =
+      pnc::test::run_command(std::string(PNC_EXE) + " thermo work --from " + d1 + " --from " + d2 +
+                             " --json --out " + out.string() + " 2>/dev/null");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("runs"), 2);
+  EXPECT_DOUBLE_EQ(j.at("temperature_K").get<double>(), 300.0);
+  const auto& c = j.at("cases").at(0);
+  const double eps = 20 * h;
+  EXPECT_NEAR(c.at("entropic").at("da_J_m3").get<double>(), 300 * C1 * eps * eps / 2,
+              1e-6 * C0 * eps * eps);
+  EXPECT_NEAR(c.at("energetic").at("da_J_m3").get<double>(), C0 * eps * eps / 2,
+              1e-6 * C0 * eps * eps);
+  const double dA = c.at("total").at("dA_J").get<double>();
+  EXPECT_NEAR(dA, (C0 + C1 * 300) * eps * eps / 2 * kV0_A3 * 1e-30, 1e-6 * std::fabs(dA));
+  EXPECT_NEAR(c.at("total").at("dA_kcal_mol").get<double>(), dA * 6.02214076e23 / 4184,
+              1e-9 * std::fabs(dA) * 1.5e20);
+  // every dataset of work.h5 that carries a quantity has units
+  const h5::File f((out / "work.h5").string(), h5::File::Mode::read);
+  for (const char* ds : {"/temperature", "/volume", "/case_1/strain", "/case_1/stress",
+                         "/case_1/work/density", "/case_1/work/energy_kcal_mol",
+                         "/case_1/work/density_stderr_indep", "/case_1/work/density_stderr_bound",
+                         "/case_1/sigma_entropic", "/case_1/sigma_energetic_stderr",
+                         "/case_1/work_entropic/density", "/case_1/work_T2/energy"})
+    EXPECT_TRUE(f.attr_string(ds, "units").has_value()) << ds;
+  std::ifstream csv(out / "work.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("case,point,e11_1,", 0), 0u) << header;
+  EXPECT_NE(header.find("da_energetic_stderr_bound_J_m3"), std::string::npos) << header;
+  const auto bad =
+      pnc::test::run_command(std::string(PNC_EXE) + " thermo work --from " +
+                             (out / "nope").string() + " --out " + out.string() + " 2>&1");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.out.find("recipe.json"), std::string::npos) << bad.out;
 }
