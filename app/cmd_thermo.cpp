@@ -413,6 +413,8 @@ int run_thermo_work(const WorkArgs& a) {
     if (r.runs == 2) {
       j["temperature_1_K"] = r.t1;
       j["temperature_2_K"] = r.t2;
+      j["volume_1_m3"] = r.volume1;
+      j["volume_2_m3"] = r.volume2;
     }
     j["volume_m3"] = r.volume;
     j["notes"] = r.notes;

@@ -187,6 +187,7 @@ WorkResult stress_work(const WorkRun& a, const WorkRun* b) {
   r.t1 = a.temperature;
   r.temperature = a.temperature;
   r.volume = a.volume;
+  r.volume1 = a.volume;
   for (const WorkRun* w : {&a, b}) {
     if (w == nullptr) continue;
     if (!w->reference_subtracted)
@@ -206,6 +207,7 @@ WorkResult stress_work(const WorkRun& a, const WorkRun* b) {
            fmt::format("the two runs must hold the same cases ({} holds {})", a.data.source,
                        a.data.cases.size()));
     r.temperature = 0.5 * (a.temperature + b->temperature);
+    r.volume = 0.5 * (a.volume + b->volume); // decision D142
   }
   for (const auto& c : a.data.cases) {
     WorkCase wc;

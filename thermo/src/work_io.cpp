@@ -67,6 +67,9 @@ void write_work_h5(const std::string& path, const WorkResult& r) {
       f.set_attr("/temperature_1", "units", "K");
       f.write_scalar("/temperature_2", r.t2);
       f.set_attr("/temperature_2", "units", "K");
+      f.set_attr("/volume", "meaning", "mean of the two runs' V0");
+      f.write_scalar("/volume_1", r.volume1);
+      f.set_attr("/volume_1", "units", "m^3");
       f.write_scalar("/volume_2", r.volume2);
       f.set_attr("/volume_2", "units", "m^3");
     }
@@ -78,7 +81,7 @@ void write_work_h5(const std::string& path, const WorkResult& r) {
       f.set_attr(g + "/softening", "units", "1 (flag)");
       put_integral(f, g + "/work", c.da, r.volume);
       if (r.runs == 2) {
-        put_integral(f, g + "/work_T1", c.da1, r.volume);
+        put_integral(f, g + "/work_T1", c.da1, r.volume1);
         put_integral(f, g + "/work_T2", c.da2, r.volume2);
         put_matrix(f, g + "/sigma_entropic", c.sigma_s, "Pa");
         put_matrix(f, g + "/sigma_entropic_stderr", c.sigma_s_se, "Pa");

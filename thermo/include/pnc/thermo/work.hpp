@@ -74,8 +74,10 @@ struct WorkResult {
   int runs = 1;
   double temperature = 0; ///< K: the run's, or the mean (T1 + T2)/2 of two runs
   double t1 = 0, t2 = 0;  ///< K
-  double volume = 0;      ///< m^3: V0 of the first run
-  double volume2 = 0;     ///< m^3: V0 of the second run (0 for one run)
+  /// m^3: V0 of the run, or the mean of the two runs' V0 (the volume at T_mean to first order),
+  /// used for Delta A = V0 Delta a of the total and of the split
+  double volume = 0;
+  double volume1 = 0, volume2 = 0; ///< m^3: V0 of each run (volume2 = 0 for one run)
   std::vector<WorkCase> cases;
   std::vector<std::string> notes; ///< what the numbers assume, one sentence each
 };
