@@ -46,7 +46,8 @@ PathMatrix uniaxial(int n, double h) {
 /// Writes a run directory: stress = f(strain row) in column 0, error `se` (<0: none).
 std::string make_run(const fs::path& d, double t, const std::vector<int>& ids, const PathMatrix& e,
                      const std::function<double(double)>& f, double se,
-                     std::mt19937_64* rng = nullptr) {
+                     std::mt19937_64* rng = nullptr, double noise_sd = -1) {
+  if (noise_sd < 0) noise_sd = se;
   {
     std::ofstream r(d / "recipe.json");
     r << "{\"deform\": {\"temperature\": " << t << "}}\n";
@@ -66,7 +67,7 @@ std::string make_run(const fs::path& d, double t, const std::vector<int>& ids, c
     c.strain = e;
     c.stress = PathMatrix::Zero(e.rows(), 6);
     for (Eigen::Index k = 0; k < e.rows(); ++k)
-      c.stress(k, 0) = f(e(k, 0)) + (rng ? se * g(*rng) : 0.0);
+      c.stress(k, 0) = f(e(k, 0)) + (rng ? noise_sd * g(*rng) : 0.0);
     if (se >= 0) c.stress_stderr = PathMatrix::Constant(e.rows(), 6, se);
     data.cases.push_back(c);
   }
@@ -147,6 +148,38 @@ TEST(ThermoWork, PropagatedErrorIsCalibratedByMonteCarlo) {
   z2 /= M;
   EXPECT_NEAR(z2, 1.0, 3.29 * std::sqrt(2.0 / M));
   EXPECT_NEAR(static_cast<double>(inside) / M, 0.95, 3.29 * std::sqrt(0.95 * 0.05 / M));
+}
+
+TEST(ThermoWork, ErrorBoundCoversACommonReferenceError) {
+  // Like a reference-subtracted file: every point carries the same sigma_0 error d0 ~ N(0, s0)
+  // plus its own N(0, s1); the file's se = (s0^2 + s1^2)^1/2. True variance of da(eps):
+  // eps^2 s0^2 + sum w^2 s1^2; stderr_indep^2 = sum w^2 (s0^2 + s1^2) understates it by the
+  // known ratio q, so mean z_indep^2 must sit in the chi2 band around q (> 1), and the bound
+  // (sum |w| se >= true sd here) gives mean z_bound^2 <= 1 + 3.29 (2/M)^1/2.
+  const int M = 300, n = 20;
+  const double C = 1e9, h = 5e-4, s0 = 2e6, s1 = 1e6, se = std::hypot(s0, s1), eps = n * h;
+  double sw2 = 0;
+  for (int k = 1; k <= n; ++k)
+    sw2 += std::pow(k == n ? h / 2 : h, 2);
+  const double q = (eps * eps * s0 * s0 + sw2 * s1 * s1) / (sw2 * se * se);
+  std::mt19937_64 rng(777);
+  std::normal_distribution<double> g(0, 1);
+  const auto d = scratch("mc_common");
+  double zi = 0, zb = 0;
+  for (int m = 0; m < M; ++m) {
+    const double d0 = s0 * g(rng);
+    const auto r = thermo::stress_work(thermo::read_work_run(make_run(
+        d, 300, {1}, uniaxial(n, h), [&](double x) { return C * x + d0; }, se, &rng, s1)));
+    const auto& w = r.cases[0].da;
+    const double err = w.value.back() - C * eps * eps / 2;
+    zi += std::pow(err / w.se_indep.back(), 2);
+    zb += std::pow(err / w.se_bound.back(), 2);
+  }
+  zi /= M;
+  zb /= M;
+  ASSERT_GT(q, 2.0); // the design makes the understatement visible
+  EXPECT_NEAR(zi, q, 3.29 * std::sqrt(2.0 / M) * q);
+  EXPECT_LE(zb, 1.0 + 3.29 * std::sqrt(2.0 / M));
 }
 
 TEST(ThermoWork, TwoTemperaturesSplitAKnownFreeEnergy) {
