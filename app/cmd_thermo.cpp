@@ -5,6 +5,7 @@
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
+#include "report.hpp"
 #include "run_control.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -369,6 +370,11 @@ nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, doubl
           {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * thermo::kcal_mol_per_J)}};
 }
 
+/// decision D143: |da| below twice its any-correlation error bound at the largest strain
+bool is_noise(const thermo::WorkIntegral& w) {
+  return w.has_se && !(std::fabs(w.value.back()) > 2 * w.se_bound.back());
+}
+
 int run_thermo_work(const WorkArgs& a) {
   if (a.from.empty() || a.from.size() > 2)
     fail("<command line>", "--from", fmt::format("{} given", a.from.size()),
@@ -395,14 +401,23 @@ int run_thermo_work(const WorkArgs& a) {
     if (r.runs == 2)
       line += fmt::format("; entropic {:.4g} +- {:.2g}, energetic {:.4g} +- {:.2g} J/m^3",
                           c.da_s.value[k], c.da_s.se_indep[k], c.da_u.value[k], c.da_u.se_indep[k]);
-    if (c.da.has_se && !(std::fabs(c.da.value[k]) > 2 * c.da.se_bound[k]))
-      line += "  [NOISE: |da| < 2 x its error bound]";
+    if (is_noise(c.da)) line += "  [NOISE: |da| < 2 x its error bound]";
+    if (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u))
+      line += "  [SPLIT NOISE: entropic and energetic parts < 2 x their error bounds]";
     if (c.softening) line += "  [SOFTENING: yield/damage, the integral is work, not free energy]";
     std::cerr << line << "\n";
   }
   for (const auto& n : r.notes)
     std::cerr << "  note: " << n << "\n";
   std::cerr << "  results: " << h5 << ", " << csv << "\n";
+  // exit 4 (outputs written) when no case resolves what was asked: the total, or the split
+  bool all_noise = true;
+  for (const auto& c : r.cases)
+    all_noise =
+        all_noise && (is_noise(c.da) || (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u)));
+  if (all_noise)
+    std::cerr << "  NO RESULT: every case is noise (exit code 4); longer or replicated runs are "
+                 "needed\n";
   if (a.json) {
     nlohmann::json j;
     j["command"] = "thermo work";
@@ -430,13 +445,18 @@ int run_thermo_work(const WorkArgs& a) {
         o["energetic"] = integral_json(c.da_u, k, r.volume);
       }
       o["softening"] = c.softening;
-      o["noise"] = c.da.has_se && !(std::fabs(c.da.value[k]) > 2 * c.da.se_bound[k]);
+      o["noise"] = is_noise(c.da);
+      if (r.runs == 2) {
+        o["entropic"]["noise"] = is_noise(c.da_s);
+        o["energetic"]["noise"] = is_noise(c.da_u);
+      }
       cs.push_back(o);
     }
     j["cases"] = cs;
+    j["all_noise"] = all_noise;
     std::cout << j.dump() << std::endl;
   }
-  return 0;
+  return all_noise ? kExitNotUsable : 0;
 }
 
 } // namespace
