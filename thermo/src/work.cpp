@@ -239,6 +239,9 @@ WorkResult stress_work(const WorkRun& a, const WorkRun* b) {
   if (a.moving_average || (b && b->moving_average))
     r.notes.push_back("the stress was smoothed by a moving average: neighbouring points are "
                       "correlated, stderr_indep understates the error; use stderr_bound");
+  if (a.data.cases.front().stress_stderr.rows() == 0)
+    r.notes.push_back("cases.h5 has no stress_stderr: the errors are unknown (NaN) and noise is "
+                      "not judged");
   if (b)
     r.notes.push_back(fmt::format(
         "two temperatures: sigma and its split refer to T_mean = {} K; sigma_S = T_mean "
