@@ -5,8 +5,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/run_dir.hpp"
-#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/rve/runner.hpp"
 #include "pnc/rve/stage_stop.hpp"
 

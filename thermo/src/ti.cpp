@@ -4,8 +4,8 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
-#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/stage_stop.hpp"
 
