@@ -148,7 +148,7 @@ int run_thermo_ti(TiArgs a) {
   a.spec.dev = parse_list(a.dev, "--dev");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
-  const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept
+  const StopSignals signals;                     // SIGINT/SIGTERM: finished points are kept
   // one spec per output directory: --resume must not mix protocols
   const std::string sj = spec_json(a.spec).dump(2) + "\n";
   const std::string sp = (fs::path(a.out) / "ti_spec.json").string();
@@ -289,7 +289,7 @@ int run_thermo_persistence(PersistenceArgs a) {
   a.spec.rates = parse_list(a.rates, "--rates");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
-  const StopSignals signals;                    // SIGINT/SIGTERM: finished rates are kept
+  const StopSignals signals;                     // SIGINT/SIGTERM: finished rates are kept
   std::cerr << fmt::format("pnc thermo persistence: {} chain of {} beads, supports {}, spring {} "
                            "kcal/mol/A^2, {} rates, pull {} A at {} fs steps, T {} K\n",
                            a.spec.chain, a.spec.beads, a.spec.supports, a.spec.spring_k,
