@@ -1,9 +1,11 @@
-// pnc thermo ti | pnc thermo persistence: free energy of deformation by thermodynamic
-// integration and persistence length by steered bending (docs/theory.md section 4). Units: LAMMPS real
-// (kcal/mol, A, fs, K) inside thermo/; moduli in Pa and EI also in N m^2 where named.
+// pnc thermo ti | persistence | work: free energy of deformation by thermodynamic
+// integration, persistence length by steered bending, free energy from the stress work
+// (docs/theory.md section 4). Units: LAMMPS real (kcal/mol, A, fs, K) inside thermo/; moduli in Pa
+// and EI also in N m^2 where named.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
+#include "report.hpp"
 #include "run_control.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -15,6 +17,7 @@
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/persistence.hpp"
 #include "pnc/thermo/ti.hpp"
+#include "pnc/thermo/work.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -353,6 +356,113 @@ int run_thermo_persistence(PersistenceArgs a) {
   return 0;
 }
 
+// ----------------------------------------------------------------------------- work
+
+struct WorkArgs {
+  std::vector<std::string> from;
+  std::string out;
+  bool json = false;
+};
+
+nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, double v0) {
+  return {{"da_J_m3", jnum(w.value[k])},
+          {"da_stderr_indep_J_m3", jnum(w.se_indep[k])},
+          {"da_stderr_bound_J_m3", jnum(w.se_bound[k])},
+          {"dA_J", jnum(w.value[k] * v0)},
+          {"dA_kcal_mol", jnum(w.value[k] * v0 * thermo::kcal_mol_per_J)},
+          {"dA_stderr_indep_kcal_mol", jnum(w.se_indep[k] * v0 * thermo::kcal_mol_per_J)},
+          {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * thermo::kcal_mol_per_J)}};
+}
+
+/// decision D143: |da| below twice its any-correlation error bound at the largest strain
+bool is_noise(const thermo::WorkIntegral& w) {
+  return w.has_se && !(std::fabs(w.value.back()) > 2 * w.se_bound.back());
+}
+
+int run_thermo_work(const WorkArgs& a) {
+  if (a.from.empty() || a.from.size() > 2)
+    fail("<command line>", "--from", fmt::format("{} given", a.from.size()),
+         "give one run directory, or two at different temperatures");
+  const RunDirLock lock(a.out, command_line()); // one process per output directory
+  const thermo::WorkRun r1 = thermo::read_work_run(a.from[0]);
+  std::unique_ptr<thermo::WorkRun> r2;
+  if (a.from.size() == 2) r2 = std::make_unique<thermo::WorkRun>(thermo::read_work_run(a.from[1]));
+  const thermo::WorkResult r = thermo::stress_work(r1, r2.get());
+  const std::string h5 = (fs::path(a.out) / "work.h5").string();
+  const std::string csv = (fs::path(a.out) / "work.csv").string();
+  thermo::write_work_h5(h5, r);
+  thermo::write_work_csv(csv, r);
+  std::cerr << fmt::format("pnc thermo work: {} run(s), T {} K, V0 {:.6g} m^3 ({:.0f} A^3)\n",
+                           r.runs, r.temperature, r.volume, r.volume * 1e30);
+  const double kc = r.volume * thermo::kcal_mol_per_J;
+  for (const auto& c : r.cases) {
+    const std::size_t k = c.da.value.size() - 1;
+    std::string line = fmt::format(
+        "  case {}: at max strain {:.4g}: da = {:.4g} J/m^3 (+-{:.2g} indep, <= {:.2g} any "
+        "correlation), dA = {:.4g} kcal/mol",
+        c.id, c.strain.row(static_cast<Eigen::Index>(k)).cwiseAbs().maxCoeff(), c.da.value[k],
+        c.da.se_indep[k], c.da.se_bound[k], c.da.value[k] * kc);
+    if (r.runs == 2)
+      line += fmt::format("; entropic {:.4g} +- {:.2g}, energetic {:.4g} +- {:.2g} J/m^3",
+                          c.da_s.value[k], c.da_s.se_indep[k], c.da_u.value[k], c.da_u.se_indep[k]);
+    if (is_noise(c.da)) line += "  [NOISE: |da| < 2 x its error bound]";
+    if (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u))
+      line += "  [SPLIT NOISE: entropic and energetic parts < 2 x their error bounds]";
+    if (c.softening) line += "  [SOFTENING: yield/damage, the integral is work, not free energy]";
+    std::cerr << line << "\n";
+  }
+  for (const auto& n : r.notes)
+    std::cerr << "  note: " << n << "\n";
+  std::cerr << "  results: " << h5 << ", " << csv << "\n";
+  // exit 4 (outputs written) when no case resolves what was asked: the total, or the split
+  bool all_noise = true;
+  for (const auto& c : r.cases)
+    all_noise =
+        all_noise && (is_noise(c.da) || (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u)));
+  if (all_noise)
+    std::cerr << "  NO RESULT: every case is noise (exit code 4); longer or replicated runs are "
+                 "needed\n";
+  if (a.json) {
+    nlohmann::json j;
+    j["command"] = "thermo work";
+    j["h5"] = h5;
+    j["csv"] = csv;
+    j["runs"] = r.runs;
+    j["temperature_K"] = r.temperature;
+    if (r.runs == 2) {
+      j["temperature_1_K"] = r.t1;
+      j["temperature_2_K"] = r.t2;
+      j["volume_1_m3"] = r.volume1;
+      j["volume_2_m3"] = r.volume2;
+    }
+    j["volume_m3"] = r.volume;
+    j["notes"] = r.notes;
+    nlohmann::json cs = nlohmann::json::array();
+    for (const auto& c : r.cases) {
+      const std::size_t k = c.da.value.size() - 1;
+      nlohmann::json o;
+      o["case"] = c.id;
+      o["strain_max_1"] = c.strain.row(static_cast<Eigen::Index>(k)).cwiseAbs().maxCoeff();
+      o["total"] = integral_json(c.da, k, r.volume);
+      if (r.runs == 2) {
+        o["entropic"] = integral_json(c.da_s, k, r.volume);
+        o["energetic"] = integral_json(c.da_u, k, r.volume);
+      }
+      o["softening"] = c.softening;
+      o["noise"] = is_noise(c.da);
+      if (r.runs == 2) {
+        o["entropic"]["noise"] = is_noise(c.da_s);
+        o["energetic"]["noise"] = is_noise(c.da_u);
+      }
+      cs.push_back(o);
+    }
+    j["cases"] = cs;
+    j["all_noise"] = all_noise;
+    std::cout << j.dump() << std::endl;
+  }
+  return all_noise ? kExitNotUsable : 0;
+}
+
 } // namespace
 
 // LAMMPS runs at most 2^31 - 1 steps in one `run` command.
@@ -448,6 +558,18 @@ void register_thermo(CLI::App& app, Action& action) {
   pe->add_flag("--no-plots", pa->no_plots, "Do not draw plots");
   pe->add_flag("--json", pa->json, "Print one JSON object with the key numbers on stdout");
   pe->callback([pa, &action] { action = [pa] { return run_thermo_persistence(*pa); }; });
+  auto wa = std::make_shared<WorkArgs>();
+  auto* wk = th->add_subcommand(
+      "work", "Free energy of deformation from the stress work of `pnc characterize` cases "
+              "(post-processing; two runs at T1 != T2 add the energetic/entropic split)");
+  wk->add_option("--from", wa->from,
+                 "`pnc characterize` output directory; give it twice (second at another "
+                 "temperature) for the split")
+      ->required()
+      ->take_all();
+  wk->add_option("--out", wa->out, "Output directory (work.h5, work.csv)")->required();
+  wk->add_flag("--json", wa->json, "Print one JSON object with the key numbers on stdout");
+  wk->callback([wa, &action] { action = [wa] { return run_thermo_work(*wa); }; });
 }
 
 } // namespace pnc::app
