@@ -73,13 +73,17 @@ SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, dou
                   int voigt) {
   const auto rows = slope_rows(strain, voigt);
   const auto n = static_cast<Eigen::Index>(rows.size());
-  Eigen::VectorXd t(n), y(n), s(se ? n : 0);
+  // static rows (0 K, D120) have no errors (NaN): the slope then takes the residual scatter
+  bool with_se = se != nullptr;
+  for (Eigen::Index i = 0; with_se && i < n; ++i)
+    with_se = std::isfinite((*se)(rows[i], voigt));
+  Eigen::VectorXd t(n), y(n), s(with_se ? n : 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     t[i] = strain(rows[i], voigt);
     y[i] = stress(rows[i], voigt);
-    if (se) s[i] = std::max((*se)(rows[i], voigt), 1e-300);
+    if (with_se) s[i] = std::max((*se)(rows[i], voigt), 1e-300);
   }
-  return slope_through_origin(t, y, s, se_common);
+  return slope_through_origin(t, y, s, std::isfinite(se_common) ? se_common : 0.0);
 }
 
 /// stress_definition of cases.h5: the stress, reference, smoothing and error model in words.

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -40,22 +41,38 @@ WorkRun read_work_run(const std::string& dir) {
   w.temperature = r.deform.temperature;
   if (!(std::isfinite(w.temperature) && w.temperature >= 0))
     fail(rp, "deform.temperature", fmt::format("{}", w.temperature), "must be >= 0 K");
-  if (!fs::is_regular_file(fp))
+  // a run with replicas ("run": {"replicas": N}, D130) keeps one equilibrated state per replica
+  // in replica_<r>/equilibrate/: V0 is then the mean over the replicas
+  std::vector<std::string> finals;
+  if (fs::is_regular_file(fp)) finals.push_back(fp);
+  for (int rep = 1; finals.empty() || rep > 1; ++rep) {
+    const std::string f = (fs::path(dir) / fmt::format("replica_{}", rep) / "equilibrate" /
+                           "final.h5")
+                              .string();
+    if (!fs::is_regular_file(f)) break;
+    finals.push_back(f);
+    if (rep >= 64) break;
+  }
+  if (finals.empty())
     fail(fp, "--from", dir,
-         "has no equilibrated state (equilibrate/final.h5): V0 is its box volume");
-  {
+         "has no equilibrated state (equilibrate/final.h5, or replica_<r>/equilibrate/final.h5): "
+         "V0 is its box volume");
+  double v_sum = 0;
+  for (const std::string& fpath : finals) {
     // decision D141: V0 = mean volume of the final hold (NVT: one volume), the start box of
     // every deformation case
-    const h5::File f(fp, h5::File::Mode::read);
+    const h5::File f(fpath, h5::File::Mode::read);
     const h5::RowMatrix t = f.read_matrix("/trace");
     if (t.rows() < 1 || t.cols() < 6)
-      fail(fp, "/trace", fmt::format("{} x {}", t.rows(), t.cols()),
+      fail(fpath, "/trace", fmt::format("{} x {}", t.rows(), t.cols()),
            "must have >= 1 row and 6 columns (T, PE, P, P virial, density, volume A^3)");
     const double v = t.col(5).mean();
     if (!(std::isfinite(v) && v > 0))
-      fail(fp, "/trace[:,5]", fmt::format("{}", v), "the box volume must be finite and > 0 A^3");
-    w.volume = v * 1e-30;
+      fail(fpath, "/trace[:,5]", fmt::format("{}", v),
+           "the box volume must be finite and > 0 A^3");
+    v_sum += v;
   }
+  w.volume = v_sum / static_cast<double>(finals.size()) * 1e-30;
   if (!fs::is_regular_file(cp)) fail(cp, "--from", dir, "has no cases.h5 (run finished?)");
   w.data = damage::read_stress_strain_h5(cp);
   if (w.data.cases.empty()) fail(cp, "/case_<n>", "", "holds no deformation case");
