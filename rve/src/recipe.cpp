@@ -183,7 +183,7 @@ const char* demo_glass_text = R"({
               "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "fit_alpha": true },
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
   "run": { "jobs": 2 }
 })";
 
@@ -203,7 +203,7 @@ const char* paper_glass_text = R"({
               "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "fit_alpha": true },
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
   "run": { "jobs": 2 }
 })";
 
@@ -376,7 +376,15 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     Section s = top.sub("fit");
     s.get("fit_alpha", r.fit_alpha);
+    s.get("hold_alpha", r.hold_alpha);
+    s.get("alpha", r.fit_alpha_start);
     s.check_unknown();
+    if (r.fit_alpha && r.hold_alpha)
+      fail(source, "fit.hold_alpha", "true", "fit.fit_alpha and fit.hold_alpha exclude each other");
+    if (j.contains("fit") && j.at("fit").is_object() && j.at("fit").contains("alpha") &&
+        !(r.fit_alpha_start >= 0.5 && r.fit_alpha_start <= 1.5))
+      fail(source, "fit.alpha", fmt::format("{}", r.fit_alpha_start),
+           "must be in [0.5, 1.5] (the bounds of the fitted alpha)");
   }
   {
     Section s = top.sub("run");
@@ -603,6 +611,8 @@ nlohmann::json expanded_json(const Recipe& r) {
        {{"stress", r.stress}, {"moving_average", r.moving_average}, {"reference", r.reference}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
       {"run", {{"jobs", r.jobs}}}};
+  if (r.fit_alpha_start > 0) out["fit"]["alpha"] = r.fit_alpha_start;
+  if (r.hold_alpha) out["fit"]["hold_alpha"] = true;
   if (r.model == "kg") {
     out["forcefield"] = {{"sigma", r.kg.sigma},
                          {"epsilon", r.kg.epsilon},

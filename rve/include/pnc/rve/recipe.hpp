@@ -20,7 +20,7 @@
 //                      "sample_every", "blocks", "temperature", "damp_fs" },
 //     "analysis":    { "stress": "virial" | "total", "moving_average": odd >= 1,
 //                      "reference": "subtract" | "none" },
-//     "fit":         { "fit_alpha": bool },
+//     "fit":         { "fit_alpha": bool, "hold_alpha": bool, "alpha": value in [0.5, 1.5] },
 //     "run":         { "jobs": N } }
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/builder.hpp"
@@ -54,6 +54,11 @@ struct Recipe {
   /// D18; "none": the raw stress, row 0 included.
   std::string reference = "subtract";
   bool fit_alpha = false;
+  /// α held at fit_alpha_start even past the damage onset (key "fit.hold_alpha")
+  bool hold_alpha = false;
+  /// α the fit starts from (or holds); 0 = the dissertation's value. Key "fit.alpha", in
+  /// [0.5, 1.5]; the glass presets hold it at 0.82 (decision D138).
+  double fit_alpha_start = 0;
   int jobs = 1;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
