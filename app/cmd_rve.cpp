@@ -213,7 +213,10 @@ int run_characterize(const CharacterizeArgs& a) {
   o.model = parse_model(r.model == "kg" ? std::string("pp") : r.model, md.recipe_path + ": model");
   // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
   // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
-  o.alpha_mode = r.fit_alpha ? AlphaMode::fit : AlphaMode::automatic;
+  o.alpha_mode = r.fit_alpha    ? AlphaMode::fit
+                 : r.hold_alpha ? AlphaMode::hold
+                                : AlphaMode::automatic;
+  if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
   o.check_units = false;
   // decision D128: a material that relaxes within a hold does not define its shear and damage
   // constants; only the normal (bulk-like) block of C0 stays fitted

@@ -190,9 +190,11 @@ const char* demo_glass_text = R"({
   "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 30, "timestep_fs": 20.0,
               "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
+  "phase_check": { "enabled": true, "steps": 4000, "sample_every": 10,
+                   "cavitation_steps": 2000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "fit_alpha": true },
-  "run": { "jobs": 2 }
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "run": { "jobs": 2, "replicas": 4 }
 })";
 
 const char* paper_glass_text = R"({
@@ -210,9 +212,11 @@ const char* paper_glass_text = R"({
   "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 40, "timestep_fs": 20.0,
               "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
+  "phase_check": { "enabled": true, "steps": 10000, "sample_every": 10,
+                   "cavitation_steps": 5000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "fit_alpha": true },
-  "run": { "jobs": 2 }
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "run": { "jobs": 2, "replicas": 4 }
 })";
 
 } // namespace
@@ -413,7 +417,15 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     Section s = top.sub("fit");
     s.get("fit_alpha", r.fit_alpha);
+    s.get("hold_alpha", r.hold_alpha);
+    s.get("alpha", r.fit_alpha_start);
     s.check_unknown();
+    if (r.fit_alpha && r.hold_alpha)
+      fail(source, "fit.hold_alpha", "true", "fit.fit_alpha and fit.hold_alpha exclude each other");
+    if (j.contains("fit") && j.at("fit").is_object() && j.at("fit").contains("alpha") &&
+        !(r.fit_alpha_start >= 0.5 && r.fit_alpha_start <= 1.5))
+      fail(source, "fit.alpha", fmt::format("{}", r.fit_alpha_start),
+           "must be in [0.5, 1.5] (the bounds of the fitted alpha)");
   }
   {
     Section s = top.sub("run");
@@ -658,6 +670,8 @@ nlohmann::json expanded_json(const Recipe& r) {
         {"cavitation_steps", r.phase_check.cavitation_steps}}},
       {"fit", {{"fit_alpha", r.fit_alpha}}},
       {"run", {{"jobs", r.jobs}, {"replicas", r.replicas}}}};
+  if (r.fit_alpha_start > 0) out["fit"]["alpha"] = r.fit_alpha_start;
+  if (r.hold_alpha) out["fit"]["hold_alpha"] = true;
   if (r.system.enabled) {
     const json u = user_system_json(r.system);
     out.erase("build");

@@ -213,6 +213,8 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   EXPECT_EQ(r.cases, (std::vector<int>{2, 6}));
   EXPECT_EQ(r.stress, "total");
   EXPECT_EQ(r.moving_average, 1);
+  EXPECT_TRUE(r.hold_alpha); // decision D138: onset at 2 % strain, alpha held at 0.82
+  EXPECT_DOUBLE_EQ(r.fit_alpha_start, 0.82);
   EXPECT_NEAR(r.kg.temperature_unit(), 400.0, 1e-6);
   // the glass at T* = 0.2 and the melt at T* = 1, in real units
   EXPECT_NEAR(r.equilibrate.temperature / r.kg.temperature_unit(), 0.2, 1e-9);
@@ -242,6 +244,12 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   j = preset_json("demo_glass");
   j["deform"]["cases"] = {1, 2};
   EXPECT_EQ(field_of(j), "deform.cases");
+  j = preset_json("demo_glass");
+  j["fit"]["fit_alpha"] = true; // and hold_alpha: exclusive
+  EXPECT_EQ(field_of(j), "fit.hold_alpha");
+  j = preset_json("demo_glass");
+  j["fit"]["alpha"] = 0.3;
+  EXPECT_EQ(field_of(j), "fit.alpha");
   j = preset_json("demo_glass");
   j["forcefield"]["cutoff_sigma"] = 1.0;
   EXPECT_EQ(field_of(j), "forcefield.cutoff_sigma");

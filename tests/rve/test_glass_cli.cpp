@@ -125,6 +125,18 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
         "equilibrate/quench.h5", "equilibrate/final.h5", "cases/case_2/checkpoint.h5",
         "cases/case_6/checkpoint.h5", "cases.h5", "card.h5", "report.md"})
     EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  // resume of the finished run re-runs no stage of the glass protocol and no case
+  std::vector<fs::file_time_type> stamps;
+  const char* stages[] = {"equilibrate/pushoff.h5", "equilibrate/melt.h5", "equilibrate/quench.h5",
+                          "equilibrate/final.h5", "cases/case_6/checkpoint.h5"};
+  for (const char* f : stages)
+    stamps.push_back(fs::last_write_time(fs::path(out) / f));
+  const auto again =
+      run("characterize " + (d / "tiny.json").string() + " --out " + out +
+          " --resume --equilibrate-ranks 1 --no-plots 2>" + (d / "err2.txt").string());
+  EXPECT_EQ(again.code, r.code);
+  for (std::size_t k = 0; k < stamps.size(); ++k)
+    EXPECT_EQ(fs::last_write_time(fs::path(out) / stages[k]), stamps[k]) << stages[k];
   const auto j = nlohmann::json::parse(r.out);
   const BeadSpringForceField ff;
   const double rho = ff.reduced_density(j["equilibrated"]["density_g_cm3"].get<double>());
@@ -147,8 +159,8 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
                                   0.02, d, "melt");
   EXPECT_LT(std::fabs(m.late), 3 * m.late_se)
       << "melt: early " << m.early << " late " << m.late << " +- " << m.late_se << " atm";
-  // and the glass's late stress is above the melt's by more than their noise
-  EXPECT_GT(g.late - m.late, 5 * std::hypot(g.late_se, m.late_se));
+  // and the glass's late stress is above the melt's by more than 3 s.e. of the difference
+  EXPECT_GT(g.late - m.late, 3 * std::hypot(g.late_se, m.late_se));
   fs::remove_all(d);
 }
 

@@ -23,7 +23,7 @@
 //                      only, never fitted: D133), "reference": "subtract" | "none" },
 //     "phase_check": { "enabled", "steps", "sample_every", "blocks", "shear_strain",
 //                      "bulk_strain", "cavitation_strain", "cavitation_steps" } (phase_check.hpp)
-//     "fit":         { "fit_alpha": bool },
+//     "fit":         { "fit_alpha": bool, "hold_alpha": bool, "alpha": value in [0.5, 1.5] },
 //     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
 //     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
 #include "pnc/rve/bead_spring.hpp"
@@ -66,6 +66,11 @@ struct Recipe {
   /// row 0 included.
   std::string reference = "subtract";
   bool fit_alpha = false;
+  /// α held at fit_alpha_start even past the damage onset (key "fit.hold_alpha")
+  bool hold_alpha = false;
+  /// α the fit starts from (or holds); 0 = the dissertation's value. Key "fit.alpha", in
+  /// [0.5, 1.5]; the glass presets hold it at 0.82 (decision D138).
+  double fit_alpha_start = 0;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
