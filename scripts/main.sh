@@ -27,17 +27,24 @@ echo "== 3. The cards: constants, derived moduli (Table 6.12), strengths"
 "$pnc" card show pnc_card.h5 --json > pnc_card.json
 "$pnc" card show pp_card.h5 --json > pp_card.json
 
-echo "== 4. MD characterisation of the pure polymer with LAMMPS (demo preset, a few minutes)"
+echo "== 4a. MD characterisation of a glassy bead-spring polymer (demo_glass: 4 replicas, a few minutes)"
+rc=0
+"$pnc" characterize demo_glass --out md_glass --json > md_glass.json || rc=$?
+if [ "$rc" -ne 0 ] && [ "$rc" -ne 4 ] && [ "$rc" -ne 3 ]; then exit "$rc"; fi
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); v=j["verdict"]; print("   verdict:", v["level"]); [print("    -", r) for r in v["reasons"]]' md_glass.json || true
+
+echo "== 4b. MD characterisation of the dissertation's polypropylene (demo preset, phase check first)"
 rc=0
 "$pnc" characterize demo --out md_demo --json > md_demo.json || rc=$?
 if [ "$rc" -eq 4 ]; then
-  echo "   (verdict NOT USABLE, as expected: the demo's 600-bead RVE with 5 ps holds is noise-dominated;"
-  echo "    the card is written and marked, md_demo/report.md lists the reasons; see docs/rve.md)"
+  echo "   (verdict NOT USABLE, as expected: the phase check finds that this polypropylene relaxes"
+  echo "    within a hold; the card is written and marked, md_demo/report.md lists the reasons; docs/rve.md)"
 elif [ "$rc" -eq 3 ]; then
   echo "   (the demo's fit did not converge: a 600-bead RVE with short holds is noise-dominated; see docs/rve.md)"
 elif [ "$rc" -ne 0 ]; then
   exit "$rc"
 fi
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); p=j.get("phase_check",{}); print("   phase check:", p.get("phase", "not run"), "| G_hold =", p.get("G_hold_Pa"), "Pa")' md_demo.json || true
 
 echo "== 5. The fitted nanocomposite card in a deal.II fracture demo (single-edge notch, ~10 s)"
 dealii="$PNC_BUILD/examples/dealii_fracture/dealii_fracture"
@@ -59,11 +66,28 @@ echo "== 6. GIMP: plate with a centre crack growing under tension (J-integral, ~
 "$pnc" gimp run "$PNC_ROOT/examples/gimp/plate_centre_crack_growth.json" --out gimp_crack \
   --json > gimp_crack.json
 
+echo "== 7. The MD glass card in the GIMP solver: a strip pulled past the damage onset (plugin law)"
+if [ -f md_glass/card.h5 ]; then
+  python3 - "$PNC_ROOT/examples/gimp/ndm_strip_tension.json" "$out/md_glass/card.h5" gimp_glass_strip.json <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+j["materials"][0]["card"] = sys.argv[2]
+j["title"] = "Strip of the MD glass (card from pnc characterize demo_glass) pulled at constant speed. SI units."
+json.dump(j, open(sys.argv[3], "w"), indent=1)
+PY
+  rc=0
+  "$pnc" gimp run gimp_glass_strip.json --out gimp_glass_strip --json \
+    > gimp_glass_strip.json.out || rc=$?
+  [ "$rc" -eq 0 ] || echo "   (the GIMP run with the glass card ended with exit $rc; see gimp_glass_strip/)"
+fi
+
 echo
 echo "Results in $out:"
 echo "  pnc_card.h5, pp_card.h5   material cards (HDF5, SI units) for the fe_material plugin"
 echo "  pnc_plots/, pp_plots/     fitted NDM curves against the data, one PNG per case"
 echo "  *_fit.json, *_card.json   key numbers for scripts"
-echo "  md_demo/                  LAMMPS RVE, cases.h5, card.h5, plots/, report.md (pure polymer)"
+echo "  md_glass/                 LAMMPS glassy polymer, 4 replicas: cases.h5, card.h5, plots/, report.md"
+echo "  md_demo/                  LAMMPS RVE of the dissertation's polymer: phase check, card (not usable), report.md"
+echo "  gimp_glass_strip/         GIMP strip with the MD glass card through the plugin"
 echo "  dealii_sen/               deal.II demo: VTU per step, force_displacement.csv/.png"
 echo "  gimp_crack/               GIMP: VTU series (.pvd), history.csv, energy and G plots"

@@ -261,19 +261,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   // the atoms that move while the clay is frozen, and the pairs the push-off criterion checks
   const std::string mob = with_clay ? "pnc_poly" : "all";
   auto stage = [&](const std::string& name, const StageBody& body) {
-    if (resume && fs::exists(p(dir, name, ".h5")) && fs::exists(p(dir, name, ".restart"))) {
-      std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
-      return;
-    }
-    std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
-              << std::flush;
-    const StageOutcome o =
-        run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, stoppable(body));
-    pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
-    if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
-    const std::string crit =
-        h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");
-    std::cerr << fmt::format("  equilibrate/{}: {} ({:.1f} s)\n", name, crit, o.seconds);
+    run_equilibration_stage(dir, name, body, resume, ranks);
   };
 
   stage("pushoff", [&](Lammps& l) {

@@ -5,14 +5,19 @@
 #include "pnc/rve/lammps_path.hpp"
 
 #include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/rve/runner.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -123,5 +128,26 @@ inline void write_stage(const std::string& path, const std::string& stage,
 void final_stage(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
                  const std::string& dir, const std::string& from_restart, bool with_clay,
                  double cutoff, double sig, const std::string& recipe_json);
+
+/// Runs one equilibration stage `name` in a supervised child (skipped when `resume` and its
+/// results exist), then prints the end criterion the stage wrote to `<dir>/<name>.h5`.
+/// Throws pnc::InputError with LAMMPS's message when the stage fails.
+inline void run_equilibration_stage(const std::string& dir, const std::string& name,
+                                    const StageBody& body, bool resume, int ranks) {
+  namespace fs = std::filesystem;
+  if (resume && fs::exists(p(dir, name, ".h5")) && fs::exists(p(dir, name, ".restart"))) {
+    std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
+    return;
+  }
+  std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
+            << std::flush;
+  const StageOutcome o =
+      run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, stoppable(body));
+  pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
+  if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
+  const std::string crit =
+      h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");
+  std::cerr << fmt::format("  equilibrate/{}: {} ({:.1f} s)\n", name, crit, o.seconds);
+}
 
 } // namespace pnc::rve::eqdetail
