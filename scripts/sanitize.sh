@@ -67,7 +67,9 @@ t=$SECONDS
 # Tests that are numerically heavy (Monte Carlo calibration of the fit, converged fracture runs)
 # take 3-10 minutes each under ASan on 2 cores: CI leaves them out of the sanitized run (they run
 # unsanitized in the normal suite); --full runs them too. ctest prints what it left out.
-slow='FitCalibration\.|FitRecovery\.NoisyData|GimpFracture\.(CentreCrack|CrackGrows|MixedMode)|GimpFracture3D\.(ThroughCrack|PlanarCrackFaces)|GimpSolver\.BarVibration'
+# The GIMP run-directory tests run whole `pnc gimp run` processes (lock, SIGINT, resume): under
+# ASan each takes minutes; they exercise process control, not new arithmetic.
+slow='FitCalibration\.|FitRecovery\.NoisyData|GimpFracture\.(CentreCrack|CrackGrows|MixedMode)|GimpFracture3D\.(ThroughCrack|PlanarCrackFaces)|GimpSolver\.BarVibration|GimpTraction\.ReactionConverges|GimpRunDir\.'
 exclude=()
 if [ "$full" = 0 ]; then
   exclude=(-E "$slow")
