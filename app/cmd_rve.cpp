@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -234,12 +235,34 @@ int run_characterize(const CharacterizeArgs& a) {
   // decision D130: with >= 2 replicas every replica is fitted on its own as well
   const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
   Card card = card_from_fit(rep, data, "none");
+  // decision D130: the joint fit treats the points of the replica-mean curves as independent,
+  // but a replica's deviations are correlated along its curves; the card's standard error of a
+  // constant is the larger of the joint fit's and the between-replica one (t x sd/sqrt(N) of
+  // the replicas' own fits), so that no reported error is smaller than the scatter between
+  // independent RVEs says
+  FitReport honest = rep;
+  if (replica_fits.replicas >= 2) {
+    int raised = 0;
+    for (std::size_t j = 0; j < card.std_error.size() && j < replica_fits.se.size(); ++j) {
+      if (!card.fitted[j] || !std::isfinite(replica_fits.se[j])) continue;
+      const double between = replica_fits.coverage_factor * replica_fits.se[j];
+      if (!(between <= card.std_error[j])) {
+        card.std_error[j] = between;
+        ++raised;
+      }
+    }
+    honest.std_error = card.std_error;
+    card.fit.error_model += fmt::format(
+        "; per constant the larger of that and the between-replica standard error of {} "
+        "separate replica fits (Student t factor {:.3g}; D130): {} constant(s) raised",
+        replica_fits.replicas, replica_fits.coverage_factor, raised);
+  }
   // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
   // points in the linear range)
   MdCardGates gates;
   gates.replicas = md.statistics.replicas;
   gates.deterministic = r.deform.temperature == 0;
-  judge_md_card(rep, data, gates, card.verdict);
+  judge_md_card(honest, data, gates, card.verdict);
   const std::string card_path = (fs::path(a.out) / "card.h5").string();
   const std::string command =
       fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out, a.resume ? " --resume" : "");
