@@ -9,6 +9,8 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/pnc_material.h"
 
+#include "fuzzed_double.hpp"
+
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
@@ -20,27 +22,11 @@
 
 namespace {
 
+using pnc::fuzz::fuzzed;
+
 [[noreturn]] void bug(const char* what, const char* err) {
   std::fprintf(stderr, "pnc fuzz_material: %s (err: '%s')\n", what, err ? err : "");
   std::abort();
-}
-
-// A double that is either a scaled version of `base` or, now and then, any bit pattern.
-double fuzzed(FuzzedDataProvider& in, double base) {
-  switch (in.ConsumeIntegralInRange<int>(0, 7)) {
-  case 0:
-    return in.ConsumeFloatingPoint<double>(); // anything finite, huge or tiny
-  case 1: {
-    std::uint64_t bits = in.ConsumeIntegral<std::uint64_t>(); // NaN, inf, denormals too
-    double d;
-    std::memcpy(&d, &bits, sizeof d);
-    return d;
-  }
-  case 2:
-    return 0.0;
-  default:
-    return base * in.ConsumeFloatingPointInRange<double>(-2.0, 3.0);
-  }
 }
 
 bool all_finite(const double* v, int n) {

@@ -9,6 +9,8 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/umat.h"
 
+#include "fuzzed_double.hpp"
+
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
@@ -20,26 +22,11 @@
 
 namespace {
 
+using pnc::fuzz::fuzzed;
+
 [[noreturn]] void bug(const char* what) {
   std::fprintf(stderr, "pnc fuzz_umat: %s\n", what);
   std::abort();
-}
-
-double fuzzed(FuzzedDataProvider& in, double base) {
-  switch (in.ConsumeIntegralInRange<int>(0, 7)) {
-  case 0:
-    return in.ConsumeFloatingPoint<double>();
-  case 1: {
-    std::uint64_t bits = in.ConsumeIntegral<std::uint64_t>(); // NaN, inf, denormals too
-    double d;
-    std::memcpy(&d, &bits, sizeof d);
-    return d;
-  }
-  case 2:
-    return 0.0;
-  default:
-    return base * in.ConsumeFloatingPointInRange<double>(-2.0, 3.0);
-  }
 }
 
 constexpr int kArray = 48; // every array is this long; entries past the used ones are canaries
