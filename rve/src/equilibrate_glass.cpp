@@ -118,8 +118,8 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     write_stage(p(dir, "melt", ".h5"), "melt",
                 fmt::format("{} steps ({:.0f} tau) Langevin at {:.0f} K (T* = {:.2f}) at the "
                             "build density; mean T of the second half {:.1f} K, P {:.0f} atm",
-                            s.hot_steps, s.hot_steps * s.timestep_fs / tau, s.hot_temperature,
-                            s.hot_temperature / tu, t.mean(0, t.rows.size() / 2),
+                            s.hot_steps, static_cast<double>(s.hot_steps) * s.timestep_fs / tau,
+                            s.hot_temperature, s.hot_temperature / tu, t.mean(0, t.rows.size() / 2),
                             t.mean(2, t.rows.size() / 2)),
                 t, recipe_json);
   });
@@ -132,7 +132,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
                       s.hot_temperature, s.temperature, s.damp_fs, s.pressure_atm, s.pdamp_fs));
     Trace t;
     run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
-    const double time_tau = s.cool_steps * s.timestep_fs / tau;
+    const double time_tau = static_cast<double>(s.cool_steps) * s.timestep_fs / tau;
     l.cmd("write_restart " + lammps_path(p(dir, "quench", ".restart"), "--out"));
     write_stage(
         p(dir, "quench", ".h5"), "quench",
@@ -142,7 +142,8 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
                     s.pressure_atm, s.hot_temperature, s.temperature, s.hot_temperature / tu,
                     s.temperature / tu, s.cool_steps, time_tau,
                     (s.hot_temperature - s.temperature) / tu / time_tau,
-                    (s.hot_temperature - s.temperature) / (s.cool_steps * s.timestep_fs * 1e-3),
+                    (s.hot_temperature - s.temperature) /
+                        (static_cast<double>(s.cool_steps) * s.timestep_fs * 1e-3),
                     t.rows.back()[0], t.rows.back()[4]),
         t, recipe_json);
   });
