@@ -1,0 +1,158 @@
+// The recipe presets of `pnc characterize` (pnc/rve/recipe.hpp): demo, paper (the dissertation's
+// polypropylene), demo_pnc, paper_pnc (with the clay platelet), demo_glass, paper_glass (the
+// glassy bead-spring polymer). Units as in recipes: LAMMPS real (A, fs, kcal/mol, atm, K).
+#include "pnc/rve/recipe.hpp"
+
+#include "pnc/core/error.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pnc::rve {
+
+namespace {
+
+using json = nlohmann::json;
+
+const char* demo_text = R"({
+  "name": "demo",
+  "seed": 1,
+  "model": "pp",
+  "build": { "chains": 30, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "equilibrate": { "timestep_fs": 1.0, "pushoff_steps": 2000, "hot_steps": 10000,
+                   "cool_steps": 10000, "langevin_chunk_steps": 5000, "langevin_max_chunks": 6,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 20000,
+                   "final_steps": 5000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 20, "timestep_fs": 1.0,
+              "hold_steps": 5000, "sample_every": 10, "blocks": 10, "reference_holds": 5 },
+  "phase_check": { "enabled": true, "steps": 12000, "sample_every": 5,
+                   "cavitation_steps": 5000 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+const char* paper_text = R"({
+  "name": "paper",
+  "seed": 1,
+  "model": "pp",
+  "build": { "chains": 75, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 10000, "hot_steps": 200000,
+                   "hot_temperature": 1000, "cool_steps": 200000,
+                   "langevin_chunk_steps": 20000, "langevin_max_chunks": 20,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
+                   "final_steps": 20000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
+              "reference_holds": 10 },
+  "phase_check": { "enabled": true, "steps": 40000, "sample_every": 10 },
+  "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+// Nanocomposite (decision D24): platelet of 7 x 1 cells (36.4 x 9.2 A, aspect ratio 3.96,
+// the closest to the printed 4.19), 1500 beads, cases 1-6, 0.5 fs (O-H bond).
+const char* paper_pnc_text = R"({
+  "name": "paper_pnc",
+  "seed": 1,
+  "model": "pnc",
+  "build": { "chains": 75, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "clay": { "cells_a": 7, "cells_b": 1, "min_distance": 3.0, "gap_x": 10.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 10000, "hot_steps": 200000,
+                   "hot_temperature": 1000, "clay_steps": 20000, "cool_steps": 200000,
+                   "langevin_chunk_steps": 20000, "langevin_max_chunks": 20,
+                   "ensemble": "npt", "pressure_atm": 0.0, "npt_steps": 400000,
+                   "final_steps": 20000 },
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.1, "steps": 40, "timestep_fs": 0.5,
+              "hold_steps": 10000, "sample_every": 10, "blocks": 10, "temperature": 300,
+              "reference_holds": 4 },
+  "phase_check": { "enabled": true, "steps": 40000, "sample_every": 10 },
+  "analysis": { "stress": "virial", "moving_average": 1, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+// Small nanocomposite that finishes in minutes: 400 beads, 3 x 1 cells, short holds.
+const char* demo_pnc_text = R"({
+  "name": "demo_pnc",
+  "seed": 1,
+  "model": "pnc",
+  "build": { "chains": 20, "beads_per_chain": 20, "density": 0.9, "min_distance": 2.0 },
+  "clay": { "cells_a": 3, "cells_b": 1, "min_distance": 3.0, "gap_x": 10.0 },
+  "equilibrate": { "timestep_fs": 0.5, "pushoff_steps": 2000, "hot_steps": 6000,
+                   "clay_steps": 2000, "cool_steps": 6000, "langevin_chunk_steps": 3000,
+                   "langevin_max_chunks": 3, "ensemble": "npt", "pressure_atm": 0.0,
+                   "npt_steps": 10000, "final_steps": 2000 },
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.05, "steps": 10, "timestep_fs": 0.5,
+              "hold_steps": 2000, "sample_every": 10, "blocks": 10, "reference_holds": 1 },
+  "phase_check": { "enabled": true, "steps": 10000, "sample_every": 10,
+                   "cavitation_steps": 4000 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "run": { "jobs": 2 }
+})";
+
+// Glassy bead-spring polymer (model kg, decisions D135-D139): sigma 5 A, eps/k_B 400 K,
+// m 80 g/mol (tau 2.45 ps, eps/sigma^3 44.2 MPa); melt at 400 K (T* 1), quench at P = 0 to
+// 80 K (T* 0.2), 20 fs steps (0.008 tau). Measured wall times: docs/rve.md.
+const char* demo_glass_text = R"({
+  "name": "demo_glass",
+  "seed": 1,
+  "model": "kg",
+  "build": { "chains": 40, "beads_per_chain": 25, "density": 0.9, "min_distance": 3.5 },
+  "forcefield": { "sigma": 5.0, "epsilon": 0.79488268, "bead_mass": 80.0,
+                  "fene_K_reduced": 30.0, "fene_R0_sigma": 1.5, "cutoff_sigma": 2.5 },
+  "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
+                   "damp_fs": 2000.0, "pushoff_steps": 2000, "pushoff_A_max": 40.0,
+                   "hot_steps": 10000, "cool_steps": 25000, "ensemble": "npt",
+                   "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 10000,
+                   "final_steps": 2500 },
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 30, "timestep_fs": 20.0,
+              "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+              "damp_fs": 2000.0 },
+  "phase_check": { "enabled": true, "steps": 4000, "sample_every": 10,
+                   "cavitation_steps": 2000 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "run": { "jobs": 2, "replicas": 4 }
+})";
+
+const char* paper_glass_text = R"({
+  "name": "paper_glass",
+  "seed": 1,
+  "model": "kg",
+  "build": { "chains": 100, "beads_per_chain": 40, "density": 0.9, "min_distance": 3.5 },
+  "forcefield": { "sigma": 5.0, "epsilon": 0.79488268, "bead_mass": 80.0,
+                  "fene_K_reduced": 30.0, "fene_R0_sigma": 1.5, "cutoff_sigma": 2.5 },
+  "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
+                   "damp_fs": 2000.0, "pushoff_steps": 5000, "pushoff_A_max": 40.0,
+                   "hot_steps": 50000, "cool_steps": 125000, "ensemble": "npt",
+                   "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 25000,
+                   "final_steps": 5000 },
+  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 40, "timestep_fs": 20.0,
+              "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+              "damp_fs": 2000.0 },
+  "phase_check": { "enabled": true, "steps": 10000, "sample_every": 10,
+                   "cavitation_steps": 5000 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "run": { "jobs": 2, "replicas": 4 }
+})";
+
+} // namespace
+
+std::vector<std::string> preset_names() {
+  return {"demo", "paper", "demo_pnc", "paper_pnc", "demo_glass", "paper_glass"};
+}
+
+nlohmann::json preset_json(const std::string& name) {
+  if (name == "demo") return json::parse(demo_text);
+  if (name == "paper") return json::parse(paper_text);
+  if (name == "demo_pnc") return json::parse(demo_pnc_text);
+  if (name == "paper_pnc") return json::parse(paper_pnc_text);
+  if (name == "demo_glass") return json::parse(demo_glass_text);
+  if (name == "paper_glass") return json::parse(paper_glass_text);
+  fail("<command line>", "preset", name,
+       "must be one of: demo, paper, demo_pnc, paper_pnc, demo_glass, paper_glass");
+}
+
+} // namespace pnc::rve
