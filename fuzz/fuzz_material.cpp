@@ -22,27 +22,19 @@
 
 namespace {
 
+using pnc::fuzz::all_finite;
 using pnc::fuzz::fuzzed;
+constexpr double kCanary = -12345.678;
+void fill_canary(double* v, int n) {
+  pnc::fuzz::fill_canary(v, n, kCanary);
+}
+bool is_canary(const double* v, int n) {
+  return pnc::fuzz::is_canary(v, 0, n, kCanary);
+}
 
 [[noreturn]] void bug(const char* what, const char* err) {
   std::fprintf(stderr, "pnc fuzz_material: %s (err: '%s')\n", what, err ? err : "");
   std::abort();
-}
-
-bool all_finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
-void fill_canary(double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    v[i] = -12345.678 - i;
-}
-bool is_canary(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (v[i] != -12345.678 - i) return false;
-  return true;
 }
 
 } // namespace

@@ -22,7 +22,10 @@
 
 namespace {
 
+using pnc::fuzz::all_finite;
+using pnc::fuzz::fill_canary;
 using pnc::fuzz::fuzzed;
+using pnc::fuzz::is_canary;
 
 [[noreturn]] void bug(const char* what) {
   std::fprintf(stderr, "pnc fuzz_umat: %s\n", what);
@@ -30,21 +33,6 @@ using pnc::fuzz::fuzzed;
 }
 
 constexpr int kArray = 48; // every array is this long; entries past the used ones are canaries
-
-void fill_canary(double* v, int n, double base) {
-  for (int i = 0; i < n; ++i)
-    v[i] = base - i;
-}
-bool is_canary(const double* v, int from, int to, double base) {
-  for (int i = from; i < to; ++i)
-    if (v[i] != base - i) return false;
-  return true;
-}
-bool all_finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
 
 } // namespace
 
@@ -103,7 +91,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int steps = in.ConsumeIntegralInRange<int>(1, 6);
   const char cmname[80] = "PNC-FUZZ";
   const int noel = 1, npt = 1, zero = 0;
-  double sse = 0, spd = 0, scd = 0, rpl = 0, dummy[36] = {}, time[2] = {0, 0}, dtime = 1, temp = 0,
+  // `unused` stands for DDSDDT, DRPLDE, DRPLDT, PREDEF, DPRED, COORDS, DROT, DFGRD0/1: umat_
+  // reads none of them
+  double sse = 0, spd = 0, scd = 0, rpl = 0, unused[36] = {}, time[2] = {0, 0}, dtime = 1, temp = 0,
          dtemp = 0;
   for (int step = 0; step < steps && in.remaining_bytes() > 0; ++step) {
     for (int a = 0; a < 6; ++a)
@@ -116,10 +106,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     double before[kArray];
     std::memcpy(before, statev, sizeof before);
     double pnewdt = 1.0;
-    umat_(stress, statev, ddsdde, &sse, &spd, &scd, &rpl, dummy, dummy, dummy, stran, dstran, time,
-          &dtime, &temp, &dtemp, dummy, dummy, cmname, &ndi, &nshr, &ntens, &nstatv, props.data(),
-          &nprops, dummy, dummy, &pnewdt, &dtime, dummy, dummy, &noel, &npt, &zero, &zero, &zero,
-          &zero, sizeof cmname);
+    umat_(stress, statev, ddsdde, &sse, &spd, &scd, &rpl, unused, unused, unused, stran, dstran,
+          time, &dtime, &temp, &dtemp, unused, unused, cmname, &ndi, &nshr, &ntens, &nstatv,
+          props.data(), &nprops, unused, unused, &pnewdt, &dtime, unused, unused, &noel, &npt,
+          &zero, &zero, &zero, &zero, sizeof cmname);
     if (pnewdt == 1.0) {
       // accepted: only valid layouts can get here
       if (ntens != 6 && ntens != 4) bug("accepted an invalid NTENS");

@@ -1,7 +1,9 @@
 #pragma once
-// fuzz/fuzzed_double.hpp: the doubles the plugin targets (fuzz_material, fuzz_umat) feed in.
+// fuzz/fuzzed_double.hpp: what the plugin targets (fuzz_material, fuzz_umat) share: the doubles
+// they feed in and the canary values that show which outputs a call wrote.
 #include <fuzzer/FuzzedDataProvider.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -24,6 +26,23 @@ inline double fuzzed(FuzzedDataProvider& in, double base) {
   default:
     return base * in.ConsumeFloatingPointInRange<double>(-2.0, 3.0);
   }
+}
+
+/// Fills v[0..n) with canaries base, base - 1, ... (values no integration can return exactly).
+inline void fill_canary(double* v, int n, double base) {
+  for (int i = 0; i < n; ++i)
+    v[i] = base - i;
+}
+/// True when v[from..to) still holds the canaries of fill_canary(v, ., base).
+inline bool is_canary(const double* v, int from, int to, double base) {
+  for (int i = from; i < to; ++i)
+    if (v[i] != base - i) return false;
+  return true;
+}
+inline bool all_finite(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
 }
 
 } // namespace pnc::fuzz

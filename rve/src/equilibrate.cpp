@@ -187,12 +187,7 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
   AtomicOutput out(p(dir, "final", ".h5"));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
-    f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-    f.set_attr("/", "stage", "final");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
-    f.write_string("/criterion", crit);
-    f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+    stamp_stage_file(f, "final", crit, recipe_json);
     f.write_string("/ensemble", s.ensemble);
     f.write_scalar("/density", tf.mean(4));
     f.set_attr("/density", "units", "g/cm^3");

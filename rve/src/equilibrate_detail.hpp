@@ -94,18 +94,25 @@ inline double min_pair_distance(Lammps& l, double cutoff, const std::string& gro
   return std::min(d, cutoff);
 }
 
+/// The attributes and datasets every equilibration-stage .h5 starts with (format, stage, pnc
+/// version, creation time, end criterion, recipe).
+inline void stamp_stage_file(h5::File& f, const std::string& stage, const std::string& criterion,
+                             const std::string& recipe_json) {
+  f.set_attr("/", "format", "pnc-rve-equilibration-stage");
+  f.set_attr("/", "stage", stage);
+  f.set_attr("/", "pnc_version", version_string());
+  f.set_attr("/", "created_utc", utc_timestamp());
+  f.write_string("/criterion", criterion);
+  f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+}
+
 inline void write_stage(const std::string& path, const std::string& stage,
                         const std::string& criterion, const Trace& t,
                         const std::string& recipe_json) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
-    f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-    f.set_attr("/", "stage", stage);
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
-    f.write_string("/criterion", criterion);
-    f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+    stamp_stage_file(f, stage, criterion, recipe_json);
     if (!t.rows.empty()) {
       h5::RowMatrix m(static_cast<Eigen::Index>(t.rows.size()), 6);
       for (std::size_t i = 0; i < t.rows.size(); ++i)

@@ -1,5 +1,6 @@
 // Equilibration stages of a user system and the measurement of the cases' start state
 // (units real). Decisions D123 (reference state), D122 (force field re-issued per stage).
+#include "equilibrate_detail.hpp"
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -65,12 +66,7 @@ void write_h5(const std::string& path, const std::string& stage, const std::stri
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
-    f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-    f.set_attr("/", "stage", stage);
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
-    f.write_string("/criterion", criterion);
-    f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+    eqdetail::stamp_stage_file(f, stage, criterion, recipe_json);
     if (!rows.empty()) {
       h5::RowMatrix m(static_cast<Eigen::Index>(rows.size()), 6);
       for (std::size_t i = 0; i < rows.size(); ++i)
@@ -274,12 +270,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
     AtomicOutput out(in_dir(dir, "final", ".h5"));
     {
       h5::File f(out.temp_path(), h5::File::Mode::truncate);
-      f.set_attr("/", "format", "pnc-rve-equilibration-stage");
-      f.set_attr("/", "stage", "final");
-      f.set_attr("/", "pnc_version", version_string());
-      f.set_attr("/", "created_utc", utc_timestamp());
-      f.write_string("/criterion", crit);
-      f.write_string("/recipe", recipe_json.empty() ? "{}" : recipe_json);
+      eqdetail::stamp_stage_file(f, "final", crit, recipe_json);
       f.write_string("/ensemble", "user stages");
       const std::pair<const char*, std::pair<double, const char*>> vals[] = {
           {"/density", {rho, "g/cm^3"}},
