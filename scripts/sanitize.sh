@@ -118,7 +118,8 @@ if [ "$fuzz" = 1 ]; then
     fi
     for a in "$artifacts/$name"/*; do
       [ -f "$a" ] || continue
-      # The first stack frame outside the sanitizer runtime, libc and libstdc++ decides: inside
+      # The first stack frame outside the sanitizer runtime (its own CHECK failures print their
+      # stack first), libc and libstdc++ decides: inside
       # libhdf5 it is a known HDF5 defect (kept, listed), anywhere else a pnc bug (failure).
       replay=0
       report="$(timeout 120 "$exe" -timeout=20 -rss_limit_mb="$rss_mb" -malloc_limit_mb=1000000 \
@@ -133,7 +134,7 @@ if [ "$fuzz" = 1 ]; then
       fi
       # (|| true: a report without such frames must not end the script under set -e/pipefail)
       frame="$(printf '%s\n' "$report" | grep -E '^ +#[0-9]+ 0x' |
-        grep -vE 'libclang_rt|compiler-rt|/libc\.so|libstdc\+\+|fuzzer::|__interceptor|__sanitizer|nptl|sysdeps|stdlib/' |
+        grep -vE 'libclang_rt|compiler-rt|asan_rtl|sanitizer_common|/libc\.so|libstdc\+\+|fuzzer::|__interceptor|__sanitizer|__asan|__lsan|__ubsan|nptl|sysdeps|stdlib/|csu/' |
         grep -vE ' in (malloc|calloc|realloc|free|operator new|operator delete|mem(cpy|move|set)|str[a-z]*|abort|raise|__(asan|lsan|ubsan)[a-z_]*) ' |
         head -n 1 || true)"
       if printf '%s' "$frame" | grep -q 'libhdf5'; then
