@@ -22,11 +22,14 @@ int run_fit(const FitArgs& a) {
   o.model = parse_model(a.model, "<command line>: --model");
   if (a.fit_alpha && a.hold_alpha)
     fail("<command line>", "--fit-alpha/--hold-alpha", "both", "choose at most one of the two");
-  o.alpha_mode = a.fit_alpha ? AlphaMode::fit : a.hold_alpha ? AlphaMode::hold : AlphaMode::automatic;
+  o.alpha_mode = a.fit_alpha    ? AlphaMode::fit
+                 : a.hold_alpha ? AlphaMode::hold
+                                : AlphaMode::automatic;
   o.check_units = !a.no_unit_check;
   o.alpha = a.alpha;
   o.loss = a.loss;
   o.loss_scale = a.loss_scale;
+  o.strain_max = a.strain_max;
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;

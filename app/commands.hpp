@@ -15,6 +15,7 @@ struct FitArgs {
   std::optional<double> alpha;
   double loss_scale = 1.0;
   int max_iterations = 200;
+  double strain_max = 0; ///< fit range (D12h), 0 = every row
   std::string command_line;
 };
 int run_fit(const FitArgs& a);

@@ -55,6 +55,10 @@ int main(int argc, char** argv) {
   fit->add_option("--loss-scale", fa.loss_scale,
                   "Scale of the robust loss (MPa, or data std. errors), in (0, 1e6]")
       ->check(FinitePositive(1e6));
+  fit->add_option("--strain-max", fa.strain_max,
+                  "Fit only the leading rows of each curve whose strain components are all <= "
+                  "this (dimensionless; 0 = every row; the card records it)")
+      ->check(FiniteRange(0.0, 10.0));
   fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit (1 to 1e6)")
       ->check(CLI::Range(1, 1000000));
   fit->add_option("--prior", fa.prior,

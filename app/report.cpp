@@ -67,6 +67,10 @@ nlohmann::json constants_json(const damage::Card& c) {
 std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
   std::string s = "  fit quality (joint NDM fit):\n";
   s += fmt::format("    standard errors from: {}; alpha {}\n", f.error_model, f.alpha_choice);
+  if (f.strain_max > 0) // decision D12h
+    s += fmt::format("    fit range: rows with every strain component <= {:g} ({} row(s) beyond it "
+                     "not fitted; the law is extrapolated there)\n",
+                     f.strain_max, f.rows_beyond_strain_max);
   if (std::isfinite(f.chi2) && f.dof > 0)
     s += fmt::format("    chi^2/dof = {:.4g} ({} dof), P(chi^2 >= observed) = {:.3g}\n",
                      f.chi2 / f.dof, f.dof, f.chi2_p);
@@ -104,6 +108,8 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["warnings"] = f.warnings;
   j["error_model"] = f.error_model;
   j["alpha_choice"] = f.alpha_choice;
+  j["strain_max"] = f.strain_max; // dimensionless, 0 = every row (D12h)
+  j["rows_beyond_strain_max"] = f.rows_beyond_strain_max;
   j["chi2"] = num(f.chi2);
   j["dof"] = f.dof;
   j["chi2_p"] = num(f.chi2_p);

@@ -74,6 +74,8 @@ Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std
   f.loss = loss;
   f.error_model = rep.error_model;
   f.alpha_choice = rep.alpha_choice;
+  f.strain_max = rep.strain_max;
+  f.rows_beyond_strain_max = rep.rows_beyond_strain_max;
   f.chi2 = rep.chi2;
   f.chi2_p = rep.chi2_p;
   f.dof = rep.dof;
@@ -142,6 +144,8 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr("/fit", "warnings", r.warnings);
       f.set_attr("/fit", "error_model", r.error_model);
       f.set_attr("/fit", "alpha_choice", r.alpha_choice);
+      f.set_attr("/fit", "strain_max", r.strain_max);
+      f.set_attr("/fit", "rows_beyond_strain_max", r.rows_beyond_strain_max);
       f.set_attr("/fit", "chi2", r.chi2);
       f.set_attr("/fit", "dof", r.dof);
       f.set_attr("/fit", "chi2_p", r.chi2_p);
@@ -239,6 +243,10 @@ Card read_card(const std::string& path) {
     r.warnings = f.attr_string("/fit", "warnings").value_or("");
     r.error_model = f.attr_string("/fit", "error_model").value_or("");
     r.alpha_choice = f.attr_string("/fit", "alpha_choice").value_or("");
+    r.strain_max = f.attr_double("/fit", "strain_max").value_or(0.0); // absent: every row
+    if (!(r.strain_max >= 0 && r.strain_max <= 10))
+      fail(path, "/fit@strain_max", std::to_string(r.strain_max), "must be in [0, 10]");
+    r.rows_beyond_strain_max = count("rows_beyond_strain_max");
     r.chi2 = f.attr_double("/fit", "chi2").value_or(kNaN);
     r.chi2_p = f.attr_double("/fit", "chi2_p").value_or(kNaN);
     r.dof = count("dof");

@@ -7,6 +7,7 @@
 #include "pnc/damage/reference.hpp"
 
 #include <ceres/ceres.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -61,7 +62,6 @@ public:
 private:
   const PointTerm* t_;
 };
-
 
 struct SolveResult {
   ceres::Solver::Summary summary;
@@ -227,8 +227,8 @@ void check_stiffness_units(const FitReport& rep, const FitOptions& opt, const st
   const auto& names = constant_names(opt.model);
   for (std::size_t j = 0; j + 1 < names.size(); ++j) {
     const std::string& nm = names[j];
-    const bool diagonal = nm == "C11" || nm == "C22" || nm == "C33" || nm == "C44" ||
-                          nm == "C55" || nm == "C66";
+    const bool diagonal =
+        nm == "C11" || nm == "C22" || nm == "C33" || nm == "C44" || nm == "C55" || nm == "C66";
     if (!diagonal || !rep.fitted[j]) continue;
     const double v = rep.params.k[j];
     if (v >= opt.stiffness_min && v <= opt.stiffness_max) continue;
@@ -270,8 +270,12 @@ void FitOptions::validate() const {
     fail(src, "function_tolerance", std::to_string(function_tolerance), "must be in (0, 1)");
   if (alpha && !(*alpha >= 0.5 && *alpha <= 1.5))
     fail(src, "alpha", std::to_string(*alpha), "must be in [0.5, 1.5]");
+  if (!(strain_max >= 0 && strain_max <= 10))
+    fail(src, "strain_max", std::to_string(strain_max),
+         "must be in [0, 10] (0 = every row; a strain, dimensionless)");
   if (!(stiffness_min > 0) || !(stiffness_max > stiffness_min) || !std::isfinite(stiffness_max))
-    fail(src, "stiffness range", std::to_string(stiffness_min) + ".." + std::to_string(stiffness_max),
+    fail(src, "stiffness range",
+         std::to_string(stiffness_min) + ".." + std::to_string(stiffness_max),
          "must satisfy 0 < min < max < infinity (Pa)");
   if (prior && prior->model != model)
     fail(src, "prior", model_name(prior->model),
@@ -283,12 +287,37 @@ void FitOptions::validate() const {
   }
 }
 
-
 // ------------------------------------------------------------------ the fit
-FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
+namespace {
+/// The leading rows of every curve within the fit range (decision D12h); counts the others.
+StressStrainData within_strain_max(const StressStrainData& all, double strain_max, int& dropped) {
+  dropped = 0;
+  if (!(strain_max > 0)) return all;
+  StressStrainData d = all;
+  for (auto& c : d.cases) {
+    Eigen::Index keep = 0;
+    while (keep < c.strain.rows() &&
+           c.strain.row(keep).cwiseAbs().maxCoeff() <= strain_max * (1 + 1e-12))
+      ++keep;
+    if (keep < 3)
+      fail(all.source, fmt::format("case {}", c.id), fmt::format("{} row(s)", keep),
+           fmt::format("fit range strain_max = {:g} leaves fewer than 3 rows of this case to fit",
+                       strain_max));
+    dropped += static_cast<int>(c.strain.rows() - keep);
+    c.strain.conservativeResize(keep, Eigen::NoChange);
+    c.stress.conservativeResize(keep, Eigen::NoChange);
+    if (c.stress_stderr.rows() > 0) c.stress_stderr.conservativeResize(keep, Eigen::NoChange);
+  }
+  return d;
+}
+} // namespace
+
+FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   opt.validate();
   const Model m = opt.model;
-  check_cases(data, m);
+  check_cases(all_rows, m);
+  int dropped = 0;
+  const StressStrainData data = within_strain_max(all_rows, opt.strain_max, dropped);
   const auto& names = constant_names(m);
   const int n = n_theta(m);
   const auto ns = static_cast<std::size_t>(n);
@@ -297,6 +326,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   const std::string held_note = "held at the prior (" + opt.prior_source + ")";
 
   FitReport rep;
+  rep.strain_max = opt.strain_max;
+  rep.rows_beyond_strain_max = dropped;
   rep.regression = regress_cases(data, m, alpha0);
   std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
   std::vector<double> theta = detail::theta_from_constants(m, k0);
@@ -312,9 +343,13 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   rep.fitted.assign(ns, true);
   rep.status.assign(ns, "fitted");
   rep.note.assign(ns, "");
+  // damage constants held because their mode never reaches the onset of the start alpha;
+  // a fitted alpha may move the onset into the data (D12g): they are re-examined below
+  std::vector<int> held_at_onset;
   for (int j = 0; j + 1 < n; ++j) {
     const auto js = static_cast<std::size_t>(j);
     if (colnorm[j] != 0.0) continue;
+    if (names[js][0] != 'C') held_at_onset.push_back(j);
     rep.fitted[js] = false;
     rep.status[js] = "not identified";
     rep.note[js] = std::string(names[js][0] == 'C' ? "no data for the case that determines it"
@@ -334,8 +369,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   {
     std::ostringstream a;
     a << (fit_alpha ? "fitted" : "held at " + std::to_string(alpha0)) << " ("
-      << alpha_mode_name(opt.alpha_mode) << "; the data "
-      << (past_onset ? "pass" : "do not reach") << " the damage onset at alpha = " << alpha0 << ")";
+      << alpha_mode_name(opt.alpha_mode) << "; the data " << (past_onset ? "pass" : "do not reach")
+      << " the damage onset at alpha = " << alpha0 << ")";
     rep.alpha_choice = a.str();
   }
   if (!fit_alpha) {
@@ -359,13 +394,37 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
   }
 
   // Solve; constants the data do not determine at the solution are held at the prior and
-  // the fit repeated (at most three rounds: each round only adds held constants).
+  // the fit repeated (at most three rounds that add held constants). Before that, once per
+  // fit: when alpha is fitted, a damage constant held because its mode never reached the
+  // onset of the start alpha is freed if the fitted alpha's onset lies inside the data
+  // (D12g), and the fit repeated from the solution.
   SolveResult sr;
   Eigen::VectorXd r;
   Eigen::MatrixXd J, Jf;
   std::vector<int> free;
+  bool reexamined = !(fit_alpha && rep.fitted[ns - 1]) || held_at_onset.empty();
   for (int round = 0; round < 3; ++round) {
     sr = solve(terms, m, opt, rep.fitted, fit_alpha && rep.fitted[ns - 1], theta);
+    if (!reexamined) { // decision D12g
+      reexamined = true;
+      const Eigen::VectorXd cn = column_norms(terms, detail::constants_from_theta(m, theta), n);
+      bool freed = false;
+      for (int j : held_at_onset) {
+        const auto js = static_cast<std::size_t>(j);
+        const bool declared =
+            std::any_of(opt.undefined.begin(), opt.undefined.end(),
+                        [&](const UndefinedConstant& u) { return u.name == names[js]; });
+        if (declared || !(cn[j] != 0.0)) continue;
+        rep.fitted[js] = true;
+        rep.status[js] = "fitted";
+        rep.note[js] = "";
+        freed = true;
+      }
+      if (freed) {
+        --round;
+        continue;
+      }
+    }
     detail::residuals_and_jacobian(data, m, theta, r, &J);
     free.clear();
     std::vector<std::string> free_names;
@@ -385,7 +444,8 @@ FitReport fit_ndm(const StressStrainData& data, const FitOptions& opt) {
       const auto js = static_cast<std::size_t>(free[c]);
       rep.fitted[js] = false;
       rep.status[js] = "not identified";
-      rep.note[js] = why[c] + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
+      rep.note[js] =
+          why[c] + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
       theta[js] = theta_prior[js];
       changed = true;
     }

@@ -12,7 +12,9 @@
 //                       converged, iterations, initial_cost, final_cost, seconds, loss, ...
 //   /verdict            attrs: level = "usable" | "usable with warnings" | "not usable",
 //                       reasons (one per line; each "not usable: ..." or "warning: ...")
-//   /fit                attrs also: error_model, alpha_choice, chi2, dof, chi2_p
+//   /fit                attrs also: error_model, alpha_choice, chi2, dof, chi2_p,
+//                       strain_max (fit range, dimensionless; 0 = every row; D12h),
+//                       rows_beyond_strain_max
 //   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa),
 //                       chi^2 of the curve (NaN without data errors), runs, expected runs,
 //                       runs-test p, lag-1 autocorrelation of the residuals
@@ -33,6 +35,10 @@ struct FitRecord {
   bool present = false;
   std::string data_source, data_hash, stress_definition, termination, message, loss;
   std::string error_model, alpha_choice;
+  /// fit range (D12h): largest strain component of the fitted rows, 0 = every row
+  /// (dimensionless); rows of the data left out by it
+  double strain_max = 0;
+  int rows_beyond_strain_max = 0;
   double chi2 = std::numeric_limits<double>::quiet_NaN(), chi2_p = chi2;
   int dof = 0;
   bool converged = false;

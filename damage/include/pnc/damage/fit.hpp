@@ -62,6 +62,10 @@ struct FitOptions {
   /// Constants declared undefined by the data: held at the prior (alpha: at its start value)
   /// with status "not identified" and the reason; the verdict warns and says why.
   std::vector<UndefinedConstant> undefined;
+  /// Fit range (decision D12h): only the leading rows of every curve whose largest strain
+  /// component |e| (engineering shear) is at most strain_max are fitted; 0 = every row.
+  /// Dimensionless. The card records it: beyond it the law is extrapolated.
+  double strain_max = 0;
 
   /// Throws pnc::InputError naming the option and the constraint it breaks.
   void validate() const;
@@ -102,6 +106,9 @@ struct FitReport {
   std::vector<std::string> status;
   std::vector<std::string> note; ///< why a constant was held, per constant
   std::string alpha_choice;      ///< how alpha was treated and why
+  /// FitOptions::strain_max of the fit (0 = every row), and the rows left out by it
+  double strain_max = 0;
+  int rows_beyond_strain_max = 0;
   /// the caller's FitOptions::undefined, as given (names and reasons)
   std::vector<UndefinedConstant> declared_undefined;
   /// "data standard errors" or "sandwich (HC3)": where the standard errors come from

@@ -1,0 +1,119 @@
+// The fit range (decision D12h) and the onset-below-zero-strain warning (D12i), on synthetic
+// pure-polymer curves of the kernel itself with known constants.
+#include "pnc/core/error.hpp"
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/fit.hpp"
+#include "pnc/damage/reference.hpp"
+#include "pnc/damage/synth.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace pnc::damage;
+
+namespace {
+
+StressStrainData pp_curves(const NdmParameters& truth, double noise_pa, int points) {
+  SynthOptions o;
+  o.cases = {2, 6};
+  o.points = points;
+  o.max_extension = 0.3;
+  o.max_shear = 0.4;
+  o.noise_sd = noise_pa;
+  o.seed = 17;
+  return synthesize(truth, o);
+}
+
+bool has_reason(const Verdict& v, const std::string& text) {
+  for (const auto& r : v.reasons)
+    if (r.find(text) != std::string::npos) return true;
+  return false;
+}
+
+double max_abs_z(const FitReport& r, const NdmParameters& truth) {
+  double z = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (r.fitted[i]) z = std::max(z, std::abs(r.params.k[i] - truth.k[i]) / r.std_error[i]);
+  return z;
+}
+
+} // namespace
+
+TEST(FitRange, OnlyTheRowsWithinStrainMaxAreFittedAndTheCardSaysSo) {
+  NdmParameters truth = dissertation_parameters(Model::pp);
+  truth["alpha"] = 0.85; // onset at extension 0.058 and shear 0.117: both inside 0.15
+  StressStrainData d = pp_curves(truth, 0.2e6, 120);
+  // a regime the law has no term for beyond 0.15 (e.g. cavitation): the stress halves
+  int beyond = 0;
+  for (auto& c : d.cases)
+    for (Eigen::Index k = 0; k < c.strain.rows(); ++k)
+      if (c.strain.row(k).cwiseAbs().maxCoeff() > 0.15) {
+        c.stress.row(k) *= 0.5;
+        ++beyond;
+      }
+  ASSERT_GT(beyond, 20);
+  FitOptions o;
+  o.model = Model::pp;
+  o.strain_max = 0.15;
+  // the tables' start alpha (0.941: onset at 0.171) lies beyond the range, where its column
+  // vanishes: a start inside the range, as a user gives it with --alpha
+  o.alpha_mode = AlphaMode::fit;
+  o.alpha = 0.9;
+  const FitReport r = fit_ndm(d, o);
+  EXPECT_EQ(r.rows_beyond_strain_max, beyond);
+  EXPECT_DOUBLE_EQ(r.strain_max, 0.15);
+  for (std::size_t j = 0; j < r.fitted.size(); ++j)
+    EXPECT_TRUE(r.fitted[j]) << r.note[j];
+  // 7 constants: all |z| < 4 by chance with probability 0.9996
+  EXPECT_LT(max_abs_z(r, truth), 4.0);
+  EXPECT_FALSE(has_reason(r.verdict, "does not fit")) << r.chi2 / r.dof;
+  // the card carries the range
+  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_fit_range";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "card.h5").string();
+  write_card(path, card_from_fit(r, d, "none"), "test");
+  const Card c = read_card(path);
+  EXPECT_DOUBLE_EQ(c.fit.strain_max, 0.15);
+  EXPECT_EQ(c.fit.rows_beyond_strain_max, beyond);
+  std::filesystem::remove_all(dir);
+  // without the range the corrupted rows are fitted too, and the misfit is flagged
+  FitOptions all = o;
+  all.strain_max = 0;
+  const FitReport a = fit_ndm(d, all);
+  EXPECT_EQ(a.rows_beyond_strain_max, 0);
+  EXPECT_TRUE(has_reason(a.verdict, "does not fit the data within their standard errors"));
+}
+
+TEST(FitRange, ARangeThatLeavesTooFewRowsIsRefusedWithTheCaseNamed) {
+  const StressStrainData d = pp_curves(dissertation_parameters(Model::pp), 1e6, 40);
+  FitOptions o;
+  o.model = Model::pp;
+  o.strain_max = 0.01; // rows at 0.0075, 0.015, ...: one row of case 2
+  try {
+    fit_ndm(d, o);
+    FAIL() << "expected an input error";
+  } catch (const pnc::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("case 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("strain_max"), std::string::npos) << e.what();
+  }
+  o.strain_max = -1;
+  EXPECT_THROW(fit_ndm(d, o), pnc::InputError);
+}
+
+TEST(FitVerdict, AnOnsetBelowZeroStrainIsAWarning) {
+  for (double alpha : {0.78, 0.85}) { // 1/lambda_c = 0.8035
+    NdmParameters truth = dissertation_parameters(Model::pp);
+    truth["alpha"] = alpha;
+    FitOptions o;
+    o.model = Model::pp;
+    o.alpha_mode = AlphaMode::fit;
+    o.alpha = alpha;
+    const FitReport r = fit_ndm(pp_curves(truth, 0.5e6, 80), o);
+    ASSERT_TRUE(r.fitted.back());
+    EXPECT_LT(std::abs(r.params.alpha() - alpha), 5 * r.std_error.back());
+    EXPECT_EQ(has_reason(r.verdict, "puts the damage onset at the stretch"), alpha < 0.8035)
+        << alpha;
+  }
+}
