@@ -16,7 +16,7 @@ pnc_configure_and_build
 work="$(mktemp -d)"
 installed=0
 cleanup() {
-  [ "$installed" = 1 ] && DEBIAN_FRONTEND=noninteractive apt-get remove -y -qq pnc >&2
+  [ "$installed" = 1 ] && DEBIAN_FRONTEND=noninteractive apt-get purge -y -qq pnc >&2
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -36,7 +36,7 @@ cc -std=c99 -O2 "$PNC_ROOT/tests/install/consumers/c/consumer.c" -o consumer \
   $(pkg-config --cflags --libs pnc_material) -lm
 /usr/bin/pnc card tables --model pnc --out pnc.h5 >/dev/null
 ./consumer pnc.h5
-DEBIAN_FRONTEND=noninteractive apt-get remove -y -qq pnc >&2
+DEBIAN_FRONTEND=noninteractive apt-get purge -y -qq pnc >&2
 installed=0
 [ ! -e /usr/bin/pnc ] || { echo "check_deb: /usr/bin/pnc still there after removal" >&2; exit 1; }
 echo "check_deb: installed, used and removed ${deb[0]##*/}"

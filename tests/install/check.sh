@@ -99,6 +99,26 @@ t_relocated_fit() {
   fi
   grep -q "PNC_SCRIPTS_DIR" err.log || die "error without the variable's name: $(cat err.log)"
   echo "override: $(tail -1 err.log)"
+  # a LAMMPS stage on 2 ranks: mpirun starts the moved libexec/pnc/pnc_lammps_server (builds
+  # without LAMMPS have neither the server nor `pnc rve`; install.layout checks which)
+  if [ -e "$P/libexec/pnc/pnc_lammps_server" ]; then
+    cat >in.lj <<'LMP'
+units lj
+atom_style atomic
+lattice fcc 0.8442
+region box block 0 3 0 3 0 3
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+run 20
+LMP
+    "$pnc" rve lammps in.lj --ranks 2 --log lj.log >lammps.out 2>&1 ||
+      { cat lammps.out >&2; die "a stage on 2 ranks failed in the moved tree"; }
+    grep -q "on 2 procs for 20 steps" lj.log || die "the stage did not run on 2 ranks: $(tail -3 lj.log)"
+    echo "stage on 2 ranks through the moved pnc_lammps_server: $(tail -1 lammps.out)"
+  fi
 }
 
 t_consumer_c() {

@@ -39,6 +39,16 @@ readelf --dyn-syms -W "lib/libpnc_material.so.$abi" | grep -q " pnc_material_int
 readelf --dyn-syms -W "lib/libpnc_material.so.$abi" | grep -q " umat_@@PNC_MATERIAL_$abi\$" ||
   die "umat_ is not exported with symbol version PNC_MATERIAL_$abi"
 
+# the plugin links only HDF5, fmt and the C/C++ runtime: no LAMMPS (GPL-2.0), deal.II or
+# Ceres (D150, D154)
+for lib in $(readelf -d "lib/libpnc_material.so.$abi" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+  case "$lib" in
+    libhdf5_serial.so.* | libhdf5_serial_cpp.so.* | libhdf5.so.* | libhdf5_cpp.so.* | libfmt.so.* | \
+      libstdc++.so.* | libgcc_s.so.* | libm.so.* | libc.so.*) ;;
+    *) die "libpnc_material.so.$abi depends on $lib (allowed: HDF5, fmt, C/C++ runtime; D154)" ;;
+  esac
+done
+
 # the project version written once: .pc, pncConfigVersion.cmake, pnc --version
 grep -qx "Version: $version" lib/pkgconfig/pnc_material.pc || die "pnc_material.pc lacks 'Version: $version'"
 grep -qx "abi_version=$abi" lib/pkgconfig/pnc_material.pc || die "pnc_material.pc lacks abi_version=$abi"
