@@ -23,9 +23,9 @@ if(TARGET pnc_lammps_server)
 endif()
 
 # --- the material plugin and its headers
+# (the include directory comes from pnc_material_headers' $<INSTALL_INTERFACE:...>)
 install(TARGETS pnc_material pnc_material_headers EXPORT pncTargets
-  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(FILES fe_material/include/pnc/fe_material/pnc_material.h
               fe_material/include/pnc/fe_material/umat.h
               fe_material/include/pnc/fe_material/material.hpp
