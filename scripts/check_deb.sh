@@ -34,7 +34,7 @@ ls plots/case1.png plots/case6.png
 echo "check_deb: pkg-config pnc_material $(pkg-config --modversion pnc_material)"
 cc -std=c99 -O2 "$PNC_ROOT/tests/install/consumers/c/consumer.c" -o consumer \
   $(pkg-config --cflags --libs pnc_material) -lm
-/usr/bin/pnc card tables --model pnc --out pnc.h5 >/dev/null
+/usr/bin/pnc card tables --model pnc --out pnc.h5 >/dev/null 2>&1
 ./consumer pnc.h5
 DEBIAN_FRONTEND=noninteractive apt-get purge -y -qq pnc >&2
 installed=0

@@ -69,5 +69,5 @@ done
 out="$(env -u PNC_SCRIPTS_DIR "$work/root/usr/bin/pnc" --version)"
 case "$out" in "pnc $version "*) ;; *) die "unpacked pnc --version: '$out'" ;; esac
 echo "unpacked /usr/bin/pnc: $out"
-"$work/root/usr/bin/pnc" card tables --model pp --out "$work/pp.h5" >/dev/null
+"$work/root/usr/bin/pnc" card tables --model pp --out "$work/pp.h5" >/dev/null 2>"$work/tables.log"
 [ -s "$work/pp.h5" ] || die "unpacked pnc wrote no card"
