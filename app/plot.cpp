@@ -2,6 +2,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/locate.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/damage/reference.hpp"
 
@@ -14,9 +15,6 @@
 #ifndef PNC_PYTHON
 #define PNC_PYTHON "/usr/bin/python3"
 #endif
-#ifndef PNC_SCRIPTS_DIR
-#define PNC_SCRIPTS_DIR "scripts"
-#endif
 
 namespace pnc::app {
 
@@ -25,11 +23,9 @@ namespace fs = std::filesystem;
 std::vector<std::string> run_plot_script(const std::string& script_name,
                                          const std::vector<std::string>& args) {
   const char* env_py = std::getenv("PNC_PYTHON");
-  const char* env_scripts = std::getenv("PNC_SCRIPTS_DIR");
-  const std::string py = env_py ? env_py : PNC_PYTHON;
-  const std::string script =
-      (fs::path(env_scripts ? env_scripts : PNC_SCRIPTS_DIR) / script_name).string();
-  if (!fs::exists(script)) fail(script, "", "", "plot script not found (set PNC_SCRIPTS_DIR)");
+  const std::string py = env_py && *env_py ? env_py : PNC_PYTHON;
+  // share/pnc/scripts relative to the executable, or $PNC_SCRIPTS_DIR (D151)
+  const std::string script = require_shipped(ShippedDir::scripts, script_name, "PNC_SCRIPTS_DIR");
   // argument vector, no shell: a quote or ';' in a path or title is data
   std::vector<std::string> argv = {py, script};
   argv.insert(argv.end(), args.begin(), args.end());

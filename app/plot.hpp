@@ -11,7 +11,8 @@ namespace pnc::app {
 /// One PNG per case in `dir` (created if needed): each active stress component against the
 /// driven strain, data as points, the NDM (through the kernel) as a line. Stresses in MPa.
 /// Returns the PNG paths. Throws pnc::InputError naming the interpreter or script on failure.
-/// Runs scripts/<script> (or $PNC_SCRIPTS_DIR/<script>) with $PNC_PYTHON (default python3) and
+/// Runs <prefix>/share/pnc/scripts/<script> (or $PNC_SCRIPTS_DIR/<script>; locate.hpp) with
+/// $PNC_PYTHON (default: the python3 found at configure time) and
 /// `args`; returns the paths the script reports on lines "wrote <path>". Throws
 /// pnc::InputError naming the script and carrying its output when it fails.
 std::vector<std::string> run_plot_script(const std::string& script,

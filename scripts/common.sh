@@ -13,6 +13,7 @@ PNC_PACKAGES=(
   libgtest-dev googletest libbenchmark-dev
   clang llvm # scripts/sanitize.sh: ASan/UBSan build and libFuzzer targets (fuzz/)
   python3 python3-matplotlib python3-numpy
+  gfortran make dpkg-dev file # tests/install: Fortran UMAT host, C host, cpack .deb (shlibdeps)
 )
 
 pnc_install_missing() {

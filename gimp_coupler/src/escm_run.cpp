@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/locate.hpp"
 #include "pnc/core/params.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/subprocess.hpp"
@@ -1306,21 +1307,26 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                     {"balance", e.balance()}};
   pnc::write_text_atomically(r.summary_json, sj.dump(2) + "\n");
   if (o.plot) {
-#ifdef PNC_ESCM_PLOT_SCRIPT
-    // argument vector, no shell: the output directory is one argument whatever it contains
-    const pnc::SubprocessResult pr =
-        pnc::run_subprocess({PNC_GIMP_PYTHON, PNC_ESCM_PLOT_SCRIPT, out});
-    pnc::write_text_atomically(out + "/plot.log", pr.started ? pr.output : pr.error + "\n");
-    if (pr.ok()) {
-      r.plots = {out + "/profile.png", out + "/energy.png"};
-      if (p.crack) r.plots.push_back(out + "/crack.png");
+    // plot_escm.py from the installed (or build) tree, found relative to the executable (D151)
+    const char* env_py = std::getenv("PNC_PYTHON");
+    const std::string py = env_py && *env_py ? env_py : PNC_GIMP_PYTHON;
+    const pnc::Located script =
+        pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_escm.py", "PNC_SCRIPTS_DIR");
+    if (script.path.empty()) {
+      r.plot_warning = "plots not written: plot_escm.py not found (" + script.looked_in() +
+                       "; set PNC_SCRIPTS_DIR)";
     } else {
-      r.plot_warning =
-          "plots not written (needs " PNC_GIMP_PYTHON " with matplotlib; see " + out + "/plot.log)";
+      // argument vector, no shell: the output directory is one argument whatever it contains
+      const pnc::SubprocessResult pr = pnc::run_subprocess({py, script.path, out});
+      pnc::write_text_atomically(out + "/plot.log", pr.started ? pr.output : pr.error + "\n");
+      if (pr.ok()) {
+        r.plots = {out + "/profile.png", out + "/energy.png"};
+        if (p.crack) r.plots.push_back(out + "/crack.png");
+      } else {
+        r.plot_warning =
+            "plots not written (needs " + py + " with matplotlib; see " + out + "/plot.log)";
+      }
     }
-#else
-    r.plot_warning = "plots not configured";
-#endif
   }
   return r;
 }

@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/locate.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/core/version.hpp"
@@ -22,9 +23,6 @@
 #ifndef PNC_GIMP_PYTHON
 #define PNC_GIMP_PYTHON "/usr/bin/python3"
 #endif
-#ifndef PNC_GIMP_SCRIPTS_DIR
-#define PNC_GIMP_SCRIPTS_DIR "gimp_coupler/scripts"
-#endif
 
 namespace pnc::gimp {
 
@@ -37,11 +35,13 @@ using Clock = std::chrono::steady_clock;
 std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title,
                         const char* script_name = "plot_energy.py") {
   const char* env_py = std::getenv("PNC_PYTHON");
-  const std::string py = env_py ? env_py : PNC_GIMP_PYTHON;
-  const char* env_dir = std::getenv("PNC_GIMP_SCRIPTS_DIR");
-  const std::string script =
-      (fs::path(env_dir ? env_dir : PNC_GIMP_SCRIPTS_DIR) / script_name).string();
-  if (!fs::exists(script)) return "plot script not found: " + script;
+  const std::string py = env_py && *env_py ? env_py : PNC_GIMP_PYTHON;
+  // share/pnc/scripts relative to the executable, or $PNC_GIMP_SCRIPTS_DIR (D151)
+  const Located found = locate_shipped(ShippedDir::scripts, script_name, "PNC_GIMP_SCRIPTS_DIR");
+  if (found.path.empty())
+    return std::string("plot script ") + script_name + " not found (" + found.looked_in() +
+           "; set PNC_GIMP_SCRIPTS_DIR)";
+  const std::string& script = found.path;
   // argument vector, no shell: the title and paths are data whatever they contain
   const SubprocessResult r = run_subprocess({py, script, csv, png, title});
   if (!r.started) return "cannot run " + py + ": " + r.error;
@@ -263,7 +263,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
   }
   // Stopped by --max-steps or a stop request before the end: leave frames and history as an
   // uninterrupted run would have them (the checkpoint carries the rest); --resume continues.
-  const bool unfinished = s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps);
+  const bool unfinished =
+      s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps);
   const bool stopped = unfinished && stop_requested();
   const bool interrupted =
       unfinished && (stopped || (o.stop_after_steps > 0 && s.steps >= o.stop_after_steps));

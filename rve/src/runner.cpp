@@ -2,6 +2,7 @@
 #include "pnc/rve/runner.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/locate.hpp"
 
 #include <lammps/library.h>
 
@@ -172,16 +173,14 @@ std::string error_file(const std::string& log) {
 }
 
 std::string server_executable() {
-  if (const char* e = std::getenv("PNC_LAMMPS_SERVER")) return e;
-  // next to the running executable (installed layout), else where the build put it
-  char buf[4096];
-  const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-  if (n > 0) {
-    buf[n] = 0;
-    const auto p = std::filesystem::path(buf).parent_path() / "pnc_lammps_server";
-    if (std::filesystem::exists(p)) return p.string();
-  }
-  return PNC_LAMMPS_SERVER_PATH;
+  if (const char* e = std::getenv("PNC_LAMMPS_SERVER"); e && *e) return e;
+  // libexec/pnc relative to the running executable (install and build tree alike, D151)
+  const Located r = locate_shipped(ShippedDir::libexec, "pnc_lammps_server", nullptr);
+  if (r.path.empty())
+    fail("<pnc installation>", "", "pnc_lammps_server",
+         "the MPI stage server was not found (" + r.looked_in() +
+             "); set PNC_LAMMPS_SERVER to its path (install layout: docs/install.md)");
+  return r.path;
 }
 
 /// Starts `mpirun -np K pnc_lammps_server SOCKET <lammps args>` with a clean MPI environment
