@@ -184,7 +184,8 @@ void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringF
   for (std::size_t i = 0; i < n_obst; ++i)
     for (int a = 0; a < 3; ++a)
       obst[i][a] = s.x[i][a] - s.lo[a];
-  Cells ocells(L, std::max(obstacle_min_distance, 1e-3));
+  // no obstacles: one cell (a cell list at a vanishing width would not fit in memory)
+  Cells ocells(L, n_obst == 0 ? L : std::max(obstacle_min_distance, 1e-2 * L));
   for (std::size_t i = 0; i < n_obst; ++i)
     ocells.insert(static_cast<int>(i), obst[i]);
   const double o2 = obstacle_min_distance * obstacle_min_distance;

@@ -17,14 +17,14 @@ using json = nlohmann::json;
 
 namespace {
 
-pnc::InputError error_of(const json& j) {
+pnc::ErrorContext error_of(const json& j) {
   try {
     parse_recipe(j, "r.json");
   } catch (const pnc::InputError& e) {
-    return e;
+    return e.context();
   }
   ADD_FAILURE() << "no error for " << j.dump();
-  return pnc::InputError("", "", "", "");
+  return {};
 }
 
 json tiny() {
@@ -144,14 +144,16 @@ TEST(RvePlatelet, RecipeDefaultsAndErrorsNameFileFieldValueRule) {
   bad.push_back({with("platelet", "beads_side", 9), "platelet.beads_side", "9"});
   bad.push_back({with("platelet", "epsilon_wp_reduced", 0.0), "platelet.epsilon_wp_reduced", "0"});
   bad.push_back({with("platelet", "bond_K_reduced", 2000.0), "equilibrate.timestep_fs", "20"});
-  // 0.8 sigma = 4 A below build.min_distance 4.5 A: the platelet must exclude what a bead does
-  bad.push_back({with("build", "min_distance", 4.5), "platelet.min_distance_sigma", "0.8"});
+  // sigma 4.5 A: 0.8 sigma = 3.6 A below build.min_distance 3.9 A (the builder's bound is
+  // < 4 A): the platelet must exclude at least what a polymer bead does
+  bad.push_back({with("build", "min_distance", 3.9), "platelet.min_distance_sigma", "0.8"});
   bad.back().recipe["platelet"]["min_distance_sigma"] = 0.8;
+  bad.back().recipe["forcefield"]["sigma"] = 4.5;
   for (const auto& b : bad) {
     const auto e = error_of(b.recipe);
     EXPECT_EQ(e.source, "r.json") << b.field;
-    EXPECT_EQ(e.field, b.field) << e.what();
-    EXPECT_EQ(e.value, b.value) << e.what();
+    EXPECT_EQ(e.field, b.field) << e.rule;
+    EXPECT_EQ(e.value, b.value) << e.rule;
     EXPECT_FALSE(e.rule.empty()) << b.field;
   }
 }
