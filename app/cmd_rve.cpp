@@ -211,7 +211,11 @@ int run_characterize(const CharacterizeArgs& a) {
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
   FitOptions o;
   // the bead-spring glass (model kg) is a pure polymer: the pure-polymer NDM (decision D138)
-  o.model = parse_model(r.model == "kg" ? std::string("pp") : r.model, md.recipe_path + ": model");
+  // and the glass with a platelet (kg_platelet) a nanocomposite: the nanocomposite NDM (D175)
+  o.model = parse_model(r.model == "kg"            ? std::string("pp")
+                        : r.model == "kg_platelet" ? std::string("pnc")
+                                                   : r.model,
+                        md.recipe_path + ": model");
   // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
   // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
   o.alpha_mode = r.fit_alpha    ? AlphaMode::fit
@@ -285,7 +289,7 @@ int run_characterize(const CharacterizeArgs& a) {
   rep_md += "## RVE\n\n";
   if (r.system.enabled) // your own system (rve/user_system.hpp)
     rep_md += rve::user_system_report(r.system);
-  else if (r.model == "kg")
+  else if (r.model == "kg" || r.model == "kg_platelet")
     rep_md += fmt::format(
         "{} chains x {} beads ({} beads, {} g/mol), built at {} g/cm3, seed {}; glassy "
         "bead-spring polymer (FENE + LJ 12-6, sigma {} A, eps/k_B {:.0f} K, tau {:.0f} fs, "
@@ -298,6 +302,14 @@ int run_characterize(const CharacterizeArgs& a) {
                           "force field of section 6.1 (decision D13 units).\n\n",
                           r.build.chains, r.build.beads_per_chain,
                           r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
+  if (r.model == "kg_platelet") // what the builder wrote (platelet.json), decision D170
+    rep_md += fmt::format(
+        "Embedded platelet (decision D170): {0} x {0} x {1} beads at {2} sigma, normal x2, "
+        "harmonic bond network K = {3} eps/sigma^2; platelet-polymer LJ eps_wp = {4} eps, "
+        "sigma_wp = {5} sigma (record {6}).\n\n",
+        r.platelet.beads_side, r.platelet.layers, r.platelet.spacing_sigma,
+        r.platelet.bond_K_reduced, r.platelet.epsilon_wp_reduced, r.platelet.sigma_wp_sigma,
+        (fs::path(md.build_record).parent_path() / "platelet.json").string());
   nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
   if (r.model == "pnc") {
     const auto cp = fs::path(md.build_record).parent_path() / "clay.json";

@@ -156,25 +156,46 @@ double bead_spring_bond_energy(const BeadSpringForceField& ff, double r) {
 System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff) {
   spec.validate("<build>");
   ff.validate("<build>");
-  const double b = ff.bond_length();
-  if (!(spec.min_distance < b))
-    fail("<build>", "build.min_distance", fmt::format("{}", spec.min_distance),
-         fmt::format("must be below the bond length {:.3f} A (0.97 sigma)", b));
   System s;
   s.type_mass = {ff.bead_mass};
   s.bond_types = 1;
   s.angle_types = 0;
   s.dihedral_types = 0;
-  const int nb = spec.beads_per_chain;
-  const double V = spec.chains * nb * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
+  const double V =
+      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
   const double L = std::cbrt(V);
   s.hi = {L, L, L};
+  grow_bead_spring_chains(s, spec, ff, 0.0);
+  return s;
+}
+
+void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringForceField& ff,
+                             double obstacle_min_distance) {
+  const double b = ff.bond_length();
+  if (!(spec.min_distance < b))
+    fail("<build>", "build.min_distance", fmt::format("{}", spec.min_distance),
+         fmt::format("must be below the bond length {:.3f} A (0.97 sigma)", b));
+  const int nb = spec.beads_per_chain;
+  const double L = s.hi[0] - s.lo[0];
   Cells cells(L, spec.min_distance);
+  // atoms already in the box (the platelet, platelet.hpp) are obstacles at their own distance
+  const std::size_t n_obst = s.x.size();
+  std::vector<Vec> obst(n_obst);
+  for (std::size_t i = 0; i < n_obst; ++i)
+    for (int a = 0; a < 3; ++a)
+      obst[i][a] = s.x[i][a] - s.lo[a];
+  // no obstacles: one cell (a cell list at a vanishing width would not fit in memory)
+  Cells ocells(L, n_obst == 0 ? L : std::max(obstacle_min_distance, 1e-2 * L));
+  for (std::size_t i = 0; i < n_obst; ++i)
+    ocells.insert(static_cast<int>(i), obst[i]);
+  const double o2 = obstacle_min_distance * obstacle_min_distance;
+  // the chains' beads, positions relative to lo (indices into `x`, atom index - n_obst)
+  std::vector<Vec> x;
   std::mt19937_64 g(spec.seed);
   const double d2 = spec.min_distance * spec.min_distance;
   int restarts = 0;
   for (int c = 0; c < spec.chains; ++c) {
-    const int first = static_cast<int>(s.x.size());
+    const int first = static_cast<int>(x.size());
     int placed = 0, failures = 0;
     while (placed < nb) {
       bool ok = false;
@@ -185,13 +206,14 @@ System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff) 
         } else {
           const double z = 2.0 * u01(g) - 1.0, phi = 2.0 * pi * u01(g);
           const double rr = std::sqrt(std::max(0.0, 1.0 - z * z));
-          const Vec& q = s.x[static_cast<std::size_t>(first + placed - 1)];
+          const Vec& q = x[static_cast<std::size_t>(first + placed - 1)];
           p = {q[0] + b * rr * std::cos(phi), q[1] + b * rr * std::sin(phi), q[2] + b * z};
         }
-        ok = cells.nearest2(s.x, p, placed == 0 ? -1 : first + placed - 1) >= d2;
+        ok = cells.nearest2(x, p, placed == 0 ? -1 : first + placed - 1) >= d2 &&
+             (n_obst == 0 || ocells.nearest2(obst, p, -1) >= o2);
       }
       if (ok) {
-        s.x.push_back(p);
+        x.push_back(p);
         cells.insert(first + placed, p);
         ++placed;
         continue;
@@ -201,8 +223,8 @@ System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff) 
       const int back = failures % 10 == 0 ? placed : std::min(placed, spec.backtrack);
       for (int k = 0; k < back; ++k) {
         const int i = first + placed - 1;
-        cells.erase(i, s.x.back());
-        s.x.pop_back();
+        cells.erase(i, x.back());
+        x.pop_back();
         --placed;
       }
       if (placed == 0 && ++restarts > spec.max_chain_restarts)
@@ -211,13 +233,16 @@ System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff) 
                          "with min_distance {} A: lower the density or min_distance",
                          c + 1, spec.chains, spec.max_chain_restarts, spec.min_distance));
     }
+  }
+  for (int c = 0; c < spec.chains; ++c)
     for (int i = 0; i < nb; ++i) {
+      const std::size_t k = static_cast<std::size_t>(c) * nb + i;
+      s.x.push_back({x[k][0] + s.lo[0], x[k][1] + s.lo[1], x[k][2] + s.lo[2]});
       s.mol.push_back(c + 1);
       s.type.push_back(1);
-      if (i + 1 < nb) s.bonds.push_back({1, first + i, first + i + 1});
+      const int atom = static_cast<int>(n_obst + k);
+      if (i + 1 < nb) s.bonds.push_back({1, atom, atom + 1});
     }
-  }
-  return s;
 }
 
 double min_unbonded_distance(const System& s) {

@@ -45,6 +45,14 @@ CombinedCases write_replica_cases_h5(const std::string& path, const Recipe& r,
 
 namespace {
 
+/// The force-field commands of the recipe's built-in model (re-issued after every read_restart).
+std::vector<std::string> model_forcefield_commands(const Recipe& r) {
+  if (r.model == "pnc") return composite_forcefield_commands(r.ff);
+  if (r.model == "kg") return bead_spring_commands(r.kg);
+  if (r.model == "kg_platelet") return kg_platelet_commands(r.kg, r.platelet);
+  return polymer_forcefield_commands(r.ff);
+}
+
 /// Build and equilibration of one replica in `rdir` (its own seeds: replica_build_seed).
 void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                      const std::string& recipe_text, int eq_ranks, MdOutcome& o,
@@ -63,11 +71,24 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
     std::cerr << fmt::format("pnc characterize [build] {} chains x {} beads at {} g/cm3, seed {}\n",
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
-    const System s = r.model == "pnc"  ? build_composite(r.build, r.ff, r.clay, &ci)
-                     : r.model == "kg" ? build_bead_spring(r.build, r.kg)
-                                       : build_polymer(r.build, r.ff);
+    PlateletInfo pi;
+    const System s = r.model == "pnc"           ? build_composite(r.build, r.ff, r.clay, &ci)
+                     : r.model == "kg"          ? build_bead_spring(r.build, r.kg)
+                     : r.model == "kg_platelet" ? build_kg_platelet(r.build, r.kg, r.platelet, &pi)
+                                                : build_polymer(r.build, r.ff);
     write_data_file(ro.data_file, s, "pnc characterize " + r.name);
-    if (r.model == "kg")
+    if (r.model == "kg_platelet") { // decision D170: what was built, next to build.h5
+      const double dmin = min_polymer_platelet_distance(s);
+      write_text_atomically((bdir / "platelet.json").string(),
+                            platelet_info_json(pi, r.platelet, r.kg, dmin).dump(2) + "\n");
+      std::cerr << fmt::format("  platelet: {} x {} x {} beads ({} bonds), edge {:.2f} A of a "
+                               "{:.2f} A box ({:.2f}), bead fraction {:.4f}, min bead-platelet "
+                               "distance {:.3f} A, omega bound {:.4f} / fs\n",
+                               r.platelet.beads_side, r.platelet.beads_side, r.platelet.layers,
+                               pi.platelet_bonds, pi.edge_A, pi.box_A, pi.edge_A / pi.box_A,
+                               pi.volume_fraction, dmin, pi.omega_bound_per_fs);
+    }
+    if (r.model == "kg" || r.model == "kg_platelet")
       write_bead_spring_record(ro.build_record, s, r.build, r.kg, recipe_text);
     else
       write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
@@ -99,9 +120,11 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                                ci.thickness, ci.aspect_ratio, ci.volume_fraction,
                                ci.weight_fraction, min_polymer_clay_distance(s));
     }
-    std::cerr << fmt::format(
-        "  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n", s.x.size(),
-        s.length()[0], r.model == "kg" ? min_unbonded_distance(s) : min_nonbonded_distance(s));
+    std::cerr << fmt::format("  built {} beads, box {:.3f} A, min non-bonded distance {:.3f} A\n",
+                             s.x.size(), s.length()[0],
+                             r.model == "kg" || r.model == "kg_platelet"
+                                 ? min_unbonded_distance(s)
+                                 : min_nonbonded_distance(s));
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
@@ -116,12 +139,15 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                                : "ensemble " + r.equilibrate.ensemble,
                            eq_ranks);
   const std::string edir = (fs::path(rdir) / "equilibrate").string();
-  ro.equilibrated = r.system.enabled  ? equilibrate_user(r.system, ro.data_file, edir, resume,
-                                                         recipe_text, r.seed, eq_ranks)
-                    : r.model == "kg" ? equilibrate_glass(ro.data_file, r.kg, r.equilibrate, edir,
-                                                          resume, recipe_text, eq_ranks)
-                                      : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
-                                                    recipe_text, r.model == "pnc", eq_ranks);
+  ro.equilibrated =
+      r.system.enabled
+          ? equilibrate_user(r.system, ro.data_file, edir, resume, recipe_text, r.seed, eq_ranks)
+      : r.model == "kg" ? equilibrate_glass(ro.data_file, r.kg, r.equilibrate, edir, resume,
+                                            recipe_text, eq_ranks)
+      : r.model == "kg_platelet" ? equilibrate_glass(ro.data_file, r.kg, r.equilibrate, edir,
+                                                     resume, recipe_text, eq_ranks, &r.platelet)
+                                 : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
+                                               recipe_text, r.model == "pnc", eq_ranks);
   o.seconds_equilibrate += seconds_since(t0);
 }
 
@@ -180,10 +206,8 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
               << r.deform.temperature << " K\n";
     PhaseCheckInput pin;
     pin.start_state = o.equilibrated.restart;
-    pin.force_field = r.model == "pnc"  ? composite_forcefield_commands(r.ff)
-                      : r.model == "kg" ? bead_spring_commands(r.kg)
-                                        : polymer_forcefield_commands(r.ff);
-    pin.probe_A = r.model == "kg" ? r.kg.sigma : r.ff.sigma;
+    pin.force_field = model_forcefield_commands(r);
+    pin.probe_A = r.model == "kg" || r.model == "kg_platelet" ? r.kg.sigma : r.ff.sigma;
     if (r.system.enabled) { // the user's force field; no bead size for the void measure
       pin.force_field = r.system.forcefield;
       pin.atom_style = r.system.atom_style;
@@ -216,9 +240,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
       d.case_id = id;
       d.seed = replica_case_seed(r.seed, rep, id);
       d.start_state = o.replicas[rep - 1].equilibrated.restart;
-      d.force_field = r.model == "pnc"  ? composite_forcefield_commands(r.ff)
-                      : r.model == "kg" ? bead_spring_commands(r.kg)
-                                        : polymer_forcefield_commands(r.ff);
+      d.force_field = model_forcefield_commands(r);
       d.recipe_json = recipe_text;
       if (r.system.enabled) { // the user's force field, re-issued after every read_restart
         d.force_field = r.system.forcefield;

@@ -1,6 +1,7 @@
 // Equilibration of the glassy bead-spring polymer (model "kg"), one child process per stage.
 // Units real. Decision D137.
 #include "pnc/rve/bead_spring.hpp"
+#include "pnc/rve/platelet.hpp"
 #include "pnc/rve/stage_stop.hpp"
 
 #include "equilibrate_detail.hpp"
@@ -42,14 +43,24 @@ void check_glass_protocol(const EquilibrateSpec& s, const std::string& source) {
 
 EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpringForceField& ff,
                                     const EquilibrateSpec& s, const std::string& dir, bool resume,
-                                    const std::string& recipe_json, int ranks) {
+                                    const std::string& recipe_json, int ranks,
+                                    const PlateletSpec* platelet) {
   check_glass_protocol(s, "<equilibrate>");
   ff.validate("<equilibrate>");
   lammps_path(data_file, "data file");
   lammps_path(p(dir, "final", ".restart"), "--out");
   make_output_directory(dir);
   const double sig = ff.sigma;
-  const std::vector<std::string> ffcmds = bead_spring_commands(ff);
+  const std::vector<std::string> ffcmds =
+      platelet ? kg_platelet_commands(ff, *platelet) : bead_spring_commands(ff);
+  // the push-off's pair commands at soft prefactor A (decision D174 with the platelet)
+  auto soft_pairs = [&](double A) {
+    return platelet ? kg_platelet_pushoff_pair(ff, *platelet, A)
+                    : std::vector<std::string>{
+                          fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig),
+                          fmt::format("pair_coeff * * {:.10g}", A)};
+  };
+  const std::string adapt_pair = platelet ? "pair soft a 1 1" : "pair soft a * *";
   const double tu = ff.temperature_unit(), tau = ff.tau_fs();
   auto stage = [&](const std::string& name, const StageBody& body) {
     run_equilibration_stage(dir, name, body, resume, ranks);
@@ -62,8 +73,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     l.cmd("atom_style molecular");
     l.cmd("read_data " + lammps_path(data_file, "data file"));
     l.cmds(ffcmds);
-    l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
-    l.cmd("pair_coeff * * 0.0");
+    l.cmds(soft_pairs(0.0));
     l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
     define_measures(l);
     l.cmd(fmt::format("velocity all create {:.10g} {} dist gaussian mom yes", s.hot_temperature,
@@ -78,10 +88,10 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     for (round = 1; round <= s.pushoff_max_rounds; ++round) {
       if (round == 1) {
         l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
-        l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
+        l.cmd("fix pnc_adapt all adapt 1 " + adapt_pair + " v_pnc_A");
         run_chunks(l, s.pushoff_steps, 5, t, true);
         l.cmd("unfix pnc_adapt");
-        l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
+        l.cmd(soft_pairs(s.pushoff_A_max)[1]); // the soft pair's coefficient at A_max
       } else {
         run_chunks(l, s.pushoff_steps, 5, t);
       }

@@ -1,6 +1,7 @@
 // The recipe presets of `pnc characterize` (pnc/rve/recipe.hpp): demo, paper (the dissertation's
 // polypropylene), demo_pnc, paper_pnc (with the clay platelet), demo_glass, paper_glass (the
-// glassy bead-spring polymer). Units as in recipes: LAMMPS real (A, fs, kcal/mol, atm, K).
+// glassy bead-spring polymer), demo_glass_pnc (the glass with a platelet). Units as in recipes:
+// LAMMPS real (A, fs, kcal/mol, atm, K).
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"
@@ -138,10 +139,37 @@ const char* paper_glass_text = R"({
   "run": { "jobs": 2, "replicas": 4 }
 })";
 
+// Model nanocomposite (model kg_platelet, decisions D170-D176): the demo_glass polymer (32 chains
+// x 25 beads) with one 8 x 8 x 2 bead platelet (edge 7 sigma = 35 A, ~0.7 of the box), normal x2,
+// weak adhesion eps_wp = 0.5 eps so that case 2 can open the interface; cases 1-6, 3 replicas.
+// Measured wall time: docs/rve.md, "A model nanocomposite: glass + rigid platelet".
+const char* demo_glass_pnc_text = R"({
+  "name": "demo_glass_pnc",
+  "seed": 1,
+  "model": "kg_platelet",
+  "build": { "chains": 32, "beads_per_chain": 25, "density": 0.9, "min_distance": 3.5 },
+  "forcefield": { "sigma": 5.0, "epsilon": 0.79488268, "bead_mass": 80.0,
+                  "fene_K_reduced": 30.0, "fene_R0_sigma": 1.5, "cutoff_sigma": 2.5 },
+  "platelet": { "beads_side": 8, "layers": 2, "spacing_sigma": 1.0, "epsilon_wp_reduced": 0.5,
+                "sigma_wp_sigma": 1.0, "bond_K_reduced": 300.0, "min_distance_sigma": 1.0 },
+  "equilibrate": { "timestep_fs": 20.0, "temperature": 80.0, "hot_temperature": 400.0,
+                   "damp_fs": 2000.0, "pushoff_steps": 2000, "pushoff_A_max": 40.0,
+                   "hot_steps": 8000, "cool_steps": 20000, "ensemble": "npt",
+                   "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 8000,
+                   "final_steps": 2000 },
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.08, "steps": 20, "timestep_fs": 20.0,
+              "hold_steps": 1500, "sample_every": 10, "blocks": 10, "reference_holds": 2,
+              "temperature": 80.0, "damp_fs": 2000.0 },
+  "phase_check": { "enabled": true, "steps": 4000, "sample_every": 10,
+                   "cavitation_steps": 2000 },
+  "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
+  "run": { "jobs": 2, "replicas": 3 }
+})";
+
 } // namespace
 
 std::vector<std::string> preset_names() {
-  return {"demo", "paper", "demo_pnc", "paper_pnc", "demo_glass", "paper_glass"};
+  return {"demo", "paper", "demo_pnc", "paper_pnc", "demo_glass", "paper_glass", "demo_glass_pnc"};
 }
 
 nlohmann::json preset_json(const std::string& name) {
@@ -151,8 +179,10 @@ nlohmann::json preset_json(const std::string& name) {
   if (name == "paper_pnc") return json::parse(paper_pnc_text);
   if (name == "demo_glass") return json::parse(demo_glass_text);
   if (name == "paper_glass") return json::parse(paper_glass_text);
+  if (name == "demo_glass_pnc") return json::parse(demo_glass_pnc_text);
   fail("<command line>", "preset", name,
-       "must be one of: demo, paper, demo_pnc, paper_pnc, demo_glass, paper_glass");
+       "must be one of: demo, paper, demo_pnc, paper_pnc, demo_glass, paper_glass, "
+       "demo_glass_pnc");
 }
 
 } // namespace pnc::rve

@@ -129,13 +129,21 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   check_free_text(source, "name", r.name);
   top.get_int("seed", r.seed, 1, 1000000);
   top.get("model", r.model);
-  if (r.model != "pp" && r.model != "pnc" && r.model != "kg")
+  if (r.model != "pp" && r.model != "pnc" && r.model != "kg" && r.model != "kg_platelet")
     fail(source, "model", r.model,
-         "must be \"pp\" (pure polymer), \"pnc\" (with clay) or \"kg\" (glassy bead-spring "
-         "polymer)");
+         "must be \"pp\" (pure polymer), \"pnc\" (with clay), \"kg\" (glassy bead-spring "
+         "polymer) or \"kg_platelet\" (the glass with a platelet)");
+  const bool kg = r.model == "kg" || r.model == "kg_platelet";
+  if (j.contains("platelet")) { // decision D170: the glass with one platelet
+    if (r.model != "kg_platelet")
+      fail(source, "platelet", show_json(j.at("platelet")),
+           "a platelet block needs \"model\": \"kg_platelet\"");
+    r.platelet = parse_platelet(j.at("platelet"), source);
+    top.sub("platelet");
+  }
   const bool user = j.contains("system"); // your own system (user_system.hpp), decision D121
   if (user) {
-    for (const char* k : {"build", "clay", "forcefield"})
+    for (const char* k : {"build", "clay", "forcefield", "platelet"})
       if (j.contains(k))
         fail(source, k, show_json(j.at(k)),
              "a recipe with a \"system\" section (your own data file and force field) has no "
@@ -180,7 +188,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
       r.clay.validate(source);
     }
   }
-  if (r.model == "kg") {
+  if (kg) {
     Section s = top.sub("forcefield");
     s.get("sigma", r.kg.sigma);
     s.get("epsilon", r.kg.epsilon);
@@ -233,7 +241,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   {
     auto& d = r.deform;
     Section s = top.sub("deform");
-    if (r.model == "pnc") r.cases = {1, 2, 3, 4, 5, 6};
+    if (r.model == "pnc" || r.model == "kg_platelet") r.cases = {1, 2, 3, 4, 5, 6};
     s.get_cases("cases", r.cases);
     s.get("strain_max", d.strain_max);
     s.get_int("steps", d.steps, 1, 100000);
@@ -314,7 +322,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
          fmt::format("must be >= 2 x deform.hold_steps = {} (G(t) is measured up to the hold "
                      "time from at least as many time origins)",
                      2 * r.deform.hold_steps));
-  if (r.model == "kg") {
+  if (kg) {
     r.kg.validate(source);
     check_glass_protocol(r.equilibrate, source);
     if (!(r.build.min_distance < r.kg.bond_length()))
@@ -326,11 +334,15 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   probe.seed = r.seed;
   probe.validate(source);
   // the cutoff must fit the smallest box: 2 r_c < L at the build density
-  const double bead_mass = r.model == "kg" ? r.kg.bead_mass : r.ff.bead_mass;
-  const double cutoff = r.model == "kg" ? r.kg.cutoff() : r.ff.cutoff();
+  const double bead_mass = kg ? r.kg.bead_mass : r.ff.bead_mass;
+  const double cutoff = kg ? r.kg.cutoff() : r.ff.cutoff();
   double L = std::cbrt(r.build.chains * r.build.beads_per_chain * bead_mass /
                        (r.build.density * avogadro_per_A3_cm3));
   if (user) return r; // LAMMPS checks the user's box against the cutoffs
+  if (r.model == "kg_platelet") {
+    check_platelet_recipe(r, source); // platelet.hpp: box, cutoffs, timesteps (D172, D173)
+    return r;
+  }
   if (r.model == "pnc") {
     const auto box = composite_box(r.build, r.ff, r.clay, source);
     L = std::min({box[0], box[1], box[2]});
@@ -543,7 +555,8 @@ nlohmann::json expanded_json(const Recipe& r) {
     out["equilibrate"] = u.at("equilibrate");
     return out;
   }
-  if (r.model == "kg") {
+  if (r.model == "kg_platelet") out["platelet"] = platelet_json(r.platelet);
+  if (r.model == "kg" || r.model == "kg_platelet") {
     out["forcefield"] = {{"sigma", r.kg.sigma},
                          {"epsilon", r.kg.epsilon},
                          {"bead_mass", r.kg.bead_mass},

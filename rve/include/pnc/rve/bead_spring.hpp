@@ -23,6 +23,8 @@
 
 namespace pnc::rve {
 
+struct PlateletSpec; // platelet.hpp
+
 /// Boltzmann constant in kcal/mol/K (LAMMPS real units).
 constexpr double kB_kcal_per_mol_K = 0.0019872067;
 
@@ -76,6 +78,13 @@ double bead_spring_bond_energy(const BeadSpringForceField& ff, double r);
 /// Atoms type 1, molecules 1..chains, bonds type 1, no angles or dihedrals.
 System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff);
 
+/// The random walk of build_bead_spring into `s`, whose box (cubic) is set and whose atoms (e.g.
+/// the platelet of platelet.hpp) are obstacles no bead centre may approach closer than
+/// `obstacle_min_distance` (A). The chains are appended: type 1, molecules 1..chains, bond type 1.
+/// build_bead_spring is this on an empty box (identical beads for a given seed).
+void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringForceField& ff,
+                             double obstacle_min_distance);
+
 /// Smallest minimum-image distance (A) between beads that are not bonded (1-2) neighbours.
 double min_unbonded_distance(const System& s);
 
@@ -105,8 +114,12 @@ void check_glass_protocol(const EquilibrateSpec& s, const std::string& source);
 ///             measurement of equilibrate.hpp stage 6 (density, pressures, void fraction with
 ///             probe sigma, smallest pair distance) in `<dir>`/final.h5.
 /// langevin_chunk_steps, langevin_max_chunks, steady_tolerance and clay_steps are not used.
+/// With `platelet` (model kg_platelet, platelet.hpp): the composite's force field
+/// (kg_platelet_commands) in every stage and, in the push-off, soft pairs between polymer beads
+/// only, the platelet-polymer LJ in full (kg_platelet_pushoff_pair, decision D174).
 EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpringForceField& ff,
                                     const EquilibrateSpec& spec, const std::string& dir,
-                                    bool resume, const std::string& recipe_json, int ranks = 1);
+                                    bool resume, const std::string& recipe_json, int ranks = 1,
+                                    const PlateletSpec* platelet = nullptr);
 
 } // namespace pnc::rve

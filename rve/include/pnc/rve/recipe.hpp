@@ -14,7 +14,11 @@
 //     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
 //                    model "kg": { "sigma", "epsilon", "bead_mass", "fene_K_reduced",
 //                    "fene_R0_sigma", "cutoff_sigma", "bond_length_sigma" } (A, kcal/mol,
-//                    g/mol, eps/sigma^2, sigma, sigma, sigma); bead_spring.hpp
+//                    g/mol, eps/sigma^2, sigma, sigma, sigma); bead_spring.hpp; the same for
+//                    model "kg_platelet"
+//     "platelet":    { "beads_side", "layers", "spacing_sigma", "epsilon_wp_reduced",
+//                      "sigma_wp_sigma", "bond_K_reduced", "min_distance_sigma" }
+//                    (model "kg_platelet" only; platelet.hpp; cases default to 1..6)
 //     "equilibrate": { EquilibrateSpec fields by name },
 //     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
 //                      "sample_every", "blocks", "reference_holds", "temperature",
@@ -32,6 +36,7 @@
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/phase_check.hpp"
+#include "pnc/rve/platelet.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <nlohmann/json.hpp>
@@ -44,13 +49,15 @@ namespace pnc::rve {
 struct Recipe {
   std::string name = "custom";
   std::uint64_t seed = 1;
-  /// "pp" (pure polymer), "pnc" (with the clay platelet) or "kg" (glassy bead-spring polymer,
-  /// bead_spring.hpp; fitted with the pure-polymer NDM)
+  /// "pp" (pure polymer), "pnc" (with the clay platelet), "kg" (glassy bead-spring polymer,
+  /// bead_spring.hpp; fitted with the pure-polymer NDM) or "kg_platelet" (the glass with one
+  /// stiff platelet, platelet.hpp; fitted with the nanocomposite NDM, decision D175)
   std::string model = "pp";
   BuildSpec build;
   ClaySpec clay; ///< used when model == "pnc"
   PolymerForceField ff;
-  BeadSpringForceField kg; ///< model "kg": its "forcefield" section
+  BeadSpringForceField kg; ///< models "kg" and "kg_platelet": their "forcefield" section
+  PlateletSpec platelet;   ///< model "kg_platelet" (the glass with a platelet, decision D170)
   EquilibrateSpec equilibrate;
   DeformSpec deform;          ///< template: case_id, seed, start_state filled per case
   PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
@@ -91,6 +98,10 @@ void check_free_text(const std::string& source, const std::string& field, const 
 
 /// Parses and validates (the name with check_free_text). `source` names the file in errors.
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
+/// Model kg_platelet's rules that need the whole recipe (implemented in platelet.cpp): the
+/// box of check_kg_platelet_box (D172); the platelet's frequency bound times equilibrate.
+/// timestep_fs and deform.timestep_fs <= 1 (D173). Throws InputError naming source and field.
+void check_platelet_recipe(const Recipe& r, const std::string& source);
 /// Reads a recipe file: JSON (".json") or TOML (".toml", same sections as tables, same keys);
 /// other extensions are an InputError.
 Recipe read_recipe(const std::string& path);
