@@ -222,6 +222,7 @@ int run_characterize(const CharacterizeArgs& a) {
                  : r.hold_alpha ? AlphaMode::hold
                                 : AlphaMode::automatic;
   if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
+  o.strain_max = r.fit_strain_max;                        // recipe fit.strain_max (D12h)
   o.check_units = false;
   // decision D128: a material that relaxes within a hold does not define its shear and damage
   // constants; only the normal (bulk-like) block of C0 stays fitted

@@ -290,6 +290,10 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("fit_alpha", r.fit_alpha);
     s.get("hold_alpha", r.hold_alpha);
     s.get("alpha", r.fit_alpha_start);
+    s.get("strain_max", r.fit_strain_max);
+    if (!(r.fit_strain_max >= 0 && r.fit_strain_max <= 10))
+      fail(source, "fit.strain_max", fmt::format("{}", r.fit_strain_max),
+           "must be in [0, 10] (a strain; 0 = fit every row)");
     s.check_unknown();
     if (r.fit_alpha && r.hold_alpha)
       fail(source, "fit.hold_alpha", "true", "fit.fit_alpha and fit.hold_alpha exclude each other");
@@ -547,6 +551,7 @@ nlohmann::json expanded_json(const Recipe& r) {
       {"run", {{"jobs", r.jobs}, {"replicas", r.replicas}}}};
   if (r.fit_alpha_start > 0) out["fit"]["alpha"] = r.fit_alpha_start;
   if (r.hold_alpha) out["fit"]["hold_alpha"] = true;
+  if (r.fit_strain_max > 0) out["fit"]["strain_max"] = r.fit_strain_max;
   if (r.system.enabled) {
     const json u = user_system_json(r.system);
     out.erase("build");

@@ -253,4 +253,10 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   j = preset_json("demo_glass");
   j["forcefield"]["cutoff_sigma"] = 1.0;
   EXPECT_EQ(field_of(j), "forcefield.cutoff_sigma");
+  j = preset_json("demo_glass");
+  j["fit"]["strain_max"] = -0.1; // the fit range of D12h
+  EXPECT_EQ(field_of(j), "fit.strain_max");
+  j["fit"]["strain_max"] = 0.04;
+  EXPECT_EQ(field_of(j), "(accepted)");
+  EXPECT_DOUBLE_EQ(parse_recipe(j, "r.json").fit_strain_max, 0.04);
 }

@@ -27,7 +27,8 @@
 //                      only, never fitted: D133), "reference": "subtract" | "none" },
 //     "phase_check": { "enabled", "steps", "sample_every", "blocks", "shear_strain",
 //                      "bulk_strain", "cavitation_strain", "cavitation_steps" } (phase_check.hpp)
-//     "fit":         { "fit_alpha": bool, "hold_alpha": bool, "alpha": value in [0.5, 1.5] },
+//     "fit":         { "fit_alpha": bool, "hold_alpha": bool, "alpha": value in [0.5, 1.5],
+//                      "strain_max": fit range, dimensionless, 0 = every row (D12h) },
 //     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
 //     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
 #include "pnc/rve/bead_spring.hpp"
@@ -78,6 +79,9 @@ struct Recipe {
   /// α the fit starts from (or holds); 0 = the dissertation's value. Key "fit.alpha", in
   /// [0.5, 1.5]; the glass presets hold it at 0.82 (decision D138).
   double fit_alpha_start = 0;
+  /// fit range (key "fit.strain_max", decision D12h): rows with every strain component <= it
+  /// are fitted; 0 = every row. Dimensionless.
+  double fit_strain_max = 0;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
