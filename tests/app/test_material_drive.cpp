@@ -5,6 +5,8 @@
 #include "material_cli.hpp"
 
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/damage/card.hpp"
+#include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/material.hpp"
 
 #include <nlohmann/json.hpp>
@@ -382,4 +384,46 @@ TEST_F(MaterialCli, PluginLookupIsNamedWhenItFails) {
   ASSERT_EQ(d.code, 0) << d.err;
   EXPECT_NE(nlohmann::json::parse(d.out)["plugin"].get<std::string>().find("libpnc_material.so"),
             std::string::npos);
+}
+
+TEST_F(MaterialCli, HelpOfTheNewSubcommands) {
+  for (const char* sub : {"material", "material drive", "card export"}) {
+    const CliResult r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+  EXPECT_NE(run("material drive --help").out.find("--reference"), std::string::npos);
+  EXPECT_NE(run("card export --help").out.find("--format"), std::string::npos);
+  EXPECT_NE(run("material").code, 0); // a subcommand is required
+}
+
+TEST_F(MaterialCli, ThePathRotationComposesWithTheCardsOwn) {
+  // card A turned by R_A; the path turns it further by Q (matrix form); card B has R_A Q
+  pnc::damage::NdmParameters a = pnc::damage::dissertation_parameters(pnc::damage::Model::pnc);
+  a.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d Q =
+      Eigen::AngleAxisd(-0.7, Eigen::Vector3d(0, 1, 2).normalized()).toRotationMatrix();
+  pnc::damage::NdmParameters b = a;
+  b.R = a.R * Q;
+  pnc::damage::write_card(p("a.h5"), pnc::damage::card_from_parameters(a, "test"), "test");
+  pnc::damage::write_card(p("b.h5"), pnc::damage::card_from_parameters(b, "test"), "test");
+  char m[512];
+  std::snprintf(m, sizeof m,
+                "[rotation]\nmatrix = [[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], "
+                "[%.17g, %.17g, %.17g]]\n",
+                Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 0), Q(1, 1), Q(1, 2), Q(2, 0), Q(2, 1), Q(2, 2));
+  const std::string seg = "[[segment]]\nsteps = 20\ne11 = 0.15\ng23 = 0.04\ns22 = 0\n";
+  write("qa.toml", std::string(m) + seg);
+  write("qb.toml", seg);
+  const auto ra = drive(p("a.h5"), "qa.toml", "qa.csv");
+  const auto rb = drive(p("b.h5"), "qb.toml", "qb.csv");
+  ASSERT_EQ(ra.at("step").size(), 21u);
+  double scale = 0;
+  for (std::size_t k = 0; k < 21; ++k)
+    scale = std::max(scale, row(rb, kS, k).cwiseAbs().maxCoeff());
+  for (std::size_t k = 1; k < 21; ++k) {
+    EXPECT_LE((row(ra, kS, k) - row(rb, kS, k)).cwiseAbs().maxCoeff(), 1e-9 * scale) << k;
+    EXPECT_LE((row(ra, kE, k) - row(rb, kE, k)).cwiseAbs().maxCoeff(), 1e-12) << k;
+  }
+  EXPECT_GT(rb.at("D1").back() + rb.at("D2").back() + rb.at("D3").back(), 0.0);
 }
