@@ -34,6 +34,12 @@ struct CardTablesArgs {
 };
 int run_card_tables(const CardTablesArgs& a);
 
+struct CardExportArgs {
+  std::string card, format = "abaqus", name, out, plugin;
+  bool with_rotation = false, allow_not_usable = false;
+};
+int run_card_export(const CardExportArgs& a); // app/cmd_card_export.cpp
+
 struct SynthArgs {
   std::string model = "pnc", card, out;
   std::vector<int> cases;

@@ -4,6 +4,8 @@
 // "not usable" (docs/decisions.md D12d); 128 + N for a long command stopped by signal N
 // (130 SIGINT, 143 SIGTERM) with its work up to the last checkpoint kept and one line
 // "pnc: interrupted by SIGINT: <where>; continue with: <the command> --resume" on stderr;
+// for `pnc material drive` also 3 when a Newton solve did not converge and 5 when the
+// response leaves the reference tolerances (docs/decisions.md D169);
 // CLI11's own codes for bad usage.
 #include "checks.hpp"
 #include "commands.hpp"
@@ -85,6 +87,22 @@ int main(int argc, char** argv) {
   tables->add_option("--model", ct.model, "pnc or pp")->check(CLI::IsMember({"pnc", "pp"}));
   tables->add_option("--out", ct.out, "Card to write (HDF5)")->required();
   tables->add_flag("--json", ct.json, "Print one JSON object on stdout");
+  CardExportArgs ce;
+  auto* cexport = card->add_subcommand(
+      "export", "The card as host input: Abaqus/CalculiX material blocks, JSON or bare PROPS");
+  cexport->add_option("card", ce.card, "Material card (HDF5)")->required();
+  cexport->add_option("--format", ce.format, "abaqus, calculix, json or props (default abaqus)")
+      ->check(CLI::IsMember({"abaqus", "calculix", "json", "props"}));
+  cexport->add_option("--name", ce.name,
+                      "Material name (default PNC; CalculiX gets the ABAQUS prefix)");
+  cexport->add_option("--out", ce.out, "Write to this file instead of stdout");
+  cexport->add_flag("--with-rotation", ce.with_rotation,
+                    "Always append the platelet rotation R (9 PROPS), even when it is I");
+  cexport->add_option(
+      "--plugin", ce.plugin,
+      "libpnc_material.so to load (default: $PNC_MATERIAL_PLUGIN, else next to pnc)");
+  cexport->add_flag("--allow-not-usable", ce.allow_not_usable,
+                    "Export a card whose verdict is 'not usable'");
 
   // --- synth
   SynthArgs sa;
@@ -119,6 +137,7 @@ int main(int argc, char** argv) {
 #ifdef PNC_HAVE_THERMO_COMMANDS
   register_thermo(app, action);
 #endif
+  register_material(app, action);
 
   try {
     app.parse(argc, argv);
@@ -129,6 +148,7 @@ int main(int argc, char** argv) {
     if (*fit) return run_fit(fa);
     if (*show) return run_card_show(cs);
     if (*tables) return run_card_tables(ct);
+    if (*cexport) return run_card_export(ce);
     if (*synth) return run_synth(sa);
     if (action) return action();
   } catch (const pnc::Interrupted& e) {

@@ -10,7 +10,8 @@ class App;
 
 namespace pnc::app {
 using Action = std::function<int()>;
-void register_rve(CLI::App& app, Action& action);  // app/cmd_rve.cpp     (docs/rve.md)
-void register_gimp(CLI::App& app, Action& action); // app/cmd_gimp.cpp    (docs/gimp.md)
-void register_thermo(CLI::App& app, Action& action); // app/cmd_thermo.cpp (docs/thermo.md)
+void register_rve(CLI::App& app, Action& action);      // app/cmd_rve.cpp     (docs/rve.md)
+void register_gimp(CLI::App& app, Action& action);     // app/cmd_gimp.cpp    (docs/gimp.md)
+void register_thermo(CLI::App& app, Action& action);   // app/cmd_thermo.cpp (docs/thermo.md)
+void register_material(CLI::App& app, Action& action); // app/cmd_material.cpp (docs/drive.md)
 } // namespace pnc::app

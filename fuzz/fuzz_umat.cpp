@@ -6,6 +6,9 @@
 //    and DDSDDE(NTENS x NTENS), and touches nothing past them;
 //  - a refused call lowers PNEWDT to 0.5 and leaves STRESS, STATEV and DDSDDE untouched.
 // umat_ reports each refusal on stderr (one line); that is its documented behaviour.
+// Configuration errors (NTENS, NPROPS, PROPS, NSTATV) stop the process by default, as Abaqus's
+// XIT would (docs/decisions.md D165); the fuzzer runs umat_ in the documented non-exiting mode
+// PNC_UMAT_ON_CONFIG_ERROR=cutback, in which every refusal lowers PNEWDT to 0.5.
 #include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/umat.h"
 
@@ -35,6 +38,11 @@ using pnc::fuzz::is_canary;
 constexpr int kArray = 48; // every array is this long; entries past the used ones are canaries
 
 } // namespace
+
+extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
+  setenv("PNC_UMAT_ON_CONFIG_ERROR", "cutback", 1);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider in(data, size);

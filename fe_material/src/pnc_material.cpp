@@ -3,6 +3,7 @@
 #include "pnc/fe_material/pnc_material.h"
 
 #include "abi_util.hpp"
+#include "umat_layout.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/damage/card.hpp"
@@ -237,6 +238,34 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
     copy_message(err, errlen, "pnc_material_integrate: unknown internal error");
   }
   return PNC_MATERIAL_INTERNAL;
+}
+
+// ---- UMAT PROPS metadata: all from umat_layout.hpp, the layout umat.cpp reads.
+namespace {
+bool props_with_rotation(const pnc_material* m, unsigned flags) {
+  return (flags & PNC_MATERIAL_PROPS_WITH_ROTATION) || m->kernel.rotated;
+}
+} // namespace
+
+PNC_MATERIAL_API int pnc_material_umat_nprops(const pnc_material* m, unsigned flags) {
+  if (!m) return 0;
+  return pnc::fe_material::detail::props_count(m->kernel.p.model, props_with_rotation(m, flags));
+}
+
+PNC_MATERIAL_API int pnc_material_umat_props(const pnc_material* m, unsigned flags, double* props,
+                                             int n) {
+  const int want = pnc_material_umat_nprops(m, flags);
+  if (!m || !props || n < want) return -1;
+  pnc::fe_material::detail::fill_props(m->kernel.p, props_with_rotation(m, flags), props);
+  return want;
+}
+
+PNC_MATERIAL_API const char* pnc_material_umat_prop_name(const pnc_material* m, int i) {
+  return m ? pnc::fe_material::detail::props_name(m->kernel.p.model, i) : nullptr;
+}
+
+PNC_MATERIAL_API const char* pnc_material_umat_prop_units(const pnc_material* m, int i) {
+  return m ? pnc::fe_material::detail::props_units(m->kernel.p.model, i) : nullptr;
 }
 
 } // extern "C"

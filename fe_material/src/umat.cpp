@@ -1,9 +1,12 @@
 // Abaqus-style UMAT shim over pnc::damage::integrate() (pnc/fe_material/umat.h,
 // docs/plugin.md). No state is kept between calls: the constants come from PROPS and are
 // re-validated on every call (a few dozen flops, no allocation when they are valid).
+// Exported twice: as pnc_umat_ (the implementation, for a user's own UMAT wrapper) and as
+// umat_ (an alias, for hosts that call the routine by its Abaqus name); docs/decisions.md D164.
 #include "pnc/fe_material/umat.h"
 
 #include "abi_util.hpp"
+#include "umat_layout.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/damage/ndm.hpp"
@@ -12,6 +15,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <string>
 
@@ -21,7 +26,7 @@ using pnc::damage::Matrix6;
 using pnc::damage::Model;
 using pnc::damage::Voigt;
 
-constexpr int kRotationEntries = 9;
+using pnc::fe_material::detail::kRotationEntries;
 
 // Kernel Voigt index of each Abaqus component: Abaqus 11,22,33,12,13,23 vs kernel
 // 11,22,33,23,13,12. NTENS = 4 (plane strain / axisymmetric) is 11,22,33,12.
@@ -35,9 +40,26 @@ struct Where {
   std::size_t cmname_len;
 };
 
-// One line to stderr, then ask Abaqus for a smaller increment.
+// What a refused call is: a configuration error (layout, PROPS, NSTATV: the same on every
+// increment, so a smaller one cannot cure it) or a bad increment (strain, state, result).
+enum class Refusal { configuration, increment };
+
+// How configuration errors end (docs/decisions.md D165): "stop" (default, like Abaqus's XIT:
+// message, then exit(PNC_UMAT_EXIT_CONFIG)) or "cutback" (PNEWDT = 0.5 as for a bad
+// increment), chosen by the environment variable PNC_UMAT_ON_CONFIG_ERROR. Read only when a
+// call is refused, so accepted calls never touch the environment.
+bool stop_on_configuration_error(std::string& note) {
+  const char* v = std::getenv("PNC_UMAT_ON_CONFIG_ERROR");
+  if (!v || !*v || std::strcmp(v, "stop") == 0) return true;
+  if (std::strcmp(v, "cutback") == 0) return false;
+  note = std::string(" (PNC_UMAT_ON_CONFIG_ERROR='") + v + "' is neither 'stop' nor 'cutback')";
+  return true;
+}
+
+// One line to stderr, then ask Abaqus for a smaller increment, or stop the analysis.
 void reject(const Where& w, double* pnewdt, const std::string& argument, const std::string& value,
-            const std::string& rule) noexcept {
+            const std::string& rule, Refusal kind = Refusal::configuration) noexcept {
+  bool stop = false;
   try {
     std::string name;
     if (w.cmname) {
@@ -49,16 +71,27 @@ void reject(const Where& w, double* pnewdt, const std::string& argument, const s
       while (!name.empty() && name.back() == ' ')
         name.pop_back();
     }
+    std::string note;
+    stop = kind == Refusal::configuration && stop_on_configuration_error(note);
     std::string line = "UMAT";
     if (!name.empty()) line += " material '" + name + "'";
     if (w.noel && w.npt)
       line += " (element " + std::to_string(*w.noel) + ", point " + std::to_string(*w.npt) + ")";
     line += ": argument '" + argument + "'";
     if (!value.empty()) line += ": value '" + value + "'";
-    line += ": " + rule + "; requesting a smaller increment (PNEWDT = 0.5)\n";
+    if (stop)
+      line += ": " + rule + "; configuration error: stopping the analysis (exit status " +
+              std::to_string(PNC_UMAT_EXIT_CONFIG) + note +
+              "; PNC_UMAT_ON_CONFIG_ERROR=cutback requests PNEWDT = 0.5 instead)\n";
+    else
+      line += ": " + rule + "; requesting a smaller increment (PNEWDT = 0.5)\n";
     std::fputs(line.c_str(), stderr);
   } catch (...) {
     std::fputs("UMAT: invalid input (message could not be built); PNEWDT = 0.5\n", stderr);
+  }
+  if (stop) {
+    std::fflush(nullptr);
+    std::exit(PNC_UMAT_EXIT_CONFIG);
   }
   if (pnewdt && !(*pnewdt <= 0.5)) *pnewdt = 0.5;
 }
@@ -83,16 +116,16 @@ std::string props_argument(Model m, const std::string& field) {
 } // namespace
 
 extern "C" PNC_MATERIAL_API void
-umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd*/, double* /*scd*/,
-      double* /*rpl*/, double* /*ddsddt*/, double* /*drplde*/, double* /*drpldt*/,
-      const double* stran, const double* dstran, const double* /*time*/, const double* /*dtime*/,
-      const double* /*temp*/, const double* /*dtemp*/, const double* /*predef*/,
-      const double* /*dpred*/, const char* cmname, const int* ndi, const int* nshr,
-      const int* ntens, const int* nstatv, const double* props, const int* nprops,
-      const double* /*coords*/, const double* /*drot*/, double* pnewdt, const double* /*celent*/,
-      const double* /*dfgrd0*/, const double* /*dfgrd1*/, const int* noel, const int* npt,
-      const int* /*layer*/, const int* /*kspt*/, const int* /*kstep*/, const int* /*kinc*/,
-      size_t cmname_len) {
+pnc_umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd*/,
+          double* /*scd*/, double* /*rpl*/, double* /*ddsddt*/, double* /*drplde*/,
+          double* /*drpldt*/, const double* stran, const double* dstran, const double* /*time*/,
+          const double* /*dtime*/, const double* /*temp*/, const double* /*dtemp*/,
+          const double* /*predef*/, const double* /*dpred*/, const char* cmname, const int* ndi,
+          const int* nshr, const int* ntens, const int* nstatv, const double* props,
+          const int* nprops, const double* /*coords*/, const double* /*drot*/, double* pnewdt,
+          const double* /*celent*/, const double* /*dfgrd0*/, const double* /*dfgrd1*/,
+          const int* noel, const int* npt, const int* /*layer*/, const int* /*kspt*/,
+          const int* /*kstep*/, const int* /*kinc*/, size_t cmname_len) {
   const Where w{noel, npt, cmname, cmname_len};
   try {
     if (!stress || !statev || !ddsdde || !stran || !dstran || !ndi || !nshr || !ntens || !nstatv ||
@@ -124,17 +157,15 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       return;
     }
     Model model;
-    if (props[0] == 1.0)
-      model = Model::pnc;
-    else if (props[0] == 2.0)
-      model = Model::pp;
-    else {
+    if (!pnc::fe_material::detail::model_from_code(props[0], model)) {
       reject(w, pnewdt, "PROPS(1)", num(props[0]), "the model code must be 1 (pnc) or 2 (pp)");
       return;
     }
+    namespace layout = pnc::fe_material::detail;
     const auto& names = pnc::damage::constant_names(model);
-    const int n = static_cast<int>(names.size());
-    if (*nprops != n + 1 && *nprops != n + 1 + kRotationEntries) {
+    const int n = layout::props_constants(model);
+    const bool with_rotation = *nprops == layout::props_count(model, true);
+    if (*nprops != layout::props_count(model, false) && !with_rotation) {
       reject(w, pnewdt, "NPROPS", std::to_string(*nprops),
              std::string("model ") + pnc::damage::model_name(model) + " needs " +
                  std::to_string(n + 1) + " (model code + " + std::to_string(n) + " constants " +
@@ -154,10 +185,10 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
     p.model = model;
     for (int i = 0; i < n; ++i)
       p.k[static_cast<std::size_t>(i)] = props[1 + i];
-    if (*nprops == n + 1 + kRotationEntries)
+    if (with_rotation)
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
-          p.R(r, c) = props[1 + n + 3 * r + c];
+          p.R(r, c) = props[layout::props_rotation_offset(model) + 3 * r + c];
     try {
       pnc::damage::validate(p, "UMAT PROPS");
     } catch (const pnc::InputError& e) {
@@ -172,14 +203,16 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       if (!std::isfinite(stran[a]) || !std::isfinite(dstran[a])) {
         reject(w, pnewdt,
                "STRAN(" + std::to_string(a + 1) + ") / DSTRAN(" + std::to_string(a + 1) + ")",
-               num(stran[a]) + " / " + num(dstran[a]), "strains must be finite");
+               num(stran[a]) + " / " + num(dstran[a]), "strains must be finite",
+               Refusal::increment);
         return;
       }
       e0[map[a]] = stran[a];
       de[map[a]] = dstran[a];
     }
     if (const auto bad = pnc::fe_material::detail::check_state(statev, ns)) {
-      reject(w, pnewdt, "STATEV(" + std::to_string(bad.index + 1) + ")", num(bad.value), bad.rule);
+      reject(w, pnewdt, "STATEV(" + std::to_string(bad.index + 1) + ")", num(bad.value), bad.rule,
+             Refusal::increment);
       return;
     }
     std::array<double, 6> sv{};
@@ -197,7 +230,7 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
     Matrix6 K;
     pnc::damage::ErrorBuffer err;
     if (pnc::damage::integrate(p, s0, s1, e0, de, sigma, &K, err) != pnc::damage::Status::ok) {
-      reject(w, pnewdt, "STRAN + DSTRAN", "", err.msg);
+      reject(w, pnewdt, "STRAN + DSTRAN", "", err.msg, Refusal::increment);
       return;
     }
 
@@ -209,7 +242,8 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       const std::string what = std::string(bad.what) == "stress"  ? "STRESS"
                                : std::string(bad.what) == "state" ? "STATEV"
                                                                   : "DDSDDE";
-      reject(w, pnewdt, what + " (result of STRAN + DSTRAN)", num(bad.value), bad.rule);
+      reject(w, pnewdt, what + " (result of STRAN + DSTRAN)", num(bad.value), bad.rule,
+             Refusal::increment);
       return;
     }
 
@@ -223,8 +257,20 @@ umat_(double* stress, double* statev, double* ddsdde, double* sse, double* /*spd
       statev[i] = sv1[static_cast<std::size_t>(i)];
     if (sse) *sse = 0.5 * sigma.dot(e0 + de); // secant (damaged) elastic energy density
   } catch (const std::exception& e) {
-    reject(w, pnewdt, "(internal)", "", e.what());
+    reject(w, pnewdt, "(internal)", "", e.what(), Refusal::increment);
   } catch (...) {
-    reject(w, pnewdt, "(internal)", "", "unknown error");
+    reject(w, pnewdt, "(internal)", "", "unknown error", Refusal::increment);
   }
 }
+
+// The Abaqus name: the same function (an alias, no second copy), for hosts that call `umat`.
+extern "C" PNC_MATERIAL_API void
+umat_(double* stress, double* statev, double* ddsdde, double* sse, double* spd, double* scd,
+      double* rpl, double* ddsddt, double* drplde, double* drpldt, const double* stran,
+      const double* dstran, const double* time, const double* dtime, const double* temp,
+      const double* dtemp, const double* predef, const double* dpred, const char* cmname,
+      const int* ndi, const int* nshr, const int* ntens, const int* nstatv, const double* props,
+      const int* nprops, const double* coords, const double* drot, double* pnewdt,
+      const double* celent, const double* dfgrd0, const double* dfgrd1, const int* noel,
+      const int* npt, const int* layer, const int* kspt, const int* kstep, const int* kinc,
+      size_t cmname_len) __attribute__((alias("pnc_umat_")));

@@ -662,6 +662,8 @@ protected:
   std::array<double, 36> ddsdde{};
   std::vector<double> statev = std::vector<double>(6, 0.0);
   void SetUp() override {
+    // configuration errors in the non-exiting mode (the default "stop" mode: test_umat_stop.cpp)
+    setenv("PNC_UMAT_ON_CONFIG_ERROR", "cutback", 1);
     call.nprops = static_cast<int>(props.size());
     call.nstatv = 6;
     call.pnewdt = 1e36;
@@ -838,8 +840,8 @@ TEST(FeMaterialVerdict, ANotUsableCardIsRefusedUnlessTheHostAsks) {
   EXPECT_NE(msg.find(bad), std::string::npos) << msg;
   EXPECT_NE(msg.find("not usable"), std::string::npos) << msg;
   EXPECT_NE(msg.find("R^2 = -11"), std::string::npos) << msg; // the card's own reason
-  pnc_material* m = pnc_material_create_ex(bad.c_str(), PNC_MATERIAL_ALLOW_NOT_USABLE, err,
-                                           sizeof err);
+  pnc_material* m =
+      pnc_material_create_ex(bad.c_str(), PNC_MATERIAL_ALLOW_NOT_USABLE, err, sizeof err);
   ASSERT_NE(m, nullptr) << err;
   EXPECT_STREQ(pnc_material_verdict(m), "not usable");
   pnc_material_destroy(m);

@@ -64,6 +64,11 @@ struct Api {
   pnc_material_state_name_fn state_name = nullptr;
   pnc_material_init_state_fn init_state = nullptr;
   pnc_material_integrate_fn integrate = nullptr;
+  // UMAT PROPS metadata: optional (added within ABI 1; null for an older plugin)
+  pnc_material_umat_nprops_fn umat_nprops = nullptr;
+  pnc_material_umat_props_fn umat_props = nullptr;
+  pnc_material_umat_prop_name_fn umat_prop_name = nullptr;
+  pnc_material_umat_prop_units_fn umat_prop_units = nullptr;
 };
 
 namespace detail {
@@ -193,6 +198,34 @@ public:
               tangent ? tangent->data() : nullptr);
   }
 
+  /// The UMAT PROPS of this material (umat.h, docs/plugin.md): model code, constants (SI)
+  /// and, when it is not the identity or with_rotation is true, the platelet rotation R.
+  /// Throws Error when the library predates this metadata.
+  std::vector<double> umat_props(bool with_rotation = false) const {
+    require_props_metadata();
+    const unsigned flags = with_rotation ? PNC_MATERIAL_PROPS_WITH_ROTATION : 0u;
+    std::vector<double> props(static_cast<std::size_t>(api().umat_nprops(m_, flags)));
+    if (api().umat_props(m_, flags, props.data(), static_cast<int>(props.size())) !=
+        static_cast<int>(props.size()))
+      throw Error("pnc::fe_material::Material::umat_props: the library refused to write PROPS");
+    return props;
+  }
+  /// Names ("model_code", "C11", ..., "R33") and units ("Pa", "1") of the first n PROPS.
+  std::vector<std::string> umat_prop_names(std::size_t n) const {
+    require_props_metadata();
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < n; ++i)
+      out.push_back(detail::str(api().umat_prop_name(m_, static_cast<int>(i))));
+    return out;
+  }
+  std::vector<std::string> umat_prop_units(std::size_t n) const {
+    require_props_metadata();
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < n; ++i)
+      out.push_back(detail::str(api().umat_prop_units(m_, static_cast<int>(i))));
+    return out;
+  }
+
   /// The card's verdict: "usable", "usable with warnings" or "not usable".
   std::string verdict() const { return detail::str(api().verdict(m_)); }
 
@@ -204,6 +237,13 @@ private:
   Material(std::shared_ptr<const detail::Library> lib, pnc_material* m)
       : lib_(std::move(lib)), m_(m) {}
   const Api& api() const { return lib_->api; }
+  void require_props_metadata() const {
+    const Api& a = api();
+    if (!a.umat_nprops || !a.umat_props || !a.umat_prop_name || !a.umat_prop_units)
+      throw Error("pnc::fe_material::Material: '" + lib_->path +
+                  "': symbol 'pnc_material_umat_props' is missing: the plugin predates the "
+                  "PROPS metadata; use a newer libpnc_material");
+  }
   void reset() noexcept {
     if (m_) lib_->api.destroy(m_);
     m_ = nullptr;
@@ -228,6 +268,10 @@ private:
     a.state_name = &pnc_material_state_name;
     a.init_state = &pnc_material_init_state;
     a.integrate = &pnc_material_integrate;
+    a.umat_nprops = &pnc_material_umat_nprops;
+    a.umat_props = &pnc_material_umat_props;
+    a.umat_prop_name = &pnc_material_umat_prop_name;
+    a.umat_prop_units = &pnc_material_umat_prop_units;
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
@@ -292,6 +336,10 @@ public:
     resolve(*lib, "pnc_material_state_name", a.state_name);
     resolve(*lib, "pnc_material_init_state", a.init_state);
     resolve(*lib, "pnc_material_integrate", a.integrate);
+    resolve_optional(*lib, "pnc_material_umat_nprops", a.umat_nprops);
+    resolve_optional(*lib, "pnc_material_umat_props", a.umat_props);
+    resolve_optional(*lib, "pnc_material_umat_prop_name", a.umat_prop_name);
+    resolve_optional(*lib, "pnc_material_umat_prop_units", a.umat_prop_units);
     lib_ = std::move(lib);
   }
 
@@ -318,6 +366,11 @@ private:
                   "' is missing: not a pnc material plugin of ABI " +
                   std::to_string(PNC_MATERIAL_ABI_VERSION) + " (" + detail::str(dlerror()) + ")");
     fn = reinterpret_cast<Fn>(sym);
+  }
+  /// A symbol added within the ABI version: left null when the plugin is older.
+  template <class Fn> static void resolve_optional(detail::Library& lib, const char* name, Fn& fn) {
+    dlerror();
+    fn = reinterpret_cast<Fn>(dlsym(lib.handle, name));
   }
 
   std::shared_ptr<const detail::Library> lib_;

@@ -130,6 +130,25 @@ PNC_MATERIAL_API int pnc_material_integrate(const pnc_material* m, const double*
                                             const double dstrain[6], double stress[6],
                                             double* tangent, char* err, size_t errlen);
 
+/* The UMAT PROPS of a material: the layout umat_ / pnc_umat_ read (umat.h, docs/plugin.md
+ * "PROPS"), so that no host assembles PROPS by hand. PROPS(1) is the model code (1 = pnc,
+ * 2 = pp), PROPS(2..1+n) the n constants (SI, order of pnc_material_constant_name()), then,
+ * optionally, the 9 entries of the platelet rotation R (row-major). Without
+ * PNC_MATERIAL_PROPS_WITH_ROTATION in flags, R is included only when it is not the identity.
+ * Added after the first release of ABI 1: an older plugin lacks these symbols (the C++
+ * wrapper then throws when they are used). */
+#define PNC_MATERIAL_PROPS_WITH_ROTATION 1u
+/* NPROPS for these flags (0 for a NULL material). */
+PNC_MATERIAL_API int pnc_material_umat_nprops(const pnc_material* m, unsigned flags);
+/* Writes NPROPS values into props[0..n-1]; returns NPROPS, or -1 (nothing written) when m or
+ * props is NULL or n < NPROPS. */
+PNC_MATERIAL_API int pnc_material_umat_props(const pnc_material* m, unsigned flags, double* props,
+                                             int n);
+/* Name ("model_code", "C11", ..., "alpha", "R11", ..., "R33") and units ("Pa" or "1") of
+ * PROPS(i + 1), for 0 <= i < NPROPS with the rotation; NULL outside. Static strings. */
+PNC_MATERIAL_API const char* pnc_material_umat_prop_name(const pnc_material* m, int i);
+PNC_MATERIAL_API const char* pnc_material_umat_prop_units(const pnc_material* m, int i);
+
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
 typedef pnc_material* (*pnc_material_create_fn)(const char*, char*, size_t);
@@ -148,6 +167,10 @@ typedef const char* (*pnc_material_state_name_fn)(const pnc_material*, int);
 typedef void (*pnc_material_init_state_fn)(const pnc_material*, double*);
 typedef int (*pnc_material_integrate_fn)(const pnc_material*, const double*, double*, const double*,
                                          const double*, double*, double*, char*, size_t);
+typedef int (*pnc_material_umat_nprops_fn)(const pnc_material*, unsigned);
+typedef int (*pnc_material_umat_props_fn)(const pnc_material*, unsigned, double*, int);
+typedef const char* (*pnc_material_umat_prop_name_fn)(const pnc_material*, int);
+typedef const char* (*pnc_material_umat_prop_units_fn)(const pnc_material*, int);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -14,8 +14,16 @@
  *    row-major, x_local = R x_material.
  *  - STATEV: NSTATV must equal the model's state size (pnc 6, pp 2). A state of all zeros is
  *    read as the virgin state (Abaqus initialises STATEV to zero).
- *  - On bad input one line naming UMAT, the argument, the value and the rule goes to stderr,
- *    PNEWDT is lowered to 0.5 and STRESS/STATEV/DDSDDE are left untouched.
+ *  - A refused call prints one line naming UMAT, the argument, the value and the rule to
+ *    stderr and leaves STRESS/STATEV/DDSDDE untouched. A bad increment (non-finite STRAN,
+ *    DSTRAN or STATEV, or a non-finite result) lowers PNEWDT to 0.5. A configuration error
+ *    (NTENS/NDI/NSHR, NPROPS, PROPS, NSTATV, a NULL argument: the same on every increment)
+ *    stops the process like Abaqus's XIT, with exit(PNC_UMAT_EXIT_CONFIG), unless the
+ *    environment variable PNC_UMAT_ON_CONFIG_ERROR is "cutback": then PNEWDT = 0.5 as well.
+ *
+ * Two names, one function: pnc_umat_ (for a user's own UMAT that forwards to it, so the
+ * plugin's symbol never clashes with the user's `umat_`) and umat_ (for hosts that call the
+ * routine by its Abaqus name directly).
  */
 #ifndef PNC_FE_MATERIAL_UMAT_H
 #define PNC_FE_MATERIAL_UMAT_H
@@ -28,6 +36,21 @@
 extern "C" {
 #endif
 
+/* Exit status of a configuration error in "stop" mode (EX_CONFIG of sysexits.h). */
+#define PNC_UMAT_EXIT_CONFIG 78
+
+PNC_MATERIAL_API void
+pnc_umat_(double* stress, double* statev, double* ddsdde, double* sse, double* spd, double* scd,
+          double* rpl, double* ddsddt, double* drplde, double* drpldt, const double* stran,
+          const double* dstran, const double* time, const double* dtime, const double* temp,
+          const double* dtemp, const double* predef, const double* dpred, const char* cmname,
+          const int* ndi, const int* nshr, const int* ntens, const int* nstatv, const double* props,
+          const int* nprops, const double* coords, const double* drot, double* pnewdt,
+          const double* celent, const double* dfgrd0, const double* dfgrd1, const int* noel,
+          const int* npt, const int* layer, const int* kspt, const int* kstep, const int* kinc,
+          size_t cmname_len);
+
+/* The same function under its Abaqus name. */
 PNC_MATERIAL_API void umat_(double* stress, double* statev, double* ddsdde, double* sse,
                             double* spd, double* scd, double* rpl, double* ddsddt, double* drplde,
                             double* drpldt, const double* stran, const double* dstran,
