@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
   fit->add_flag("--fit-alpha", fa.fit_alpha,
-                "Always fit the critical-stretch factor alpha (0.5..1.5); default: fitted when "
+                "Always fit the critical-stretch factor alpha (1/lambda_c = 0.8035..1.5, D12i); default: fitted when "
                 "the data pass the damage onset");
   fit->add_flag("--hold-alpha", fa.hold_alpha,
                 "Hold alpha at --alpha (or the tables' value) even past the damage onset");

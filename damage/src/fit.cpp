@@ -63,6 +63,12 @@ private:
   const PointTerm* t_;
 };
 
+// The fitted alpha's lower bound (decision D12i): 1/lambda_c, the onset at zero strain, so
+// that the virgin state (kappa = 1) is undamaged and C0 is the material's initial stiffness.
+double alpha_lower_bound() {
+  return std::max(0.5, 1.0 / critical_stretch());
+}
+
 struct SolveResult {
   ceres::Solver::Summary summary;
   double seconds = 0;
@@ -78,6 +84,8 @@ SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions
     blocks.emplace_back(theta.begin() + off, theta.begin() + off + s);
     off += s;
   }
+  // decision D12i: a fitted alpha starts inside its bounds
+  if (fit_alpha) blocks[3][0] = std::clamp(blocks[3][0], alpha_lower_bound(), 1.5);
   ceres::Problem problem;
   std::vector<double*> ptrs;
   for (auto& b : blocks)
@@ -112,7 +120,7 @@ SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions
     problem.SetParameterLowerBound(ptrs[1], 0, 1e-6);
   }
   if (fit_alpha) {
-    problem.SetParameterLowerBound(ptrs[3], 0, 0.5);
+    problem.SetParameterLowerBound(ptrs[3], 0, alpha_lower_bound()); // D12i
     problem.SetParameterUpperBound(ptrs[3], 0, 1.5);
   }
   ceres::Solver::Options so;
@@ -450,6 +458,23 @@ FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
       changed = true;
     }
     if (!changed) break;
+  }
+  // decision D12i: an alpha that ends on its lower bound (damage onset at zero strain) is the
+  // constrained optimum, not a fitted value with a standard error: it is reported at the bound
+  if (fit_alpha && rep.fitted[ns - 1] &&
+      detail::constants_from_theta(m, theta).back() <= alpha_lower_bound() * (1 + 1e-9)) {
+    rep.fitted[ns - 1] = false;
+    rep.status[ns - 1] = "at bound";
+    rep.note[ns - 1] =
+        fmt::format("the fit ended on the lower bound 1/lambda_c = {:.5g}: the damage "
+                    "onset is at zero strain (the data bend from their start); "
+                    "no standard error",
+                    alpha_lower_bound());
+    rep.alpha_choice += "; ended on its lower bound 1/lambda_c (damage onset at zero strain, D12i)";
+    free.erase(std::remove(free.begin(), free.end(), n - 1), free.end());
+    Jf.resize(J.rows(), static_cast<Eigen::Index>(free.size()));
+    for (std::size_t c = 0; c < free.size(); ++c)
+      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
   }
   const auto& summary = sr.summary;
   rep.seconds = sr.seconds;

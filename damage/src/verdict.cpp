@@ -102,11 +102,11 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
   // Tensile (or positive shear) stress before the damage onset in every driven case.
   const double onset = p.alpha() * critical_stretch() - 1.0;
   // decision D12i: an onset below zero strain damages the virgin material
-  if (onset < 0)
+  if (onset < -1e-9)
     v.warn(fmt::format("alpha = {:.4g} puts the damage onset at the stretch {:.4g} < 1 (alpha < "
                        "1/lambda_c = {:.4g}): the law is damaged at zero strain, so C0 and the "
-                       "derived moduli are not the material's initial stiffness (the fit uses the "
-                       "damage function to bend the curve from its start)",
+                       "derived moduli are not the material's initial stiffness (a held or given "
+                       "alpha: a fitted one is bounded below by 1/lambda_c)",
                        p.alpha(), p.alpha() * critical_stretch(), 1.0 / critical_stretch()));
   for (const auto& c : curves) {
     const DeformationCase& dc = deformation_case(c.case_id);

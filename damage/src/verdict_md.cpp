@@ -12,18 +12,30 @@ namespace pnc::damage {
 
 namespace {
 
-/// Points of a curve before the damage onset of `p`: the loading rows up to (not including)
-/// the first row at which the fitted law has damaged (any D > 0), integrated along the rows.
-int points_before_onset(const NdmParameters& p, const CaseCurve& c) {
-  NdmState s0, s1;
-  Voigt e0 = Voigt::Zero(), sigma;
+/// Points of a curve in the linear range of `p` (decision D12j): the leading loading rows at
+/// which the fitted law's driven stress differs from its undamaged response (the same law
+/// with every damage constant zero) by at most the point's standard error; without point
+/// errors, the rows before any damage (D > 0). Integrated along the rows.
+int points_in_linear_range(const NdmParameters& p, const CaseCurve& c) {
+  NdmParameters elastic = p;
+  const auto& names = constant_names(p.model);
+  for (std::size_t j = 0; j < names.size(); ++j)
+    if (names[j][0] == 'A' || names[j][0] == 'B') elastic.k[j] = 0.0;
+  const int driven = deformation_case(c.id).driven;
+  NdmState s0, s1, u0, u1;
+  Voigt e0 = Voigt::Zero(), sigma, sigma_el;
   ErrorBuffer err;
   for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
     const Voigt e = c.strain.row(k).transpose();
-    if (integrate(p, s0, s1, e0, e - e0, sigma, nullptr, err) != Status::ok)
+    if (integrate(p, s0, s1, e0, e - e0, sigma, nullptr, err) != Status::ok ||
+        integrate(elastic, u0, u1, e0, e - e0, sigma_el, nullptr, err) != Status::ok)
       return static_cast<int>(k);
-    if (s1.D[0] > 0 || s1.D[1] > 0 || s1.D[2] > 0) return static_cast<int>(k);
+    const double se = c.stress_stderr.rows() > k ? c.stress_stderr(k, driven) : 0.0;
+    if (se > 0 ? std::abs(sigma[driven] - sigma_el[driven]) > se
+               : (s1.D[0] > 0 || s1.D[1] > 0 || s1.D[2] > 0))
+      return static_cast<int>(k);
     s0 = s1;
+    u0 = u1;
     e0 = e;
   }
   return static_cast<int>(c.strain.rows());
@@ -74,10 +86,11 @@ void judge_md_card(const FitReport& rep, const StressStrainData& data, const MdC
   }
   // enough points in the linear range of every driven curve
   for (const auto& c : data.cases) {
-    const int n = points_before_onset(rep.params, c);
+    const int n = points_in_linear_range(rep.params, c);
     if (n < g.min_linear_points)
-      v.warn(fmt::format("case {}: {} point(s) before the fitted damage onset (an MD card needs "
-                         ">= {} to fix the elastic constants)",
+      v.warn(fmt::format("case {}: {} point(s) in the linear range (where the fitted damage "
+                         "changes the stress by less than the point's standard error; an MD "
+                         "card needs >= {} to fix the elastic constants)",
                          c.id, n, g.min_linear_points));
   }
 }

@@ -102,18 +102,32 @@ TEST(FitRange, ARangeThatLeavesTooFewRowsIsRefusedWithTheCaseNamed) {
   EXPECT_THROW(fit_ndm(d, o), pnc::InputError);
 }
 
-TEST(FitVerdict, AnOnsetBelowZeroStrainIsAWarning) {
-  for (double alpha : {0.78, 0.85}) { // 1/lambda_c = 0.8035
+TEST(FitVerdict, AnOnsetBelowZeroStrainIsAWarningAndAFittedAlphaStopsAtZeroStrain) {
+  const double bound = 1.0 / critical_stretch(); // 0.8035
+  for (double alpha : {0.78, 0.85}) {
     NdmParameters truth = dissertation_parameters(Model::pp);
     truth["alpha"] = alpha;
+    const StressStrainData d = pp_curves(truth, 0.5e6, 80);
     FitOptions o;
     o.model = Model::pp;
     o.alpha_mode = AlphaMode::fit;
-    o.alpha = alpha;
-    const FitReport r = fit_ndm(pp_curves(truth, 0.5e6, 80), o);
-    ASSERT_TRUE(r.fitted.back());
-    EXPECT_LT(std::abs(r.params.alpha() - alpha), 5 * r.std_error.back());
-    EXPECT_EQ(has_reason(r.verdict, "puts the damage onset at the stretch"), alpha < 0.8035)
-        << alpha;
+    o.alpha = alpha; // below the bound: the fit starts on it
+    const FitReport r = fit_ndm(d, o);
+    if (alpha < bound) {
+      // the data want an onset below zero strain; the fit stops on the bound and says so
+      EXPECT_EQ(r.status.back(), "at bound") << r.alpha_choice;
+      EXPECT_FALSE(r.fitted.back());
+      EXPECT_NEAR(r.params.alpha(), bound, 1e-9);
+      EXPECT_FALSE(has_reason(r.verdict, "puts the damage onset at the stretch"));
+      // held there by the user instead: the verdict warns
+      FitOptions h = o;
+      h.alpha_mode = AlphaMode::hold;
+      const FitReport rh = fit_ndm(d, h);
+      EXPECT_TRUE(has_reason(rh.verdict, "puts the damage onset at the stretch"));
+    } else {
+      ASSERT_TRUE(r.fitted.back());
+      EXPECT_LT(std::abs(r.params.alpha() - alpha), 5 * r.std_error.back());
+      EXPECT_FALSE(has_reason(r.verdict, "puts the damage onset at the stretch"));
+    }
   }
 }

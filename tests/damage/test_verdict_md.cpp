@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 using namespace pnc::damage;
@@ -83,8 +84,9 @@ TEST(VerdictMd, EachGateWarnsWhenItFails) {
   w = gate_warnings(fit(narrow), narrow, g);
   EXPECT_TRUE(any_has(w, "scatter about the fit is larger")) << (w.empty() ? "" : w[0]);
 
-  // 12 points to 30 % extension: 6 of them before the 17.1 % onset (case 2); the shear case
-  // (onset at gamma ~ 0.33 of 0.40) keeps 9 and is not flagged
+  // 12 points to 30 % extension: 6 of them before the 17.1 % onset and one just past it where
+  // the damage term is still below the 1 MPa point error (case 2: 7 < 8, D12j); the shear
+  // case (onset at gamma ~ 0.33 of 0.40) keeps 9 and is not flagged
   const auto sparse = pp_data(12, 1e6);
   w = gate_warnings(fit(sparse), sparse, g);
   EXPECT_TRUE(any_has(w, "case 2: ")) << (w.empty() ? "" : w[0]);
@@ -94,6 +96,47 @@ TEST(VerdictMd, EachGateWarnsWhenItFails) {
   const auto noisy = pp_data(80, 4e7);
   w = gate_warnings(fit(noisy), noisy, g);
   EXPECT_TRUE(any_has(w, "the standard error is")) << (w.empty() ? "" : w[0]);
+}
+
+// D12j: with the onset at zero strain (alpha = 1/lambda_c) the damage grows as the square of
+// the stretch excess, D ~ (D''(lambda_c)/2) (lambda/alpha - lambda_c)^2, so the first rows
+// are linear within their errors. The linear range counted by the gate is the rows where
+// |2 B1 D(1 + e) e| (the damage term of sigma22 in case 2) stays below the point error.
+TEST(VerdictMd, AnOnsetAtZeroStrainKeepsTheRowsWhereDamageIsBelowThePointError) {
+  NdmParameters truth = dissertation_parameters(Model::pp);
+  const double lc = critical_stretch(), a = 1.0 / lc;
+  truth["alpha"] = a;
+  const double sd = 1e6;
+  SynthOptions so;
+  so.points = 120;
+  so.noise_sd = sd;
+  so.seed = 5;
+  so.max_extension = 0.12;
+  so.max_shear = 0.2;
+  so.cases = {2, 6};
+  const StressStrainData d = synthesize(truth, so);
+  // rows of case 2 whose damage term (closed form, true constants) is below the point error
+  const double k = 1.0 / std::abs(2 * std::pow(lc, -13) - std::pow(lc, -7));
+  int expected = 0;
+  for (int i = 1; i <= so.points; ++i) {
+    const double e = so.max_extension * i / so.points, x = (1 + e) / a;
+    const double D = x > lc ? 1 + k * (2 * std::pow(x, -13) - std::pow(x, -7)) : 0.0;
+    if (std::abs(2 * truth["B1"] * D * e) > sd) break;
+    ++expected;
+  }
+  ASSERT_GT(expected, 20); // the premise: a long linear range although the onset is at zero
+  FitOptions o;
+  o.model = Model::pp;
+  o.alpha_mode = AlphaMode::hold;
+  o.alpha = a;
+  const FitReport r = fit_ndm(d, o);
+  MdCardGates g;
+  g.replicas = 4;
+  // the fitted constants differ from the truth within their errors: a margin of 25 % of rows
+  g.min_linear_points = static_cast<int>(0.75 * expected);
+  EXPECT_FALSE(any_has(gate_warnings(r, d, g), "case 2: "));
+  g.min_linear_points = static_cast<int>(1.25 * expected) + 1;
+  EXPECT_TRUE(any_has(gate_warnings(r, d, g), "case 2: "));
 }
 
 TEST(VerdictMd, DeterministicDataNeedNeitherReplicasNorPointErrors) {
