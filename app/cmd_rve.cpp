@@ -19,6 +19,7 @@
 #include "pnc/rve/lammps_server.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replica_fits.hpp"
+#include "pnc/rve/replica_trend.hpp"
 #include "pnc/rve/runner.hpp"
 
 #include <CLI/CLI.hpp>
@@ -262,6 +263,26 @@ int run_characterize(const CharacterizeArgs& a) {
         "separate replica fits (Student t factor {:.3g}; D130): {} constant(s) raised",
         replica_fits.replicas, replica_fits.coverage_factor, raised);
   }
+  // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
+  // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
+  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max);
+  if (trend.applicable) {
+    static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
+    VerdictLimits limits;
+    limits.independent_residuals = false;
+    card.verdict = judge_fit(honest, limits);
+    if (trend.p_family < limits.p_misfit) {
+      const auto worst = std::min_element(
+          trend.curves.begin(), trend.curves.end(),
+          [](const rve::TrendCurve& x, const rve::TrendCurve& y) { return x.p < y.p; });
+      card.verdict.warn(fmt::format(
+          "the model misses a trend common to the {} replicas (case {} sigma{}: Legendre "
+          "coefficients of the residuals against their between-replica errors, p = {:.2g}, "
+          "Bonferroni over {} curves; D12k)",
+          trend.replicas, worst->case_id, kVoigt[worst->component % 6], trend.p_family,
+          trend.curves.size()));
+    }
+  }
   // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
   // points in the linear range)
   MdCardGates gates;
@@ -355,6 +376,7 @@ int run_characterize(const CharacterizeArgs& a) {
   rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += rve::replica_fits_markdown(replica_fits, rep);
+  rep_md += rve::replica_trend_markdown(trend);
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, o.model));
   rep_md +=

@@ -35,13 +35,13 @@ void judge_statistics(const FitReport& rep, const VerdictLimits& L, Verdict& v) 
     else if (std::isfinite(c.r2) && c.r2 < L.r2_warning)
       v.warn(fmt::format("{}: R^2 = {:.3g} < {}: the curve is poorly described", curve, c.r2,
                          L.r2_warning));
-    if (c.runs_p * series < L.p_misfit)
+    if (L.independent_residuals && c.runs_p * series < L.p_misfit)
       v.warn(fmt::format("{}: the residuals run in long stretches of one sign ({} runs, {:.1f} "
                          "expected; p = {:.2g}, Bonferroni over {} curves): the model misses a "
                          "trend of this curve",
                          curve, c.runs, c.runs_expected, c.runs_p * series, series));
   }
-  if (std::isfinite(rep.chi2_p) && rep.chi2_p < L.p_misfit)
+  if (L.independent_residuals && std::isfinite(rep.chi2_p) && rep.chi2_p < L.p_misfit)
     v.warn(fmt::format("the model does not fit the data within their standard errors: "
                        "chi^2/dof = {:.3g} ({} dof, p = {:.2g}); the model, alpha or the "
                        "errors are wrong, and the standard errors were scaled up by "

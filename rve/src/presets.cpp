@@ -107,13 +107,13 @@ const char* demo_glass_text = R"({
                    "hot_steps": 10000, "cool_steps": 25000, "ensemble": "npt",
                    "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 10000,
                    "final_steps": 2500 },
-  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 30, "timestep_fs": 20.0,
-              "hold_steps": 2000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+  "deform": { "cases": [2, 6], "strain_max": 0.12, "steps": 48, "timestep_fs": 20.0,
+              "hold_steps": 1000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "phase_check": { "enabled": true, "steps": 4000, "sample_every": 10,
                    "cavitation_steps": 2000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "fit": { "fit_alpha": true, "alpha": 0.82, "strain_max": 0.08 },
   "run": { "jobs": 2, "replicas": 4 }
 })";
 
@@ -129,13 +129,13 @@ const char* paper_glass_text = R"({
                    "hot_steps": 50000, "cool_steps": 125000, "ensemble": "npt",
                    "pressure_atm": 0.0, "pdamp_fs": 20000.0, "npt_steps": 25000,
                    "final_steps": 5000 },
-  "deform": { "cases": [2, 6], "strain_max": 0.06, "steps": 40, "timestep_fs": 20.0,
-              "hold_steps": 5000, "sample_every": 10, "blocks": 10, "temperature": 80.0,
+  "deform": { "cases": [2, 6], "strain_max": 0.12, "steps": 48, "timestep_fs": 20.0,
+              "hold_steps": 2500, "sample_every": 10, "blocks": 10, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "phase_check": { "enabled": true, "steps": 10000, "sample_every": 10,
                    "cavitation_steps": 5000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "fit": { "hold_alpha": true, "alpha": 0.82 },
+  "fit": { "fit_alpha": true, "alpha": 0.82, "strain_max": 0.08 },
   "run": { "jobs": 2, "replicas": 4 }
 })";
 

@@ -213,8 +213,12 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   EXPECT_EQ(r.cases, (std::vector<int>{2, 6}));
   EXPECT_EQ(r.stress, "total");
   EXPECT_EQ(r.moving_average, 1);
-  EXPECT_TRUE(r.hold_alpha); // decision D138: onset at 2 % strain, alpha held at 0.82
+  // decision D138: alpha fitted from 0.82 (bounded below by 1/lambda_c, D12i), fit range 0.08
+  // below the cavitation of case 2 (D12h)
+  EXPECT_TRUE(r.fit_alpha);
+  EXPECT_FALSE(r.hold_alpha);
   EXPECT_DOUBLE_EQ(r.fit_alpha_start, 0.82);
+  EXPECT_DOUBLE_EQ(r.fit_strain_max, 0.08);
   EXPECT_NEAR(r.kg.temperature_unit(), 400.0, 1e-6);
   // the glass at T* = 0.2 and the melt at T* = 1, in real units
   EXPECT_NEAR(r.equilibrate.temperature / r.kg.temperature_unit(), 0.2, 1e-9);
@@ -245,7 +249,7 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   j["deform"]["cases"] = {1, 2};
   EXPECT_EQ(field_of(j), "deform.cases");
   j = preset_json("demo_glass");
-  j["fit"]["fit_alpha"] = true; // and hold_alpha: exclusive
+  j["fit"]["hold_alpha"] = true; // and fit_alpha: exclusive
   EXPECT_EQ(field_of(j), "fit.hold_alpha");
   j = preset_json("demo_glass");
   j["fit"]["alpha"] = 0.3;

@@ -32,6 +32,10 @@ struct VerdictLimits {
   double r2_not_usable = 0.0; ///< a fitted curve with R^2 below: worse than its mean
   double r2_warning = 0.9;    ///< below: the curve is poorly described
   double p_misfit = 1e-3;     ///< family-wise level of the chi^2 and runs tests
+  /// false: the residuals are correlated along the curves (replica-mean MD curves), so the
+  /// runs test and the chi^2 p-value, which assume independent residuals, are not applied;
+  /// the caller tests misfit another way (pnc::rve::replica_trend_test, decision D12k)
+  bool independent_residuals = true;
   /// standard error above this fraction of the constant's scale (|value|, or for a damage
   /// constant the largest undamaged stiffness it reduces)
   double relative_error_warning = 0.5;

@@ -1,0 +1,47 @@
+#pragma once
+// pnc/rve/replica_trend.hpp: the misfit test of a fit to replica-mean curves (decision D12k).
+// Units: stresses Pa, strains dimensionless.
+//
+// All strain steps of one replica deform the same frozen structure, so its deviations from
+// the mean are correlated along its curves (lag-1 autocorrelation 0.5-0.97 on the glass).
+// Tests that take the residuals of the mean curves as independent (the runs test, the p-value
+// of chi^2) then reject a correct model. Here each replica's residual curve about the joint
+// fit is projected on the Legendre polynomials P0..P3 of the driven strain mapped onto [-1, 1]
+// over the fitted rows: one replica is one independent sample of those four coefficients,
+// whatever the correlation along its curve. A trend the model misses is common to every
+// replica, so the mean of its coefficient differs from zero by more than the between-replica
+// standard error allows (Student t with N - 1 degrees of freedom, two-sided).
+#include "pnc/damage/fit.hpp"
+#include "pnc/rve/replicas.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace pnc::rve {
+
+struct TrendCurve {
+  int case_id = 0, component = 0, points = 0;
+  std::array<double, 4> mean{}, se{}; ///< Pa: coefficients of P0..P3 over the replicas
+  std::array<double, 4> t{};          ///< mean / se
+  double p = 1; ///< smallest two-sided p of the four coefficients, times 4 (Bonferroni)
+};
+
+struct ReplicaTrend {
+  bool applicable = false; ///< needs >= 3 replicas (>= 2 degrees of freedom)
+  std::string why_not;     ///< when not applicable
+  int replicas = 0;
+  std::vector<TrendCurve> curves; ///< one per fitted curve of the joint fit
+  double p_family = 1;            ///< min over curves of p, times the number of curves (Bonferroni)
+};
+
+/// The test for the fitted curves of `joint` (its components list) on the replica curves of
+/// `c`, over the rows the fit used (the leading rows with every strain component <=
+/// strain_max; 0 = every row).
+ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport& joint,
+                                double strain_max);
+
+/// Markdown section: per curve the coefficients, their errors and p.
+std::string replica_trend_markdown(const ReplicaTrend& t);
+
+} // namespace pnc::rve

@@ -1,0 +1,135 @@
+// The misfit test across replicas (decision D12k), by Monte Carlo on replica curves whose
+// noise is correlated along the curve the way an MD replica's is (a frozen structure strained
+// step by step): a random offset per replica plus AR(1) noise with lag-1 correlation 0.9.
+// Calibration: with the true law, the family-wise p falls below 0.05 in at most ~5 % of the
+// trials (Bonferroni makes it conservative), while the runs test, which assumes independent
+// residuals, rejects the true law in most of them. Power: a trend common to every replica
+// (a cubic bump the law has no term for) is found.
+#include "pnc/damage/fit.hpp"
+#include "pnc/damage/reference.hpp"
+#include "pnc/rve/replica_trend.hpp"
+#include "pnc/rve/statistics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace pnc;
+
+namespace {
+
+struct Trial {
+  rve::CombinedCases cases;
+  damage::StressStrainData mean; // what the joint fit sees
+};
+
+// N replicas of cases 2 and 6 of the pure-polymer law (the tables' constants, alpha = 0.85 so
+// that both modes damage within 0.12), rows 0.003 .. 0.12; noise sd 2 MPa per point (offset 1
+// MPa + AR(1) 1.7 MPa, rho 0.9); `bump` Pa of a shape the law does not have, common to all.
+Trial make_trial(int nrep, std::mt19937_64& rng, double bump) {
+  damage::NdmParameters p = damage::dissertation_parameters(damage::Model::pp);
+  p["alpha"] = 0.85;
+  std::normal_distribution<double> g(0, 1);
+  const int n = 40;
+  const double rho = 0.9, s_off = 1e6, s_ar = 1.7e6;
+  Trial t;
+  t.cases.replicas = nrep;
+  t.mean.source = "<monte carlo>";
+  t.mean.stress_definition = "synthetic";
+  for (int id : {2, 6}) {
+    rve::CombinedCase cc;
+    cc.id = id;
+    cc.voigt = id == 2 ? 1 : 5;
+    cc.strain.resize(n, 6);
+    for (int k = 0; k < n; ++k)
+      cc.strain.row(k) = damage::case_strain(id, 0.12 * (k + 1) / n).transpose();
+    const auto truth = damage::stress_path(p, cc.strain);
+    for (int r = 0; r < nrep; ++r) {
+      rve::PathM y = truth;
+      for (int j = 0; j < 6; ++j) {
+        double ar = s_ar * g(rng);
+        const double off = s_off * g(rng);
+        for (int k = 0; k < n; ++k) {
+          if (k > 0) ar = rho * ar + std::sqrt(1 - rho * rho) * s_ar * g(rng);
+          const double x = 2.0 * k / (n - 1) - 1; // the bump: P3-like, zero at the ends
+          y(k, j) += off + ar + (j == cc.voigt ? bump * (x * x * x - x) * 2.6 : 0.0);
+        }
+      }
+      cc.replica_stress.push_back(y);
+      cc.replica_stderr.push_back(rve::PathM::Constant(n, 6, 2e6));
+    }
+    damage::CaseCurve mc;
+    mc.id = id;
+    mc.strain = cc.strain;
+    mc.stress = rve::PathM::Zero(n, 6);
+    for (const auto& y : cc.replica_stress)
+      mc.stress += y / nrep;
+    // between-replica standard error of the mean, per point
+    mc.stress_stderr = rve::PathM::Zero(n, 6);
+    for (const auto& y : cc.replica_stress)
+      mc.stress_stderr.array() += (y - mc.stress).array().square() / (nrep - 1);
+    mc.stress_stderr = (mc.stress_stderr / nrep).cwiseSqrt();
+    t.mean.cases.push_back(mc);
+    t.cases.cases.push_back(cc);
+  }
+  return t;
+}
+
+damage::FitReport joint_fit(const Trial& t) {
+  damage::FitOptions o;
+  o.model = damage::Model::pp;
+  o.alpha = 0.85;
+  o.alpha_mode = damage::AlphaMode::fit;
+  return damage::fit_ndm(t.mean, o);
+}
+
+} // namespace
+
+TEST(ReplicaTrend, CorrelatedNoiseAloneRarelyFailsItButFailsTheRunsTest) {
+  std::mt19937_64 rng(2026);
+  const int trials = 120;
+  int trend_alarms = 0, runs_alarms = 0;
+  for (int i = 0; i < trials; ++i) {
+    const Trial t = make_trial(6, rng, 0.0);
+    const damage::FitReport f = joint_fit(t);
+    const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, f, 0.0);
+    ASSERT_TRUE(r.applicable);
+    ASSERT_EQ(r.curves.size(), 4u);
+    if (r.p_family < 0.05) ++trend_alarms;
+    double pmin = 1;
+    for (const auto& c : f.components)
+      pmin = std::min(pmin, c.runs_p * static_cast<double>(f.components.size()));
+    if (pmin < 0.05) ++runs_alarms;
+  }
+  // nominal family-wise level 0.05: binomial(120, 0.05) exceeds 13 alarms with p < 0.01
+  EXPECT_LE(trend_alarms, 13) << trend_alarms << " of " << trials;
+  // the runs test's false alarms on the same data (its premise, independent residuals, fails)
+  EXPECT_GT(runs_alarms, trials / 2) << runs_alarms << " of " << trials;
+}
+
+TEST(ReplicaTrend, ATrendCommonToEveryReplicaIsFound) {
+  std::mt19937_64 rng(7);
+  int found = 0;
+  const int trials = 20;
+  for (int i = 0; i < trials; ++i) {
+    // 8 replicas, a bump of 6 MPa amplitude (3 x the point noise) the law cannot follow
+    const Trial t = make_trial(8, rng, 6e6);
+    const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, joint_fit(t), 0.0);
+    if (r.p_family < 1e-3) ++found;
+  }
+  EXPECT_GE(found, trials * 3 / 4) << found << " of " << trials;
+}
+
+TEST(ReplicaTrend, NeedsThreeReplicasAndUsesOnlyTheFittedRows) {
+  std::mt19937_64 rng(1);
+  const Trial two = make_trial(2, rng, 0.0);
+  const rve::ReplicaTrend r2 = rve::replica_trend_test(two.cases, joint_fit(two), 0.0);
+  EXPECT_FALSE(r2.applicable);
+  EXPECT_NE(r2.why_not.find(">= 3"), std::string::npos);
+  const Trial four = make_trial(4, rng, 0.0);
+  const rve::ReplicaTrend r4 = rve::replica_trend_test(four.cases, joint_fit(four), 0.06);
+  ASSERT_TRUE(r4.applicable);
+  for (const auto& c : r4.curves)
+    EXPECT_EQ(c.points, 20); // rows 0.003 .. 0.06 of 0.003 steps
+}
