@@ -163,7 +163,8 @@ const char* demo_glass_pnc_text = R"({
   "phase_check": { "enabled": true, "steps": 4000, "sample_every": 10,
                    "cavitation_steps": 2000 },
   "analysis": { "stress": "total", "moving_average": 1, "reference": "subtract" },
-  "run": { "jobs": 2, "replicas": 3 }
+  "fit": { "fit_alpha": true, "alpha": 0.82 },
+  "run": { "jobs": 2, "replicas": 4 }
 })";
 
 } // namespace
