@@ -99,6 +99,15 @@ t_relocated_fit() {
   fi
   grep -q "PNC_SCRIPTS_DIR" err.log || die "error without the variable's name: $(cat err.log)"
   echo "override: $(tail -1 err.log)"
+  # the point driver: the moved pnc finds the moved plugin (lib/) and plot script by itself
+  local path_file="$P/share/doc/pnc/examples/drive/uniaxial_stress_lur.toml"
+  [ -s "$path_file" ] || die "the example path file is not installed: $path_file"
+  "$pnc" material drive card.h5 --path "$path_file" --out drive.csv --plot drive.png \
+    >drive.log 2>&1 || { cat drive.log >&2; die "pnc material drive failed in the moved tree"; }
+  [ "$(grep -vc '^#' drive.csv)" -gt 100 ] || die "drive.csv has too few rows: $(wc -l <drive.csv)"
+  [ "$(head -c 8 drive.png | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ||
+    die "drive.png is not a PNG"
+  echo "pnc material drive in the moved tree: $(grep -vc '^#' drive.csv) lines, drive.png"
   # a LAMMPS stage on 2 ranks: mpirun starts the moved libexec/pnc/pnc_lammps_server (builds
   # without LAMMPS have neither the server nor `pnc rve`; install.layout checks which)
   if [ -e "$P/libexec/pnc/pnc_lammps_server" ]; then
