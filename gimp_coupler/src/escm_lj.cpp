@@ -1,5 +1,6 @@
 // Lattice sums of an LJ FCC crystal (escm_lj.hpp).
 #include "pnc/gimp_coupler/escm_lj.hpp"
+#include "pnc/core/units.hpp"
 
 #include "pnc/gimp_coupler/escm.hpp"
 
@@ -103,7 +104,7 @@ double lj_fcc_separation_work(const LjFcc& lj, double eps, double sig, double rc
     sum += 2.0 * n[1] * 4.0 * eps * (sr6 * sr6 - sr6);
   }
   const double per_area = -sum / (0.5 * a * a); // kcal/mol/A^2
-  return per_area * 4184.0 / 6.02214076e23 / 1e-20;
+  return per_area * pnc::units::j_m2_per_kcal_mol_A2;
 }
 
 std::vector<std::string> lj_fcc_block_commands(const LjFcc& lj, int nx, int ny, int nz,

@@ -1,5 +1,6 @@
 // The coarse-grained polypropylene MD region of `pnc gimp couple` (escm_polymer.hpp, D100-D108).
 #include "pnc/gimp_coupler/escm_polymer.hpp"
+#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -220,8 +221,8 @@ PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& 
   const double Lx = v.at("Lx"), Ly = v.at("Ly"), Lz = v.at("Lz");
   b.h_A = Lx / sp.nbx; // D101 (x and y coupled: Ly / nby is the same)
   b.Lz_A = Lz;
-  const double mass_g = static_cast<double>(u.size()) * sp.ff.bead_mass / 6.02214076e23;
-  b.density_kg_m3 = mass_g * 1e-3 / (Lx * Ly * Lz * 1e-30);
+  const double mass_kg = static_cast<double>(u.size()) * sp.ff.bead_mass * pnc::units::kg_per_g_mol;
+  b.density_kg_m3 = mass_kg / (Lx * Ly * Lz * pnc::units::m3_per_angstrom3);
   b.pxx_atm = v.at("pxx");
   b.pyy_atm = v.at("pyy");
   b.pzz_atm = v.at("pzz");

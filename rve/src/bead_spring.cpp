@@ -1,5 +1,6 @@
 // Glassy bead-spring polymer (model "kg"): force field, LAMMPS commands, builder (units real).
 #include "pnc/rve/bead_spring.hpp"
+#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -20,8 +21,8 @@ using Vec = std::array<double, 3>;
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
-constexpr double avogadro = 6.02214076e23;
-constexpr double joule_per_kcal = 4184.0;
+constexpr double avogadro = units::avogadro;
+constexpr double joule_per_kcal = units::joule_per_kcal;
 
 double u01(std::mt19937_64& g) {
   return static_cast<double>(g() >> 11) * 0x1.0p-53;

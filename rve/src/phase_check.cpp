@@ -1,5 +1,6 @@
 // Phase check stage (units real inside, SI in phase.h5): decisions D125-D129.
 #include "pnc/rve/phase_check.hpp"
+#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -128,7 +129,7 @@ void autocorrelation_run(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInp
   read_state(l, in);
   double lo[3], hi[3], xy, yz, xz;
   l.box(lo, hi, xy, yz, xz);
-  r.volume_m3 = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) * 1e-30;
+  r.volume_m3 = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) * units::m3_per_angstrom3;
   // decision D125: re-thermalise at the deformation temperature, then NVE (no thermostat
   // perturbs the dynamics whose correlation is measured)
   l.cmd("fix pnc_nve all nve");

@@ -1,6 +1,7 @@
 // Model nanocomposite: the bead-spring glass with one stiff platelet (model "kg_platelet",
 // decisions D170-D174). Units real (A, g/mol, kcal/mol); platelet parameters in reduced units.
 #include "pnc/rve/platelet.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"
@@ -195,7 +196,10 @@ double platelet_omega_bound(const System& plate, const PlateletSpec& p,
   double lmax = 0;
   for (const auto& B : blocks)
     lmax = std::max(lmax, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(B).eigenvalues()[2]);
-  return std::sqrt(2.0 * lmax / ff.bead_mass * 4.184e-4);
+  // (kcal/mol/A^2)/(g/mol) in s^-2, times (1e-15 s/fs)^2
+  constexpr double per_fs2 =
+      units::joule_per_kcal_mol / units::m2_per_angstrom2 / units::kg_per_g_mol * 1e-30;
+  return std::sqrt(2.0 * lmax / ff.bead_mass * per_fs2);
 }
 
 double min_polymer_platelet_distance(const System& s) {

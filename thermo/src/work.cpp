@@ -1,5 +1,6 @@
 // Free energy of deformation from the stress work (pnc/thermo/work.hpp; decisions D140-D143).
 #include "pnc/thermo/work.hpp"
+#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -11,10 +12,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace pnc::thermo {
 
@@ -46,9 +47,8 @@ WorkRun read_work_run(const std::string& dir) {
   std::vector<std::string> finals;
   if (fs::is_regular_file(fp)) finals.push_back(fp);
   for (int rep = 1; finals.empty() || rep > 1; ++rep) {
-    const std::string f = (fs::path(dir) / fmt::format("replica_{}", rep) / "equilibrate" /
-                           "final.h5")
-                              .string();
+    const std::string f =
+        (fs::path(dir) / fmt::format("replica_{}", rep) / "equilibrate" / "final.h5").string();
     if (!fs::is_regular_file(f)) break;
     finals.push_back(f);
     if (rep >= 64) break;
@@ -68,11 +68,10 @@ WorkRun read_work_run(const std::string& dir) {
            "must have >= 1 row and 6 columns (T, PE, P, P virial, density, volume A^3)");
     const double v = t.col(5).mean();
     if (!(std::isfinite(v) && v > 0))
-      fail(fpath, "/trace[:,5]", fmt::format("{}", v),
-           "the box volume must be finite and > 0 A^3");
+      fail(fpath, "/trace[:,5]", fmt::format("{}", v), "the box volume must be finite and > 0 A^3");
     v_sum += v;
   }
-  w.volume = v_sum / static_cast<double>(finals.size()) * 1e-30;
+  w.volume = v_sum / static_cast<double>(finals.size()) * units::m3_per_angstrom3;
   if (!fs::is_regular_file(cp)) fail(cp, "--from", dir, "has no cases.h5 (run finished?)");
   w.data = damage::read_stress_strain_h5(cp);
   if (w.data.cases.empty()) fail(cp, "/case_<n>", "", "holds no deformation case");

@@ -37,6 +37,7 @@
 // message in the LAMMPS log (Config::lammps_log). Coupler::setup() validates everything it
 // generates itself before any LAMMPS command; the user's md_setup commands are passed on
 // unchecked (run them once in a separate process, e.g. `lmp -in`, when in doubt).
+#include "pnc/core/units.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <Eigen/Core>
@@ -51,10 +52,10 @@ namespace pnc::gimp::escm {
 
 /// LAMMPS `real` units in SI.
 namespace units {
-constexpr double m_per_A = 1e-10;
+constexpr double m_per_A = pnc::units::m_per_angstrom;
 constexpr double s_per_fs = 1e-15;
-constexpr double avogadro = 6.02214076e23;
-constexpr double J_per_kcalmol = 4184.0 / avogadro;
+constexpr double avogadro = pnc::units::avogadro;
+constexpr double J_per_kcalmol = pnc::units::joule_per_kcal_mol;
 constexpr double N_per_kcalmolA = J_per_kcalmol / m_per_A;
 constexpr double kg_per_gmol = 1e-3 / avogadro;
 constexpr double mps_per_Afs = m_per_A / s_per_fs;

@@ -15,6 +15,7 @@
 //   only (its WCA core is inside the bond), 1-3 and 1-4 pairs feel the full LJ (decision D136).
 // The mapping onto real units (sigma, epsilon, mass) and the resulting T, tau and stress
 // scale are decision D135: sigma = 5 A, epsilon / k_B = 400 K, m = 80 g/mol.
+#include "pnc/core/units.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
 
@@ -26,7 +27,7 @@ namespace pnc::rve {
 struct PlateletSpec; // platelet.hpp
 
 /// Boltzmann constant in kcal/mol/K (LAMMPS real units).
-constexpr double kB_kcal_per_mol_K = 0.0019872067;
+constexpr double kB_kcal_per_mol_K = units::kB_kcal_mol_K;
 
 struct BeadSpringForceField {
   double sigma = 5.0;                         ///< A

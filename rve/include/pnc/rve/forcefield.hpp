@@ -14,15 +14,17 @@
 //   E_LJ    = 4 eps ((s/r)^12 - (s/r)^6), r < r_c, not shifted, no tail correction
 //                                              -> pair lj/cut
 // Non-bonded exclusions: special_bonds lj 0 0 0 (1-2, 1-3, 1-4 excluded; decision D14).
+#include "pnc/core/units.hpp"
 #include <array>
 #include <string>
 #include <vector>
 
 namespace pnc::rve {
 
-constexpr double kcal_per_kJ = 1.0 / 4.184;
-constexpr double pa_per_atm = 101325.0;
-constexpr double avogadro_per_A3_cm3 = 0.602214076; ///< N_A * 1e-24 (g/cm3 <-> g/mol/A^3)
+constexpr double kcal_per_kJ = 1000.0 / units::joule_per_kcal;
+constexpr double pa_per_atm = units::pa_per_atm;
+/// N_A * 1e-24 (g/cm3 <-> g/mol/A^3)
+constexpr double avogadro_per_A3_cm3 = units::avogadro * 1e-24;
 
 struct PolymerForceField {
   double bead_mass = 21.0;              ///< g/mol

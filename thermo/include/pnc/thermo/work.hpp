@@ -15,6 +15,7 @@
 //
 // Units: strain dimensionless (engineering shear), stress Pa, energy density J/m^3,
 // volume m^3, energy J (and kcal/mol where named), temperature K.
+#include "pnc/core/units.hpp"
 #include "pnc/damage/data.hpp"
 
 #include <string>
@@ -91,7 +92,7 @@ void write_work_h5(const std::string& path, const WorkResult& r);
 /// Writes `path` (CSV, unit-suffixed columns, one row per point), atomically.
 void write_work_csv(const std::string& path, const WorkResult& r);
 
-/// J -> kcal/mol (per mole of RVEs): x N_A / 4184.
-inline constexpr double kcal_mol_per_J = 6.02214076e23 / 4184.0;
+/// J -> kcal/mol (per mole of RVEs).
+inline constexpr double kcal_mol_per_J = units::kcal_mol_per_joule;
 
 } // namespace pnc::thermo

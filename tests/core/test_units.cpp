@@ -1,0 +1,59 @@
+// The unit constants of pnc/core/units.hpp against independent arithmetic, and the rule that
+// no other source spells them as literals.
+#include "pnc/core/units.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace pnc;
+
+TEST(Units, DerivedConversionsMatchHandArithmetic) {
+  // 1 kcal/mol = 4184 J / 6.02214076e23 = 6.9477e-21 J; exact to double rounding.
+  EXPECT_NEAR(units::joule_per_kcal_mol, 4184.0 / 6.02214076e23, 1e-15 * 6.95e-21);
+  EXPECT_NEAR(units::joule_per_kcal_mol * units::kcal_mol_per_joule, 1.0, 1e-15);
+  // 1 kcal/mol/A^3 = 6.9477 GPa (6.9477e-21 J / 1e-30 m^3).
+  EXPECT_NEAR(units::pa_per_kcal_mol_A3 / 1e9, 6.94770, 1e-5);
+  // 1 kcal/mol/A = 69.477 pN.
+  EXPECT_NEAR(units::newton_per_kcal_mol_A * 1e12, 69.4769, 1e-4);
+  // 1 g/mol = 1 Da = 1.66054e-27 kg.
+  EXPECT_NEAR(units::kg_per_g_mol / 1.66053907e-27, 1.0, 1e-8);
+}
+
+TEST(Units, BoltzmannInKcalPerMolKIsLammpsValueWithinItsCodata) {
+  // LAMMPS real units use k_B = 0.0019872067 kcal/mol/K (CODATA 2006 R = 8.314472(15) J/mol/K,
+  // relative standard uncertainty 1.8e-6); the exact SI value R = k_B N_A must agree within
+  // two of those uncertainties.
+  const double exact = units::boltzmann * units::avogadro / units::joule_per_kcal;
+  EXPECT_NEAR(units::kB_kcal_mol_K / exact - 1.0, 0.0, 2 * 1.8e-6);
+}
+
+TEST(Units, NoOtherSourceSpellsAConstantAsALiteral) {
+  // Literals of N_A, k_B, the calorie and the atmosphere outside units.hpp (comments aside).
+  const std::regex literal(R"((6\.022|1\.3806|4184|4\.184|101325|0\.0019872))");
+  const fs::path root = PNC_SOURCE_DIR;
+  std::string offenders;
+  for (const char* part :
+       {"core", "damage", "rve", "thermo", "fe_material", "gimp_coupler", "app", "examples"}) {
+    if (!fs::exists(root / part)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(root / part)) {
+      const auto ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".cpp" && ext != ".hpp" && ext != ".cc" && ext != ".h"))
+        continue;
+      if (e.path().filename() == "units.hpp") continue;
+      std::ifstream in(e.path());
+      std::string line;
+      for (int n = 1; std::getline(in, line); ++n) {
+        const auto code = line.substr(0, line.find("//"));
+        if (std::regex_search(code, literal))
+          offenders += e.path().lexically_relative(root).string() + ":" + std::to_string(n) + ": " +
+                       line + "\n";
+      }
+    }
+  }
+  EXPECT_TRUE(offenders.empty()) << "use pnc/core/units.hpp instead of:\n" << offenders;
+}
