@@ -11,6 +11,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
@@ -152,7 +153,7 @@ int run_thermo_ti(TiArgs a) {
   a.spec.dev = parse_list(a.dev, "--dev");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
-  const StopSignals signals;                     // SIGINT/SIGTERM: finished points are kept
+  const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept
   // one spec per output directory: --resume must not mix protocols
   const std::string sj = spec_json(a.spec).dump(2) + "\n";
   const std::string sp = (fs::path(a.out) / "ti_spec.json").string();
@@ -177,7 +178,7 @@ int run_thermo_ti(TiArgs a) {
       thermo::run_ti(a.spec, restart, ff, a.out, a.resume, sj, print_progress);
 
   // --- report
-  const double kT = thermo::kB_kcal_mol_K * a.spec.sampling.temperature;
+  const double kT = units::kB_kcal_mol_K * a.spec.sampling.temperature;
   std::cerr << "\n  state            dA = A(1) - A(0) (kcal/mol)     <dH/dl> at the nodes\n";
   double a0 = std::nan(""), s0 = 0;
   for (const auto& st : r.states)
@@ -293,7 +294,7 @@ int run_thermo_persistence(PersistenceArgs a) {
   a.spec.rates = parse_list(a.rates, "--rates");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
-  const StopSignals signals;                     // SIGINT/SIGTERM: finished rates are kept
+  const StopSignals signals;                    // SIGINT/SIGTERM: finished rates are kept
   std::cerr << fmt::format("pnc thermo persistence: {} chain of {} beads, supports {}, spring {} "
                            "kcal/mol/A^2, {} rates, pull {} A at {} fs steps, T {} K\n",
                            a.spec.chain, a.spec.beads, a.spec.supports, a.spec.spring_k,
@@ -301,7 +302,7 @@ int run_thermo_persistence(PersistenceArgs a) {
                            a.spec.temperature);
   const thermo::PersistenceResult r =
       thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
-  const double si = thermo::nm2_per_kcal_mol_A;
+  const double si = units::j_m_per_kcal_mol_A;
   std::cerr << fmt::format(
       "  L = {:.3f} A; EI(rate) = {:.4g} + {:.4g} rate (kcal/mol A, rate A/fs)\n", r.length,
       r.line.c[0], r.line.c[1]);
@@ -369,9 +370,9 @@ nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, doubl
           {"da_stderr_indep_J_m3", jnum(w.se_indep[k])},
           {"da_stderr_bound_J_m3", jnum(w.se_bound[k])},
           {"dA_J", jnum(w.value[k] * v0)},
-          {"dA_kcal_mol", jnum(w.value[k] * v0 * thermo::kcal_mol_per_J)},
-          {"dA_stderr_indep_kcal_mol", jnum(w.se_indep[k] * v0 * thermo::kcal_mol_per_J)},
-          {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * thermo::kcal_mol_per_J)}};
+          {"dA_kcal_mol", jnum(w.value[k] * v0 * units::kcal_mol_per_joule)},
+          {"dA_stderr_indep_kcal_mol", jnum(w.se_indep[k] * v0 * units::kcal_mol_per_joule)},
+          {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * units::kcal_mol_per_joule)}};
 }
 
 /// decision D143: |da| below twice its any-correlation error bound at the largest strain
@@ -394,7 +395,7 @@ int run_thermo_work(const WorkArgs& a) {
   thermo::write_work_csv(csv, r);
   std::cerr << fmt::format("pnc thermo work: {} run(s), T {} K, V0 {:.6g} m^3 ({:.0f} A^3)\n",
                            r.runs, r.temperature, r.volume, r.volume * 1e30);
-  const double kc = r.volume * thermo::kcal_mol_per_J;
+  const double kc = r.volume * units::kcal_mol_per_joule;
   for (const auto& c : r.cases) {
     const std::size_t k = c.da.value.size() - 1;
     std::string line = fmt::format(

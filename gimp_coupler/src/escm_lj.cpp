@@ -1,7 +1,7 @@
 // Lattice sums of an LJ FCC crystal (escm_lj.hpp).
 #include "pnc/gimp_coupler/escm_lj.hpp"
-#include "pnc/core/units.hpp"
 
+#include "pnc/core/units.hpp"
 #include "pnc/gimp_coupler/escm.hpp"
 
 #include <array>

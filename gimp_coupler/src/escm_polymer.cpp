@@ -1,9 +1,9 @@
 // The coarse-grained polypropylene MD region of `pnc gimp couple` (escm_polymer.hpp, D100-D108).
 #include "pnc/gimp_coupler/escm_polymer.hpp"
-#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/runner.hpp"

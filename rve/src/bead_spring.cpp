@@ -1,10 +1,10 @@
 // Glassy bead-spring polymer (model "kg"): force field, LAMMPS commands, builder (units real).
 #include "pnc/rve/bead_spring.hpp"
-#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 
 #include <fmt/format.h>
@@ -21,8 +21,6 @@ using Vec = std::array<double, 3>;
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
-constexpr double avogadro = units::avogadro;
-constexpr double joule_per_kcal = units::joule_per_kcal;
 
 double u01(std::mt19937_64& g) {
   return static_cast<double>(g() >> 11) * 0x1.0p-53;
@@ -86,13 +84,13 @@ private:
 } // namespace
 
 double BeadSpringForceField::tau_fs() const {
-  const double m_kg = bead_mass * 1e-3 / avogadro;
-  const double eps_j = epsilon * joule_per_kcal / avogadro;
+  const double m_kg = bead_mass * units::kg_per_g_mol;
+  const double eps_j = epsilon * units::joule_per_kcal_mol;
   return sigma * 1e-10 * std::sqrt(m_kg / eps_j) * 1e15;
 }
 
 double BeadSpringForceField::stress_unit_pa() const {
-  const double eps_j = epsilon * joule_per_kcal / avogadro;
+  const double eps_j = epsilon * units::joule_per_kcal_mol;
   return eps_j / std::pow(sigma * 1e-10, 3);
 }
 

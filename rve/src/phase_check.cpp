@@ -1,11 +1,11 @@
 // Phase check stage (units real inside, SI in phase.h5): decisions D125-D129.
 #include "pnc/rve/phase_check.hpp"
-#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
@@ -165,7 +165,7 @@ void autocorrelation_run(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInp
   r.hold_time_s = static_cast<double>(in.hold_steps) * in.timestep_fs * 1e-15;
   const int max_lag = static_cast<int>(std::lround(r.hold_time_s / r.dt_s));
   acf = autocorrelation(comp, r.dt_s, max_lag, s.blocks);
-  const double to_G = r.volume_m3 / (kBoltzmann * r.temperature_K); // Pa^2 -> Pa
+  const double to_G = r.volume_m3 / (units::boltzmann * r.temperature_K); // Pa^2 -> Pa
   for (std::size_t k = 0; k < acf.value.size(); ++k) {
     r.acf_t_s.push_back(acf.lag[k]);
     r.acf_G_Pa.push_back(acf.value[k] * to_G);

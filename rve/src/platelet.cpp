@@ -1,11 +1,11 @@
 // Model nanocomposite: the bead-spring glass with one stiff platelet (model "kg_platelet",
 // decisions D170-D174). Units real (A, g/mol, kcal/mol); platelet parameters in reduced units.
 #include "pnc/rve/platelet.hpp"
-#include "pnc/core/units.hpp"
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/params.hpp"
+#include "pnc/core/units.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>

@@ -12,16 +12,18 @@
 namespace fs = std::filesystem;
 using namespace pnc;
 
-TEST(Units, DerivedConversionsMatchHandArithmetic) {
-  // 1 kcal/mol = 4184 J / 6.02214076e23 = 6.9477e-21 J; exact to double rounding.
-  EXPECT_NEAR(units::joule_per_kcal_mol, 4184.0 / 6.02214076e23, 1e-15 * 6.95e-21);
+TEST(Units, DerivedConversionsMatchTabulatedValues) {
+  // Tabulated conversions, each to the digits quoted (tolerance: half the last digit).
+  // 1 eV = 96.48533212 kJ/mol (CODATA 2018, e N_A) = 23.060548 kcal/mol.
+  EXPECT_NEAR(1.602176634e-19 / units::joule_per_kcal_mol, 23.060548, 5e-7);
   EXPECT_NEAR(units::joule_per_kcal_mol * units::kcal_mol_per_joule, 1.0, 1e-15);
-  // 1 kcal/mol/A^3 = 6.9477 GPa (6.9477e-21 J / 1e-30 m^3).
-  EXPECT_NEAR(units::pa_per_kcal_mol_A3 / 1e9, 6.94770, 1e-5);
-  // 1 kcal/mol/A = 69.477 pN.
-  EXPECT_NEAR(units::newton_per_kcal_mol_A * 1e12, 69.4769, 1e-4);
-  // 1 g/mol = 1 Da = 1.66054e-27 kg.
-  EXPECT_NEAR(units::kg_per_g_mol / 1.66053907e-27, 1.0, 1e-8);
+  // 1 kcal/mol/A^3 = 6.947695 GPa, 1 kcal/mol/A = 69.47695 pN (LAMMPS real-units tables).
+  EXPECT_NEAR(units::pa_per_kcal_mol_A3 / 1e9, 6.947695, 5e-7);
+  EXPECT_NEAR(units::newton_per_kcal_mol_A * 1e12, 69.47695, 5e-6);
+  EXPECT_NEAR(units::j_m2_per_kcal_mol_A2 / 1e-1, 0.6947695, 5e-8); // 69.47695 mJ/m^2
+  // 1 g/mol per molecule = 1 Da = 1.66053906660e-27 kg (CODATA 2018; the molar mass constant
+  // is 1 g/mol to 3.5e-10 since 2019).
+  EXPECT_NEAR(units::kg_per_g_mol / 1.66053906660e-27, 1.0, 1e-9);
 }
 
 TEST(Units, BoltzmannInKcalPerMolKIsLammpsValueWithinItsCodata) {

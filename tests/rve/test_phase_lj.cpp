@@ -2,6 +2,7 @@
 // known independently: a liquid well above its melting point (T* = 1.5, rho* = 0.8: relaxes,
 // G(t) decays within ~1 LJ time) and an FCC crystal at 10 K (solid; its K from the volume pair
 // and G from the shear pair against T = 0 lattice sums with the same cutoff).
+#include "pnc/core/units.hpp"
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/phase_check.hpp"
 
@@ -161,7 +162,7 @@ TEST(RvePhaseCheck, LennardJonesCrystalIsSolidWithTheLatticeBulkAndShearModuli) 
   // thermal terms at fixed volume: the kinetic pressure N k T / V adds exactly N k T / V to K,
   // the anharmonic thermal pressure gamma N k T / V (LJ Grueneisen gamma <~ 3) changes K by
   // about gamma (gamma + 1) N k T / V <~ 12 N k T / V: allowed 20 N k T / V, plus 4 s.e.
-  const double nkt_v = 4 / (a0 * a0 * a0) * 1e30 * kBoltzmann * T;
+  const double nkt_v = 4 / (a0 * a0 * a0) * 1e30 * pnc::units::boltzmann * T;
   std::cerr << "LJ crystal: K " << r.K_Pa * 1e-9 << " +- " << r.K_se_Pa * 1e-9 << " GPa vs static "
             << K0 * 1e-9 << "; G_hold " << r.G_hold_Pa * 1e-9 << " +- " << r.G_hold_se_Pa * 1e-9
             << " vs Born C44 " << G0 * 1e-9 << "; N k T / V " << nkt_v * 1e-9 << " GPa\n";

@@ -16,6 +16,7 @@
 //    which pulls the glass layers above and below it in series (Reuss-like: the platelet's
 //    share of the strain is ~ 0), so C11 > C22 and C33 > C22.
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/lammps_path.hpp"
@@ -133,7 +134,7 @@ TEST(RvePlateletCli, TinyCompositeKeepsItsPlateletAndIsStifferInPlaneThanAlongTh
   EXPECT_NEAR(e.temperature, 80.0, 0.05 * 80.0);
 
   const Shape hot = measure(e.restart, r, d, "glass");
-  const double kT = kB_kcal_per_mol_K * e.temperature;
+  const double kT = pnc::units::kB_kcal_mol_K * e.temperature;
   const double K = r.platelet.bond_K_reduced * r.kg.epsilon / (r.kg.sigma * r.kg.sigma);
   const double a = r.platelet.spacing_sigma * r.kg.sigma;
   const double sd_edge = std::sqrt(kT / (2 * K)) / a; // relative, one bond's spring alone

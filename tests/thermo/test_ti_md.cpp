@@ -2,6 +2,7 @@
 // differences known exactly, TI against FEP, the finite-difference check of dH/dlambda on a
 // polymer, and the bending analysis on a chain of known stiffness. Small systems, short runs.
 #include "pnc/core/error.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/runner.hpp"
@@ -89,7 +90,7 @@ std::vector<std::pair<PointJob, LambdaSystem>> with(const std::vector<PointJob>&
 TEST(ThermoTi, EinsteinCrystalThroughTheTiMachinery) {
   const auto d = tmpdir("einstein");
   const int n = 30;
-  const double k0 = 1.0, k1 = 4.0, T = 300, kT = kB_kcal_mol_K * T; // kcal/mol/A^2, K
+  const double k0 = 1.0, k1 = 4.0, T = 300, kT = pnc::units::kB_kcal_mol_K * T; // kcal/mol/A^2, K
   const LambdaSystem sys = einstein(n, k0, k1, T);
   SamplingSpec s;
   s.timestep_fs = 2.0;
@@ -183,7 +184,7 @@ TEST(ThermoTi, TiAgreesWithFepBetweenAdjacentLambdas) {
   Quadrature simpson{"simpson", {a, 0.5 * (a + b), b}, {h / 6, 4 * h / 6, h / 6}};
   const auto jobs = node_jobs(simpson, d.string(), "lj", 500);
   run_points(s, with(jobs, sys), false, 2, nullptr);
-  const double kT = kB_kcal_mol_K * T;
+  const double kT = pnc::units::kB_kcal_mol_K * T;
   const LambdaIntegral li = collect(simpson, jobs, kT, s.blocks);
   const Estimate fw{li.fep_forward[0].value + li.fep_forward[1].value,
                     std::hypot(li.fep_forward[0].se, li.fep_forward[1].se)};
@@ -319,7 +320,7 @@ TEST(ThermoPersistence, StiffHarmonicChainGivesItsConstructedBendingStiffness) {
       r.ei0.value, r.ei0.se, r.ei0_ci95, r.expected_ei, r.expected_ei_continuum, tol, r.xi_p);
   EXPECT_NEAR(r.ei0.value, r.expected_ei, tol);
   EXPECT_LT(tol, 0.15 * r.expected_ei) << "the test must be able to tell 1.125 from 1";
-  EXPECT_NEAR(r.xi_p, r.ei0.value / (kB_kcal_mol_K * s.temperature), 1e-9 * r.xi_p);
+  EXPECT_NEAR(r.xi_p, r.ei0.value / (pnc::units::kB_kcal_mol_K * s.temperature), 1e-9 * r.xi_p);
 }
 
 // A LAMMPS error inside a lambda point is reported with LAMMPS's own message.

@@ -5,8 +5,9 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/run_dir.hpp"
-#include "pnc/core/version.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/core/units.hpp"
+#include "pnc/core/version.hpp"
 #include "pnc/rve/runner.hpp"
 #include "pnc/rve/stage_stop.hpp"
 
@@ -305,7 +306,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
   }
   res.ei0 = {res.line.c[0], res.line.se[0]};
   res.ei0_ci95 = res.line.dof > 0 ? t95(res.line.dof) * res.line.se[0] : std::nan("");
-  const double kT = kB_kcal_mol_K * spec.temperature;
+  const double kT = units::kB_kcal_mol_K * spec.temperature;
   res.xi_p = res.ei0.value / kT;
   res.xi_p_ci95 = res.ei0_ci95 / kT;
   if (spec.chain == "harmonic") {
@@ -372,8 +373,8 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     f.write_scalar("/EI0_stderr", res.ei0.se);
     f.write_scalar("/EI0_ci95", res.ei0_ci95);
     f.set_attr("/EI0", "units", "kcal/mol*A");
-    f.write_scalar("/EI0_SI", res.ei0.value * nm2_per_kcal_mol_A);
-    f.write_scalar("/EI0_ci95_SI", res.ei0_ci95 * nm2_per_kcal_mol_A);
+    f.write_scalar("/EI0_SI", res.ei0.value * units::j_m_per_kcal_mol_A);
+    f.write_scalar("/EI0_ci95_SI", res.ei0_ci95 * units::j_m_per_kcal_mol_A);
     f.set_attr("/EI0_SI", "units", "N m^2");
     f.write_scalar("/xi_p", res.xi_p);
     f.write_scalar("/xi_p_ci95", res.xi_p_ci95);

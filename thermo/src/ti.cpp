@@ -4,8 +4,9 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
-#include "pnc/core/version.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/core/units.hpp"
+#include "pnc/core/version.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/stage_stop.hpp"
 
@@ -567,8 +568,8 @@ ResponseFit fit_kind(const std::string& kind, const std::vector<StateResult>& st
   }
   rf.fit = polyfit(x, y, sy, 2, false);
   const double f = kind == "vol" ? 2.0 / 9.0 : 1.0 / 6.0; // D65
-  rf.modulus = f * rf.fit.c[2] / rf.v0 * pa_per_kcal_mol_A3;
-  rf.modulus_se = f * rf.fit.se[2] / rf.v0 * pa_per_kcal_mol_A3;
+  rf.modulus = f * rf.fit.c[2] / rf.v0 * units::pa_per_kcal_mol_A3;
+  rf.modulus_se = f * rf.fit.se[2] / rf.v0 * units::pa_per_kcal_mol_A3;
   return rf;
 }
 
@@ -578,7 +579,7 @@ TiResult collect_ti(const TiSpec& spec, const std::string& dir) {
   TiResult r;
   r.spec = spec;
   const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
-  const double kT = kB_kcal_mol_K * spec.sampling.temperature;
+  const double kT = units::kB_kcal_mol_K * spec.sampling.temperature;
   for (const auto& st : ti_states(spec)) {
     StateResult sr;
     sr.state = st;

@@ -1,10 +1,10 @@
 // Free energy of deformation from the stress work (pnc/thermo/work.hpp; decisions D140-D143).
 #include "pnc/thermo/work.hpp"
-#include "pnc/core/units.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/recipe.hpp"
 

@@ -1,6 +1,7 @@
 // work.h5 and work.csv of `pnc thermo work` (pnc/thermo/work.hpp).
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/thermo/work.hpp"
 
@@ -29,7 +30,7 @@ void put_integral(h5::File& f, const std::string& g, const WorkIntegral& w, doub
   std::vector<double> a, k;
   for (double x : w.value) {
     a.push_back(x * v0);
-    k.push_back(x * v0 * kcal_mol_per_J);
+    k.push_back(x * v0 * units::kcal_mol_per_joule);
   }
   f.write_vector(g + "/energy", a);
   f.set_attr(g + "/energy", "units", "J");
@@ -111,7 +112,7 @@ void write_work_csv(const std::string& path, const WorkResult& r) {
       for (int j = 0; j < 6; ++j)
         o << ',' << c.strain(k, j);
       o << ',' << c.da.value[i] << ',' << c.da.se_indep[i] << ',' << c.da.se_bound[i] << ','
-        << c.da.value[i] * r.volume << ',' << c.da.value[i] * r.volume * kcal_mol_per_J;
+        << c.da.value[i] * r.volume << ',' << c.da.value[i] * r.volume * units::kcal_mol_per_joule;
       if (r.runs == 2)
         o << ',' << c.da_s.value[i] << ',' << c.da_s.se_indep[i] << ',' << c.da_s.se_bound[i] << ','
           << c.da_u.value[i] << ',' << c.da_u.se_indep[i] << ',' << c.da_u.se_bound[i];

@@ -30,7 +30,7 @@ inline constexpr double pa_per_kcal_mol_A3 = joule_per_kcal_mol / m3_per_angstro
 inline constexpr double j_m2_per_kcal_mol_A2 = joule_per_kcal_mol / m2_per_angstrom2;
 /// 1 kcal/mol per A (a force) in N.
 inline constexpr double newton_per_kcal_mol_A = joule_per_kcal_mol / m_per_angstrom;
-/// 1 kcal/mol times 1 A in J m.
+/// 1 kcal/mol times 1 A in J m = N m^2 (a bending stiffness EI).
 inline constexpr double j_m_per_kcal_mol_A = joule_per_kcal_mol * m_per_angstrom;
 /// One g/mol (per molecule) in kg.
 inline constexpr double kg_per_g_mol = 1e-3 / avogadro;

@@ -26,16 +26,13 @@ namespace pnc::rve {
 
 struct PlateletSpec; // platelet.hpp
 
-/// Boltzmann constant in kcal/mol/K (LAMMPS real units).
-constexpr double kB_kcal_per_mol_K = units::kB_kcal_mol_K;
-
 struct BeadSpringForceField {
-  double sigma = 5.0;                         ///< A
-  double epsilon = 400.0 * kB_kcal_per_mol_K; ///< kcal/mol (eps / k_B = 400 K)
-  double bead_mass = 80.0;                    ///< g/mol
-  double fene_K_reduced = 30.0;               ///< K in eps / sigma^2
-  double fene_R0_sigma = 1.5;                 ///< R0 in sigma
-  double cutoff_sigma = 2.5;                  ///< LJ cutoff in sigma (2.5: attractive tail kept)
+  double sigma = 5.0;                            ///< A
+  double epsilon = 400.0 * units::kB_kcal_mol_K; ///< kcal/mol (eps / k_B = 400 K)
+  double bead_mass = 80.0;                       ///< g/mol
+  double fene_K_reduced = 30.0;                  ///< K in eps / sigma^2
+  double fene_R0_sigma = 1.5;                    ///< R0 in sigma
+  double cutoff_sigma = 2.5;                     ///< LJ cutoff in sigma (2.5: attractive tail kept)
   /// Bond length the builder places (the minimum of FENE + WCA is at 0.97 sigma).
   double bond_length_sigma = 0.97;
 
@@ -44,7 +41,7 @@ struct BeadSpringForceField {
   double fene_R0() const { return fene_R0_sigma * sigma; }                     ///< A
   double bond_length() const { return bond_length_sigma * sigma; }             ///< A
   /// eps / k_B in K: the temperature of T* = 1.
-  double temperature_unit() const { return epsilon / kB_kcal_per_mol_K; }
+  double temperature_unit() const { return epsilon / units::kB_kcal_mol_K; }
   /// tau = sigma sqrt(m / eps) in fs.
   double tau_fs() const;
   /// eps / sigma^3 in Pa: the stress (and modulus) unit.

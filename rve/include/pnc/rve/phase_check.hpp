@@ -31,7 +31,6 @@
 // "relaxes within a hold". G(t) = G_eq + G_acf(t) for a solid in a fixed box (the stress
 // autocorrelation of a solid decays to zero; its equilibrium modulus G_eq is what the step
 // pair measures), so G_hold + G_acf(0.5 ps) is the short-time plateau.
-#include "pnc/core/units.hpp"
 #include "pnc/rve/runner.hpp"
 
 #include <nlohmann/json.hpp>
@@ -42,7 +41,6 @@
 
 namespace pnc::rve {
 
-inline constexpr double kBoltzmann = units::boltzmann; ///< J/K
 /// Blocks of the autocorrelation estimate must span at least this many integrated
 /// correlation times of the shear stress (decision D125).
 inline constexpr double kMinBlockOverTau = 5.0;

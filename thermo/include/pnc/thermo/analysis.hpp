@@ -5,18 +5,10 @@
 // quadratic fits with confidence intervals. No LAMMPS here (pure functions, unit-tested).
 //
 // Units: whatever the caller passes (thermo/ uses LAMMPS `real`: kcal/mol, A, fs, K).
-#include "pnc/core/units.hpp"
 #include <string>
 #include <vector>
 
 namespace pnc::thermo {
-
-/// Boltzmann constant in kcal/mol/K (LAMMPS `real` units: force->boltz).
-constexpr double kB_kcal_mol_K = units::kB_kcal_mol_K;
-/// 1 kcal/mol per A^3 in Pa.
-constexpr double pa_per_kcal_mol_A3 = units::pa_per_kcal_mol_A3;
-/// 1 kcal/mol * A in N m^2 (bending stiffness).
-constexpr double nm2_per_kcal_mol_A = units::j_m_per_kcal_mol_A;
 
 /// Nodes and weights of a quadrature rule on [a, b] (sum of weights = b - a).
 struct Quadrature {

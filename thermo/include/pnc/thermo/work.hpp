@@ -15,7 +15,6 @@
 //
 // Units: strain dimensionless (engineering shear), stress Pa, energy density J/m^3,
 // volume m^3, energy J (and kcal/mol where named), temperature K.
-#include "pnc/core/units.hpp"
 #include "pnc/damage/data.hpp"
 
 #include <string>
@@ -91,8 +90,5 @@ WorkResult stress_work(const WorkRun& first, const WorkRun* second = nullptr);
 void write_work_h5(const std::string& path, const WorkResult& r);
 /// Writes `path` (CSV, unit-suffixed columns, one row per point), atomically.
 void write_work_csv(const std::string& path, const WorkResult& r);
-
-/// J -> kcal/mol (per mole of RVEs).
-inline constexpr double kcal_mol_per_J = units::kcal_mol_per_joule;
 
 } // namespace pnc::thermo
