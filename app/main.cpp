@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
                   "Stress-strain data: CSV (case,e11..g12,s11..s12; stress in MPa) or cases.h5")
       ->required();
   fit->add_option("--model", fa.model,
-                  "pnc (nanocomposite, cases 1-6) or pp (pure polymer, cases 2, 6)")
+                  "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-6 with an extension case)")
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
   fit->add_flag("--fit-alpha", fa.fit_alpha,

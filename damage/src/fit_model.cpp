@@ -139,31 +139,29 @@ std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double
 }
 
 void check_cases(const StressStrainData& data, Model m) {
-  const auto allowed = model_cases(m);
+  // Both models take any of cases 1-6 (D12l: the pure polymer's isotropy pools them).
   for (const auto& c : data.cases) {
-    if (std::find(allowed.begin(), allowed.end(), c.id) == allowed.end())
-      fail(data.source, "case", std::to_string(c.id),
-           std::string("the ") + model_name(m) + " model is characterised by cases " +
-               (m == Model::pnc ? "1-6" : "2 (extension x2) and 6 (shear 1-2)"));
+    deformation_case(c.id, data.source);
     if (c.strain.rows() < 3)
       fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
            "each case needs at least 3 points");
   }
-  const std::vector<int> required =
-      m == Model::pnc ? std::vector<int>{1, 2, 3} : std::vector<int>{2};
-  for (int id : required)
-    if (!data.find(id))
-      fail(data.source, "case", std::to_string(id),
-           std::string("is required: the ") + model_name(m) +
-               " normal stiffness block cannot be determined without it");
+  if (m == Model::pnc) {
+    for (int id : {1, 2, 3})
+      if (!data.find(id))
+        fail(data.source, "case", std::to_string(id),
+             "is required: the pnc normal stiffness block cannot be determined without it");
+    return;
+  }
+  if (!data.find(1) && !data.find(2) && !data.find(3))
+    fail(data.source, "cases", "no extension case",
+         "the pp model needs at least one of cases 1-3 (extension): C11 and C12 cannot be "
+         "determined without it");
 }
 
 LabelPair regression_labels(Model m, int case_id, int comp) {
-  if (m == Model::pp) {
-    if (case_id == 2) {
-      static const LabelPair l[3] = {{"C12", "B2"}, {"C11", "2B1"}, {"C12", "B2"}};
-      return l[comp];
-    }
+  if (m == Model::pp) { // isotropic reading (D3): every extension case gives C11/2B1 and C12/B2
+    if (case_id <= 3) return comp == case_id - 1 ? LabelPair{"C11", "2B1"} : LabelPair{"C12", "B2"};
     return {"C44", "B4"};
   }
   static const LabelPair ext[3][3] = {{{"C11", "2A1"}, {"C12", "A10"}, {"C13", "A13"}},

@@ -5,8 +5,10 @@
 #include "pnc/core/params.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -311,11 +313,11 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
       fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
   }
   top.check_unknown();
-  if (r.model == "pp" || r.model == "kg")
-    for (int c : r.cases)
-      if (c != 2 && c != 6)
-        fail(source, "deform.cases", std::to_string(c),
-             "the pure polymer (models pp and kg) uses cases 2 and 6 (section 6.3.2)");
+  if ((r.model == "pp" || r.model == "kg") &&
+      std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
+    fail(source, "deform.cases", fmt::format("{}", fmt::join(r.cases, ",")),
+         "the pure polymer (models pp and kg) needs at least one extension case (1-3); its "
+         "isotropic law pools any of cases 1-6 (decision D12l)");
   r.equilibrate.seed = r.seed;
   r.build.seed = r.seed;
   r.build.validate(source);

@@ -20,7 +20,7 @@ TEST(Units, DerivedConversionsMatchTabulatedValues) {
   // 1 kcal/mol/A^3 = 6.947695 GPa, 1 kcal/mol/A = 69.47695 pN (LAMMPS real-units tables).
   EXPECT_NEAR(units::pa_per_kcal_mol_A3 / 1e9, 6.947695, 5e-7);
   EXPECT_NEAR(units::newton_per_kcal_mol_A * 1e12, 69.47695, 5e-6);
-  EXPECT_NEAR(units::j_m2_per_kcal_mol_A2 / 1e-1, 0.6947695, 5e-8); // 69.47695 mJ/m^2
+  EXPECT_NEAR(units::j_m2_per_kcal_mol_A2, 0.6947695, 5e-8); // J/m^2 (6.947695e-21 J / 1e-20 m^2)
   // 1 g/mol per molecule = 1 Da = 1.66053906660e-27 kg (CODATA 2018; the molar mass constant
   // is 1 g/mol to 3.5e-10 since 2019).
   EXPECT_NEAR(units::kg_per_g_mol / 1.66053906660e-27, 1.0, 1e-9);

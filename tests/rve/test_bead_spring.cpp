@@ -246,7 +246,7 @@ TEST(RveBeadSpring, RecipeRulesOfModelKg) {
   j["forcefield"]["k_l"] = 1.0; // a polypropylene key
   EXPECT_EQ(field_of(j), "forcefield.k_l");
   j = preset_json("demo_glass");
-  j["deform"]["cases"] = {1, 2};
+  j["deform"]["cases"] = {5, 6}; // no extension case
   EXPECT_EQ(field_of(j), "deform.cases");
   j = preset_json("demo_glass");
   j["fit"]["hold_alpha"] = true; // and fit_alpha: exclusive

@@ -74,8 +74,10 @@ TEST(RveRecipe, InvalidRecipesNameFieldValueRule) {
   EXPECT_EQ(e.field, "model"); // "pnc" needs a clay block naming the platelet
   e = error_of(json{{"build", {{"chains", 2}}}});
   EXPECT_EQ(e.field, "build.chains"); // box smaller than twice the cutoff
-  e = error_of(json{{"deform", {{"cases", {1}}}}});
-  EXPECT_EQ(e.field, "deform.cases"); // pp uses cases 2 and 6
+  e = error_of(json{{"deform", {{"cases", {4, 6}}}}});
+  EXPECT_EQ(e.field, "deform.cases"); // pp needs an extension case (1-3)
+  EXPECT_EQ(parse_recipe(json{{"deform", {{"cases", {1, 3, 5}}}}}, "r.json").cases,
+            (std::vector<int>{1, 3, 5})); // any extension case pools with the shears (D12l)
   e = error_of(json{{"deform", {{"hold_steps", 50}}}});
   EXPECT_EQ(e.field, "deform.hold_steps");
   for (const int bad : {0, 65}) {

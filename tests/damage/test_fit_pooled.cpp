@@ -1,0 +1,109 @@
+// The pure polymer fitted to any of cases 1-6 (decision D12l). Under the isotropic reading
+// of the pp law (D3) cases 1, 2, 3 are the same curve with the stress components permuted,
+// and so are cases 4, 5, 6. Pooling all six cases with the same point errors therefore
+// triples J^T J: every covariance shrinks by exactly 3 and every standard error by sqrt(3),
+// an exact consequence of the symmetry that the tests below check, together with the
+// recovery of the constants and the Monte-Carlo coverage of the pooled errors.
+#include "pnc/core/error.hpp"
+#include "pnc/damage/fit.hpp"
+#include "pnc/damage/reference.hpp"
+#include "pnc/damage/synth.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+using namespace pnc::damage;
+
+namespace {
+
+// Noise-free curves with a recorded point error of sd_pa on every point: chi^2 = 0, so the
+// covariance is (J^T J)^-1 with no chi^2/dof factor (D11), a deterministic quantity.
+StressStrainData exact_curves(const std::vector<int>& cases, double sd_pa) {
+  SynthOptions o;
+  o.cases = cases;
+  o.points = 40;
+  o.max_extension = 0.3; // past the tables' onset (17.1 % for pp)
+  o.max_shear = 0.4;
+  o.noise_sd = 0;
+  StressStrainData d = synthesize(dissertation_parameters(Model::pp), o);
+  for (CaseCurve& c : d.cases)
+    c.stress_stderr = PathMatrix::Constant(c.stress.rows(), 6, sd_pa);
+  return d;
+}
+
+StressStrainData noisy_curves(const std::vector<int>& cases, double sd_pa, std::uint64_t seed) {
+  SynthOptions o;
+  o.cases = cases;
+  o.points = 40;
+  o.max_extension = 0.3;
+  o.max_shear = 0.4;
+  o.noise_sd = sd_pa;
+  o.seed = seed;
+  return synthesize(dissertation_parameters(Model::pp), o);
+}
+
+FitOptions pp_options() {
+  FitOptions o;
+  o.model = Model::pp;
+  return o;
+}
+
+} // namespace
+
+TEST(FitPooled, SixIsotropicCasesGiveTheConstantsAndErrorsSmallerBySqrtThree) {
+  const NdmParameters truth = dissertation_parameters(Model::pp);
+  const FitReport two = fit_ndm(exact_curves({2, 6}, 2e6), pp_options());
+  const FitReport six = fit_ndm(exact_curves({1, 2, 3, 4, 5, 6}, 2e6), pp_options());
+  ASSERT_TRUE(two.converged) << two.message;
+  ASSERT_TRUE(six.converged) << six.message;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const std::string name = constant_names(Model::pp)[i];
+    ASSERT_TRUE(six.fitted[i]) << name;
+    // noise-free data: the constants come back to the solver's tolerance
+    EXPECT_NEAR(six.params.k[i], truth.k[i], 1e-6 * std::max(1e9 * (i + 1 < truth.size()), 1.0))
+        << name;
+    // J^T J tripled: s.e. ratio 1/sqrt(3); the Jacobians are evaluated at fitted constants
+    // that equal the truth to ~1e-8, hence the 1e-5 tolerance
+    EXPECT_NEAR(six.std_error[i] / two.std_error[i], 1 / std::sqrt(3.0), 1e-5) << name;
+  }
+}
+
+TEST(FitPooled, PooledStandardErrorsCoverTheTruthAtTheirNominalRate) {
+  // 200 noisy data sets of all six cases; |k - truth| <= s.e. should hold for 68.3 % of them.
+  // Binomial sd of the rate: sqrt(0.683 * 0.317 / 200) = 0.033; the band 0.58-0.78 is
+  // 3 sd, plus the small bias of the max(1, chi^2/dof) inflation (it only widens errors).
+  const NdmParameters truth = dissertation_parameters(Model::pp);
+  const int N = 200;
+  std::vector<int> covered(truth.size(), 0);
+  for (int s = 0; s < N; ++s) {
+    const FitReport r = fit_ndm(noisy_curves({1, 2, 3, 4, 5, 6}, 3e6, 500 + s), pp_options());
+    ASSERT_TRUE(r.converged) << r.message;
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      covered[i] += std::abs(r.params.k[i] - truth.k[i]) <= r.std_error[i];
+  }
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const double c = static_cast<double>(covered[i]) / N;
+    EXPECT_GE(c, 0.58) << constant_names(Model::pp)[i];
+    EXPECT_LE(c, 0.78) << constant_names(Model::pp)[i];
+  }
+}
+
+TEST(FitPooled, AnyExtensionCaseIsEnoughAndItsComponentsAreLabelledIsotropically) {
+  // Case 1 alone carries C11 (sigma11) and C12 (sigma22, sigma33) under isotropy.
+  const FitReport r = fit_ndm(exact_curves({1, 5}, 2e6), pp_options());
+  ASSERT_TRUE(r.converged) << r.message;
+  const NdmParameters truth = dissertation_parameters(Model::pp);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    EXPECT_NEAR(r.params.k[i], truth.k[i], 1e-6 * std::max(1e9 * (i + 1 < truth.size()), 1.0))
+        << constant_names(Model::pp)[i];
+  int seen = 0;
+  for (const RegressionLine& l : r.regression) {
+    if (l.case_id != 1) continue;
+    ++seen;
+    EXPECT_EQ(l.linear_label, l.component == 0 ? "C11" : "C12");
+    EXPECT_EQ(l.damage_label, l.component == 0 ? "2B1" : "B2");
+  }
+  EXPECT_EQ(seen, 3);
+}
