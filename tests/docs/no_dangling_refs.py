@@ -4,7 +4,9 @@
 Fails (exit 1, one line per finding: file, line, what, the rule) when a tracked text file
   * refers to an issue tracker ("issue #15", "issues #5, #6", "(issue 7)", a bare "#16",
     "the issue asks", "from the issue") instead of saying what is meant;
-  * names a file outside the repository (../shared/..., /work/..., a PDF, a dissertation file);
+  * names a file outside the repository (../shared/..., /work/..., a PDF, a dissertation file)
+    or a path into the repository's folders (rve/src/x.cpp, tests/install/x.sh, ...) that does
+    not exist (from the root, from the citing file's folder, or as <lib>/<header>);
 or when a Markdown file (README.md, docs/**/*.md and every other tracked *.md) has a relative
 link whose target file does not exist, or whose #anchor is neither a heading nor an
 <a id="..."> of the target. Python 3 standard library only.
@@ -35,6 +37,11 @@ MISSING_FILE_PATTERNS = [
      "a dissertation file the repository does not contain"),
     (re.compile(r"\bARCHITECTURE\.md\b"), "a design file the repository does not contain"),
 ]
+# A path into the repository's own folders, e.g. rve/src/deform.cpp or tests/install/check.sh.
+TOPS = ("core", "damage", "fe_material", "rve", "thermo", "gimp_coupler", "app", "examples",
+        "tests", "bench", "fuzz", "docs", "scripts", "cmake")
+REPO_PATH = re.compile(r"(?<![\w./$-])((?:" + "|".join(TOPS) + r")/[\w./-]*\w\.(?:hpp|h|cpp|cc|c|py|sh|"
+                       r"md|json|toml|prm|cmake|txt|f90|in|map))\b")
 LINK = re.compile(r"(?<!\!)\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)|!\[[^\]]*\]\(([^)\s]+)\)")
 ANCHOR = re.compile(r'<a\s+(?:id|name)="([^"]+)"')
 HEADING = re.compile(r"^#{1,6}\s+(.*?)\s*#*\s*$")
@@ -104,6 +111,26 @@ def check_refs(rel, text, problems):
                                 "repository or say what is meant")
 
 
+def path_exists(root, rel, p):
+    """A cited path exists: from the root, from the citing file's folder, or as the short form
+    <lib>/<header> of <lib>/include/pnc/<lib>/<header> or <lib>/src/<file>."""
+    if os.path.exists(os.path.join(root, p)):
+        return True
+    if os.path.exists(os.path.join(root, os.path.dirname(rel), p)):
+        return True
+    lib, _, rest = p.partition("/")
+    return any(os.path.exists(os.path.join(root, lib, sub, rest))
+               for sub in (os.path.join("include", "pnc", lib), "src"))
+
+
+def check_paths(root, rel, text, problems):
+    for k, ln in enumerate(text.split("\n"), 1):
+        for m in REPO_PATH.finditer(ln):
+            if not path_exists(root, rel, m.group(1)):
+                problems.append(f"{rel}:{k}: '{m.group(1)}': no such file in the repository "
+                                "(renamed or removed?): cite the file that exists")
+
+
 def check_links(root, rel, text, problems, cache):
     fenced = False
     base = os.path.dirname(rel)
@@ -149,6 +176,7 @@ def main(argv):
             continue
         n += 1
         check_refs(rel, text, problems)
+        check_paths(root, rel, text, problems)
         if rel.endswith(".md"):
             check_links(root, rel, text, problems, cache)
     for p in problems:
