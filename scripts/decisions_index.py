@@ -37,7 +37,10 @@ WHAT = re.compile(r"\*\*What\b|^What\s*[:.]", re.M)
 WHY = re.compile(r"\*\*Why\b|^Why\s*[:.]", re.M)
 TESTS = re.compile(r"\*\*Tests?\b[^*]*\*\*|^Tests?\s*:", re.M)
 NEXT_LABEL = re.compile(r"\*\*[A-Z][A-Za-z ()'-]*[.:]\*\*")
-TEST_NAME = re.compile(r"`([A-Za-z_][\w]*(?:\.[\w*…]+|\.\.\.)+[\w*…]*)`")
+# A test name: GoogleTest Suite.Name (optionally with a ctest prefix such as gimp., a * or …),
+# or a ctest of the families dealii_fracture., install., docs., material_cli.
+TEST_NAME = re.compile(r"`((?:[a-z_]+\.)?[A-Z]\w*\.(?:\w+\*?|\*|\.\.\.|…\w*)|"
+                       r"(?:dealii_fracture|install|docs|material_cli)\.\w+)`")
 # A citation: Dnn or Dnn-Dmm / Dnn–Dmm, not inside a longer identifier or number.
 CITE = re.compile(r"(?<![A-Za-z0-9_*])D(\d+)([a-z]?)(?:\s*[-–]\s*D(\d+)([a-z]?))?(?![A-Za-z0-9_])")
 TEST_MACRO = re.compile(r"^\s*TEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)")
