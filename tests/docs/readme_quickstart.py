@@ -11,6 +11,9 @@ arguments starting with `examples/` or `scripts/` to the source tree and `build/
 build tree. Checked: every command exits 0 within the time left of 60 s, every `--out` file
 exists afterwards, and each line of the block after <!-- quickstart:a-csv-header --> is a
 line of the CSV that quick-start (a) hands to `pnc fit` (the README shows the real header).
+With --cc and --plugin, the C block after <!-- quickstart:c-abi --> is compiled as the body of
+main() (its #include lines above it) with -Wall -Wextra -Werror against the plugin's header,
+linked with the plugin and run next to the card of (a): it must exit 0.
 
     python3 tests/docs/readme_quickstart.py --root SRC --build BUILD --pnc PNC --python PY
 """
@@ -137,14 +140,42 @@ def check_header(header_lines, cmds_a, cwd):
                           f"a line of {data} as pnc writes it")
 
 
+def run_c_snippet(lines, a, cwd, start):
+    includes = [ln for ln in lines if ln.startswith("#include")]
+    body = [ln for ln in lines if not ln.startswith("#include")]
+    src = os.path.join(cwd, "quickstart_c_abi.c")
+    with open(src, "x", encoding="utf-8") as f:
+        f.write("\n".join(includes + ["int main(void) {"] + body + ["  return 0;", "}", ""]))
+    exe = os.path.join(cwd, "quickstart_c_abi")
+    inc = os.path.join(a.root, "fe_material", "include")
+    steps = [("compile", [a.cc, "-std=c11", "-Wall", "-Wextra", "-Werror", "-I", inc, src,
+                          a.plugin, "-Wl,-rpath," + os.path.dirname(a.plugin), "-o", exe]),
+             ("run", [exe])]
+    for what, argv in steps:
+        left = BUDGET_S - (time.monotonic() - start)
+        try:
+            r = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, timeout=max(left, 1))
+        except subprocess.TimeoutExpired:
+            raise Failure(f"quick-start (c), C ABI snippet: {what} did not finish in time")
+        print(f"[c-abi] {what}: exit {r.returncode}")
+        if r.returncode != 0:
+            raise Failure(f"quick-start (c), the C ABI snippet of README.md: {what} failed "
+                          f"(exit {r.returncode}):\n{(r.stdout + r.stderr).strip()[-2000:]}")
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--root", required=True, help="source tree (holds README.md)")
     ap.add_argument("--build", required=True, help="build tree")
     ap.add_argument("--pnc", required=True, help="the built pnc executable")
     ap.add_argument("--python", default=sys.executable, help="python3 for the ctypes example")
+    ap.add_argument("--cc", help="C compiler for the C ABI snippet (skipped without it)")
+    ap.add_argument("--plugin", help="the built libpnc_material.so for the C ABI snippet")
     ap.add_argument("--keep", action="store_true", help="keep the temporary directory")
     a = ap.parse_args(argv)
+    for k in ("root", "build", "pnc", "plugin"):
+        if getattr(a, k):
+            setattr(a, k, os.path.abspath(getattr(a, k)))
     start = time.monotonic()
     cwd = tempfile.mkdtemp(prefix="pnc_readme_quickstart_")
     try:
@@ -159,6 +190,10 @@ def main(argv):
         run_block("a", cmds_a, a, cwd, start)
         check_header(found["a-csv-header"], cmds_a, cwd)
         run_block("c", cmds_c, a, cwd, start)
+        if a.cc and a.plugin:
+            if "c-abi" not in found:
+                raise Failure("README.md: no <!-- quickstart:c-abi --> marker before the C block")
+            run_c_snippet(found["c-abi"], a, cwd, start)
     except Failure as e:
         print(f"readme_quickstart: {e}", file=sys.stderr)
         if a.keep:
