@@ -5,7 +5,7 @@
 // history.csv (energies in J, reactions in N, per recorded step), checkpoint.h5 (restart),
 // energy.png (energy balance, drawn by gimp_coupler/scripts/plot_energy.py with
 // /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), G.png (2-D runs with
-// crack tips: J, G_I, G_II in J/m^2 versus crack length and time, scripts/plot_G.py),
+// crack tips: J, G_I, G_II in J/m^2 versus crack length and time, gimp_coupler/scripts/plot_G.py),
 // summary.json.
 #include "pnc/core/stop.hpp"
 #include "pnc/gimp_coupler/solver.hpp"

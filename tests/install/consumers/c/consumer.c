@@ -1,5 +1,5 @@
 /* A C host of the installed pnc material plugin, built with pkg-config only
- * (tests/install/consumer.sh, docs/install.md). For each card given on the command line it
+ * (tests/install/check.sh, docs/install.md). For each card given on the command line it
  * drives the plugin's C ABI along two strain paths and checks the stress against references
  * computed here from the card's constants, not from the kernel:
  *  1. a multiaxial path in the elastic range (all strains <= 0.6 %, far below the damage

@@ -1,4 +1,4 @@
-// A C++ host of the installed pnc material plugin (tests/install/consumer.sh, docs/install.md):
+// A C++ host of the installed pnc material plugin (tests/install/check.sh, docs/install.md):
 // linked through find_package(pnc) / pnc::material, and the same library loaded again with
 // the header-only pnc::fe_material::Plugin. Checks, for the card built by pnc::pnc:
 //  - the linked material, one made from its constants and one loaded through Plugin give

@@ -1,4 +1,4 @@
-! A Fortran host of the installed pnc material plugin (tests/install/consumer.sh): calls
+! A Fortran host of the installed pnc material plugin (tests/install/check.sh): calls
 ! umat (gfortran: the symbol umat_) with the standard Abaqus/Standard argument list, NTENS = 6
 ! (Abaqus order 11, 22, 33, 12, 13, 23; engineering shear; Pa). PROPS are read from the file
 ! given as argument 1: NPROPS, then PROPS(1) = 1 (model pnc) and the 22 constants C11 C22 C33
