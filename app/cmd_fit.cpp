@@ -30,6 +30,7 @@ int run_fit(const FitArgs& a) {
   o.loss = a.loss;
   o.loss_scale = a.loss_scale;
   o.strain_max = a.strain_max;
+  o.stretch_max = a.stretch_max;
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;

@@ -224,6 +224,7 @@ int run_characterize(const CharacterizeArgs& a) {
                                 : AlphaMode::automatic;
   if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
   o.strain_max = r.fit_strain_max;                        // recipe fit.strain_max (D12h)
+  o.stretch_max = r.fit_stretch_max;                      // recipe fit.stretch_max (D12m)
   o.check_units = false;
   // decision D128: a material that relaxes within a hold does not define its shear and damage
   // constants; only the normal (bulk-like) block of C0 stays fitted
@@ -265,7 +266,7 @@ int run_characterize(const CharacterizeArgs& a) {
   }
   // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
   // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
-  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max);
+  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
   if (trend.applicable) {
     static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
     VerdictLimits limits;

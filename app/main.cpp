@@ -61,6 +61,11 @@ int main(int argc, char** argv) {
                   "Fit only the leading rows of each curve whose strain components are all <= "
                   "this (dimensionless; 0 = every row; the card records it)")
       ->check(FiniteRange(0.0, 10.0));
+  fit->add_option("--stretch-max", fa.stretch_max,
+                  "Fit only the leading rows of each curve whose largest principal stretch minus "
+                  "one is <= this (dimensionless; 0 = every row; excludes --strain-max; D12m)")
+      ->check(FiniteRange(0.0, 10.0))
+      ->excludes("--strain-max");
   fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit (1 to 1e6)")
       ->check(CLI::Range(1, 1000000));
   fit->add_option("--prior", fa.prior,

@@ -246,6 +246,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     if (r.model == "pnc" || r.model == "kg_platelet") r.cases = {1, 2, 3, 4, 5, 6};
     s.get_cases("cases", r.cases);
     s.get("strain_max", d.strain_max);
+    s.get("shear_strain_max", d.shear_strain_max); // decision D12m
     s.get_int("steps", d.steps, 1, 100000);
     s.get("timestep_fs", d.timestep_fs);
     s.get_int("hold_steps", d.hold_steps, 1, kMaxSteps);
@@ -293,6 +294,13 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     s.get("hold_alpha", r.hold_alpha);
     s.get("alpha", r.fit_alpha_start);
     s.get("strain_max", r.fit_strain_max);
+    s.get("stretch_max", r.fit_stretch_max); // decision D12m
+    if (!(r.fit_stretch_max >= 0 && r.fit_stretch_max <= 10))
+      fail(source, "fit.stretch_max", fmt::format("{}", r.fit_stretch_max),
+           "must be in [0, 10] (lambda_max - 1; 0 = fit every row)");
+    if (r.fit_stretch_max > 0 && r.fit_strain_max > 0)
+      fail(source, "fit.stretch_max", fmt::format("{}", r.fit_stretch_max),
+           "fit.strain_max and fit.stretch_max exclude each other (one fit range)");
     if (!(r.fit_strain_max >= 0 && r.fit_strain_max <= 10))
       fail(source, "fit.strain_max", fmt::format("{}", r.fit_strain_max),
            "must be in [0, 10] (a strain; 0 = fit every row)");
@@ -554,6 +562,8 @@ nlohmann::json expanded_json(const Recipe& r) {
   if (r.fit_alpha_start > 0) out["fit"]["alpha"] = r.fit_alpha_start;
   if (r.hold_alpha) out["fit"]["hold_alpha"] = true;
   if (r.fit_strain_max > 0) out["fit"]["strain_max"] = r.fit_strain_max;
+  if (r.fit_stretch_max > 0) out["fit"]["stretch_max"] = r.fit_stretch_max;
+  if (r.deform.shear_strain_max != 0) out["deform"]["shear_strain_max"] = r.deform.shear_strain_max;
   if (r.system.enabled) {
     const json u = user_system_json(r.system);
     out.erase("build");

@@ -82,6 +82,9 @@ struct Recipe {
   /// fit range (key "fit.strain_max", decision D12h): rows with every strain component <= it
   /// are fitted; 0 = every row. Dimensionless.
   double fit_strain_max = 0;
+  /// fit.stretch_max: fit range by largest principal stretch - 1, exclusive with
+  /// fit.strain_max; 0 = every row (decision D12m)
+  double fit_stretch_max = 0;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
