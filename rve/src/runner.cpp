@@ -321,9 +321,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       std::string line, last;
       while (std::getline(f, line))
         if (!line.empty()) last = line;
-      fail_tool("mpirun",
-                fmt::format("starting the LAMMPS server of stage {} (mpirun -np {})", spec.name,
-                            spec.ranks),
+      fail_tool("mpirun", fmt::format("starting the LAMMPS server (mpirun -np {})", spec.ranks),
                 fmt::format("mpirun ended (status {}) before the LAMMPS server connected: {}{}",
                             WIFEXITED(status) ? WEXITSTATUS(status) : -1, last,
                             channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
@@ -337,9 +335,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       kill(mpirun_pid, SIGTERM);
       while (waitpid(mpirun_pid, &status, 0) < 0 && errno == EINTR) {
       }
-      fail_tool("mpirun",
-                fmt::format("starting the LAMMPS server of stage {} (mpirun -np {})", spec.name,
-                            spec.ranks),
+      fail_tool("mpirun", fmt::format("starting the LAMMPS server (mpirun -np {})", spec.ranks),
                 fmt::format("the LAMMPS server did not connect within {} s{}", timeout,
                             channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
                                               : std::string()),
@@ -452,9 +448,9 @@ void throw_stage_failure(const StageOutcome& o, const std::string& stage, const 
       c.entity = c.entity.empty() ? stage : stage + ": " + c.entity;
       c.message += note + " (log " + o.log_path + ")";
       throw SimulationError(c);
-    } catch (const ToolError& e) {
-      if (note.empty()) throw;
+    } catch (const ToolError& e) { // e.g. the MPI server: named with the stage it served
       ToolContext c = e.context();
+      c.doing += (c.doing.empty() ? "" : " ") + ("(" + stage + ")");
       c.message += note;
       throw ToolError(c);
     } catch (const std::exception& e) {

@@ -134,7 +134,7 @@ TEST(RveRunner, FailedStagesThrowTheErrorOfTheirKind) {
 
   std::tie(code, what) = thrown(out[3], "stage tool");
   EXPECT_EQ(code, pnc::exit_code::tool_failed);
-  EXPECT_EQ(what, "mpirun failed while starting: exit 1 (log m.log)");
+  EXPECT_EQ(what, "mpirun failed while starting (stage tool): exit 1 (log m.log)");
 
   std::tie(code, what) = thrown(out[4], "stage bug");
   EXPECT_EQ(code, pnc::exit_code::internal_error);

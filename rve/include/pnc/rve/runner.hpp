@@ -100,7 +100,8 @@ std::vector<StageOutcome> run_stages(const std::vector<std::pair<StageSpec, Stag
 ///    LAMMPS's ERROR line + last command, the stage log) - exit code 7;
 ///  - the body threw a pnc::InputError: InputError(log, stage, "", its message) - exit code 1;
 ///  - a pnc::SimulationError: the same error, its entity prefixed by the stage - exit code 6;
-///  - a pnc::ToolError (e.g. mpirun did not start the server): that error - exit code 7;
+///  - a pnc::ToolError (e.g. mpirun did not start the server): that error, the stage added to
+///    what pnc was doing - exit code 7;
 ///  - anything else: std::runtime_error naming the stage and log (a bug) - exit code 2.
 [[noreturn]] void throw_stage_failure(const StageOutcome& o, const std::string& stage,
                                       const std::string& note = "");
