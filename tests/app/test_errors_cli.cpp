@@ -196,7 +196,7 @@ TEST_F(PncErrors, FitStoppedBeforeConvergenceExitsThree) {
   ASSERT_EQ(run({"synth", "--model", "pp", "--points", "40", "--seed", "2", "--out", "d.csv"}).code,
             0);
   const PncRun r = run({"fit", "--data", "d.csv", "--model", "pp", "--out", "c.h5", "--no-plots",
-                     "--max-iterations", "1", "--json"});
+                        "--max-iterations", "1", "--json"});
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_TRUE(has(r.err, "pnc: error: the fit did not converge")) << r.err;
   EXPECT_TRUE(fs::exists(p("c.h5")));
@@ -210,7 +210,7 @@ TEST_F(PncErrors, FitStoppedBeforeConvergenceExitsThree) {
 TEST_F(PncErrors, PlotThatCannotBeDrawnIsAWarning) {
   ASSERT_EQ(run({"synth", "--model", "pp", "--points", "40", "--out", "d.csv"}).code, 0);
   const PncRun r = run({"fit", "--data", "d.csv", "--model", "pp", "--out", "c.h5", "--json"},
-                    {"PNC_PYTHON=/bin/false"});
+                       {"PNC_PYTHON=/bin/false"});
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(has(r.err, "pnc: warning: no plot: ")) << r.err;
   EXPECT_FALSE(has(r.err, "pnc: error")) << r.err;
@@ -235,6 +235,29 @@ TEST_F(PncErrors, LammpsFailureIsAToolErrorWithItsMessageAndLog) {
   const PncRun m = run({"rve", "lammps", "missing.in"});
   EXPECT_EQ(m.code, 1) << m.err;
   EXPECT_TRUE(has(m.err, "no such LAMMPS input file")) << m.err;
+}
+
+// A stage of `pnc characterize` that LAMMPS stops (the user's force field names a pair style
+// LAMMPS does not have; pnc's own rules for force-field lines let it through): exit 7, the
+// stage, LAMMPS's message and the stage log on one line.
+TEST_F(PncErrors, CharacterizeStageStoppedByLammpsIsAToolError) {
+  const fs::path ex = fs::path(PNC_SOURCE_DIR) / "examples" / "rve" / "lj_fcc";
+  fs::copy_file(ex / "fcc.data", p("fcc.data"));
+  std::string recipe = slurp(ex / "recipe.toml");
+  const std::string good = "\"pair_style lj/cut 8.5\"";
+  ASSERT_NE(recipe.find(good), std::string::npos);
+  recipe.replace(recipe.find(good), good.size(), "\"pair_style no_such_style 8.5\"");
+  std::ofstream(p("recipe.toml")) << recipe;
+  const PncRun r = run({"characterize", "recipe.toml", "--out", "o", "--no-plots"});
+  EXPECT_EQ(r.code, 7) << r.err;
+  const auto at = r.err.find("pnc: error: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const std::string line = r.err.substr(at);
+  EXPECT_EQ(lines(line), 1) << line;
+  EXPECT_EQ(line.rfind("pnc: error: LAMMPS failed while running ", 0), 0u) << line;
+  EXPECT_TRUE(has(line, "stage equilibrate/")) << line;
+  EXPECT_TRUE(has(line, "ERROR: Unrecognized pair style 'no_such_style'")) << line;
+  EXPECT_TRUE(has(line, ".log)")) << line;
 }
 #endif
 
