@@ -85,7 +85,7 @@ int run_fit(const FitArgs& a) {
   if (!rep.converged) {
     std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
               << "; the card was written but check it before use\n";
-    return 3;
+    return pnc::exit_code::not_converged;
   }
   return 0;
 }

@@ -23,8 +23,8 @@ namespace pnc::app {
 
 namespace {
 
-constexpr int kExitNotConverged = 3;
-constexpr int kExitOutsideReference = 5;
+constexpr int kExitNotConverged = pnc::exit_code::not_converged;         // 3, docs/errors.md
+constexpr int kExitOutsideReference = pnc::exit_code::outside_reference; // 5
 constexpr std::size_t kMismatchesShown = 10;
 
 struct DriveArgs {

@@ -123,7 +123,7 @@ int run_rve_lammps(const LammpsArgs& a) {
   if (!fs::is_regular_file(a.input)) fail(a.input, "INPUT", a.input, "no such LAMMPS input file");
   const std::string in = fs::absolute(a.input).string();
   const auto o = rve::run_stage(s, [in](rve::Lammps& l) { l.file(in); });
-  if (!o.ok) fail(s.log_path, "LAMMPS", a.input, o.error);
+  if (!o.ok) rve::throw_stage_failure(o, "input " + a.input); // ToolError: exit code 7
   std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s on {} rank(s) (log {})\n",
                            a.input, o.seconds, s.ranks, s.log_path);
   return 0;
@@ -460,7 +460,7 @@ int run_characterize(const CharacterizeArgs& a) {
   if (!rep.converged) {
     std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
               << "; the card was written but check it before use\n";
-    return 3;
+    return pnc::exit_code::not_converged;
   }
   return 0;
 }

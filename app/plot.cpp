@@ -3,6 +3,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/locate.hpp"
+#include "pnc/core/params.hpp"
 #include "pnc/core/subprocess.hpp"
 #include "pnc/damage/reference.hpp"
 
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #ifndef PNC_PYTHON
@@ -19,6 +21,18 @@
 namespace pnc::app {
 
 namespace fs = std::filesystem;
+
+namespace {
+/// One line on stderr: the results are written, only the figure is missing.
+void plot_warning(const std::string& what) {
+  std::string line = what;
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!line.empty() && line.back() == ' ')
+    line.pop_back();
+  std::cerr << "pnc: warning: no plot: " << clip(line, 600) << "\n";
+}
+} // namespace
 
 std::vector<std::string> run_plot_script(const std::string& script_name,
                                          const std::vector<std::string>& args) {
@@ -30,9 +44,18 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
   std::vector<std::string> argv = {py, script};
   argv.insert(argv.end(), args.begin(), args.end());
   const SubprocessResult r = run_subprocess(argv);
-  if (!r.started) fail(py, "", "", "cannot start the Python interpreter for plotting: " + r.error);
+  if (!r.started) {
+    plot_warning(py + ": cannot start the Python interpreter for plotting: " + r.error);
+    return {};
+  }
   const std::string& out = r.output;
-  if (!r.ok()) fail(script, "", "", "plotting failed (needs python3-matplotlib): " + out);
+  if (!r.ok()) {
+    const std::string how = r.signal ? "killed by signal " + std::to_string(r.signal)
+                                     : "exit status " + std::to_string(r.exit_code);
+    plot_warning(script + ": plotting failed (" + how + "; needs python3-matplotlib)" +
+                 (out.empty() ? std::string() : ": " + out));
+    return {};
+  }
   std::vector<std::string> pngs;
   std::istringstream lines(out);
   std::string line;

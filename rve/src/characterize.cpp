@@ -7,6 +7,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/rve/clay.hpp"
+#include "pnc/rve/runner.hpp"
 
 #include <fmt/format.h>
 
@@ -269,7 +270,7 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
 
   const auto outcomes = run_stages(stages, jobs);
   pnc::throw_if_stopped("the running cases stopped; their checkpoints are kept");
-  std::string first_error;
+  std::size_t first_failed = outcomes.size();
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     if (outcomes[i].ok) {
       std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", run_ids[i],
@@ -277,13 +278,12 @@ MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs,
     } else {
       std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", run_ids[i],
                                outcomes[i].error, outcomes[i].log_path);
-      if (first_error.empty())
-        first_error =
-            fmt::format("{}: {} (log {})", run_ids[i], outcomes[i].error, outcomes[i].log_path);
+      if (first_failed == outcomes.size()) first_failed = i;
     }
   }
-  if (!first_error.empty())
-    fail(dir, "cases", "", first_error + "; finished steps are kept: rerun with --resume");
+  if (first_failed < outcomes.size()) // the first failure, as the error of its kind
+    throw_stage_failure(outcomes[first_failed], "case " + run_ids[first_failed],
+                        "; finished steps are kept: rerun with --resume");
   std::vector<std::vector<CaseResult>> results(static_cast<std::size_t>(nrep));
   for (int rep = 1; rep <= nrep; ++rep)
     for (int id : r.cases)

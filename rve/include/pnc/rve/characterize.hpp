@@ -43,11 +43,12 @@ struct MdOutcome {
 
 /// Runs the MD pipeline. With `resume`, finished parts are reused and cases continue from
 /// their checkpoints; the recipe must equal the one stored in `dir`. Failed cases are all
-/// run to their end (or failure) before an InputError names the first failure with LAMMPS's
-/// message; finished cases and checkpoints stay on disk. `jobs` cases run at a time, each
-/// LAMMPS stage on `ranks` MPI ranks (StageSpec::ranks): jobs x ranks cores in all. The
-/// equilibration stages, which run one at a time, use `equilibrate_ranks` (0: `ranks`);
-/// different rank counts agree to round-off, not bitwise.
+/// run to their end (or failure) before the first failure is thrown as the error of its kind
+/// (throw_stage_failure, runner.hpp: pnc::ToolError with LAMMPS's message); finished cases and
+/// checkpoints stay on disk. `jobs` cases run at a time, each LAMMPS stage on `ranks` MPI ranks
+/// (StageSpec::ranks): jobs x ranks cores in all. The equilibration stages, which run one at a
+/// time, use `equilibrate_ranks` (0: `ranks`); different rank counts agree to round-off, not
+/// bitwise.
 MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks = 1,
                  int equilibrate_ranks = 0);
 
