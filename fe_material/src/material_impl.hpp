@@ -3,6 +3,7 @@
 // properties (ABI 1.1, docs/plugin.md "Properties"). Internal to the plugin.
 #include "pnc/damage/ndm.hpp"
 
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,16 @@ struct pnc_material {
   pnc::damage::PreparedNdm kernel; ///< the parameters (kernel.p), prepared once at creation
   std::string source;              ///< card path or "<constants>", for messages
   std::string verdict = "usable";  ///< the card's verdict level
-  std::vector<pnc::fe_material::detail::Property> properties; ///< computed at creation
+
+  /// The properties, computed at the first query (the P-wave search costs ~1e4 eigen
+  /// solves, which a host that never asks should not pay); thread-safe.
+  const std::vector<pnc::fe_material::detail::Property>& properties() const {
+    std::call_once(properties_once_,
+                   [this] { properties_ = pnc::fe_material::detail::make_properties(kernel); });
+    return properties_;
+  }
+
+private:
+  mutable std::once_flag properties_once_;
+  mutable std::vector<pnc::fe_material::detail::Property> properties_;
 };

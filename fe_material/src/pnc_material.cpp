@@ -74,7 +74,6 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_ex(const char* card_path, uns
         }
         auto m = std::make_unique<pnc_material>(); // no leak if a step below throws
         m->kernel = pnc::damage::prepare(card.params);
-        m->properties = pnc::fe_material::detail::make_properties(m->kernel);
         m->source = card_path;
         m->verdict = pnc::damage::verdict_name(card.verdict.level);
         return m.release();
@@ -122,7 +121,6 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* mo
         pnc::damage::validate(p, kFromConstants);
         auto m = std::make_unique<pnc_material>(); // no leak if a step below throws
         m->kernel = pnc::damage::prepare(p);
-        m->properties = pnc::fe_material::detail::make_properties(m->kernel);
         m->source = "<constants>";
         return m.release();
       },

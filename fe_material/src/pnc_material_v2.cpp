@@ -128,9 +128,20 @@ int integrate2(const pnc_material* m, pnc_material_point* pt) {
   return PNC_MATERIAL_OK;
 }
 
+// The properties of m, or null when they cannot be computed (out of memory).
+const std::vector<pnc::fe_material::detail::Property>* properties_of(const pnc_material* m) {
+  if (!m) return nullptr;
+  try {
+    return &m->properties();
+  } catch (...) {
+    return nullptr;
+  }
+}
+
 const pnc::fe_material::detail::Property* find_property(const pnc_material* m, const char* name) {
-  if (!m || !name) return nullptr;
-  for (const auto& p : m->properties)
+  const auto* props = properties_of(m);
+  if (!props || !name) return nullptr;
+  for (const auto& p : *props)
     if (p.name == name) return &p;
   return nullptr;
 }
@@ -177,22 +188,26 @@ PNC_MATERIAL_API double pnc_material_property(const pnc_material* m, const char*
                                               int* status) {
   const auto* p = find_property(m, name);
   if (status)
-    *status = p ? PNC_MATERIAL_OK : m ? PNC_MATERIAL_UNKNOWN_NAME : PNC_MATERIAL_BAD_ARGUMENT;
+    *status = p                   ? PNC_MATERIAL_OK
+              : !m                ? PNC_MATERIAL_BAD_ARGUMENT
+              : !properties_of(m) ? PNC_MATERIAL_INTERNAL
+                                  : PNC_MATERIAL_UNKNOWN_NAME;
   return p ? p->value : std::numeric_limits<double>::quiet_NaN();
 }
 
 PNC_MATERIAL_API int pnc_material_n_properties(const pnc_material* m) {
-  return m ? static_cast<int>(m->properties.size()) : 0;
+  const auto* props = properties_of(m);
+  return props ? static_cast<int>(props->size()) : 0;
 }
 
 PNC_MATERIAL_API const char* pnc_material_property_name(const pnc_material* m, int i) {
   if (!m || i < 0 || i >= pnc_material_n_properties(m)) return nullptr;
-  return m->properties[static_cast<std::size_t>(i)].name.c_str();
+  return (*properties_of(m))[static_cast<std::size_t>(i)].name.c_str();
 }
 
 PNC_MATERIAL_API const char* pnc_material_property_units(const pnc_material* m, int i) {
   if (!m || i < 0 || i >= pnc_material_n_properties(m)) return nullptr;
-  return m->properties[static_cast<std::size_t>(i)].units;
+  return (*properties_of(m))[static_cast<std::size_t>(i)].units;
 }
 
 PNC_MATERIAL_API int pnc_material_elastic_stiffness(const pnc_material* m, double* C36) {

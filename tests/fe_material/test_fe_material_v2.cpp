@@ -32,6 +32,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -649,6 +650,23 @@ TEST(FeMaterialV2, PropertyEnumerationUnknownNamesAndStateIndices) {
   EXPECT_EQ(pnc_material_model_n_constants("steel"), 0);
   EXPECT_EQ(pnc_material_model_n_constants(nullptr), 0);
   EXPECT_EQ(pnc_material_model_constant_name("steel", 0), nullptr);
+}
+
+TEST(FeMaterialV2, PropertiesAreComputedOnceWhenThreadsAskAtTheSameTime) {
+  // The properties are computed at the first query (std::call_once): 8 threads asking a fresh
+  // material at once must all see the values one thread sees later.
+  auto m = make(params(Model::pnc, true));
+  std::vector<double> got(8, 0.0);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    threads.emplace_back(
+        [&, i] { got[i] = pnc_material_property(m.get(), "p_wave_modulus_max", nullptr); });
+  for (auto& t : threads)
+    t.join();
+  const double ref = pnc_material_property(m.get(), "p_wave_modulus_max", nullptr);
+  EXPECT_TRUE(std::isfinite(ref));
+  for (const double v : got)
+    EXPECT_EQ(v, ref);
 }
 
 TEST(FeMaterialV2, TheCxxWrapperThroughThePluginReachesAbi11) {

@@ -245,7 +245,7 @@ PNC_MATERIAL_API int pnc_material_integrate2(const pnc_material* m, pnc_material
 
 /* Scalar properties of the material, by name (units in docs/plugin.md and from
  * pnc_material_property_units()). All are of the undamaged law in the GLOBAL frame (the
- * platelet rotation applied), computed once at creation:
+ * platelet rotation applied), computed once, at the first query:
  *   elastic_stiffness_IJ   (I, J = 1..6) [C0], Pa, engineering Voigt
  *   damage_stiffness_K_IJ  (K = 1..n_damage_modes) d[C]/dD_K, Pa per unit damage
  *   n_damage_modes         3 (pnc) or 1 (pp)
@@ -259,7 +259,7 @@ PNC_MATERIAL_API int pnc_material_integrate2(const pnc_material* m, pnc_material
  *   poisson_ratio_IJ       (IJ = 12, 13, 23, 21, 31, 32) -S_IJ / S_II: lateral strain in J
  *                          per axial strain in I, 1
  * Unknown name or NULL: NaN with *status = PNC_MATERIAL_UNKNOWN_NAME (BAD_ARGUMENT for a NULL
- * material); status may be NULL. */
+ * material, INTERNAL if the properties cannot be computed); status may be NULL. */
 PNC_MATERIAL_API double pnc_material_property(const pnc_material* m, const char* name, int* status);
 /* Enumeration: the number of properties, the name and the units ("Pa", "1") of property i
  * (0-based); NULL outside. Strings live as long as the material. */
