@@ -3,6 +3,7 @@
 // properties (ABI 1.1, docs/plugin.md "Properties"). Internal to the plugin.
 #include "pnc/damage/ndm.hpp"
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -35,14 +36,22 @@ struct pnc_material {
   std::string verdict = "usable";  ///< the card's verdict level
 
   /// The properties, computed at the first query (the P-wave search costs ~1e4 eigen
-  /// solves, which a host that never asks should not pay); thread-safe.
+  /// solves, which a host that never asks should not pay); thread-safe (double-checked
+  /// locking: std::call_once would make the plugin depend on ld-linux through libstdc++'s
+  /// thread-local once state, which D154 does not allow).
   const std::vector<pnc::fe_material::detail::Property>& properties() const {
-    std::call_once(properties_once_,
-                   [this] { properties_ = pnc::fe_material::detail::make_properties(kernel); });
+    if (!properties_ready_.load(std::memory_order_acquire)) {
+      const std::lock_guard<std::mutex> lock(properties_mutex_);
+      if (!properties_ready_.load(std::memory_order_relaxed)) {
+        properties_ = pnc::fe_material::detail::make_properties(kernel);
+        properties_ready_.store(true, std::memory_order_release);
+      }
+    }
     return properties_;
   }
 
 private:
-  mutable std::once_flag properties_once_;
+  mutable std::mutex properties_mutex_;
+  mutable std::atomic<bool> properties_ready_{false};
   mutable std::vector<pnc::fe_material::detail::Property> properties_;
 };

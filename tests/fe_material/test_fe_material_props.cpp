@@ -166,8 +166,8 @@ TEST(FeMaterialV2, PropertyEnumerationUnknownNamesAndStateIndices) {
 }
 
 TEST(FeMaterialV2, PropertiesAreComputedOnceWhenThreadsAskAtTheSameTime) {
-  // The properties are computed at the first query (std::call_once): 8 threads asking a fresh
-  // material at once must all see the values one thread sees later.
+  // The properties are computed at the first query (double-checked locking): 8 threads asking a
+  // fresh material at once must all see the values one thread sees later.
   auto m = make(params(Model::pnc, true));
   std::vector<double> got(8, 0.0);
   std::vector<std::thread> threads;
