@@ -13,41 +13,6 @@
 
 namespace pnc::damage {
 
-const char* model_name(Model m) {
-  return m == Model::pnc ? "pnc" : "pp";
-}
-
-Model parse_model(const std::string& name, const std::string& source) {
-  if (name == "pnc") return Model::pnc;
-  if (name == "pp") return Model::pp;
-  fail(source, "model", name, "must be 'pnc' (nanocomposite) or 'pp' (pure polymer)");
-}
-
-const std::vector<std::string>& constant_names(Model m) {
-  static const std::vector<std::string> pnc = {
-      "C11", "C22", "C33", "C12", "C13", "C23", "C44", "C55", "C66", "A1",  "A5",
-      "A9",  "A10", "A11", "A13", "A15", "A17", "A18", "A22", "A24", "A26", "alpha"};
-  static const std::vector<std::string> pp = {"C11", "C12", "C44", "B1", "B2", "B4", "alpha"};
-  return m == Model::pnc ? pnc : pp;
-}
-
-int constant_index(Model m, const std::string& name) {
-  const auto& n = constant_names(m);
-  for (std::size_t i = 0; i < n.size(); ++i)
-    if (n[i] == name) return static_cast<int>(i);
-  return -1;
-}
-
-double& NdmParameters::operator[](const std::string& name) {
-  const int i = constant_index(model, name);
-  if (i < 0)
-    fail("<parameters>", name, "", std::string("not a constant of model ") + model_name(model));
-  return k[static_cast<std::size_t>(i)];
-}
-double NdmParameters::operator[](const std::string& name) const {
-  return const_cast<NdmParameters&>(*this)[name];
-}
-
 // ---------------------------------------------------------------- stiffness
 namespace {
 enum PncIdx {
@@ -190,16 +155,6 @@ double damage_of_kappa(const NdmParameters& p, double kappa, double* slope) {
   mode_damage(kappa, p.alpha(), onset_margin(p.alpha()), D, dD);
   if (slope) *slope = dD / p.alpha();
   return D;
-}
-
-// ---------------------------------------------------------------- state
-const std::vector<std::string>& state_names(Model m) {
-  static const std::vector<std::string> pnc = {"kappa1", "kappa2", "kappa3", "D1", "D2", "D3"};
-  static const std::vector<std::string> pp = {"kappa", "D"};
-  return m == Model::pnc ? pnc : pp;
-}
-std::size_t state_size(Model m) {
-  return state_names(m).size();
 }
 
 // ---------------------------------------------------------------- kinematics
@@ -478,24 +433,41 @@ Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
 }
 } // namespace
 
-PreparedNdm prepare(const NdmParameters& p) {
+namespace {
+
+// T^T C T is symmetric; the rounding of the two products is not, so symmetrise: the
+// row-major tangent route relies on C0g + sum D_m dC1g_m being exactly symmetric.
+void rotate_symmetric(const Matrix6& T, Matrix6& C) {
+  const Matrix6 G = T.transpose() * C * T;
+  C = 0.5 * (G + G.transpose());
+}
+
+// prepare() without the damage pieces dC1g: T and C0g only.
+PreparedNdm prepare_base(const NdmParameters& p) {
   PreparedNdm q;
   q.p = p;
   q.rotated = !p.R.isIdentity(0.0);
   q.C0g = stiffness_c0(p);
+  if (q.rotated) { // otherwise the platelet frame is the global frame: no products
+    q.T = strain_rotation(p.R);
+    rotate_symmetric(q.T, q.C0g);
+  }
+  return q;
+}
+
+// The damage piece dC1g_m of prepared parameters, as prepare() forms it.
+Matrix6 damage_piece(const PreparedNdm& q, int m) {
+  Matrix6 M = stiffness_c1_dD(q.p, m);
+  if (q.rotated) rotate_symmetric(q.T, M);
+  return M;
+}
+
+} // namespace
+
+PreparedNdm prepare(const NdmParameters& p) {
+  PreparedNdm q = prepare_base(p);
   for (int m = 0; m < 3; ++m)
-    q.dC1g[static_cast<std::size_t>(m)] = stiffness_c1_dD(p, m);
-  if (!q.rotated) return q; // the platelet frame is the global frame: no products
-  q.T = strain_rotation(p.R);
-  // T^T C T is symmetric; the rounding of the two products is not, so symmetrise: the
-  // row-major tangent route relies on C0g + sum D_m dC1g_m being exactly symmetric.
-  auto rotate = [&q](Matrix6& C) {
-    const Matrix6 G = q.T.transpose() * C * q.T;
-    C = 0.5 * (G + G.transpose());
-  };
-  rotate(q.C0g);
-  for (auto& M : q.dC1g)
-    rotate(M);
+    q.dC1g[static_cast<std::size_t>(m)] = damage_piece(q, m);
   return q;
 }
 
@@ -510,10 +482,14 @@ namespace {
 // Map): the symmetric part is copied as it is (Cg is exactly symmetric, prepare()) while the
 // damage-growth outer product a g is added as g^T a^T.
 // VIn / VOut are Voigt or Maps over the caller's arrays (the C ABI route copies nothing).
+//
+// have_pieces false: q came from prepare_base() (integrate(p, ...), one call per parameter
+// set), and the damage pieces dC1g_m are formed here, by the function prepare() uses, only for
+// the modes that are damaged: the same numbers without the cost of the undamaged ones.
 template <class KMatrix, class VIn, class VOut>
-Status integrate_impl(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const VIn& eps0,
-                      const VIn& deps, VOut& sigma, KMatrix* K, TangentKind kind, NdmEnergy* energy,
-                      ErrorBuffer& err) {
+Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0, NdmState& s1,
+                      const VIn& eps0, const VIn& deps, VOut& sigma, KMatrix* K, TangentKind kind,
+                      NdmEnergy* energy, ErrorBuffer& err) {
   constexpr bool K_transposed = !std::is_same_v<KMatrix, Matrix6>;
   const NdmParameters& p = q.p;
   const Voigt eps = eps0 + deps;
@@ -563,7 +539,10 @@ Status integrate_impl(const PreparedNdm& q, const NdmState& s0, NdmState& s1, co
     if (out.D[m] == 0.0) continue;
     if (Cg != &Cd) Cd = q.C0g;
     Cg = &Cd;
-    Cd.noalias() += out.D[m] * q.dC1g[static_cast<std::size_t>(m)];
+    if (have_pieces)
+      Cd.noalias() += out.D[m] * q.dC1g[static_cast<std::size_t>(m)];
+    else
+      Cd.noalias() += out.D[m] * damage_piece(q, m);
   }
   sigma = times(*Cg);
   if (K) *K = kind == TangentKind::elastic ? q.C0g : *Cg;
@@ -602,13 +581,14 @@ Status integrate_impl(const PreparedNdm& q, const NdmState& s0, NdmState& s1, co
 
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate(prepare(p), s0, s1, eps0, deps, sigma, K, err);
+  return integrate_impl(prepare_base(p), false, s0, s1, eps0, deps, sigma, K,
+                        TangentKind::consistent, nullptr, err);
 }
 
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err, TangentKind kind,
                  NdmEnergy* energy) {
-  return integrate_impl(q, s0, s1, eps0, deps, sigma, K, kind, energy, err);
+  return integrate_impl(q, true, s0, s1, eps0, deps, sigma, K, kind, energy, err);
 }
 
 Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
@@ -619,7 +599,8 @@ Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s
   Eigen::Map<Voigt> sig(sigma);
   // A column-major view of the row-major array is K^T.
   Eigen::Map<Matrix6> Kt(K_row_major);
-  return integrate_impl(q, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, kind, energy, err);
+  return integrate_impl(q, true, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, kind, energy,
+                        err);
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 6>

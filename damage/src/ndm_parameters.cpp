@@ -1,6 +1,6 @@
-// The NDM parameters outside the integration: [C0] from the dissertation's c constants or
-// from engineering constants, and the validation of user-supplied parameters
-// (pnc/damage/ndm.hpp; docs/decisions.md D1, D1b).
+// The NDM parameters outside the integration: model and constant names, the state layout,
+// [C0] from the dissertation's c constants or from engineering constants, and the validation
+// of user-supplied parameters (pnc/damage/ndm.hpp; docs/decisions.md D1, D1b, D8).
 #include "pnc/damage/ndm.hpp"
 
 #include "pnc/core/error.hpp"
@@ -11,6 +11,51 @@
 #include <sstream>
 
 namespace pnc::damage {
+
+const char* model_name(Model m) {
+  return m == Model::pnc ? "pnc" : "pp";
+}
+
+Model parse_model(const std::string& name, const std::string& source) {
+  if (name == "pnc") return Model::pnc;
+  if (name == "pp") return Model::pp;
+  fail(source, "model", name, "must be 'pnc' (nanocomposite) or 'pp' (pure polymer)");
+}
+
+const std::vector<std::string>& constant_names(Model m) {
+  static const std::vector<std::string> pnc = {
+      "C11", "C22", "C33", "C12", "C13", "C23", "C44", "C55", "C66", "A1",  "A5",
+      "A9",  "A10", "A11", "A13", "A15", "A17", "A18", "A22", "A24", "A26", "alpha"};
+  static const std::vector<std::string> pp = {"C11", "C12", "C44", "B1", "B2", "B4", "alpha"};
+  return m == Model::pnc ? pnc : pp;
+}
+
+int constant_index(Model m, const std::string& name) {
+  const auto& n = constant_names(m);
+  for (std::size_t i = 0; i < n.size(); ++i)
+    if (n[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+double& NdmParameters::operator[](const std::string& name) {
+  const int i = constant_index(model, name);
+  if (i < 0)
+    fail("<parameters>", name, "", std::string("not a constant of model ") + model_name(model));
+  return k[static_cast<std::size_t>(i)];
+}
+double NdmParameters::operator[](const std::string& name) const {
+  return const_cast<NdmParameters&>(*this)[name];
+}
+
+// ---------------------------------------------------------------- state
+const std::vector<std::string>& state_names(Model m) {
+  static const std::vector<std::string> pnc = {"kappa1", "kappa2", "kappa3", "D1", "D2", "D3"};
+  static const std::vector<std::string> pp = {"kappa", "D"};
+  return m == Model::pnc ? pnc : pp;
+}
+std::size_t state_size(Model m) {
+  return state_names(m).size();
+}
 
 Matrix6 c0_from_c_constants(const std::array<double, 9>& c) {
   Matrix6 C = Matrix6::Zero();
