@@ -188,9 +188,8 @@ struct NdmEnergy {
 ///          includes the damage-growth term when a mode is loading.
 /// Returns Status::ok, or Status::bad_input (non-finite strain or parameter) with a message
 /// in err; s1 and sigma are then untouched.
-/// This overload runs the one routine of the prepared overload below (decision D210) with
-/// the parameters prepared for this call only (the damage pieces of the damaged modes alone):
-/// the same numbers as integrate(prepare(p), ...).
+/// The one routine of the prepared overload below (D210), prepared for this call only (damage
+/// pieces of damaged modes alone): the same numbers as integrate(prepare(p), ...).
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
 
