@@ -230,7 +230,7 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
         std::isfinite(c.fit.chi2) && c.fit.dof > 0
             ? fmt::format("; chi²/dof = {:.3g} ({} dof)", c.fit.chi2 / c.fit.dof, c.fit.dof)
             : std::string());
-    q.header = {"case", "component", "points", "R²", "rms residual (MPa)", "runs-test p", "note"};
+    q.header = {"case", "component", "points", "R²", "rms (MPa)", "runs-test p", "note"};
     q.numeric = {true, false, true, true, true, true, false};
     q.side_by_side = true;
     for (const auto& f : c.fit.components)
@@ -241,25 +241,22 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
   }
   const DerivedModuli d = derive_moduli(c.params);
   html::Table m;
-  m.caption = "Derived moduli of C0 (GPa), both readings: by compliance inversion (the "
-              "orthotropic moduli) and by the printed formula (docs/theory.md section 1.5)";
-  m.header = {"modulus", "value (GPa)", "reading"};
+  m.caption = "Derived moduli of C0, both readings: compliance inversion (the orthotropic "
+              "moduli) and the printed formula (docs/theory.md section 1.5)";
+  m.header = {"modulus", "GPa", "reading"};
   m.numeric = {false, true, false};
   m.side_by_side = true;
-  m.rows = {{"E1", num(d.E1 / 1e9), "compliance inversion"},
-            {"E2", num(d.E2 / 1e9), "compliance inversion"},
-            {"E3", num(d.E3 / 1e9), "compliance inversion"},
-            {"G23", num(d.G23 / 1e9), "compliance inversion"},
-            {"G13", num(d.G13 / 1e9), "compliance inversion"},
-            {"G12", num(d.G12 / 1e9), "compliance inversion"}};
+  m.rows = {{"E1", num(d.E1 / 1e9), "inversion"},   {"E2", num(d.E2 / 1e9), "inversion"},
+            {"E3", num(d.E3 / 1e9), "inversion"},   {"G23", num(d.G23 / 1e9), "inversion"},
+            {"G13", num(d.G13 / 1e9), "inversion"}, {"G12", num(d.G12 / 1e9), "inversion"}};
   if (c.params.model == Model::pnc)
     m.rows.push_back({"E2 (printed formula)", num(d.E2_eq646_printed / 1e9),
-                      "the printed formula, labelled E2 in the source; it equals E1 by inversion"});
+                      "printed formula (labelled E2; equals E1)"});
   else
-    m.rows.push_back({"E (isotropic formula)", num(d.E_eq647 / 1e9),
-                      "isotropic formula from C22 -> C11 and C12 (pure polymer)"});
+    m.rows.push_back(
+        {"E (isotropic formula)", num(d.E_eq647 / 1e9), "isotropic formula (C11, C12)"});
   m.rows.push_back({"ν12, ν13, ν23", fmt::format("{:.3g}, {:.3g}, {:.3g}", d.nu12, d.nu13, d.nu23),
-                    "Poisson ratios (1), compliance inversion"});
+                    "inversion (dimensionless)"});
   page.table(m);
   html::Table s;
   s.caption = "Strength of each case: first local maximum of the driven stress along the case "

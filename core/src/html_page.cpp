@@ -36,7 +36,7 @@ th, td { border: 1px solid var(--line); padding: 4px 10px; text-align: left;
 th { background: var(--band); font-weight: 600; }
 td.num, th.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 table.facts th { min-width: 12em; }
-table.side { display: inline-table; vertical-align: top; margin-right: 28px; max-width: 100%; }
+table.side { display: inline-table; vertical-align: top; margin-right: 20px; max-width: 100%; }
 code, pre { font-family: "DejaVu Sans Mono", Menlo, Consolas, monospace; font-size: .88em; }
 code { background: var(--band); padding: 0 3px; border-radius: 3px; }
 pre { background: var(--band); border: 1px solid var(--line); padding: 10px 12px;
