@@ -55,7 +55,8 @@ Panel components_panel(const std::string& title, const std::string& xlabel) {
   p.xlabel = xlabel;
   p.ylabel = "stress (MPa)";
   for (int j = 0; j < 6; ++j)
-    p.series.push_back({Series::Style::points, std::string("σ") + kComp[j], {}, {}, {}, j});
+    p.series.push_back(
+        {Series::Style::line_points, std::string("σ") + kComp[j], {}, {}, {}, j, 0.8});
   return p;
 }
 
@@ -190,9 +191,13 @@ std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutc
   f.columns = subtract ? 4 : 3;
   for (const auto& cc : st.cases) {
     const std::string xl = (cc.voigt < 3 ? "ε" : "γ") + std::string(kComp[cc.voigt]);
-    const std::string head = fmt::format("case {} ({})", cc.id, case_label(cc.id));
-    Panel raw = components_panel(head + (subtract ? ": as measured" : ": fitted as measured"), xl);
-    Panel rel = components_panel(head + ": minus the reference (fitted)", xl);
+    Panel raw = components_panel(fmt::format("case {} ({}): {}", cc.id, case_label(cc.id),
+                                             subtract ? "as measured" : "as fitted"),
+                                 xl);
+    Panel rel = components_panel(fmt::format("case {}: minus the reference (fitted)", cc.id), xl);
+    // the driven component drawn heavier
+    raw.series[static_cast<std::size_t>(cc.voigt)].width = 2.0;
+    rel.series[static_cast<std::size_t>(cc.voigt)].width = 2.0;
     for (int j = 0; j < 6; ++j) {
       Series& s = raw.series[static_cast<std::size_t>(j)];
       if (subtract) { // zero strain: the reference state of the replicas

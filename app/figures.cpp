@@ -26,12 +26,16 @@ nlohmann::json numbers(const std::vector<double>& v) {
 }
 
 nlohmann::json series_json(const Series& s) {
-  nlohmann::json j = {{"style", s.style == Series::Style::line ? "line" : "points"},
+  const char* style = s.style == Series::Style::line          ? "line"
+                      : s.style == Series::Style::line_points ? "line_points"
+                                                              : "points";
+  nlohmann::json j = {{"style", style},
                       {"label", s.label},
                       {"x", numbers(s.x)},
                       {"y", numbers(s.y)},
                       {"colour", s.colour}};
   if (!s.yerr.empty()) j["yerr"] = numbers(s.yerr);
+  if (s.width > 0) j["width"] = s.width;
   return j;
 }
 

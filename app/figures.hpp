@@ -12,11 +12,14 @@
 namespace pnc::app {
 
 struct Series {
-  enum class Style { points, line } style = Style::points;
+  /// points (markers, error bars when yerr is given), line, or both (markers joined by a
+  /// thin line, for short MD curves)
+  enum class Style { points, line, line_points } style = Style::points;
   std::string label;
   std::vector<double> x, y;
   std::vector<double> yerr; ///< empty, or one standard error per point (same units as y)
   int colour = -1;          ///< index into the script's palette; -1 = next
+  double width = 0;         ///< line width (points); 0 = the script's default
 };
 
 struct Panel {

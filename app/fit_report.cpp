@@ -83,8 +83,8 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
                 (std::isfinite(r2) ? fmt::format(", R² = {:.3g}", r2) : std::string());
       p.xlabel = strain_label(dc.driven);
       p.ylabel = stress_label(comp) + " (MPa)";
-      Series d{Series::Style::points, errors ? "data ± s.e." : "data", {}, {}, {}, 0};
-      Series m{Series::Style::line, "NDM fit", {}, {}, {}, 1};
+      Series d{Series::Style::points, errors ? "data ± s.e." : "data", {}, {}, {}, 0, 0.0};
+      Series m{Series::Style::line, "NDM fit", {}, {}, {}, 1, 0.0};
       p.residual.style = Series::Style::points;
       for (Eigen::Index k = 0; k < c.stress.rows(); ++k) {
         const double x = c.strain(k, dc.driven), y = c.stress(k, comp) / 1e6;

@@ -4,7 +4,8 @@
 Input: the JSON job list written by pnc (app/figures.hpp, "pnc figure jobs v1"):
   {"figures": [{"png", "title", "columns", "panels": [
       {"title", "xlabel", "ylabel", "fit_limit"?,
-       "series": [{"style": "points"|"line", "label", "x", "y", "yerr"?, "colour"}],
+       "series": [{"style": "points"|"line"|"line_points", "label", "x", "y", "yerr"?,
+                   "colour", "width"?}],
        "residual"?: {same as a series}, "residual_label"?}]}]}
 Numbers are plotted as given (units are in the labels; null is a gap). Prints 'wrote <png>'
 per figure; each PNG is written to a fresh temporary file and renamed into place."""
@@ -40,15 +41,17 @@ def finite(xs, ys, es=None):
 
 def draw_series(ax, s, colour):
     x, y, e = finite(s["x"], s["y"], s.get("yerr"))
+    label = s["label"] or None
     if s["style"] == "line":
-        ax.plot(x, y, "-", lw=1.8, color=colour, label=s["label"] or None, zorder=3)
-    else:
-        if "yerr" in s:  # one LineCollection: much cheaper than Axes.errorbar
-            ax.add_collection(LineCollection(
-                [((xi, yi - ei), (xi, yi + ei)) for xi, yi, ei in zip(x, y, e)],
-                colors=[colour], linewidths=0.7, alpha=0.6, zorder=2))
-        ax.plot(x, y, "o", ms=2.6, mew=0, alpha=0.8, color=colour, label=s["label"] or None,
-                zorder=2.5)
+        ax.plot(x, y, "-", lw=s.get("width", 1.8), color=colour, label=label, zorder=3)
+        return
+    if "yerr" in s:  # one LineCollection: much cheaper than Axes.errorbar
+        ax.add_collection(LineCollection(
+            [((xi, yi - ei), (xi, yi + ei)) for xi, yi, ei in zip(x, y, e)],
+            colors=[colour], linewidths=0.7, alpha=0.6, zorder=2))
+    joined = s["style"] == "line_points"
+    ax.plot(x, y, "o-" if joined else "o", ms=3.2 if joined else 2.6, mew=0, alpha=0.8,
+            lw=s.get("width", 0.8), color=colour, label=label, zorder=2.5)
 
 
 def shade_beyond(ax, limit):

@@ -139,3 +139,58 @@ TEST_F(Report, FitPageRendersInHeadlessChromium) {
   // 1200 x 3000 screenshot; an empty or unstyled white page is below 1 %)
   EXPECT_GT(r.ink, 0.02);
 }
+
+TEST_F(Report, MaterialDriveWritesItsPageAndFlagsAReferenceMismatchInRed) {
+  ASSERT_EQ(pnc("card tables --model pnc --out t.h5").code, 0);
+  std::ofstream(p("p.toml")) << "[[segment]]\nsteps = 8\ne11 = 0.1\n";
+  const auto d = pnc("material drive t.h5 --path p.toml --out r.csv --json");
+  ASSERT_EQ(d.code, 0) << read_file(p("err.txt"));
+  const auto j = nlohmann::json::parse(d.out);
+  EXPECT_EQ(j["report"], "r_report.html");
+  const std::string html = read_file(p("r_report.html"));
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_NE(html.find("box verdict tone-good\"><div class=\"level\">Completed: 8 of 8 steps"),
+            std::string::npos);
+  EXPECT_NE(html.find("src=\"data:image/png;base64,iVBORw0KGgo"), std::string::npos);
+  // the end stress in MPa, 6 significant digits, as the JSON summary has it in Pa
+  const double s11 = j["final"]["stress_pa"][0].get<double>() / 1e6;
+  EXPECT_NEAR(cell_after(html, "σ11 / ε11", 1), s11, 1e-5 * s11);
+  EXPECT_NE(read_file(p("r_report.md")).find("](r.png)"), std::string::npos);
+  // a reference whose s11 is 1 % + 1 kPa off in every row (steps 0..8: 9 values beyond the
+  // default tolerance 1 Pa + 1e-6 |reference|): exit 5 and a red box naming the mismatch
+  std::ifstream in(p("r.csv"));
+  std::ofstream ref(p("ref.csv"));
+  std::string line, header;
+  std::getline(in, header);
+  while (header.rfind('#', 0) == 0)
+    std::getline(in, header);
+  ref << header << "\n";
+  const auto col = [&] {
+    std::size_t c = 0, at = 0;
+    for (; header.compare(at, 4, "s11,") != 0; ++c)
+      at = header.find(',', at) + 1;
+    return c;
+  }();
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::size_t at = 0;
+    for (auto e = line.find(',');; e = line.find(',', at)) {
+      cells.push_back(line.substr(at, e == std::string::npos ? e : e - at));
+      if (e == std::string::npos) break;
+      at = e + 1;
+    }
+    cells[col] = std::to_string(std::stod(cells[col]) * 1.01 + 1e3);
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      ref << (c ? "," : "") << cells[c];
+    ref << "\n";
+  }
+  ref.close();
+  const auto bad = pnc("material drive t.h5 --path p.toml --out r2.csv --reference ref.csv");
+  EXPECT_EQ(bad.code, 5) << read_file(p("err.txt"));
+  const std::string red = read_file(p("r2_report.html"));
+  EXPECT_NE(red.find("box verdict tone-bad\"><div class=\"level\">Outside the reference "
+                     "tolerances: 9 value(s)"),
+            std::string::npos)
+      << red.substr(0, 3000);
+  EXPECT_NE(red.find("<td>s11</td>"), std::string::npos);
+}
