@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 namespace pnc::app {
 
@@ -259,7 +260,7 @@ std::string write_characterize_report(const CharacterizeRun& c) {
         fmt::format("{} (error bars: {})", md.statistics.replicas, md.statistics.error_method)},
        {"model fitted", std::string("NDM, ") + damage::model_name(c.model)},
        {"software", version_string()},
-       {"finished", utc_timestamp() + " UTC"},
+       {"finished", utc_timestamp()},
        {"wall time", fmt::format("{} (build {}, equilibration {}, phase check {}, cases {}{})",
                                  seconds_text(c.seconds), seconds_text(md.seconds_build),
                                  seconds_text(md.seconds_equilibrate),
@@ -309,18 +310,73 @@ std::string write_characterize_report(const CharacterizeRun& c) {
                                md.phase.G_hold_se_Pa * 1e-9, md.phase.K_Pa * 1e-9,
                                md.phase.K_se_Pa * 1e-9));
   add_card_numbers(page, c.card);
-  page.section("Warnings");
-  std::vector<std::string> warns = c.card.verdict.reasons;
-  if (!c.rep.warnings.empty()) warns.push_back("solver: " + c.rep.warnings);
-  if (!c.plots.warning.empty()) warns.push_back("figures: " + c.plots.warning);
-  if (warns.empty())
-    page.paragraph("None.");
-  else
-    page.list(warns, Tone::warning);
+  add_warnings(page, c.card.verdict, c.rep.warnings, c.plots.warning);
   page.markdown(details_markdown(c), c.out);
   const std::string md_path = (fs::path(c.out) / "report.md").string();
   page.write((fs::path(c.out) / "report.html").string(), md_path);
   return md_path;
+}
+
+nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& card_path,
+                                 const std::string& report_path, const std::string& html_path) {
+  const auto& r = c.recipe;
+  const auto& md = c.md;
+  const auto& card = c.card;
+  const auto& e = md.equilibrated;
+  const damage::DerivedModuli dm = damage::derive_moduli(card.params);
+  nlohmann::json j;
+  j["command"] = "characterize";
+  j["recipe"] = r.name;
+  j["out"] = c.out;
+  j["cases_h5"] = md.cases_h5;
+  j["card"] = card_path;
+  j["report"] = report_path;
+  j["report_html"] = html_path;
+  if (!c.plots.warning.empty()) j["plot_warning"] = c.plots.warning;
+  j["plots"] = c.plots.pngs;
+  j["equilibrated"] = {
+      {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
+      {"density_g_cm3", e.density},
+      {"pressure_atm", e.pressure_total},
+      {"pressure_stderr_atm", e.pressure_total_se},
+      {"pressure_virial_atm", e.pressure_virial},
+      {"temperature_K", e.temperature},
+      {"void_fraction", e.void_fraction},
+      {"min_distance_A", e.min_distance}};
+  if (c.clay_info.is_object()) j["clay"] = c.clay_info;
+  if (md.phase.done) j["phase_check"] = rve::phase_json(md.phase);
+  j["constants"] = constants_json(card);
+  j["fit"] = fit_json(card.fit);
+  j["verdict"] = verdict_json(card.verdict);
+  j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
+  j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
+  j["seconds"] = {{"build", md.seconds_build},
+                  {"equilibrate", md.seconds_equilibrate},
+                  {"phase_check", md.seconds_phase},
+                  {"cases", md.seconds_cases},
+                  {"total", c.seconds}};
+  return j;
+}
+
+void print_characterize_summary(const CharacterizeRun& c, const std::string& card_path,
+                                const std::string& report_path, const std::string& html_path) {
+  const auto& card = c.card;
+  const auto& md = c.md;
+  const auto& e = md.equilibrated;
+  const damage::DerivedModuli dm = damage::derive_moduli(card.params);
+  std::cerr << constants_table(card) << fit_tables(card.fit, c.model) << verdict_text(card.verdict);
+  std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
+                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
+                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
+  if (md.phase.done)
+    std::cerr << "pnc characterize: phase check: " << md.phase.phase
+              << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
+              << "\n";
+  std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
+            << "\n  report: " << html_path << " (and " << report_path << ")\n";
+  for (const auto& p : c.plots.pngs)
+    std::cerr << "  plot: " << p << "\n";
+  std::cerr << fmt::format("  wall time {:.1f} s\n", c.seconds);
 }
 
 } // namespace pnc::app

@@ -49,4 +49,11 @@ std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutc
 /// Writes report.md and report.html in the run folder; returns the path of report.md.
 std::string write_characterize_report(const CharacterizeRun& c);
 
+/// The summary on stderr: constants, fit quality, verdict, RVE state, where the outputs are.
+void print_characterize_summary(const CharacterizeRun& c, const std::string& card_path,
+                                const std::string& report_path, const std::string& html_path);
+/// The `--json` summary of `pnc characterize` (keys state their units).
+nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& card_path,
+                                 const std::string& report_path, const std::string& html_path);
+
 } // namespace pnc::app

@@ -312,63 +312,15 @@ int run_characterize(const CharacterizeArgs& a) {
     run.plots = draw_figures(characterize_figures(r, md, data, card, plots),
                              (fs::path(plots) / "figures.json").string(), "pnc characterize");
   }
-  const std::vector<std::string>& pngs = run.plots.pngs;
-  const nlohmann::json& clay_info = run.clay_info;
-  const DerivedModuli dm = derive_moduli(card.params);
-  const auto& e = md.equilibrated;
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.seconds = total_s;
   const std::string report_path = write_characterize_report(run);
   const std::string html_path = (fs::path(a.out) / "report.html").string();
 
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
-  std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
-                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
-                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
-  if (md.phase.done)
-    std::cerr << "pnc characterize: phase check: " << md.phase.phase
-              << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
-              << "\n";
-  std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
-            << "\n  report: " << html_path << " (and " << report_path << ")\n";
-  for (const auto& p : pngs)
-    std::cerr << "  plot: " << p << "\n";
-  std::cerr << fmt::format("  wall time {:.1f} s\n", total_s);
-  if (a.json) {
-    nlohmann::json j;
-    j["command"] = "characterize";
-    j["recipe"] = r.name;
-    j["out"] = a.out;
-    j["cases_h5"] = md.cases_h5;
-    j["card"] = card_path;
-    j["report"] = report_path;
-    j["report_html"] = html_path;
-    if (!run.plots.warning.empty()) j["plot_warning"] = run.plots.warning;
-    j["plots"] = pngs;
-    j["equilibrated"] = {
-        {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
-        {"density_g_cm3", e.density},
-        {"pressure_atm", e.pressure_total},
-        {"pressure_stderr_atm", e.pressure_total_se},
-        {"pressure_virial_atm", e.pressure_virial},
-        {"temperature_K", e.temperature},
-        {"void_fraction", e.void_fraction},
-        {"min_distance_A", e.min_distance}};
-    if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
-    if (md.phase.done) j["phase_check"] = rve::phase_json(md.phase);
-    j["constants"] = constants_json(card);
-    j["fit"] = fit_json(card.fit);
-    j["verdict"] = verdict_json(card.verdict);
-    j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
-    j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
-    j["seconds"] = {{"build", md.seconds_build},
-                    {"equilibrate", md.seconds_equilibrate},
-                    {"phase_check", md.seconds_phase},
-                    {"cases", md.seconds_cases},
-                    {"total", total_s}};
-    std::cout << j.dump() << std::endl;
-  }
+  print_characterize_summary(run, card_path, report_path, html_path);
+  if (a.json)
+    std::cout << characterize_json(run, card_path, report_path, html_path).dump() << std::endl;
   if (card.verdict.level == VerdictLevel::not_usable) {
     std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
                  "and the plugin refuses it unless the host allows unusable cards\n";

@@ -60,7 +60,7 @@ std::string write_drive_report(const DriveRun& run) {
               {"plugin", "`" + run.meta.plugin + "`"},
               {"output", "`" + run.out + "`"},
               {"software", version_string()},
-              {"finished", utc_timestamp() + " UTC"},
+              {"finished", utc_timestamp()},
               {"wall time", seconds_text(run.seconds)}});
   page.section("What to do next");
   page.list(next);

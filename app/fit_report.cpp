@@ -140,8 +140,8 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md) {
   const std::string noise =
       md ? "more replicas (`\"run\": {\"replicas\": N}`, N >= 3) or longer holds "
            "(`deform.hold_steps`)"
-         : "more or less noisy data (more points per curve, or averaged replicas with their "
-           "standard errors in the sd11..sd12 columns)";
+         : "more points per curve, or curves averaged over replicas with their standard "
+           "errors in the sd11..sd12 columns";
   struct Rule {
     const char* key;
     std::string advice;
@@ -273,6 +273,20 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
   page.table(s);
 }
 
+void add_warnings(html::Page& page, const damage::Verdict& v, const std::string& solver,
+                  const std::string& figures) {
+  page.section("Warnings");
+  std::vector<std::string> warns;
+  if (!solver.empty()) warns.push_back("solver: " + solver);
+  if (!figures.empty()) warns.push_back("figures: " + figures);
+  if (!warns.empty()) page.list(warns, Tone::warning);
+  if (!v.reasons.empty())
+    page.paragraph(fmt::format("The verdict's {} finding{} are listed at the top of the page.",
+                               v.reasons.size(), v.reasons.size() == 1 ? "" : "s"));
+  else if (warns.empty())
+    page.paragraph("None.");
+}
+
 std::string write_fit_report(const FitRun& run, const damage::StressStrainData& data,
                              const damage::Card& card) {
   const fs::path card_path(run.card);
@@ -289,7 +303,7 @@ std::string write_fit_report(const FitRun& run, const damage::StressStrainData& 
               {"model", std::string("NDM, ") + damage::model_name(card.params.model)},
               {"card", "`" + run.card + "`"},
               {"software", version_string()},
-              {"finished", utc_timestamp() + " UTC"},
+              {"finished", utc_timestamp()},
               {"wall time",
                seconds_text(run.seconds) +
                    (run.plots.seconds > 0
@@ -312,16 +326,7 @@ std::string write_fit_report(const FitRun& run, const damage::StressStrainData& 
                 fs::relative(png, base.empty() ? fs::path(".") : base).string());
   page.section("Key numbers");
   add_card_numbers(page, card);
-  page.section("Warnings");
-  std::vector<std::string> warns;
-  for (const auto& r : card.verdict.reasons)
-    warns.push_back(r);
-  if (!card.fit.warnings.empty()) warns.push_back("solver: " + card.fit.warnings);
-  if (!run.plots.warning.empty()) warns.push_back("figures: " + run.plots.warning);
-  if (warns.empty())
-    page.paragraph("None.");
-  else
-    page.list(warns, Tone::warning);
+  add_warnings(page, card.verdict, card.fit.warnings, run.plots.warning);
   page.write(html_path, md_path);
   return html_path;
 }

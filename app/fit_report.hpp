@@ -31,6 +31,10 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md_run);
 /// Key numbers: constants (value, standard error, units, status), fit quality per curve,
 /// derived moduli in both readings (as `pnc card show`), strength of each case.
 void add_card_numbers(html::Page& page, const damage::Card& card);
+/// The "Warnings" section: the solver's and the plotting's warnings (the verdict's findings
+/// are in its box at the top, referred to, not repeated).
+void add_warnings(html::Page& page, const damage::Verdict& v, const std::string& solver,
+                  const std::string& figures);
 /// Short label of a deformation case, e.g. "extension x1", "simple shear 2-3".
 std::string case_label(int case_id);
 /// Wall time in words: "0.84 s", "3 min 12 s".
