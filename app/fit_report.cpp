@@ -42,6 +42,12 @@ std::string r2_note(double r2) {
   return "";
 }
 
+/// R^2 as text: 4 significant digits, "> 0.9999" when it would round to 1.
+std::string r2_text(double r2) {
+  if (!std::isfinite(r2)) return "–";
+  return r2 >= 0.99995 ? std::string("> 0.9999") : fmt::format("{:.4g}", r2);
+}
+
 std::string num(double v, const char* f = "{:.4g}") {
   return std::isfinite(v) ? fmt::format(fmt::runtime(f), v) : std::string("–");
 }
@@ -54,8 +60,9 @@ std::string case_label(int case_id) {
 }
 
 std::string seconds_text(double s) {
-  if (s < 60) return fmt::format("{:.2g} s", s);
-  return fmt::format("{:.0f} min {:.0f} s", std::floor(s / 60), std::fmod(s, 60.0));
+  if (s < 59.5) return fmt::format("{:.2g} s", s);
+  const long long t = std::llround(s);
+  return fmt::format("{} min {} s", t / 60, t % 60);
 }
 
 Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card,
@@ -80,7 +87,8 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
       for (const auto& cf : card.fit.components)
         if (cf.case_id == c.id && cf.component == comp) r2 = cf.r2;
       p.title = fmt::format("case {} ({}): {}", c.id, case_label(c.id), stress_label(comp)) +
-                (std::isfinite(r2) ? fmt::format(", R² = {:.3g}", r2) : std::string());
+                (std::isfinite(r2) ? ", R² " + (r2 >= 0.99995 ? r2_text(r2) : "= " + r2_text(r2))
+                                   : std::string());
       p.xlabel = strain_label(dc.driven);
       p.ylabel = stress_label(comp) + " (MPa)";
       Series d{Series::Style::points, errors ? "data ± s.e." : "data", {}, {}, {}, 0, 0.0};
@@ -235,7 +243,7 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
     q.side_by_side = true;
     for (const auto& f : c.fit.components)
       q.rows.push_back({std::to_string(f.case_id), stress_label(f.component),
-                        std::to_string(f.points), num(f.r2), num(f.rms / 1e6, "{:.3g}"),
+                        std::to_string(f.points), r2_text(f.r2), num(f.rms / 1e6, "{:.3g}"),
                         num(f.runs_p, "{:.2g}"), r2_note(f.r2)});
     page.table(q);
   }

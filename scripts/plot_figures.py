@@ -104,8 +104,8 @@ def draw_figure(f):
     res = any("residual" in p for p in panels)
     ph = PANEL_H + (RESID_H if res else 0.0) + 0.75  # title, tick labels, x label
     top_in = 0.55 if f.get("title") else 0.2
-    fig = plt.figure(figsize=(PANEL_W * cols + 0.4, ph * rows + top_in))
-    grid = fig.add_gridspec(rows, cols, left=0.6 / (PANEL_W * cols + 0.4), right=0.985,
+    fig = plt.figure(figsize=(PANEL_W * cols + 0.6, ph * rows + top_in))
+    grid = fig.add_gridspec(rows, cols, left=0.8 / (PANEL_W * cols + 0.6), right=0.985,
                             bottom=0.55 / (ph * rows + top_in),
                             top=1 - top_in / (ph * rows + top_in), wspace=0.32, hspace=0.3)
     seen = set()
