@@ -286,23 +286,26 @@ std::string write_characterize_report(const CharacterizeRun& c) {
     const bool fit = fs::path(png).filename() == "fit.png";
     page.figure(png,
                 fit ? "The fit: MD data (points ± their standard errors) and the fitted NDM "
-                      "(line) per case and fitted component; under each, the residuals in units "
-                      "of the point's error; the grey band is outside the fit range."
+                      "(line) per case and fitted component; under each, the residuals (in units "
+                      "of the point's standard error when the data have errors, else MPa); the "
+                      "grey band is outside the fit range."
                     : "MD stress of every case, all six components: as measured (the point at "
                       "zero strain is the reference state) and relative to the reference (the "
                       "data fitted); error bars are standard errors.",
                 fs::relative(png, c.out).string());
   }
   page.section("Key numbers");
-  page.table({{"equilibrated RVE", "value"},
-              {{"density", fmt::format("{:.4f} g/cm³", e.density)},
-               {"pressure (with kinetic term)",
-                fmt::format("{:.0f} ± {:.0f} atm", e.pressure_total, e.pressure_total_se)},
-               {"temperature", fmt::format("{:.1f} K", e.temperature)},
-               {"void fraction", fmt::format("{:.4f}", e.void_fraction)}},
-              {false, true},
-              "",
-              true});
+  page.table(
+      {{"equilibrated RVE", "value"},
+       {{"density", fmt::format("{:.4f} g/cm³", e.density)},
+        {"pressure (with kinetic term)",
+         fmt::format("{:.0f} ± {:.0f} atm", e.pressure_total, e.pressure_total_se)},
+        {"temperature", fmt::format("{:.1f} K", e.temperature)},
+        {"void fraction", std::isfinite(e.void_fraction) ? fmt::format("{:.4f}", e.void_fraction)
+                                                         : std::string("not measured")}},
+       {false, true},
+       "",
+       true});
   if (md.phase.done)
     page.paragraph(fmt::format("Phase check: {}; shear modulus over a hold G_hold = {:.3g} ± "
                                "{:.2g} GPa, bulk modulus K = {:.3g} ± {:.2g} GPa.",

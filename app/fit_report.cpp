@@ -179,7 +179,7 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md) {
                                     "deformation cases that load them, or a solid RVE."},
       {"not identified", "A constant is not identified: add the cases that load it and strain "
                          "past the damage onset."},
-      {"standard error", "A constant is not resolved to the required accuracy: " + noise + "."},
+
       {"independent replica", "Run independent replicas (`\"run\": {\"replicas\": 3}` or more) "
                               "so that the errors include the structure-to-structure scatter."},
       {"no point errors", md ? "The data carry no errors (static 0 K rows): run at a finite "
@@ -188,6 +188,10 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md) {
                                "chi²/dof can be checked."},
       {"linear range", "Too few points in the linear range: more strain steps at small strain "
                        "(`deform.steps`, or a smaller `deform.strain_max`)."},
+      {"the standard error exceeds",
+       "A constant is not resolved to the required accuracy: " + noise + "."},
+      {"the standard error is",
+       "A constant is not resolved to the required accuracy: " + noise + "."},
       {"alpha is held", "Let alpha be fitted (`--fit-alpha`, or the automatic default)."},
       {"damage onset at the stretch", "Fit alpha instead of holding it (`--fit-alpha`)."},
       {"Young's modulus", "Check the units of the data (CSV stresses in MPa) and the stress sign "
