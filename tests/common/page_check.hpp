@@ -137,8 +137,10 @@ inline BrowserResult render_in_chromium(const std::string& html, const std::stri
                 "document.body.setAttribute('data-pnc-images',r.join(','));"
                 "console.log('pnc-probe '+r.join(','));});</script>");
   std::ofstream(probe_path, std::ios::binary) << probed;
+  // a profile of its own per call: tests running in parallel never share one
   const std::string chrome = "timeout 50 chromium --headless --no-sandbox --disable-gpu "
-                             "--enable-logging=stderr --v=0 ";
+                             "--enable-logging=stderr --v=0 --user-data-dir='" +
+                             (fs::path(work_dir) / "chromium-profile").string() + "' ";
   const std::string log = (fs::path(work_dir) / "chromium.log").string();
   const CommandResult dom = run_command(chrome + "--dump-dom --virtual-time-budget=10000 'file://" +
                                         probe_path + "' 2>'" + log + "'");
