@@ -5,7 +5,6 @@
 #include "pnc/core/locate.hpp"
 #include "pnc/core/params.hpp"
 #include "pnc/core/subprocess.hpp"
-#include "pnc/damage/reference.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -62,38 +61,6 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
   while (std::getline(lines, line))
     if (line.rfind("wrote ", 0) == 0) pngs.push_back(line.substr(6));
   return pngs;
-}
-
-std::vector<std::string> plot_fit(const damage::StressStrainData& data,
-                                  const damage::NdmParameters& p, const std::string& dir,
-                                  const std::string& title) {
-  make_output_directory(dir, "--plots");
-  // Model curve on a fine grid of the driven strain (a monotonic path from zero) and the
-  // data points, for every case and active component.
-  std::ostringstream csv;
-  csv.precision(10);
-  csv << "kind,case,component,strain,stress_mpa\n";
-  for (const auto& c : data.cases) {
-    const auto& dc = damage::deformation_case(c.id);
-    for (Eigen::Index k = 0; k < c.strain.rows(); ++k)
-      for (int comp : dc.active)
-        csv << "data," << c.id << ',' << comp << ',' << c.strain(k, dc.driven) << ','
-            << c.stress(k, comp) / 1e6 << '\n';
-    const double top = c.strain.col(dc.driven).maxCoeff();
-    const int n = 400;
-    damage::PathMatrix path(n + 1, 6);
-    for (int i = 0; i <= n; ++i)
-      path.row(i) = damage::case_strain(c.id, top * i / n).transpose();
-    const auto s = damage::stress_path(p, path);
-    for (int i = 0; i <= n; ++i)
-      for (int comp : dc.active)
-        csv << "model," << c.id << ',' << comp << ',' << path(i, dc.driven) << ','
-            << s(i, comp) / 1e6 << '\n';
-  }
-  const std::string curves = (fs::path(dir) / "curves.csv").string();
-  write_text_atomically(curves, csv.str());
-
-  return run_plot_script("plot_fit.py", {curves, dir, title});
 }
 
 } // namespace pnc::app

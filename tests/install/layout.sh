@@ -15,7 +15,7 @@ want=(bin/pnc "lib/libpnc_material.so.$abi" lib/libpnc_material.so
   include/pnc/fe_material/material.hpp
   lib/cmake/pnc/pncConfig.cmake lib/cmake/pnc/pncConfigVersion.cmake lib/cmake/pnc/pncTargets.cmake
   lib/pkgconfig/pnc_material.pc
-  share/pnc/scripts/plot_fit.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
+  share/pnc/scripts/plot_figures.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
   share/pnc/scripts/plot_energy.py share/pnc/scripts/plot_G.py
   share/doc/pnc/README.md share/doc/pnc/LICENSE share/doc/pnc/CITATION.cff
   share/doc/pnc/docs/install.md share/doc/pnc/docs/plugin.md share/doc/pnc/examples)
