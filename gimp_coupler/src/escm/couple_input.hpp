@@ -19,7 +19,7 @@ struct CoupleInput {
   double temperature = 0.0;
   double strain = 1e-2, settle_ps = 10, load_ps = 40, hold_ps = 30, damping_fraction = 0.7;
   int frames = 8;
-  double gradient_cells = 1.0;    ///< background grid spacing of eqs. 6.3-6.7, in cell sizes
+  double gradient_cells = 1.0;    ///< gradient grid spacing (D79), in cell sizes
   std::string load = "tension_x"; ///< tension_x (Case I), tension_y (Case II), shear (Case III)
   // Cases II/III (D80, D81): edge pre-crack on the line through the block centre.
   bool crack = false;

@@ -121,9 +121,9 @@ CoupledRun::CoupledRun(const CoupleInput& in, const MdRegion& region, const std:
   cp_ = std::make_unique<Coupler>(s_, c);
   cp_->setup();
 
-  // Displacement gradients of eqs. 6.3-6.7 (D79): all continuum particles and all atoms
-  // (projected on x, y) on a bilinear grid aligned with the continuum grid, updated at every
-  // coupled step. IVC probes receive gradients but do not enter the nodal fit (their position
+  // Displacement gradients (docs/escm.md "Displacement gradient", D79): all continuum particles and
+  // all atoms (projected on x, y) on a bilinear grid aligned with the continuum grid, updated at
+  // every coupled step. IVC probes receive gradients but do not enter the nodal fit (their position
   // is a block-averaged copy of their atoms, D73).
   ncont_ = s_.particles.size();
   pzone_.assign(ncont_, static_cast<int>(Zone::none));

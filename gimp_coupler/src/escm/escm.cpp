@@ -83,7 +83,7 @@ void Coupler::Impl::step() {
   solver.step(dt);
   const auto t2 = Clock::now();
   const double w_md_on_cont = (solver.prescribed_work - w_before) * Lz_m;
-  // IVC material points: eq. 4.1 (positions from the MD averages), velocity of the cell.
+  // IVC material points: positions from the MD averages (D73), velocity of the cell.
   for (int k : ivc_cells) {
     const auto& c = cells[static_cast<std::size_t>(k)];
     P.x[c.particle] = P.x0[c.particle] + units::m_per_A * (c.mean_A - c.c0_A);
@@ -99,7 +99,7 @@ void Coupler::Impl::step() {
     acc.heat_removed_cont += (1.0 - f * f) * ke * Lz_m;
     solver.update_energies();
   }
-  // Forces on the IVC cells (eq. 4.2, D71).
+  // Forces on the IVC cells (D71).
   for (int k : ivc_cells)
     cells[static_cast<std::size_t>(k)].force_N.setZero();
   if (cfg.mode == Mode::neumann)
@@ -114,7 +114,7 @@ void Coupler::Impl::step() {
     fy[k] = c.atom_force[1];
     csum[k].setZero();
   }
-  // SVC atoms: velocity v* of the grid at the atom (eq. 4.3, D72), z velocity 0.
+  // SVC atoms: velocity v* of the grid at the atom (D72), z velocity 0.
   const auto& vs = solver.grid_velocity_star();
   {
     const int nlocal = lammps_extract_setting(lmp, "nlocal");
@@ -152,7 +152,7 @@ void Coupler::Impl::step() {
     throw std::runtime_error("escm: fix external callback ran " + std::to_string(nsub) +
                              " times in a block of " + std::to_string(cfg.substeps));
   const std::vector<Eigen::Vector2d> cend = centroids();
-  // 3. IVC averages (eq. 4.11, D73) and the work of the IVC forces.
+  // 3. IVC averages (D73) and the work of the IVC forces.
   double w_cont_on_md = 0.0;
   for (std::size_t k = 0; k < ivc_cells.size(); ++k) {
     auto& c = cells[static_cast<std::size_t>(ivc_cells[k])];

@@ -117,7 +117,7 @@ std::vector<std::string> split_lines(const std::string& s) {
 }
 
 /// atoms_<k>.vtu (Coupler::write_atoms_vtu) and particles_<k>.vtu at every frame, both with
-/// the displacement gradients of eqs. 6.3-6.7 (D79).
+/// the displacement gradients (D79).
 class Frames final : public Observer {
 public:
   void on_frame(const CoupledRun& run, long index) override {
