@@ -83,9 +83,9 @@ Loading set_up_continuum(const CoupleInput& p, const LjFcc& lj, double Gc, Solve
   return ld;
 }
 
-CoupledRun::CoupledRun(const CoupleInput& in, const MdRegion& region, const std::string& out_dir,
+CoupledRun::CoupledRun(const CoupleInput& in, MdRegion& region, const std::string& out_dir,
                        const std::string& src)
-    : in_(in), out_(out_dir), src_(src), lj_(checked_calibration(in, region, src)),
+    : in_(in), region_(region), out_(out_dir), src_(src), lj_(checked_calibration(in, region, src)),
       h_(lj_.a0_A * units::m_per_A),
       // D83: the crack line is a weak interface in both models: LJ epsilon x f across it in the
       // MD, and by default the continuum's Gc is its work of separation, f W_sep.
@@ -180,7 +180,7 @@ std::vector<PointArray> CoupledRun::gradient_arrays(std::size_t b, std::size_t e
   return a;
 }
 
-void CoupledRun::step(MdRegion& region) {
+void CoupledRun::step() {
   const CoupleInput& p = in_;
   const double tl = s_.time + 0.5 * sched_.dt - sched_.t_settle;
   s_.bcs[ld_.bc].velocity[ld_.comp] =
@@ -188,7 +188,7 @@ void CoupledRun::step(MdRegion& region) {
           ? p.strain * ld_.length / sched_.t_load * (1 - std::cos(2 * M_PI * tl / sched_.t_load))
           : 0.0;
   cp_->step();
-  region.after_step(s_, sched_.t_settle, sched_.dt, ld_.comp);
+  region_.after_step(s_, sched_.t_settle, sched_.dt, ld_.comp);
   {
     const auto g0 = std::chrono::steady_clock::now();
     gather();

@@ -71,10 +71,11 @@ struct Schedule {
 
 class CoupledRun {
 public:
-  /// Sets up the continuum for the region's calibration, checks the schwarz cut-off (D72) and
-  /// the CFL step, creates `out_dir`, starts the coupler (LAMMPS) and the gradient tracker.
-  /// Throws pnc::InputError (naming `src`) for an input this set-up cannot run.
-  CoupledRun(const CoupleInput& in, const MdRegion& region, const std::string& out_dir,
+  /// Sets up the continuum for the calibration of `region` (built, MdRegion::build; kept by
+  /// reference), checks the schwarz cut-off (D72) and the CFL step, creates `out_dir`, starts
+  /// the coupler (LAMMPS) and the gradient tracker. Throws pnc::InputError (naming `src`) for
+  /// an input this set-up cannot run.
+  CoupledRun(const CoupleInput& in, MdRegion& region, const std::string& out_dir,
              const std::string& src);
   CoupledRun(const CoupledRun&) = delete;
   CoupledRun& operator=(const CoupledRun&) = delete;
@@ -84,7 +85,7 @@ public:
   /// One coupled step: the load ramp on the loaded edge, the coupler's step, the region's
   /// after_step(), the gradient update, with a crack every crack.every steps its J and growth
   /// (D38-D40, stopped by D81), then the observers (on_step, on_frame).
-  void step(MdRegion& region);
+  void step();
   /// Fills `ck` (the coupler's restart point, Coupler::checkpoint(), the run's and the
   /// observers' bookkeeping; the caller sets input_path, input_text, short_mode, step and
   /// wall_s) and writes it (write_coupled_checkpoint). Returns the bytes written.
@@ -128,6 +129,7 @@ public:
 
 private:
   const CoupleInput in_;
+  MdRegion& region_;
   const std::string out_, src_;
   LjFcc lj_;
   double h_ = 0.0, wsep_ = 0.0, Gc_ = 0.0;

@@ -114,14 +114,14 @@ void collect(const CoupledRun& run, long steps, CoupleSummary& r) {
 /// The coupled steps from the run's current step to the end of the schedule, or to a stop
 /// (a stop request, CoupleOptions::stop_after_steps) with a checkpoint; checkpoints on the
 /// schedule. Returns the wall time of the steps in this session, s.
-double run_steps(CoupledRun& run, MdRegion& region, const CoupleOptions& o, Checkpointer& ckpt,
-                 double wall_before, CoupleSummary& r) {
+double run_steps(CoupledRun& run, const CoupleOptions& o, Checkpointer& ckpt, double wall_before,
+                 CoupleSummary& r) {
   const Schedule& sc = run.schedule();
   const long k0 = run.steps_done(), nsteps = sc.nsteps;
   const auto w0 = Clock::now();
   auto last = w0;
   for (long k = k0; k < nsteps; ++k) {
-    run.step(region);
+    run.step();
     const auto now = Clock::now();
     if (o.progress && (std::chrono::duration<double>(now - last).count() > 2 || k + 1 == nsteps)) {
       last = now;
@@ -176,7 +176,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
                    run.solver().time / kPs);
   }
   Checkpointer ckpt(run, o, input_text, r);
-  r.wall_s = wall_before + run_steps(run, *region, o, ckpt, wall_before, r);
+  r.wall_s = wall_before + run_steps(run, o, ckpt, wall_before, r);
   if (!r.interrupted.empty()) { // stopped with a checkpoint: the CSVs so far, no summary
     collect(run, run.solver().steps, r);
     if (o.progress)
