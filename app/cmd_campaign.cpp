@@ -231,6 +231,10 @@ int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
   }
   rve::check_unit_id(id, "<command line>");
   const rve::Unit& u = p.unit(id);
+  if (rve::read_status(dir, id).state == rve::UnitState::done) { // e.g. a resubmitted job
+    std::cerr << fmt::format("pnc run-unit {} {}: already done, nothing to do\n", dir, id);
+    return 0;
+  }
   const rve::Recipe r = rve::read_run_recipe(dir);
   const StopSignals signals; // scancel's SIGTERM: stop at the next checkpoint, pending again
   std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, rve::host_name(),

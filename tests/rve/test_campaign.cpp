@@ -6,12 +6,18 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
+#include "pnc/rve/private_channel.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/slurm.hpp"
 
 #include "common/run_command.hpp"
 
 #include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <chrono>
 #include <filesystem>
@@ -271,4 +277,37 @@ TEST(RveCampaign, RunUnitAndStatusCommandsOnAPlanWithoutWork) {
   EXPECT_NE(r.out.find("lammps.log"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("1 failed"), std::string::npos) << r.out;
   fs::remove_all(d);
+}
+
+namespace {
+/// Starts `sleep 30` with SLURM_JOB_ID=`job` in its initial environment (what
+/// /proc/<pid>/environ shows); returns its pid.
+pid_t sleeper_in_job(const char* job) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string var = std::string("SLURM_JOB_ID=") + job;
+    char* const argv[] = {const_cast<char*>("sleep"), const_cast<char*>("30"), nullptr};
+    char* const envp[] = {const_cast<char*>(var.c_str()), nullptr};
+    ::execve("/bin/sleep", argv, envp);
+    ::_exit(127);
+  }
+  return pid;
+}
+} // namespace
+
+// D244: an srun task is not a descendant of srun; the channel accepts a peer of our own job.
+TEST(RveCampaign, SlurmPeerCheckAcceptsOnlyProcessesOfOurJob) {
+  const pid_t same = sleeper_in_job("4242"), other = sleeper_in_job("999");
+  std::this_thread::sleep_for(std::chrono::milliseconds(300)); // exec done
+  ::unsetenv("SLURM_JOB_ID");
+  EXPECT_FALSE(in_our_slurm_job(same)); // outside a job nothing is a job peer
+  ::setenv("SLURM_JOB_ID", "4242", 1);
+  EXPECT_TRUE(in_our_slurm_job(same));
+  EXPECT_FALSE(in_our_slurm_job(other));
+  EXPECT_FALSE(in_our_slurm_job(999999999)); // no such process
+  ::unsetenv("SLURM_JOB_ID");
+  for (pid_t p : {same, other}) {
+    ::kill(p, SIGKILL);
+    ::waitpid(p, nullptr, 0);
+  }
 }

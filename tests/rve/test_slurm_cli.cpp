@@ -60,7 +60,7 @@ const char* tiny = R"({
                    "npt_steps": 500, "final_steps": 200 },
   "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
               "hold_steps": 200, "sample_every": 10, "blocks": 4, "reference_holds": 1 },
-  "phase_check": { "enabled": true, "steps": 500, "sample_every": 5, "cavitation_steps": 100 },
+  "phase_check": { "enabled": true, "steps": 1000, "sample_every": 5, "cavitation_steps": 200 },
   "analysis": { "moving_average": 1 },
   "run": { "jobs": 2, "replicas": 2 }
 })";
