@@ -30,16 +30,33 @@ namespace {
 std::string code_block(const std::string& s) {
   return "```\n" + s + "```\n";
 }
-} // namespace
+/// The fit unit's results, from which the card, the report and the summary are made.
+struct MdFit {
+  damage::FitOptions o;
+  damage::StressStrainData data;
+  damage::FitReport rep;
+  rve::ReplicaFits replica_fits;
+  damage::Card card;
+  rve::ReplicaTrend trend;
+};
 
-std::string summary_path(const std::string& dir) {
-  return (fs::path(dir) / "summary.json").string();
-}
+struct FitContext {
+  const rve::Recipe& r;
+  const rve::MdOutcome& md;
+  const FitUnitArgs& a;
+  MdFit f;
+  std::string card_path, command, report_path;
+  std::vector<std::string> pngs;
+  damage::DerivedModuli dm;
+  double total_s = 0;
+  nlohmann::json clay_info; ///< the builder's clay.json (model pnc)
+};
 
-int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitArgs& a) {
+/// The joint NDM fit of cases.h5 with the replicas' honest errors and the MD verdict gates.
+MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   using namespace pnc::damage;
-  std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
-  FitOptions o;
+  MdFit f;
+  FitOptions& o = f.o;
   // the bead-spring glass (model kg) is a pure polymer: the pure-polymer NDM (decision D138)
   // and the glass with a platelet (kg_platelet) a nanocomposite: the nanocomposite NDM (D175)
   o.model = parse_model(r.model == "kg"            ? std::string("pp")
@@ -65,11 +82,15 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
                             "responses are not carried over a strain hold",
                             md.phase.G_hold_Pa * 1e-9, md.phase.G_hold_se_Pa * 1e-9)});
   o.validate();
-  const StressStrainData data = read_stress_strain(md.cases_h5);
-  const FitReport rep = fit_ndm(data, o);
+  f.data = read_stress_strain(md.cases_h5);
+  const StressStrainData& data = f.data;
+  f.rep = fit_ndm(data, o);
+  const FitReport& rep = f.rep;
   // decision D130: with >= 2 replicas every replica is fitted on its own as well
-  const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
-  Card card = card_from_fit(rep, data, "none");
+  f.replica_fits = rve::fit_replicas(md.statistics, o);
+  const rve::ReplicaFits& replica_fits = f.replica_fits;
+  f.card = card_from_fit(rep, data, "none");
+  Card& card = f.card;
   // decision D130: the joint fit treats the points of the replica-mean curves as independent,
   // but a replica's deviations are correlated along its curves; the card's standard error of a
   // constant is the larger of the joint fit's and the between-replica one (t x sd/sqrt(N) of
@@ -94,7 +115,8 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
   }
   // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
   // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
-  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max);
+  f.trend = rve::replica_trend_test(md.statistics, rep, o.strain_max);
+  const rve::ReplicaTrend& trend = f.trend;
   if (trend.applicable) {
     static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
     VerdictLimits limits;
@@ -118,19 +140,27 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
   gates.replicas = md.statistics.replicas;
   gates.deterministic = r.deform.temperature == 0;
   judge_md_card(honest, data, gates, card.verdict);
-  const std::string card_path = (fs::path(a.out) / "card.h5").string();
-  const std::string command = fmt::format("pnc characterize {} --out {}", a.recipe, a.out);
-  write_card(card_path, card, command);
-  std::vector<std::string> pngs;
-  if (!a.no_plots)
-    pngs = plot_fit(data, card.params, (fs::path(a.out) / "plots").string(),
-                    fmt::format("MD ({}) and fitted NDM ({}) - card {}", r.name,
-                                model_name(o.model), verdict_name(card.verdict.level)));
-  const DerivedModuli dm = derive_moduli(card.params);
-  // the campaign's wall time: from the first unit's start to now (every unit of this run)
-  const double total_s = rve::epoch_seconds() - md.started_s;
+  return f;
+}
 
-  // --- report
+/// report.md: the RVE, its equilibration and phase check, the statistics, the constants, the
+/// fit's quality, the derived moduli, the verdict, the plots and the wall times.
+std::string report_markdown(FitContext& ctx) {
+  using namespace pnc::damage;
+  [[maybe_unused]] const rve::Recipe& r = ctx.r;
+  [[maybe_unused]] const rve::MdOutcome& md = ctx.md;
+  [[maybe_unused]] const FitUnitArgs& a = ctx.a;
+  [[maybe_unused]] const Card& card = ctx.f.card;
+  [[maybe_unused]] const FitOptions& o = ctx.f.o;
+  [[maybe_unused]] const StressStrainData& data = ctx.f.data;
+  [[maybe_unused]] const FitReport& rep = ctx.f.rep;
+  [[maybe_unused]] const rve::ReplicaFits& replica_fits = ctx.f.replica_fits;
+  [[maybe_unused]] const rve::ReplicaTrend& trend = ctx.f.trend;
+  [[maybe_unused]] const std::vector<std::string>& pngs = ctx.pngs;
+  [[maybe_unused]] const DerivedModuli& dm = ctx.dm;
+  [[maybe_unused]] const double total_s = ctx.total_s;
+  [[maybe_unused]] const std::string& card_path = ctx.card_path;
+  [[maybe_unused]] const std::string& command = ctx.command;
   const auto& e = md.equilibrated;
   std::string rep_md;
   rep_md += fmt::format("# pnc characterize: recipe `{}`\n\n", r.name);
@@ -160,7 +190,8 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
         r.platelet.beads_side, r.platelet.layers, r.platelet.spacing_sigma,
         r.platelet.bond_K_reduced, r.platelet.epsilon_wp_reduced, r.platelet.sigma_wp_sigma,
         (fs::path(md.build_record).parent_path() / "platelet.json").string());
-  nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
+  nlohmann::json& clay_info =
+      ctx.clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
   if (r.model == "pnc") {
     const auto cp = fs::path(md.build_record).parent_path() / "clay.json";
     std::ifstream cf(cp);
@@ -232,9 +263,29 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
       "phase check {:.1f} s, cases {:.1f} s (first start to last end), total {:.1f} s (first "
       "unit's start to the end of the fit).\n",
       md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases, total_s);
-  const std::string report_path = (fs::path(a.out) / "report.md").string();
-  write_text_atomically(report_path, rep_md);
+  return rep_md;
+}
 
+/// The key numbers on stderr and summary.json (what `--json` prints).
+void print_and_summarize(const FitContext& ctx) {
+  using namespace pnc::damage;
+  [[maybe_unused]] const rve::Recipe& r = ctx.r;
+  [[maybe_unused]] const rve::MdOutcome& md = ctx.md;
+  [[maybe_unused]] const FitUnitArgs& a = ctx.a;
+  [[maybe_unused]] const Card& card = ctx.f.card;
+  [[maybe_unused]] const FitOptions& o = ctx.f.o;
+  [[maybe_unused]] const StressStrainData& data = ctx.f.data;
+  [[maybe_unused]] const FitReport& rep = ctx.f.rep;
+  [[maybe_unused]] const rve::ReplicaFits& replica_fits = ctx.f.replica_fits;
+  [[maybe_unused]] const rve::ReplicaTrend& trend = ctx.f.trend;
+  [[maybe_unused]] const std::vector<std::string>& pngs = ctx.pngs;
+  [[maybe_unused]] const DerivedModuli& dm = ctx.dm;
+  [[maybe_unused]] const double total_s = ctx.total_s;
+  [[maybe_unused]] const std::string& card_path = ctx.card_path;
+  [[maybe_unused]] const std::string& command = ctx.command;
+  [[maybe_unused]] const std::string& report_path = ctx.report_path;
+  const auto& e = md.equilibrated;
+  const nlohmann::json& clay_info = ctx.clay_info;
   std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
@@ -281,6 +332,35 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
     // what `pnc characterize --json` prints, kept in the run folder (the fit is a unit)
     write_text_atomically(summary_path(a.out), j.dump() + "\n");
   }
+}
+} // namespace
+
+std::string summary_path(const std::string& dir) {
+  return (fs::path(dir) / "summary.json").string();
+}
+
+int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitArgs& a) {
+  using namespace pnc::damage;
+  std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
+  FitContext c{r, md, a, fit_md(r, md), {}, {}, {}, {}, {}, 0, {}};
+  const Card& card = c.f.card;
+  const FitOptions& o = c.f.o;
+  const StressStrainData& data = c.f.data;
+  const FitReport& rep = c.f.rep;
+  c.card_path = (fs::path(a.out) / "card.h5").string();
+  c.command = fmt::format("pnc characterize {} --out {}", a.recipe, a.out);
+  write_card(c.card_path, card, c.command);
+  if (!a.no_plots)
+    c.pngs = plot_fit(data, card.params, (fs::path(a.out) / "plots").string(),
+                      fmt::format("MD ({}) and fitted NDM ({}) - card {}", r.name,
+                                  model_name(o.model), verdict_name(card.verdict.level)));
+  c.dm = derive_moduli(card.params);
+  // the campaign's wall time: from the first unit's start to now (every unit of this run)
+  c.total_s = rve::epoch_seconds() - md.started_s;
+  const std::string rep_md = report_markdown(c);
+  c.report_path = (fs::path(a.out) / "report.md").string();
+  write_text_atomically(c.report_path, rep_md);
+  print_and_summarize(c);
   if (card.verdict.level == VerdictLevel::not_usable) {
     std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
                  "and the plugin refuses it unless the host allows unusable cards\n";

@@ -146,6 +146,7 @@ nlohmann::json status_json(const UnitStatus& s) {
           {"pid", s.pid},
           {"message", s.message},
           {"log", s.log_path},
+          {"queued_s", s.queued_s},
           {"started_s", s.started_s},
           {"ended_s", s.ended_s},
           {"detail", s.detail}};
@@ -177,6 +178,7 @@ UnitStatus read_status(const std::string& dir, const std::string& id) {
   s.pid = j.value("pid", 0L);
   s.message = j.value("message", "");
   s.log_path = j.value("log", "");
+  s.queued_s = j.value("queued_s", 0.0);
   s.started_s = j.value("started_s", 0.0);
   s.ended_s = j.value("ended_s", 0.0);
   if (j.contains("detail") && j["detail"].is_object()) s.detail = j["detail"];

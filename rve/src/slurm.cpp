@@ -314,7 +314,7 @@ SlurmSubmission submit_slurm(const std::string& dir, const Plan& p, const SlurmS
         s.job_id = jid;
         s.log_path = sdir + "/" + g.name +
                      (array ? fmt::format("-{}_{}.out", job, i) : fmt::format("-{}.out", job));
-        s.started_s = 0;
+        s.queued_s = epoch_seconds();
         write_status(dir, g.units[i]->id, s);
       }
     }

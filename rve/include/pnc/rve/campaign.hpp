@@ -65,6 +65,7 @@ struct UnitStatus {
   long pid = 0;         ///< process id on `host` while running
   std::string message;  ///< why it failed (LAMMPS's own ERROR line when it has one)
   std::string log_path; ///< the log that says more (LAMMPS log or the job's output)
+  double queued_s = 0;  ///< UTC epoch seconds when its job was submitted (Slurm)
   double started_s = 0, ended_s = 0;                ///< UTC epoch seconds
   nlohmann::json detail = nlohmann::json::object(); ///< unit-specific numbers (units in keys)
 };
