@@ -90,7 +90,7 @@ struct Recipe {
   UserSystem system;
   /// independent replicas: own build seed, own equilibration, every case (decision D130)
   int replicas = 1;
-  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D244); in
+  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D245); in
   /// the expanded recipe only when given
   SlurmSpec slurm;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
