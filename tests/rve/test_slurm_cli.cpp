@@ -184,9 +184,14 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   recipe["deform"]["steps"] = 12; // case 2 runs long enough to be cancelled while it runs
   recipe["deform"]["hold_steps"] = 400;
   std::ofstream(d / "r.json") << recipe.dump();
+  // a site template of the user's: its placeholders get the group's values, "$@" the command
+  std::ofstream(d / "site.sbatch") << "#!/bin/bash\n#SBATCH --comment={{kind}}\n"
+                                      "echo \"site template: {{kind}} unit(s) on {{ranks}} "
+                                      "rank(s), job {{job_name}}\"\nexec \"$@\"\n";
   const std::string out = (d / "out").string();
   const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
-                          " --no-plots --out " + out + " --executor slurm";
+                          " --no-plots --out " + out + " --executor slurm --sbatch-template " +
+                          (d / "site.sbatch").string() + " --job-name cancel-test";
   // submit and return
   const auto sub = run_command(cmd + " --json 2>" + (d / "sub.err").string());
   ASSERT_EQ(sub.code, 0) << slurp(d / "sub.err");
@@ -239,5 +244,21 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   EXPECT_NE(unit_of(st2, "replica_1/case_2")["job_id"], job);
   EXPECT_TRUE(fs::exists(fs::path(out) / "cases.h5"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "card.h5"));
+  // every job ran the user's template, rendered per group
+  EXPECT_NE(slurp(fs::path(out) / "slurm" / "fit.sbatch").find("#SBATCH --comment=fit"),
+            std::string::npos);
+  int rendered = 0;
+  for (const auto& f : fs::directory_iterator(fs::path(out) / "slurm"))
+    if (f.path().extension() == ".out") {
+      const std::string text = slurp(f.path());
+      const bool c = text.find("site template: case unit(s) on 1 rank(s), job "
+                               "cancel-test-cases_replica_1") != std::string::npos;
+      const bool e = text.find("site template: equilibrate unit(s) on 1 rank(s), job "
+                               "cancel-test-equilibrate") != std::string::npos;
+      const bool fi = text.find("site template: fit unit(s)") != std::string::npos;
+      EXPECT_TRUE(c || e || fi) << f.path() << ": " << text.substr(0, 300);
+      ++rendered;
+    }
+  EXPECT_GE(rendered, 5); // equilibrate, cases (2 + the resubmitted one), fit twice
   fs::remove_all(d);
 }
