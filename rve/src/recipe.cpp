@@ -320,6 +320,8 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     if (r.jobs < 1 || r.jobs > 64)
       fail(source, "run.jobs", std::to_string(r.jobs), "must be in 1..64");
   }
+  top.sub("slurm"); // the Slurm executor's section (slurm.hpp), parsed there
+  if (j.contains("slurm")) r.slurm = parse_slurm_spec(j.at("slurm"), source);
   top.check_unknown();
   if ((r.model == "pp" || r.model == "kg") &&
       std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
@@ -564,6 +566,7 @@ nlohmann::json expanded_json(const Recipe& r) {
   if (r.fit_strain_max > 0) out["fit"]["strain_max"] = r.fit_strain_max;
   if (r.fit_stretch_max > 0) out["fit"]["stretch_max"] = r.fit_stretch_max;
   if (r.deform.shear_strain_max != 0) out["deform"]["shear_strain_max"] = r.deform.shear_strain_max;
+  if (r.slurm.given) out["slurm"] = slurm_spec_json(r.slurm);
   if (r.system.enabled) {
     const json u = user_system_json(r.system);
     out.erase("build");

@@ -38,6 +38,7 @@
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/phase_check.hpp"
 #include "pnc/rve/platelet.hpp"
+#include "pnc/rve/slurm.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <nlohmann/json.hpp>
@@ -92,6 +93,9 @@ struct Recipe {
   UserSystem system;
   /// independent replicas: own build seed, own equilibration, every case (decision D130)
   int replicas = 1;
+  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D245); in
+  /// the expanded recipe only when given
+  SlurmSpec slurm;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
