@@ -2,6 +2,7 @@
 // grid transfers of a step are in solver_step.cpp, the crack geometry and contact in
 // solver_crack.cpp, the thread pool in solver_pool.hpp.
 #include "pnc/gimp_coupler/solver.hpp"
+#include "pnc/core/error.hpp"
 
 #include "solver_pool.hpp"
 
@@ -191,12 +192,11 @@ template <int D> double Solver<D>::stable_dt() const {
 
 template <int D> void Solver<D>::left_grid(std::size_t p) const {
   std::ostringstream s;
-  s << "gimp: particle " << p << " at (";
+  s << "at (";
   for (int a = 0; a < D; ++a)
     s << (a ? ", " : "") << particles.x[p][a];
-  s << ") m left the background grid (step " << steps << ", t = " << time
-    << " s): enlarge the grid";
-  throw std::runtime_error(s.str());
+  s << ") m it left the background grid: enlarge the grid";
+  pnc::fail_simulation("gimp: particle " + std::to_string(p), steps, time, "s", s.str());
 }
 
 template <int D> void Solver<D>::external_forces(double t) {

@@ -1,6 +1,7 @@
 // The grid transfers of one explicit uGIMP step (solver.hpp, Solver::step): P2G, nodal
 // velocities, stress update with the internal forces, the nodal update with its damping work,
 // the reactions, G2P. SI units.
+#include "pnc/core/error.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include "solver_pool.hpp"
@@ -187,9 +188,12 @@ template <int D> void Solver<D>::update_stress(double dt) {
       double* s = P.state.data() + p * static_cast<std::size_t>(stride);
       try {
         mt.update(to3<D>(P.F[p]), to3<D>(Fnew), s, s1.data(), P.sigma[p], P.W[p]);
+      } catch (const pnc::InputError&) {
+        throw; // a material that refuses its configuration: the user's input
       } catch (const std::exception& ex) {
-        throw std::runtime_error("gimp: particle " + std::to_string(p) + " (step " +
-                                 std::to_string(steps) + "): " + ex.what());
+        // the law cannot take this deformation (det F <= 0, a plugin's failed point): the
+        // simulation failed at this particle, exit code 6
+        pnc::fail_simulation("gimp: particle " + std::to_string(p), steps, time, "s", ex.what());
       }
       std::copy(s1.begin(), s1.begin() + stride, s);
       double sV[D][D]; // V^t

@@ -2,6 +2,7 @@
 // instance (escm.hpp, docs/escm.md, decisions D70-D79), and the Coupler's accessors. Set-up:
 // escm_setup.cpp; checkpoint and restore: escm_state.cpp; CSV and VTU: escm_output.cpp.
 #include "coupler_impl.hpp"
+#include "pnc/core/error.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -127,7 +128,10 @@ void Coupler::Impl::step() {
       const double sx = (xc[0] - g.origin[0]) / g.h, sy = (xc[1] - g.origin[1]) / g.h;
       const int i0 = static_cast<int>(std::floor(sx)), j0 = static_cast<int>(std::floor(sy));
       if (i0 < 0 || j0 < 0 || i0 + 1 >= g.n[0] || j0 + 1 >= g.n[1])
-        throw std::runtime_error("escm: an SVC atom left the grid");
+        pnc::fail_simulation("escm: SVC atom " + std::to_string(id[i]), -1,
+                             std::numeric_limits<double>::quiet_NaN(), "",
+                             "it left the continuum grid (enlarge the grid or the MD region's "
+                             "margin)");
       const double fxi = sx - i0, fyj = sy - j0;
       Eigen::Vector2d vel = Eigen::Vector2d::Zero();
       for (int b = 0; b < 2; ++b)

@@ -101,9 +101,8 @@ std::vector<std::string> header(const std::string& boundary, const std::string& 
 
 void run(const pnc::rve::StageSpec& st, const pnc::rve::StageBody& body) {
   const auto out = pnc::rve::run_stage(st, body);
-  if (!out.ok)
-    throw std::runtime_error("escm polymer: stage " + st.name + " failed: " + out.error + " (log " +
-                             st.log_path + ")");
+  if (!out.ok) // ToolError with LAMMPS's message and the stage log: exit code 7
+    pnc::rve::throw_stage_failure(out, "escm polymer stage " + st.name);
 }
 
 /// The steps of build_polymer_block (escm_polymer.hpp), in order: grow(), relax(), cut_block(),
@@ -484,8 +483,8 @@ void BlockBuilder::count_cells() {
   for (const Vec& p : u2) {
     const auto c = cell(p);
     if (c[0] < 0 || c[1] < 0 || c[0] >= sp.nbx || c[1] >= sp.nby)
-      throw std::runtime_error("escm polymer: a bead left the block's cells in the surface "
-                               "minimisation (x = " +
+      pnc::fail_simulation("escm polymer block", -1, std::numeric_limits<double>::quiet_NaN(), "",
+                           "a bead left the block's cells in the surface minimisation (x = " +
                                num(p[0]) + ", y = " + num(p[1]) + " A)");
     ++count[c];
   }

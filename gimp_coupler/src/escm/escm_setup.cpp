@@ -2,6 +2,7 @@
 // volume cells and their zones, the INT particles removed and the IVC probes, the Gamma nodes,
 // the LAMMPS groups, fixes and computes.
 #include "coupler_impl.hpp"
+#include "pnc/core/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +32,8 @@ public:
 } // namespace
 
 void bad_config(const std::string& field, const std::string& value, const std::string& rule) {
-  throw std::runtime_error("escm: config field '" + field + "': value '" + value + "': " + rule);
+  // InputError, exit code 1: "escm::Config: field 'F': value 'V': RULE"
+  pnc::fail("escm::Config", field, value, rule);
 }
 
 void Coupler::Impl::validate() {
@@ -125,7 +127,8 @@ std::map<std::pair<int, int>, std::vector<int>> Coupler::Impl::start_lammps() {
   for (auto& a : args)
     argv.push_back(a.data());
   lmp = lammps_open_no_mpi(static_cast<int>(argv.size()), argv.data(), nullptr);
-  if (!lmp) throw std::runtime_error("escm: could not start LAMMPS");
+  if (!lmp)
+    pnc::fail_tool("LAMMPS", "starting the ESCM MD region", "lammps_open returned no instance", "");
   for (const auto& c : cfg.md_setup)
     cmd(c);
   // Checks of what md_setup built (before any command of ours that depends on it).
