@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace pnc {
@@ -502,9 +503,8 @@ std::string Parameters::to_toml() const {
   auto entry = [&](const Parameter& p) {
     std::string what = p.type_name();
     if (const std::string r = p.range_text(); !r.empty()) what += " " + r;
-    if (!p.unit.empty()) what += ", unit " + p.unit;
-    out += "\n# " + p.text + " (" + what + ")\n";
-    if (!p.note.empty()) out += "# " + p.note + "\n";
+    if (!p.unit.empty()) what += "; unit " + p.unit;
+    out += "\n# " + p.text + (p.note.empty() ? "" : "; " + p.note) + "\n# " + what + "\n";
     if (p.default_value.is_null())
       out += "# " + p.key() + " =   (no default: " + p.absent + ")\n";
     else
@@ -538,7 +538,11 @@ std::string Parameters::to_markdown(int heading_level) const {
     out += (out.empty() ? "" : "\n") + hashes + " " +
            (sec.path.empty() ? std::string("Top level") : "`" + sec.path + "`") +
            (sec.applies.empty() ? "" : " (" + sec.applies + ")") + "\n\n";
-    if (!sec.text.empty()) out += sec.text + (sec.opaque ? "" : ".") + "\n\n";
+    if (!sec.text.empty()) {
+      std::string t = sec.text;
+      t[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(t[0])));
+      out += t + (t.back() == '.' ? "" : ".") + (sec.opaque ? "\n" : "\n\n");
+    }
     if (sec.opaque) continue;
     out += "| key | type | default | range/allowed | unit | meaning |\n";
     out += "|---|---|---|---|---|---|\n";

@@ -4,11 +4,13 @@
 // outputs (written by `pnc recipe show NAME` and `pnc recipe show NAME --expanded` before the
 // refactor); the comparison is on the printed text, so an integer that became a float (or a
 // key that moved) fails too.
+#include "pnc/core/error.hpp"
 #include "pnc/rve/recipe.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -35,5 +37,65 @@ TEST(RvePresets, EveryPresetEqualsItsLiteralBeforeThePatches) {
     EXPECT_EQ(p.dump(2), before.at(name).at("preset").dump(2)) << name;
     const json e = pnc::rve::expanded_json(pnc::rve::parse_recipe(p, name));
     EXPECT_EQ(e.dump(2), before.at(name).at("expanded").dump(2)) << name;
+  }
+}
+
+// The declared recipe keys (recipe_parameters.cpp): the TOML template of each model, read as a
+// recipe file, is the recipe of that model's defaults; every key of the expanded recipe is
+// declared; the declared ranges are the ones parse_recipe enforces (one value just inside and
+// one just outside each bound of a few keys).
+TEST(RvePresets, ParameterTemplatesReadBackAsTheDefaultRecipe) {
+  namespace fs = std::filesystem;
+  for (const std::string model : {"pp", "pnc", "kg", "kg_platelet"}) {
+    const auto p = fs::temp_directory_path() / ("pnc_recipe_template_" + model + ".toml");
+    std::ofstream(p) << pnc::rve::recipe_parameters(model).to_toml();
+    json minimal = {{"model", model}};
+    if (model == "pnc") minimal["clay"] = json::object(); // pnc needs its clay block
+    const auto want = pnc::rve::expanded_json(pnc::rve::parse_recipe(minimal, "x"));
+    EXPECT_EQ(pnc::rve::expanded_json(pnc::rve::read_recipe(p.string())), want) << model;
+    // every key of the expanded recipe is a declared one of this model
+    const auto decl = pnc::rve::recipe_parameters(model);
+    for (const auto& [section, v] : want.items()) {
+      if (!v.is_object()) {
+        EXPECT_NO_THROW(decl.at(section)) << section;
+        continue;
+      }
+      for (const auto& [key, x] : v.items())
+        EXPECT_NO_THROW(decl.at(section + "." + key)) << model << ": " << section << "." << key;
+    }
+    fs::remove(p);
+  }
+}
+
+TEST(RvePresets, DeclaredBoundsAreTheEnforcedOnes) {
+  struct Case {
+    const char* section;
+    const char* key;
+    json inside, outside;
+  };
+  const std::vector<Case> cases = {
+      {"deform", "timestep_fs", 50.0, 50.000001},
+      {"deform", "reference_holds", 1000, 1001},
+      {"build", "density", 2.99, 3.0},
+      {"phase_check", "shear_strain", 0.1, 0.1001},
+      {"equilibrate", "pushoff_steps", 100, 99},
+      {"fit", "strain_max", 10.0, 10.5},
+      {"equilibrate", "pressure_atm", -1e5, -1.0001e5},
+      {"run", "replicas", 64, 65},
+  };
+  for (const auto& c : cases) {
+    json j = {{c.section, {{c.key, c.inside}}}};
+    if (std::string(c.section) == "deform" && std::string(c.key) == "timestep_fs")
+      j["deform"]["hold_steps"] = 1000;
+    EXPECT_NO_THROW(pnc::rve::parse_recipe(j, "r.json")) << j.dump();
+    j[c.section][c.key] = c.outside;
+    try {
+      pnc::rve::parse_recipe(j, "r.json");
+      ADD_FAILURE() << "accepted " << j.dump();
+    } catch (const pnc::InputError& e) {
+      const std::string field = std::string(c.section) + "." + c.key;
+      EXPECT_EQ(e.context().field, field);
+      EXPECT_EQ(e.context().rule, pnc::rve::recipe_parameters("pp").at(field).rule());
+    }
   }
 }
