@@ -17,7 +17,7 @@ in rve/src/recipe_parameters.cpp, and the tables follow.
     python3 scripts/generated_docs.py --pnc build/app/pnc            # rewrite the regions
     python3 scripts/generated_docs.py --pnc build/app/pnc --check    # exit 1 if one is stale
 
-The ctest docs.recipe_parameters runs the check. Python 3 standard library only.
+The ctest docs.recipe_parameters runs the check (decision D232). Python 3 standard library only.
 """
 
 import argparse

@@ -102,7 +102,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
     declare_recipe(p, r, variant); // every key: type, range, default (recipe_parameters.cpp)
     p.read(j, source);
   }
-  // rules between keys and sections, after the declared reads
+  // rules between keys and sections, after the declared reads (decision D231)
   const bool kg = r.model == "kg" || r.model == "kg_platelet";
   if (user)
     r.system = parse_user_system(

@@ -1,7 +1,8 @@
 // The keys of a `pnc characterize` recipe, each declared once (pnc/core/parameters.hpp): name,
 // type, default (the value of the spec structs), range, unit and one line of text. parse_recipe
 // reads through them; `pnc recipe parameters` prints them, and the key tables of docs/rve.md
-// are generated from that printout. Units: LAMMPS real (A, fs, kcal/mol, g/mol, atm, K).
+// are generated from that printout (decisions D230-D232). Units: LAMMPS real (A, fs, kcal/mol,
+// g/mol, atm, K).
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// pnc/core/parameters.hpp: inputs declared once.
+// pnc/core/parameters.hpp: inputs declared once (decisions D230-D232).
 //
 // Each input key is declared once: its dotted name ("deform.hold_steps"), its type, its default,
 // its range or allowed values, its unit and one line of text. Types: bool; integer in
