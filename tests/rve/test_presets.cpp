@@ -99,3 +99,39 @@ TEST(RvePresets, DeclaredBoundsAreTheEnforcedOnes) {
     }
   }
 }
+
+// Recipes beyond the presets whose expanded form (what run directories store and --resume
+// compares) was written to tests/rve/data/expanded_before_declarations.json before
+// expanded_json() was derived from the declarations: the two must agree as printed text.
+namespace {
+const std::vector<std::pair<std::string, json>>& expansion_inputs() {
+  static const std::vector<std::pair<std::string, json>> in = {
+      {"empty", json::object()},
+      {"pp_fit_alpha_hold", json::parse(R"({"fit": {"hold_alpha": true, "alpha": 0.9,
+          "strain_max": 0.05}, "deform": {"cases": [1, 4]}, "name": "x", "seed": 7})")},
+      {"pnc_aspect", json::parse(R"({"model": "pnc", "clay": {"aspect_ratio": 4.19},
+          "build": {"chains": 75}})")},
+      {"pnc_cells", json::parse(R"({"model": "pnc", "clay": {"cells_a": 3, "gap_x": 12.5},
+          "build": {"chains": 30}, "equilibrate": {"clay_steps": 100}})")},
+      {"kg", json::parse(R"({"model": "kg", "forcefield": {"sigma": 4.0, "bond_length_sigma":
+          0.95}, "build": {"chains": 40, "min_distance": 3.0}, "fit": {"fit_alpha": true}})")},
+      {"kg_platelet", json::parse(R"({"model": "kg_platelet", "build": {"chains": 32,
+          "min_distance": 3.5}, "forcefield": {"sigma": 5.0}, "platelet": {"beads_side": 6},
+          "equilibrate": {"timestep_fs": 10.0}, "deform": {"timestep_fs": 10.0},
+          "analysis": {"stress": "virial", "reference": "none", "moving_average": 5},
+          "run": {"jobs": 3, "replicas": 2}})")},
+  };
+  return in;
+}
+} // namespace
+
+TEST(RvePresets, ExpandedRecipesEqualTheirFormBeforeTheDeclarations) {
+  std::ifstream f(std::string(PNC_SOURCE_DIR) +
+                  "/tests/rve/data/expanded_before_declarations.json");
+  const json before = json::parse(f);
+  for (const auto& [name, recipe] : expansion_inputs()) {
+    const json e = pnc::rve::expanded_json(pnc::rve::parse_recipe(recipe, name));
+    ASSERT_TRUE(before.contains(name)) << name;
+    EXPECT_EQ(e.dump(2), before.at(name).dump(2)) << name;
+  }
+}
