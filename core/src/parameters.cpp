@@ -124,8 +124,14 @@ std::string RealRange::text() const {
 // ---- Parameter ----
 
 Parameter& Parameter::no_default(std::string absent_means) {
+  unset_value = std::move(default_value);
   default_value = nullptr;
   absent = std::move(absent_means);
+  return *this;
+}
+
+Parameter& Parameter::omit_when_default() {
+  omit_default = true;
   return *this;
 }
 
@@ -314,6 +320,7 @@ Parameter& Parameters::boolean(const std::string& key, bool& target, std::string
   p.default_value = target;
   p.text = std::move(text);
   p.store = [&target](const json& v) { target = v.get<bool>(); };
+  p.load = [&target] { return json(target); };
   return add(std::move(p));
 }
 
@@ -327,6 +334,7 @@ Parameter& Parameters::real(const std::string& key, double& target, RealRange ra
   p.text = std::move(text);
   p.range = range;
   p.store = [&target](const json& v) { target = v.get<double>(); };
+  p.load = [&target] { return json(target); };
   return add(std::move(p));
 }
 
@@ -339,6 +347,7 @@ Parameter& Parameters::string(const std::string& key, std::string& target,
   p.text = std::move(text);
   p.choices = std::move(choices);
   p.store = [&target](const json& v) { target = v.get<std::string>(); };
+  p.load = [&target] { return json(target); };
   return add(std::move(p));
 }
 
@@ -355,6 +364,7 @@ Parameter& Parameters::reals(const std::string& key, std::vector<double>& target
   p.min_size = min_size;
   p.max_size = max_size;
   p.store = [&target](const json& v) { target = v.get<std::vector<double>>(); };
+  p.load = [&target] { return json(target); };
   return add(std::move(p));
 }
 
@@ -448,6 +458,33 @@ json Parameters::defaults() const {
   check_unique_paths("defaults");
   json out = json::object();
   read_object(0, json::object(), "<defaults>", out);
+  return out;
+}
+
+void Parameters::write_values(std::size_t s, json& out) const {
+  for (const auto& m : members_[s]) {
+    if (m.is_section) {
+      const ParamSection& sub = sections_[m.index];
+      if (sub.opaque) continue;
+      const auto dot = sub.path.rfind('.');
+      json& o = out[dot == std::string::npos ? sub.path : sub.path.substr(dot + 1)] =
+          json::object();
+      write_values(m.index, o);
+      continue;
+    }
+    const Parameter& p = params_[m.index];
+    if (!p.load) continue;
+    json v = p.load();
+    if (p.default_value.is_null() ? v == p.unset_value : p.omit_default && v == p.default_value)
+      continue;
+    out[p.key()] = std::move(v);
+  }
+}
+
+json Parameters::values() const {
+  check_unique_paths("values");
+  json out = json::object();
+  write_values(0, out);
   return out;
 }
 

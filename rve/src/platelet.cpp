@@ -42,16 +42,6 @@ void PlateletSpec::validate(const std::string& source) const {
         "sigma; polymer bead to platelet bead at the build");
 }
 
-nlohmann::json platelet_json(const PlateletSpec& p) {
-  return {{"beads_side", p.beads_side},
-          {"layers", p.layers},
-          {"spacing_sigma", p.spacing_sigma},
-          {"epsilon_wp_reduced", p.epsilon_wp_reduced},
-          {"sigma_wp_sigma", p.sigma_wp_sigma},
-          {"bond_K_reduced", p.bond_K_reduced},
-          {"min_distance_sigma", p.min_distance_sigma}};
-}
-
 double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
                        const PlateletSpec& p) {
   const double n = static_cast<double>(spec.chains) * spec.beads_per_chain +

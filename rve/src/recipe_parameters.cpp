@@ -56,7 +56,8 @@ void declare_clay(Parameters& p, Recipe& r, const std::string& applies) {
       .remark("cells_a x cells_b <= 200; not with aspect_ratio");
   p.integer("cells_b", r.clay.cells_b, 1, 200, "", "unit cells along x3 (crystal b)");
   p.real("aspect_ratio", r.clay.aspect_ratio, RealRange::at_least(0), "1",
-         "instead of cells_a: cells_a = round(aspect_ratio cells_b b / a); 0 = use cells_a");
+         "instead of cells_a: cells_a = round(aspect_ratio cells_b b / a); 0 = use cells_a")
+      .omit_when_default(); // expanded into cells_a
   p.real("min_distance", r.clay.min_distance, RealRange::open(0, 6), "A",
          "closest polymer bead to a clay atom at the build");
   p.real("gap_x", r.clay.gap_x, RealRange::open(0, 200), "A",
@@ -231,12 +232,14 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
   p.boolean("fit_alpha", r.fit_alpha, "fit alpha (else held at its start value)")
       .remark("not with hold_alpha");
   p.boolean("hold_alpha", r.hold_alpha, "hold alpha at its start value past the damage onset")
-      .remark("not with fit_alpha");
+      .remark("not with fit_alpha")
+      .omit_when_default();
   p.real("alpha", r.fit_alpha_start, RealRange::closed(0.5, 1.5), "1",
          "alpha the fit starts from (or holds); the glass presets use 0.82 (D138)")
       .no_default("the dissertation's value");
   p.real("strain_max", r.fit_strain_max, RealRange::closed(0, 10), "1",
-         "fit range: rows with every strain component <= it are fitted; 0 = every row (D12h)");
+         "fit range: rows with every strain component <= it are fitted; 0 = every row (D12h)")
+      .omit_when_default();
   p.section("run", "how the cases run");
   p.integer("jobs", r.jobs, 1, 64, "", "cases at a time (pnc characterize --jobs overrides)");
   p.integer("replicas", r.replicas, 1, 64, "",
@@ -276,8 +279,9 @@ void declare_recipe(Parameters& p, Recipe& r, const std::string& variant) {
   declare_analysis_fit_run(p, r);
 }
 
-Parameters recipe_parameters(const std::string& variant) {
-  auto r = std::make_shared<Recipe>();
+namespace {
+// The declarations of `variant` bound to `*r`, defaults from a recipe of defaults.
+Parameters declared_defaults(const std::string& variant, const std::shared_ptr<Recipe>& r) {
   if (variant == "pnc" || variant == "kg_platelet") r->cases = {1, 2, 3, 4, 5, 6};
   if (!variant.empty() && variant != "system") r->model = variant;
   Parameters p("pnc characterize recipe" +
@@ -285,6 +289,24 @@ Parameters recipe_parameters(const std::string& variant) {
   declare_recipe(p, *r, variant);
   p.hold(r);
   return p;
+}
+} // namespace
+
+Parameters recipe_parameters(const std::string& variant) {
+  return declared_defaults(variant, std::make_shared<Recipe>());
+}
+
+nlohmann::json expanded_json(const Recipe& r) {
+  auto bound = std::make_shared<Recipe>();
+  const Parameters p = declared_defaults(r.system.enabled ? "system" : r.model, bound);
+  *bound = r; // the declarations now read r's values
+  nlohmann::json out = p.values();
+  if (r.system.enabled) { // the opaque sections, as parse_user_system reads them back
+    const nlohmann::json u = user_system_json(r.system);
+    out["system"] = u.at("system");
+    out["equilibrate"] = u.at("equilibrate");
+  }
+  return out;
 }
 
 } // namespace pnc::rve

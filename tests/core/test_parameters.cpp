@@ -278,3 +278,24 @@ TEST(Parameters, OpaqueSectionsArePassedThroughAsObjects) {
     EXPECT_EQ(e.context().rule, "must be a JSON object");
   }
 }
+
+TEST(Parameters, ValuesAreTheVariablesNowWithUnsetEntriesLeftOut) {
+  V v;
+  Parameters p = declare(v);
+  bool quiet = false;
+  p.section("extra", "quiet entries");
+  p.boolean("quiet", quiet, "left out at its default").omit_when_default();
+  json want = p.defaults();
+  want["extra"].erase("quiet"); // at its default
+  EXPECT_EQ(p.values(), want);  // nothing read yet: the defaults, alpha left out
+  p.read(json::parse(R"({"run": {"alpha": 1.25, "count": 9}, "extra": {"quiet": true}})"),
+         "in.json");
+  const json now = p.values();
+  EXPECT_EQ(now["run"]["alpha"], 1.25);
+  EXPECT_EQ(now["run"]["count"], 9);
+  EXPECT_EQ(now["extra"]["quiet"], true);
+  v.alpha = 0; // back to "not given"
+  v.cases = {4};
+  EXPECT_FALSE(p.values()["run"].contains("alpha"));
+  EXPECT_EQ(p.values()["run"]["cases"]["ids"], json::array({4}));
+}

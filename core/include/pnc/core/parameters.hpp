@@ -75,6 +75,7 @@ struct Parameter {
   std::string path; ///< dotted name, e.g. "deform.hold_steps"
   ParamType type = ParamType::boolean;
   nlohmann::json default_value; ///< null: no default (the key is optional; `absent` says why)
+  nlohmann::json unset_value;   ///< no default: the variable's value meaning "not given"
   std::string absent;           ///< what leaving the key out means when there is no default
   std::string unit;             ///< "fs", "K", "1" (dimensionless), "" (none applies)
   std::string text;             ///< one line: what the key is
@@ -84,13 +85,18 @@ struct Parameter {
   std::vector<Choice> choices; ///< strings: the allowed values (empty: any string)
   std::size_t min_size = 0;    ///< lists: length rule
   std::size_t max_size = std::numeric_limits<std::size_t>::max();
-  std::string extra_rule; ///< what `check` enforces, for the printed tables ("odd")
-  std::string note;       ///< more text for the printed tables (e.g. a model-dependent default)
-  ParamCheck check;       ///< optional: runs after the type and range checks
+  std::string extra_rule;    ///< what `check` enforces, for the printed tables ("odd")
+  std::string note;          ///< more text for the printed tables (e.g. a model-dependent default)
+  bool omit_default = false; ///< values() leaves the entry out while it holds its default
+  ParamCheck check;          ///< optional: runs after the type and range checks
   std::function<void(const nlohmann::json&)> store; ///< writes a checked value to its variable
+  std::function<nlohmann::json()> load;             ///< the variable's value now
 
-  /// No default: the key is optional and `absent_means` says what leaving it out does.
+  /// No default: the key is optional and `absent_means` says what leaving it out does; the
+  /// variable's value now is the one that means "not given" (values() then leaves it out).
   Parameter& no_default(std::string absent_means);
+  /// values() leaves the entry out while its variable holds the default.
+  Parameter& omit_when_default();
   /// A further rule of this key alone, enforced by `c` and printed as `rule`.
   Parameter& also(std::string rule, ParamCheck c);
   /// A remark printed after the text (e.g. "models pnc, kg_platelet: [1, 2, 3, 4, 5, 6]").
@@ -159,6 +165,10 @@ public:
   nlohmann::json read(const nlohmann::json& in, const std::string& source) const;
   /// The defaults as read() returns them for an empty object.
   nlohmann::json defaults() const;
+  /// The bound variables' values now, every declared entry by its key (an entry without a
+  /// default left out while it holds its "not given" value, an entry marked omit_when_default
+  /// while it holds its default; opaque sections left out): the expanded form of an input.
+  nlohmann::json values() const;
 
   /// The declarations as JSON: {"title", "sections": [{"path", "text", "applies", "opaque",
   /// "parameters": [{"name", "type", "default", "unit", "text", "range", ...}]}]}.
@@ -193,6 +203,7 @@ private:
   void check_unique_paths(const char* what) const;
   void read_object(std::size_t section, const nlohmann::json& in, const std::string& source,
                    nlohmann::json& out) const;
+  void write_values(std::size_t section, nlohmann::json& out) const;
 };
 
 /// The name among `names` nearest to `key` (edit distance), or "" when none is close.
@@ -224,6 +235,7 @@ Parameter& Parameters::integer(const std::string& key, T& target, std::int64_t m
   p.store = [&target](const nlohmann::json& v) {
     target = static_cast<T>(detail::param_integer(v));
   };
+  p.load = [&target] { return nlohmann::json(target); };
   return add(std::move(p));
 }
 
@@ -252,6 +264,7 @@ Parameter& Parameters::integers(const std::string& key, std::vector<T>& target, 
     for (const auto& e : v)
       target.push_back(static_cast<T>(detail::param_integer(e)));
   };
+  p.load = [&target] { return nlohmann::json(target); };
   return add(std::move(p));
 }
 

@@ -45,8 +45,6 @@ struct PlateletSpec {
   void validate(const std::string& source) const;
 };
 
-/// Every field by name (the recipe's expanded form).
-nlohmann::json platelet_json(const PlateletSpec& p);
 
 /// The cubic box edge (A) of the composite: (polymer beads + platelet beads) x bead_mass at
 /// spec.density (decision D172: every bead, polymer or platelet, counts at the build density).

@@ -109,7 +109,9 @@ nlohmann::json preset_json(const std::string& name);
 std::vector<std::string> preset_names();
 /// A recipe (JSON form, e.g. preset_json) written as TOML; read_recipe reads it back.
 std::string recipe_toml(const nlohmann::json& recipe);
-/// The recipe fully expanded (every field with its value), for records and `recipe show`.
+/// The recipe fully expanded (every declared key with its value; fit.alpha, fit.hold_alpha,
+/// fit.strain_max and clay.aspect_ratio only when set), for records and `recipe show`: the
+/// declarations' values() (declare_recipe) plus the user's system as parse_user_system reads it.
 nlohmann::json expanded_json(const Recipe& r);
 
 } // namespace pnc::rve
