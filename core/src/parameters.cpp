@@ -18,7 +18,7 @@ namespace {
 using json = nlohmann::json;
 
 std::string join_path(const std::string& a, const std::string& b) {
-  return a.empty() ? b : a + "." + b;
+  return a.empty() ? b : b.empty() ? a : a + "." + b;
 }
 
 std::string number(double x) {
@@ -130,6 +130,12 @@ Parameter& Parameter::no_default(std::string absent_means) {
   return *this;
 }
 
+Parameter& Parameter::require() {
+  required = true;
+  default_value = nullptr;
+  return *this;
+}
+
 Parameter& Parameter::omit_when_default() {
   omit_default = true;
   return *this;
@@ -165,6 +171,10 @@ std::string Parameter::type_name() const {
     return "list of integers";
   case ParamType::real_list:
     return "list of reals";
+  case ParamType::string_list:
+    return "list of strings";
+  case ParamType::table_list:
+    return "list of tables";
   }
   return "";
 }
@@ -184,9 +194,12 @@ std::string Parameter::range_text() const {
     s = choices_text(choices, true);
     break;
   case ParamType::integer_list:
-  case ParamType::real_list: {
-    const std::string each =
-        type == ParamType::integer_list ? integer_range(int_min, int_max) : range.text();
+  case ParamType::real_list:
+  case ParamType::string_list:
+  case ParamType::table_list: {
+    const std::string each = type == ParamType::integer_list ? integer_range(int_min, int_max)
+                             : type == ParamType::real_list  ? range.text()
+                                                             : "";
     constexpr auto none = std::numeric_limits<std::size_t>::max();
     std::string len;
     if (max_size == none)
@@ -218,6 +231,10 @@ std::string Parameter::rule() const {
   case ParamType::integer_list:
     return "must be " + array_of(min_size, max_size) + " integers in " +
            integer_range(int_min, int_max);
+  case ParamType::string_list:
+    return "must be " + array_of(min_size, max_size) + " strings";
+  case ParamType::table_list:
+    return "must be " + array_of(min_size, max_size) + " tables (JSON objects)";
   case ParamType::real_list: {
     const std::string r = range.text();
     return "must be " + array_of(min_size, max_size) + " finite numbers" +
@@ -227,43 +244,53 @@ std::string Parameter::rule() const {
   return "";
 }
 
-void Parameter::validate(const json& v, const std::string& source) const {
+void Parameter::validate(const json& v, const std::string& source, const std::string& field) const {
+  const std::string& f = field.empty() ? path : field;
   auto real_ok = [&](const json& x) {
-    if (!x.is_number()) fail(source, path, show_json(x), "must be a number");
+    if (!x.is_number()) fail(source, f, show_json(x), "must be a number");
     const double d = x.get<double>();
-    if (!std::isfinite(d)) fail(source, path, number_value(x), "must be a finite number");
-    if (!range.contains(d)) fail(source, path, number_value(x), real_rule(range, unit));
+    if (!std::isfinite(d)) fail(source, f, number_value(x), "must be a finite number");
+    if (!range.contains(d)) fail(source, f, number_value(x), real_rule(range, unit));
   };
   switch (type) {
   case ParamType::boolean:
-    if (!v.is_boolean()) fail(source, path, show_json(v), rule());
+    if (!v.is_boolean()) fail(source, f, show_json(v), rule());
     break;
   case ParamType::integer:
-    (void)get_integer(v, source, path, int_min, int_max);
+    (void)get_integer(v, source, f, int_min, int_max);
     break;
   case ParamType::real:
     real_ok(v);
     break;
   case ParamType::string:
-    if (!v.is_string()) fail(source, path, show_json(v), "must be a string");
+    if (!v.is_string()) fail(source, f, show_json(v), "must be a string");
     if (!choices.empty() && std::none_of(choices.begin(), choices.end(), [&](const Choice& c) {
           return c.value == v.get_ref<const std::string&>();
         }))
-      fail(source, path, show_json(v), rule());
+      fail(source, f, show_json(v), rule());
     break;
   case ParamType::integer_list:
   case ParamType::real_list:
     if (!v.is_array() || v.size() < min_size || v.size() > max_size)
-      fail(source, path, show_json(v), rule());
+      fail(source, f, show_json(v), rule());
     for (const auto& e : v) {
       if (type == ParamType::integer_list)
-        (void)get_integer(e, source, path, int_min, int_max);
+        (void)get_integer(e, source, f, int_min, int_max);
       else
         real_ok(e);
     }
     break;
+  case ParamType::string_list:
+  case ParamType::table_list:
+    if (!v.is_array() || v.size() < min_size || v.size() > max_size)
+      fail(source, f, show_json(v), rule());
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (type == ParamType::string_list ? !v[i].is_string() : !v[i].is_object())
+        fail(source, f + "[" + std::to_string(i) + "]", show_json(v[i]),
+             type == ParamType::string_list ? "must be a string" : "must be a JSON object");
+    break;
   }
-  if (check) check(v, source, path);
+  if (check) check(v, source, f);
 }
 
 // ---- Parameters: declarations ----
@@ -368,6 +395,20 @@ Parameter& Parameters::reals(const std::string& key, std::vector<double>& target
   return add(std::move(p));
 }
 
+Parameter& Parameters::strings(const std::string& key, std::vector<std::string>& target,
+                               std::size_t min_size, std::size_t max_size, std::string text) {
+  Parameter p;
+  p.path = key;
+  p.type = ParamType::string_list;
+  p.default_value = target;
+  p.text = std::move(text);
+  p.min_size = min_size;
+  p.max_size = max_size;
+  p.store = [&target](const json& v) { target = v.get<std::vector<std::string>>(); };
+  p.load = [&target] { return json(target); };
+  return add(std::move(p));
+}
+
 const Parameter& Parameters::at(const std::string& path) const {
   for (const auto& p : params_)
     if (p.path == path) return p;
@@ -392,14 +433,19 @@ std::string nearest_name(const std::string& key, const std::vector<std::string>&
     const std::size_t d = edit_distance(key, n);
     if (d < best_d) best_d = d, best = n;
   }
-  // close: at most a third of the longer name changed (and never the whole key)
+  // close: at most a third of the longer name changed (and never the whole key), or one name
+  // begins with the other ("temp" for "temperature")
   const std::size_t len = std::max(key.size(), best.size());
-  return best_d <= std::max<std::size_t>(1, len / 3) && best_d < key.size() ? best : "";
+  if (best_d <= std::max<std::size_t>(1, len / 3) && best_d < key.size()) return best;
+  if (key.size() >= 3)
+    for (const auto& n : names)
+      if (n.rfind(key, 0) == 0 || key.rfind(n, 0) == 0) return n;
+  return "";
 }
 
 void Parameters::read_object(std::size_t s, const json& in, const std::string& source,
-                             json& out) const {
-  const std::string& path = sections_[s].path;
+                             const std::string& prefix, json& out) const {
+  const std::string path = join_path(prefix, sections_[s].path);
   if (!in.is_object()) fail(source, path, show_json(in), "must be a JSON object");
   std::vector<std::string> names;
   for (const auto& m : members_[s]) {
@@ -426,38 +472,41 @@ void Parameters::read_object(std::size_t s, const json& in, const std::string& s
       if (sub.opaque) {
         if (!given) continue;
         if (!in.at(key).is_object())
-          fail(source, sub.path, show_json(in.at(key)), "must be a JSON object");
+          fail(source, join_path(prefix, sub.path), show_json(in.at(key)), "must be a JSON object");
         out[key] = in.at(key);
         continue;
       }
       json& o = out[key] = json::object();
       static const json empty = json::object();
-      read_object(m.index, given ? in.at(key) : empty, source, o);
+      read_object(m.index, given ? in.at(key) : empty, source, prefix, o);
       continue;
     }
     const Parameter& p = params_[m.index];
     if (given) {
       const json& v = in.at(key);
-      p.validate(v, source);
+      p.validate(v, source, join_path(prefix, p.path));
       if (p.store) p.store(v);
       out[key] = v;
+    } else if (p.required) {
+      fail(source, join_path(prefix, p.path), "<missing>", "is required: " + p.rule());
     } else if (!p.default_value.is_null()) {
       out[key] = p.default_value;
     }
   }
 }
 
-json Parameters::read(const json& in, const std::string& source) const {
+json Parameters::read(const json& in, const std::string& source,
+                      const std::string& field_prefix) const {
   check_unique_paths("read");
   json out = json::object();
-  read_object(0, in, source.empty() ? std::string("<input>") : source, out);
+  read_object(0, in, source.empty() ? std::string("<input>") : source, field_prefix, out);
   return out;
 }
 
 json Parameters::defaults() const {
   check_unique_paths("defaults");
   json out = json::object();
-  read_object(0, json::object(), "<defaults>", out);
+  read_object(0, json::object(), "<defaults>", "", out);
   return out;
 }
 
@@ -499,7 +548,8 @@ json Parameters::to_json() const {
       const Parameter& p = params_[m.index];
       json e = {{"name", p.path}, {"type", p.type_name()}, {"default", p.default_value},
                 {"unit", p.unit}, {"text", p.text},        {"rule", p.rule()}};
-      if (p.default_value.is_null()) e["absent"] = p.absent;
+      if (p.required) e["required"] = true;
+      if (p.default_value.is_null() && !p.required) e["absent"] = p.absent;
       if (p.type == ParamType::integer || p.type == ParamType::integer_list)
         e["range"] = {{"min", p.int_min}, {"max", p.int_max}};
       if (p.type == ParamType::real || p.type == ParamType::real_list) {
@@ -508,7 +558,8 @@ json Parameters::to_json() const {
         if (std::isfinite(p.range.hi)) r["max"] = p.range.hi, r["max_open"] = p.range.hi_open;
         e["range"] = r;
       }
-      if (p.type == ParamType::integer_list || p.type == ParamType::real_list) {
+      if (p.type == ParamType::integer_list || p.type == ParamType::real_list ||
+          p.type == ParamType::string_list || p.type == ParamType::table_list) {
         e["min_size"] = p.min_size;
         if (p.max_size != std::numeric_limits<std::size_t>::max()) e["max_size"] = p.max_size;
       }
@@ -542,7 +593,9 @@ std::string Parameters::to_toml() const {
     if (const std::string r = p.range_text(); !r.empty()) what += " " + r;
     if (!p.unit.empty()) what += "; unit " + p.unit;
     out += "\n# " + p.text + (p.note.empty() ? "" : "; " + p.note) + "\n# " + what + "\n";
-    if (p.default_value.is_null())
+    if (p.required)
+      out += "# " + p.key() + " =   (required)\n";
+    else if (p.default_value.is_null())
       out += "# " + p.key() + " =   (no default: " + p.absent + ")\n";
     else
       out += p.key() + " = " + toml_value(p.default_value) + "\n";
@@ -585,11 +638,12 @@ std::string Parameters::to_markdown(int heading_level) const {
     out += "|---|---|---|---|---|---|\n";
     for (const Parameter* p : ps) {
       std::string meaning = p->text;
-      if (p->default_value.is_null()) meaning += "; absent: " + p->absent;
+      if (p->default_value.is_null() && !p->required) meaning += "; absent: " + p->absent;
       if (!p->note.empty()) meaning += "; " + p->note;
       out += "| `" + p->path + "` | " + p->type_name() + " | " +
-             (p->default_value.is_null() ? std::string("–")
-                                         : "`" + cell(p->default_value.dump()) + "`") +
+             (p->required                  ? std::string("required")
+              : p->default_value.is_null() ? std::string("–")
+                                           : "`" + cell(p->default_value.dump()) + "`") +
              " | " + cell(p->range_text()) + " | " + cell(p->unit) + " | " + cell(meaning) + " |\n";
     }
   }

@@ -104,9 +104,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   }
   // rules between keys and sections, after the declared reads (decision D231)
   const bool kg = r.model == "kg" || r.model == "kg_platelet";
-  if (user)
-    r.system = parse_user_system(
-        j.at("system"), j.contains("equilibrate") ? &j.at("equilibrate") : nullptr, source);
+  if (user) finish_user_system(r.system, source); // one file, resolved and hashed
   if (r.model == "kg_platelet" && !user) r.platelet.validate(source);
   if (r.model == "pnc" && !user) {
     r.clay.validate(source);

@@ -262,18 +262,10 @@ void declare_recipe(Parameters& p, Recipe& r, const std::string& variant) {
     declare_pp_forcefield(p, r, when("models pp, pnc"));
   if (all || kg) declare_kg_forcefield(p, r, when("models kg, kg_platelet"));
   if (all || variant == "kg_platelet") declare_platelet(p, r, when("model kg_platelet"));
-  if (all || user)
-    p.opaque_section("system",
-                     "your own LAMMPS data file and force field instead of the builder: see "
-                     "\"Characterize your own system\" (D121)",
-                     when("a recipe with your own system"));
   if (all || (!user && !kg)) declare_equilibrate(p, r, false, when("models pp, pnc"));
   if (all || kg) declare_equilibrate(p, r, true, when("models kg, kg_platelet"));
-  if (all || user)
-    p.opaque_section("equilibrate",
-                     "with a system section: the stages of your own equilibration (key "
-                     "\"stages\"), see \"Characterize your own system\"",
-                     when("a recipe with your own system"));
+  if (all || user) // your own system: its file, force field and stages (user_system.hpp)
+    declare_user_system(p, r.system, when("a recipe with your own system"), all);
   declare_deform(p, r);
   declare_phase_check(p, r);
   declare_analysis_fit_run(p, r);
@@ -301,7 +293,7 @@ nlohmann::json expanded_json(const Recipe& r) {
   const Parameters p = declared_defaults(r.system.enabled ? "system" : r.model, bound);
   *bound = r; // the declarations now read r's values
   nlohmann::json out = p.values();
-  if (r.system.enabled) { // the opaque sections, as parse_user_system reads them back
+  if (r.system.enabled) { // the resolved file and its hash, as the recipe reads them back
     const nlohmann::json u = user_system_json(r.system);
     out["system"] = u.at("system");
     out["equilibrate"] = u.at("equilibrate");

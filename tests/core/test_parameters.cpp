@@ -299,3 +299,79 @@ TEST(Parameters, ValuesAreTheVariablesNowWithUnsetEntriesLeftOut) {
   EXPECT_FALSE(p.values()["run"].contains("alpha"));
   EXPECT_EQ(p.values()["run"]["cases"]["ids"], json::array({4}));
 }
+
+// Lists of strings and of tables, required keys, and an input read as one element of a larger
+// one (the field prefix): a table list's elements are read by its check with their own
+// declarations, and errors name the element's key under the prefix.
+TEST(Parameters, StringAndTableListsRequiredKeysAndFieldPrefixes) {
+  std::vector<std::string> lines;
+  std::string units;
+  std::vector<double> temps;
+  Parameters p("input");
+  p.section("system", "a system");
+  p.string("units", units, {{"real", "A, fs"}}, "units").require();
+  p.strings("lines", lines, 1, 3, "commands").require();
+  pnc::Parameter st;
+  st.path = "stages";
+  st.type = pnc::ParamType::table_list;
+  st.default_value = json::array();
+  st.max_size = 2;
+  st.text = "stages";
+  st.check = [&temps](const json& v, const std::string& source, const std::string& field) {
+    temps.clear();
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      double t = 0;
+      Parameters s("stage");
+      s.real("temperature", t, RealRange::above(0), "K", "temperature").require();
+      s.read(v[i], source, field + "[" + std::to_string(i) + "]");
+      temps.push_back(t);
+    }
+  };
+  p.add(std::move(st));
+  const json ok = json::parse(R"({"system": {"units": "real", "lines": ["a", "b"],
+                                  "stages": [{"temperature": 10}, {"temperature": 20.5}]}})");
+  p.read(ok, "in.json");
+  EXPECT_EQ(lines, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(temps, (std::vector<double>{10, 20.5}));
+  struct Bad {
+    const char* ptr;
+    json v;
+    std::string field, value, rule;
+  };
+  const std::vector<Bad> bad = {
+      {"/system/lines", json::array({"a", 3}), "system.lines[1]", "3", "must be a string"},
+      {"/system/lines", json::array(), "system.lines", "[]", "must be an array of 1 to 3 strings"},
+      {"/system/stages", json::array({json::object(), 1}), "system.stages[1]", "1",
+       "must be a JSON object"},
+      {"/system/stages", json::array({json::object(), json::object(), json::object()}),
+       "system.stages", "[{},{},{}]", "must be an array of 0 to 2 tables (JSON objects)"},
+      {"/system/stages/1", json::parse(R"({"temperature": -1.0})"), "system.stages[1].temperature",
+       "-1", "must be a number > 0 K"},
+      {"/system/stages/0", json::parse(R"({"temp": 1})"), "system.stages[0].temp", "1",
+       "unknown key; allowed: temperature (did you mean \"temperature\"?)"},
+      {"/system/stages/0", json::object(), "system.stages[0].temperature", "<missing>",
+       "is required: must be a number > 0 K"},
+  };
+  for (const auto& b : bad) {
+    json in = ok;
+    in[json::json_pointer(b.ptr)] = b.v;
+    try {
+      p.read(in, "in.json");
+      ADD_FAILURE() << "accepted " << in.dump();
+    } catch (const pnc::InputError& e) {
+      EXPECT_EQ(e.context().field, b.field) << in.dump();
+      EXPECT_EQ(e.context().value, b.value) << in.dump();
+      EXPECT_EQ(e.context().rule, b.rule) << in.dump();
+    }
+  }
+  json missing = ok;
+  missing["system"].erase("units");
+  try {
+    p.read(missing, "in.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().field, "system.units");
+    EXPECT_EQ(e.context().rule, "is required: must be \"real\" (A, fs)");
+  }
+  EXPECT_NE(p.to_markdown().find("| `system.units` | string | required |"), std::string::npos);
+}

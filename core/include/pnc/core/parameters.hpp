@@ -4,7 +4,8 @@
 // Each input key is declared once: its dotted name ("deform.hold_steps"), its type, its default,
 // its range or allowed values, its unit and one line of text. Types: bool; integer in
 // [min, max]; real in a range whose bounds are open or closed (RealRange); string, free or one
-// of a list; list of integers or reals with an element range and a length rule. From the
+// of a list; list of integers or reals with an element range and a length rule; list of
+// strings or of tables whose elements `check` reads). A key may be required. From the
 // declarations, in the spirit of deal.II's ParameterHandler (declare_entry with a Pattern,
 // parse_input, print_parameters):
 //
@@ -39,7 +40,17 @@
 
 namespace pnc {
 
-enum class ParamType { boolean, integer, real, string, integer_list, real_list };
+enum class ParamType {
+  boolean,
+  integer,
+  real,
+  string,
+  integer_list,
+  real_list,
+  string_list, ///< an array of strings (each further checked by `check`, e.g. one command)
+  table_list   ///< an array of objects (TOML tables), each read by `check` (e.g. with its own
+               ///< Parameters, read with a field prefix)
+};
 
 /// A range of reals; either bound open or closed, or absent (infinite).
 struct RealRange {
@@ -88,6 +99,7 @@ struct Parameter {
   std::string extra_rule;    ///< what `check` enforces, for the printed tables ("odd")
   std::string note;          ///< more text for the printed tables (e.g. a model-dependent default)
   bool omit_default = false; ///< values() leaves the entry out while it holds its default
+  bool required = false;     ///< read() refuses an input without it (no default then)
   ParamCheck check;          ///< optional: runs after the type and range checks
   std::function<void(const nlohmann::json&)> store; ///< writes a checked value to its variable
   std::function<nlohmann::json()> load;             ///< the variable's value now
@@ -97,6 +109,8 @@ struct Parameter {
   Parameter& no_default(std::string absent_means);
   /// values() leaves the entry out while its variable holds the default.
   Parameter& omit_when_default();
+  /// The key must be given: read() refuses its absence ("is required: must be ...").
+  Parameter& require();
   /// A further rule of this key alone, enforced by `c` and printed as `rule`.
   Parameter& also(std::string rule, ParamCheck c);
   /// A remark printed after the text (e.g. "models pnc, kg_platelet: [1, 2, 3, 4, 5, 6]").
@@ -104,7 +118,8 @@ struct Parameter {
 
   /// The last component of the path.
   std::string key() const;
-  /// "bool", "integer", "real", "string", "list of integers", "list of reals".
+  /// "bool", "integer", "real", "string", "list of integers", "list of reals", "list of
+  /// strings", "list of tables".
   std::string type_name() const;
   /// The range or the allowed values as printed in tables: "[1, 64]", "(0, 50]", "\"npt\",
   /// \"nvt\"", "1 to 6 elements in [1, 6]"; "" when anything of the type goes.
@@ -112,8 +127,10 @@ struct Parameter {
   /// The rule an out-of-range value breaks: "must be an integer in [1, 64]", "must be a number
   /// in (0, 50] fs", "must be \"npt\" (set pressure) or \"nvt\" (set density)".
   std::string rule() const;
-  /// Checks `v` (type, range, length, the extra check); fail() naming source, path, value, rule.
-  void validate(const nlohmann::json& v, const std::string& source) const;
+  /// Checks `v` (type, range, length, the extra check); fail() naming source, the field (`field`,
+  /// or the path when empty; elements of string and table lists as field[i]), value and rule.
+  void validate(const nlohmann::json& v, const std::string& source,
+                const std::string& field = "") const;
 };
 
 /// A JSON object (TOML table) of the input: its entries and subsections are declared after it.
@@ -152,6 +169,8 @@ public:
                       std::string unit, std::string text);
   Parameter& reals(const std::string& key, std::vector<double>& target, RealRange range,
                    std::size_t min_size, std::size_t max_size, std::string unit, std::string text);
+  Parameter& strings(const std::string& key, std::vector<std::string>& target, std::size_t min_size,
+                     std::size_t max_size, std::string text);
   /// Any entry, declared field by field (its path is set from the open section and `p.path`).
   Parameter& add(Parameter p);
 
@@ -162,7 +181,10 @@ public:
   /// refused (the rule lists the allowed keys and the nearest one), then every entry and
   /// section in declaration order. Stores each given value into its bound variable. Returns
   /// every value: given, else the default (entries without a default only when given).
-  nlohmann::json read(const nlohmann::json& in, const std::string& source) const;
+  /// `field_prefix` is put before every field named in an error (an input read as one element
+  /// of a larger one: "equilibrate.stages[2]").
+  nlohmann::json read(const nlohmann::json& in, const std::string& source,
+                      const std::string& field_prefix = "") const;
   /// The defaults as read() returns them for an empty object.
   nlohmann::json defaults() const;
   /// The bound variables' values now, every declared entry by its key (an entry without a
@@ -202,11 +224,12 @@ private:
                            bool opaque);
   void check_unique_paths(const char* what) const;
   void read_object(std::size_t section, const nlohmann::json& in, const std::string& source,
-                   nlohmann::json& out) const;
+                   const std::string& prefix, nlohmann::json& out) const;
   void write_values(std::size_t section, nlohmann::json& out) const;
 };
 
-/// The name among `names` nearest to `key` (edit distance), or "" when none is close.
+/// The name among `names` nearest to `key`: within a third of its length in edit distance, or
+/// beginning with `key` (or `key` with it; at least 3 characters); "" when none is close.
 std::string nearest_name(const std::string& key, const std::vector<std::string>& names);
 
 // ---- implementation of the templates ----

@@ -90,8 +90,8 @@ void check_free_text(const std::string& source, const std::string& field, const 
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
 /// Declares the recipe's keys in `p`, bound to `r` (defaults: r's values now). `variant`: "pp",
 /// "pnc", "kg", "kg_platelet" (that model's sections), "system" (a recipe with your own
-/// system: "system" and "equilibrate" are read by parse_user_system), or "" (every section of
-/// every variant, for the documentation: printable, not readable).
+/// system: declare_user_system), or "" (every section of every variant and the keys of each
+/// kind of user stage, for the documentation: printable, not readable).
 void declare_recipe(Parameters& p, Recipe& r, const std::string& variant);
 /// declare_recipe() bound to a recipe of defaults that the result keeps alive (for printing:
 /// `pnc recipe parameters`). For "pnc" and "kg_platelet" deform.cases defaults to 1..6.
@@ -111,7 +111,7 @@ std::vector<std::string> preset_names();
 std::string recipe_toml(const nlohmann::json& recipe);
 /// The recipe fully expanded (every declared key with its value; fit.alpha, fit.hold_alpha,
 /// fit.strain_max and clay.aspect_ratio only when set), for records and `recipe show`: the
-/// declarations' values() (declare_recipe) plus the user's system as parse_user_system reads it.
+/// declarations' values() (declare_recipe) plus the user's system with its resolved file and hash.
 nlohmann::json expanded_json(const Recipe& r);
 
 } // namespace pnc::rve
