@@ -1,4 +1,5 @@
-// Recipes of `pnc characterize`: strict JSON parsing with errors naming field, value, rule.
+// Recipes of `pnc characterize`: read through the declared keys (recipe_parameters.cpp), then
+// the rules between keys; errors name the file, the field, the value and the rule.
 #include "pnc/rve/recipe.hpp"
 
 #include "pnc/core/error.hpp"
@@ -12,10 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <set>
-#include <sstream>
 
 namespace pnc::rve {
 
@@ -23,11 +20,9 @@ namespace {
 
 using json = nlohmann::json;
 
-// The variant of the declarations (recipe_parameters.cpp) a recipe is read with: "system" for
-// your own system, else its model; an invalid model reads as "pp", whose declaration of
+// The recipe's model before it is read: an invalid one reads as "pp", whose declaration of
 // "model" then refuses it.
-std::string variant_of(const json& j) {
-  if (j.contains("system")) return "system";
+std::string model_of(const json& j) {
   if (j.contains("model") && j.at("model").is_string()) {
     const auto& m = j.at("model").get_ref<const std::string&>();
     if (m == "pnc" || m == "kg" || m == "kg_platelet") return m;
@@ -93,10 +88,13 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   Recipe r;
   r.source_json = j;
   if (!j.is_object()) fail(source, "", show_json(j), "must be a JSON object");
-  const std::string variant = variant_of(j);
-  const bool user = variant == "system"; // your own system (user_system.hpp), decision D121
+  // the declarations to read with (recipe_parameters.cpp): your own system's (user_system.hpp,
+  // decision D121) or the model's
+  const std::string model = model_of(j);
+  const std::string variant = j.contains("system") ? "system" : model;
+  const bool user = variant == "system";
   check_sections(j, variant, source);
-  if (variant == "pnc" || variant == "kg_platelet") r.cases = {1, 2, 3, 4, 5, 6};
+  if (model == "pnc" || model == "kg_platelet") r.cases = {1, 2, 3, 4, 5, 6};
   {
     Parameters p("pnc characterize recipe");
     declare_recipe(p, r, variant); // every key: type, range, default (recipe_parameters.cpp)

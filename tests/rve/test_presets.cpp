@@ -5,6 +5,7 @@
 // refactor); the comparison is on the printed text, so an integer that became a float (or a
 // key that moved) fails too.
 #include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
 #include "pnc/rve/recipe.hpp"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 using json = nlohmann::json;
@@ -134,4 +136,17 @@ TEST(RvePresets, ExpandedRecipesEqualTheirFormBeforeTheDeclarations) {
     ASSERT_TRUE(before.contains(name)) << name;
     EXPECT_EQ(e.dump(2), before.at(name).dump(2)) << name;
   }
+}
+
+// Models pnc and kg_platelet default to cases 1-6, also in a recipe with your own system
+// (the declarations read there are the system's, the default the model's).
+TEST(RvePresets, CaseDefaultsFollowTheModelAlsoWithYourOwnSystem) {
+  const std::string path = std::string(PNC_SOURCE_DIR) + "/examples/rve/lj_fcc/recipe.toml";
+  std::ifstream f(path);
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  json j = pnc::parse_toml(text, path);
+  j["deform"].erase("cases");
+  EXPECT_EQ(pnc::rve::parse_recipe(j, path).cases, (std::vector<int>{2, 6}));
+  j["model"] = "pnc";
+  EXPECT_EQ(pnc::rve::parse_recipe(j, path).cases, (std::vector<int>{1, 2, 3, 4, 5, 6}));
 }
