@@ -45,7 +45,6 @@ struct PlateletSpec {
   void validate(const std::string& source) const;
 };
 
-
 /// The cubic box edge (A) of the composite: (polymer beads + platelet beads) x bead_mass at
 /// spec.density (decision D172: every bead, polymer or platelet, counts at the build density).
 double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
