@@ -1,6 +1,6 @@
-// pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
-// cases.h5 and cards in Pa.
+// pnc rve build | pnc recipe show | pnc recipe parameters | pnc characterize: the RVE builder,
+// recipes (presets and the declared keys) and the MD -> fit pipeline (docs/rve.md, docs/theory.md
+// section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
 #include "checks.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"

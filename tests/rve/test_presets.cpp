@@ -8,6 +8,8 @@
 #include "pnc/core/params.hpp"
 #include "pnc/rve/recipe.hpp"
 
+#include "common/run_command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -149,4 +151,24 @@ TEST(RvePresets, CaseDefaultsFollowTheModelAlsoWithYourOwnSystem) {
   EXPECT_EQ(pnc::rve::parse_recipe(j, path).cases, (std::vector<int>{2, 6}));
   j["model"] = "pnc";
   EXPECT_EQ(pnc::rve::parse_recipe(j, path).cases, (std::vector<int>{1, 2, 3, 4, 5, 6}));
+}
+
+// `pnc recipe parameters` prints the declarations: JSON (every entry of every variant), a TOML
+// template of one model (pp unless --model), Markdown tables; a bad --format is refused.
+TEST(RvePresets, RecipeParametersCommandPrintsTheDeclarations) {
+  const auto run = [](const std::string& args) {
+    return pnc::test::run_command(std::string(PNC_EXE) + " recipe parameters " + args);
+  };
+  const auto j = run("--format json");
+  ASSERT_EQ(j.code, 0);
+  EXPECT_EQ(json::parse(j.out), pnc::rve::recipe_parameters("").to_json());
+  const auto kg = run("--format toml --model kg");
+  ASSERT_EQ(kg.code, 0);
+  EXPECT_EQ(kg.out, pnc::rve::recipe_parameters("kg").to_toml());
+  EXPECT_EQ(run("--format toml").out, pnc::rve::recipe_parameters("pp").to_toml());
+  const auto md = run("--model kg_platelet");
+  ASSERT_EQ(md.code, 0);
+  EXPECT_EQ(md.out, pnc::rve::recipe_parameters("kg_platelet").to_markdown(3));
+  EXPECT_EQ(md.out.find("`clay`"), std::string::npos); // not a section of this model
+  EXPECT_NE(run("--format yaml 2>/dev/null").code, 0);
 }
