@@ -1,6 +1,7 @@
-// pnc fit: joint NDM fit of stress-strain curves -> material card (+ plots).
+// pnc fit: joint NDM fit of stress-strain curves -> material card (+ figure, report).
 #include "commands.hpp"
-#include "plot.hpp"
+#include "figures.hpp"
+#include "fit_report.hpp"
 #include "report.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -10,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
@@ -17,6 +19,7 @@ namespace pnc::app {
 
 int run_fit(const FitArgs& a) {
   using namespace pnc::damage;
+  const auto t0 = std::chrono::steady_clock::now();
   check_output_file(a.out, "--out"); // before the fit, not after it
   FitOptions o;
   o.model = parse_model(a.model, "<command line>: --model");
@@ -30,6 +33,7 @@ int run_fit(const FitArgs& a) {
   o.loss = a.loss;
   o.loss_scale = a.loss_scale;
   o.strain_max = a.strain_max;
+  o.stretch_max = a.stretch_max;
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;
@@ -41,17 +45,24 @@ int run_fit(const FitArgs& a) {
   Card card = card_from_fit(rep, data, a.loss);
   write_card(a.out, card, a.command_line);
 
-  std::vector<std::string> pngs;
-  std::string plot_dir;
+  // every figure of the run in one plotting process, after the card is written; a plotting
+  // failure is a warning (the card and the report are still written, the exit code unchanged)
+  FitRun run{a.command_line, a.data, a.out, "", 0.0, {}};
   if (!a.no_plots) {
-    plot_dir = a.plots.empty()
-                   ? (std::filesystem::path(a.out).replace_extension("").string() + "_plots")
-                   : a.plots;
-    pngs = plot_fit(data, card.params, plot_dir,
-                    std::string("NDM fit (") + model_name(o.model) + ") of " +
-                        std::filesystem::path(a.data).filename().string() + " - card " +
-                        verdict_name(card.verdict.level));
+    run.plots_dir = a.plots.empty()
+                        ? (std::filesystem::path(a.out).replace_extension("").string() + "_plots")
+                        : a.plots;
+    make_output_directory(run.plots_dir, "--plots");
+    const auto dir = std::filesystem::path(run.plots_dir);
+    const Figure fig = fit_figure(data, card, (dir / "fit.png").string(),
+                                  std::string("NDM fit (") + model_name(o.model) + ") of " +
+                                      std::filesystem::path(a.data).filename().string() +
+                                      ": card " + verdict_name(card.verdict.level));
+    run.plots = draw_figures({fig}, (dir / "figures.json").string(), "pnc fit");
   }
+  const std::vector<std::string>& pngs = run.plots.pngs;
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string report = write_fit_report(run, data, card);
 
   std::cerr << fmt::format("pnc fit: {} points from {} ({} cases), model {}\n", data.points(),
                            a.data, data.cases.size(), model_name(o.model));
@@ -59,7 +70,7 @@ int run_fit(const FitArgs& a) {
                            rep.iterations, rep.seconds, rep.message);
   if (!rep.warnings.empty()) std::cerr << "  warning: " << rep.warnings << "\n";
   std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
-  std::cerr << "  card: " << a.out << "\n";
+  std::cerr << "  card: " << a.out << "\n  report: " << report << "\n";
   for (const auto& p : pngs)
     std::cerr << "  plot: " << p << "\n";
 
@@ -74,6 +85,8 @@ int run_fit(const FitArgs& a) {
     j["fit"] = fit_json(card.fit);
     j["verdict"] = verdict_json(card.verdict);
     j["plots"] = pngs;
+    j["report"] = report;
+    if (!run.plots.warning.empty()) j["plot_warning"] = run.plots.warning;
     std::cout << j.dump() << std::endl;
   }
   if (card.verdict.level == VerdictLevel::not_usable) {
@@ -84,7 +97,7 @@ int run_fit(const FitArgs& a) {
   if (!rep.converged) {
     std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
               << "; the card was written but check it before use\n";
-    return 3;
+    return pnc::exit_code::not_converged;
   }
   return 0;
 }

@@ -4,6 +4,7 @@
 #include "checks.hpp"
 #include "drive.hpp"
 #include "drive_output.hpp"
+#include "drive_report.hpp"
 #include "material_plugin.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -23,8 +25,8 @@ namespace pnc::app {
 
 namespace {
 
-constexpr int kExitNotConverged = 3;
-constexpr int kExitOutsideReference = 5;
+constexpr int kExitNotConverged = pnc::exit_code::not_converged;         // 3, docs/errors.md
+constexpr int kExitOutsideReference = pnc::exit_code::outside_reference; // 5
 constexpr std::size_t kMismatchesShown = 10;
 
 struct DriveArgs {
@@ -34,6 +36,7 @@ struct DriveArgs {
 };
 
 int run_drive(const DriveArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
   const std::string ext = std::filesystem::path(a.out).extension().string();
   if (ext != ".csv" && ext != ".h5")
     fail("<command line>", "--out", a.out, "the output file ends in .csv or .h5");
@@ -77,6 +80,10 @@ int run_drive(const DriveArgs& a) {
 
   std::vector<Mismatch> bad;
   if (!a.reference.empty() && r.converged) bad = compare_reference(r, a.reference, a.tol);
+  const std::string report = write_drive_report(
+      {r, meta, a.out, wrote_png, a.reference, path.total_steps(),
+       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), bad, a.tol});
+  std::cerr << "  report: " << report << "\n";
   if (a.json) {
     nlohmann::json j;
     j["command"] = "material drive";
@@ -85,6 +92,7 @@ int run_drive(const DriveArgs& a) {
     j["path"] = a.path;
     j["out"] = a.out;
     j["plot"] = wrote_png;
+    j["report"] = report;
     j["steps"] = r.rows.size() - 1;
     j["converged"] = r.converged;
     if (!r.converged) j["failure"] = r.failure;

@@ -1,8 +1,9 @@
 // pnc rve build | pnc recipe show | pnc recipe parameters | pnc characterize: the RVE builder,
 // recipes (presets and the declared keys) and the MD -> fit pipeline (docs/rve.md, docs/theory.md
 // section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+#include "characterize.hpp"
 #include "checks.hpp"
-#include "plot.hpp"
+#include "figures.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
 #include "run_control.hpp"
@@ -123,7 +124,7 @@ int run_rve_lammps(const LammpsArgs& a) {
   if (!fs::is_regular_file(a.input)) fail(a.input, "INPUT", a.input, "no such LAMMPS input file");
   const std::string in = fs::absolute(a.input).string();
   const auto o = rve::run_stage(s, [in](rve::Lammps& l) { l.file(in); });
-  if (!o.ok) fail(s.log_path, "LAMMPS", a.input, o.error);
+  if (!o.ok) rve::throw_stage_failure(o, "input " + a.input); // ToolError: exit code 7
   std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s on {} rank(s) (log {})\n",
                            a.input, o.seconds, s.ranks, s.log_path);
   return 0;
@@ -159,326 +160,6 @@ int run_recipe_parameters(const RecipeParametersArgs& a) {
     std::cout << rve::recipe_parameters(variant).to_json().dump(2) << "\n";
   } else {
     std::cout << rve::recipe_parameters(variant).to_markdown(3);
-  }
-  return 0;
-}
-
-struct CharacterizeArgs {
-  std::string recipe, out;
-  bool resume = false, json = false, no_plots = false;
-  int jobs = 0, ranks = 0, equilibrate_ranks = 0;
-};
-
-/// MPI ranks per LAMMPS stage and cases at a time. Started as `mpirun -np K pnc ...`, rank 0
-/// is the supervisor and runs every stage on K ranks (a fresh mpirun per stage, so a LAMMPS
-/// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
-/// Returns false on those follower ranks.
-bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
-  const rve::LauncherInfo li = rve::launcher_from_environment();
-  if (li.rank > 0) return false;
-  ranks = cli_ranks > 0 ? cli_ranks : li.size;
-  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);
-  if (li.size > 1)
-    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
-                             "rank(s), {} case(s) at a time\n",
-                             li.size, ranks, jobs);
-  const unsigned cores = std::thread::hardware_concurrency();
-  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
-    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
-                             jobs, ranks * jobs, cores);
-  return true;
-}
-
-std::string preset_list() {
-  std::string s;
-  for (const auto& n : rve::preset_names())
-    s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
-rve::Recipe load_recipe(const std::string& arg) {
-  for (const auto& n : rve::preset_names())
-    if (arg == n) return rve::parse_recipe(rve::preset_json(n), "preset " + n);
-  if (!fs::is_regular_file(arg))
-    fail(arg, "RECIPE", arg,
-         "is neither a recipe file (.json, .toml) nor a preset name (" + preset_list() + ")");
-  return rve::read_recipe(arg);
-}
-
-std::string code_block(const std::string& s) {
-  return "```\n" + s + "```\n";
-}
-
-int run_characterize(const CharacterizeArgs& a) {
-  using namespace pnc::damage;
-  const auto t0 = std::chrono::steady_clock::now();
-  const rve::Recipe r = load_recipe(a.recipe);
-  int ranks = 1, jobs = 1;
-  if (!plan_parallelism(a.ranks, a.jobs, r.jobs, ranks, jobs)) return 0;
-  // The equilibration is one stage: give it all the cores the cases will share (ranks x
-  // jobs, at most the machine's cores) unless told otherwise.
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  const int eq_ranks = a.equilibrate_ranks > 0
-                           ? a.equilibrate_ranks
-                           : std::max(ranks, cores > 0 ? std::min(ranks * jobs, cores) : ranks);
-  // one process per run directory for the whole command (MD, fit, report); SIGINT/SIGTERM stop
-  // the stages and leave the checkpoints for --resume (run_control.hpp, core/run_dir.hpp)
-  const RunDirLock lock(a.out, command_line());
-  const StopSignals signals;
-  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks, eq_ranks);
-
-  // --- fit
-  std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
-  FitOptions o;
-  // the bead-spring glass (model kg) is a pure polymer: the pure-polymer NDM (decision D138)
-  // and the glass with a platelet (kg_platelet) a nanocomposite: the nanocomposite NDM (D175)
-  o.model = parse_model(r.model == "kg"            ? std::string("pp")
-                        : r.model == "kg_platelet" ? std::string("pnc")
-                                                   : r.model,
-                        md.recipe_path + ": model");
-  // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
-  // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
-  o.alpha_mode = r.fit_alpha    ? AlphaMode::fit
-                 : r.hold_alpha ? AlphaMode::hold
-                                : AlphaMode::automatic;
-  if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
-  o.strain_max = r.fit_strain_max;                        // recipe fit.strain_max (D12h)
-  o.check_units = false;
-  // decision D128: a material that relaxes within a hold does not define its shear and damage
-  // constants; only the normal (bulk-like) block of C0 stays fitted
-  if (md.phase.done && !md.phase.solid)
-    for (const auto& n : constant_names(o.model))
-      if (!(n.size() == 3 && n[0] == 'C' && n[1] <= '3' && n[2] <= '3'))
-        o.undefined.push_back(
-            {n, fmt::format("the phase check finds that the RVE relaxes within a hold (G_hold = "
-                            "{:.3g} +- {:.2g} GPa; phase/phase.h5), so shear and damage "
-                            "responses are not carried over a strain hold",
-                            md.phase.G_hold_Pa * 1e-9, md.phase.G_hold_se_Pa * 1e-9)});
-  o.validate();
-  const StressStrainData data = read_stress_strain(md.cases_h5);
-  const FitReport rep = fit_ndm(data, o);
-  // decision D130: with >= 2 replicas every replica is fitted on its own as well
-  const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
-  Card card = card_from_fit(rep, data, "none");
-  // decision D130: the joint fit treats the points of the replica-mean curves as independent,
-  // but a replica's deviations are correlated along its curves; the card's standard error of a
-  // constant is the larger of the joint fit's and the between-replica one (t x sd/sqrt(N) of
-  // the replicas' own fits), so that no reported error is smaller than the scatter between
-  // independent RVEs says
-  FitReport honest = rep;
-  if (replica_fits.replicas >= 2) {
-    int raised = 0;
-    for (std::size_t j = 0; j < card.std_error.size() && j < replica_fits.se.size(); ++j) {
-      if (!card.fitted[j] || !std::isfinite(replica_fits.se[j])) continue;
-      const double between = replica_fits.coverage_factor * replica_fits.se[j];
-      if (!(between <= card.std_error[j])) {
-        card.std_error[j] = between;
-        ++raised;
-      }
-    }
-    honest.std_error = card.std_error;
-    card.fit.error_model += fmt::format(
-        "; per constant the larger of that and the between-replica standard error of {} "
-        "separate replica fits (Student t factor {:.3g}; D130): {} constant(s) raised",
-        replica_fits.replicas, replica_fits.coverage_factor, raised);
-  }
-  // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
-  // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
-  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max);
-  if (trend.applicable) {
-    static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
-    VerdictLimits limits;
-    limits.independent_residuals = false;
-    card.verdict = judge_fit(honest, limits);
-    if (trend.p_family < limits.p_misfit) {
-      const auto worst = std::min_element(
-          trend.curves.begin(), trend.curves.end(),
-          [](const rve::TrendCurve& x, const rve::TrendCurve& y) { return x.p < y.p; });
-      card.verdict.warn(fmt::format(
-          "the model misses a trend common to the {} replicas (case {} sigma{}: Legendre "
-          "coefficients of the residuals against their between-replica errors, p = {:.2g}, "
-          "Bonferroni over {} curves; D12k)",
-          trend.replicas, worst->case_id, kVoigt[worst->component % 6], trend.p_family,
-          trend.curves.size()));
-    }
-  }
-  // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
-  // points in the linear range)
-  MdCardGates gates;
-  gates.replicas = md.statistics.replicas;
-  gates.deterministic = r.deform.temperature == 0;
-  judge_md_card(honest, data, gates, card.verdict);
-  const std::string card_path = (fs::path(a.out) / "card.h5").string();
-  const std::string command =
-      fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out, a.resume ? " --resume" : "");
-  write_card(card_path, card, command);
-  std::vector<std::string> pngs;
-  if (!a.no_plots)
-    pngs = plot_fit(data, card.params, (fs::path(a.out) / "plots").string(),
-                    fmt::format("MD ({}) and fitted NDM ({}) - card {}", r.name,
-                                model_name(o.model), verdict_name(card.verdict.level)));
-  const DerivedModuli dm = derive_moduli(card.params);
-  const double total_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  // --- report
-  const auto& e = md.equilibrated;
-  std::string rep_md;
-  rep_md += fmt::format("# pnc characterize: recipe `{}`\n\n", r.name);
-  rep_md +=
-      fmt::format("{} -- {} UTC. Command: `{}`.\n\n", version_string(), utc_timestamp(), command);
-  rep_md += "## RVE\n\n";
-  if (r.system.enabled) // your own system (rve/user_system.hpp)
-    rep_md += rve::user_system_report(r.system);
-  else if (r.model == "kg" || r.model == "kg_platelet")
-    rep_md += fmt::format(
-        "{} chains x {} beads ({} beads, {} g/mol), built at {} g/cm3, seed {}; glassy "
-        "bead-spring polymer (FENE + LJ 12-6, sigma {} A, eps/k_B {:.0f} K, tau {:.0f} fs, "
-        "stress unit eps/sigma^3 = {:.1f} MPa; decision D135).\n\n",
-        r.build.chains, r.build.beads_per_chain, r.build.chains * r.build.beads_per_chain,
-        r.kg.bead_mass, r.build.density, r.seed, r.kg.sigma, r.kg.temperature_unit(), r.kg.tau_fs(),
-        r.kg.stress_unit_pa() * 1e-6);
-  else
-    rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
-                          "force field of section 6.1 (decision D13 units).\n\n",
-                          r.build.chains, r.build.beads_per_chain,
-                          r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
-  if (r.model == "kg_platelet") // what the builder wrote (platelet.json), decision D170
-    rep_md += fmt::format(
-        "Embedded platelet (decision D170): {0} x {0} x {1} beads at {2} sigma, normal x2, "
-        "harmonic bond network K = {3} eps/sigma^2; platelet-polymer LJ eps_wp = {4} eps, "
-        "sigma_wp = {5} sigma (record {6}).\n\n",
-        r.platelet.beads_side, r.platelet.layers, r.platelet.spacing_sigma,
-        r.platelet.bond_K_reduced, r.platelet.epsilon_wp_reduced, r.platelet.sigma_wp_sigma,
-        (fs::path(md.build_record).parent_path() / "platelet.json").string());
-  nlohmann::json clay_info; // what the builder wrote (clay.json next to build.h5), model pnc
-  if (r.model == "pnc") {
-    const auto cp = fs::path(md.build_record).parent_path() / "clay.json";
-    std::ifstream cf(cp);
-    if (cf) clay_info = nlohmann::json::parse(cf, nullptr, false);
-    if (clay_info.is_object() && !clay_info.is_discarded())
-      rep_md += fmt::format(
-          "Montmorillonite platelet (C2/m cell, Table 3.1): {} x {} cells, {} atoms, {:.2f} x "
-          "{:.2f} x {:.2f} A (aspect ratio {:.2f}); clay volume fraction {:.4f}, weight fraction "
-          "{:.4f} (definitions in {}).\n\n",
-          clay_info.value("cells_a", 0), clay_info.value("cells_b", 0),
-          clay_info.value("clay_atoms", 0), clay_info.value("platelet_length_A", 0.0),
-          clay_info.value("platelet_width_A", 0.0), clay_info.value("platelet_thickness_A", 0.0),
-          clay_info.value("aspect_ratio_length_over_width", 0.0),
-          clay_info.value("volume_fraction", 0.0), clay_info.value("weight_fraction", 0.0),
-          fs::relative(cp, a.out).string());
-    else
-      rep_md += fmt::format("Clay record {} is missing or unreadable.\n\n", cp.string());
-  }
-  rep_md += "Equilibration (one line per stage, with the criterion that ended it):\n\n";
-  for (const auto& c : e.criteria)
-    rep_md += "- " + c + "\n";
-  rep_md += fmt::format(
-      "\n| equilibrated RVE | value |\n|---|---|\n| ensemble | {} |\n| density | {:.4f} g/cm3 |\n"
-      "| pressure (with kinetic term) | {:.0f} +- {:.0f} atm |\n| pressure (virial only) | {:.0f} "
-      "atm |\n"
-      "| temperature | {:.1f} K |\n| void fraction (1 A grid, farther than sigma from every bead) "
-      "| {:.4f} |\n"
-      "| smallest pair distance | {:.3f} A |\n\n",
-      r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble, e.density,
-      e.pressure_total, e.pressure_total_se, e.pressure_virial, e.temperature, e.void_fraction,
-      e.min_distance);
-  if (md.phase.done) rep_md += rve::phase_markdown(md.phase);
-  rep_md += fmt::format(
-      "Deformation: cases {}, strain 0 -> {} in {} steps, {}. Stress handed to the fit: {}.\n\n",
-      nlohmann::json(r.cases).dump(), r.deform.strain_max, r.deform.steps,
-      r.deform.temperature == 0 // static rows (decision D120)
-          ? std::string("static at 0 K (no hold)")
-          : fmt::format("hold {} steps of {} fs, samples every {} steps", r.deform.hold_steps,
-                        r.deform.timestep_fs, r.deform.sample_every),
-      data.stress_definition);
-  rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
-  rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
-  rep_md += rve::replica_fits_markdown(replica_fits, rep);
-  rep_md += rve::replica_trend_markdown(trend);
-  rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
-            code_block(fit_tables(card.fit, o.model));
-  rep_md +=
-      fmt::format("\n## Derived moduli\n\n| quantity | this run | dissertation |\n|---|---|---|\n"
-                  "| E (eq. 6.47, pure polymer) | {:.3f} GPa | 0.162 GPa (Table 6.12) |\n"
-                  "| E by inversion of C0 (E1) | {:.3f} GPa | -- |\n| nu12 | {:.3f} | -- |\n"
-                  "| G12 | {:.3f} GPa | 0.109 GPa (C44, Table 6.11) |\n\n",
-                  dm.E_eq647 * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
-  rep_md += fmt::format("Solver: {} after {} iterations; {}\n\n", rep.termination, rep.iterations,
-                        rep.converged ? "converged" : "NOT converged");
-  rep_md += fmt::format("## Verdict: {}\n\n", verdict_name(card.verdict.level));
-  for (const auto& reason : card.verdict.reasons)
-    rep_md += "- " + reason + "\n";
-  rep_md += card.verdict.level == VerdictLevel::not_usable
-                ? "\nThis card is NOT USABLE: the fe_material plugin refuses it unless the host "
-                  "allows unusable cards explicitly.\n\n"
-                : "\n";
-  if (!pngs.empty()) {
-    rep_md += "## Plots\n\n";
-    for (const auto& p : pngs)
-      rep_md += fmt::format("![{0}]({0})\n", fs::relative(p, a.out).string());
-  }
-  rep_md += fmt::format(
-      "\nWall time: build {:.1f} s, equilibration {:.1f} s, phase check {:.1f} s, "
-      "cases {:.1f} s, total {:.1f} s (this invocation).\n",
-      md.seconds_build, md.seconds_equilibrate, md.seconds_phase, md.seconds_cases, total_s);
-  const std::string report_path = (fs::path(a.out) / "report.md").string();
-  write_text_atomically(report_path, rep_md);
-
-  std::cerr << constants_table(card) << fit_tables(card.fit, o.model) << verdict_text(card.verdict);
-  std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
-                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
-                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
-  if (md.phase.done)
-    std::cerr << "pnc characterize: phase check: " << md.phase.phase
-              << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
-              << "\n";
-  std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
-            << "\n  report: " << report_path << "\n";
-  for (const auto& p : pngs)
-    std::cerr << "  plot: " << p << "\n";
-  std::cerr << fmt::format("  wall time {:.1f} s\n", total_s);
-  if (a.json) {
-    nlohmann::json j;
-    j["command"] = "characterize";
-    j["recipe"] = r.name;
-    j["out"] = a.out;
-    j["cases_h5"] = md.cases_h5;
-    j["card"] = card_path;
-    j["report"] = report_path;
-    j["plots"] = pngs;
-    j["equilibrated"] = {
-        {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
-        {"density_g_cm3", e.density},
-        {"pressure_atm", e.pressure_total},
-        {"pressure_stderr_atm", e.pressure_total_se},
-        {"pressure_virial_atm", e.pressure_virial},
-        {"temperature_K", e.temperature},
-        {"void_fraction", e.void_fraction},
-        {"min_distance_A", e.min_distance}};
-    if (clay_info.is_object() && !clay_info.is_discarded()) j["clay"] = clay_info;
-    if (md.phase.done) j["phase_check"] = rve::phase_json(md.phase);
-    j["constants"] = constants_json(card);
-    j["fit"] = fit_json(card.fit);
-    j["verdict"] = verdict_json(card.verdict);
-    j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
-    j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
-    j["seconds"] = {{"build", md.seconds_build},
-                    {"equilibrate", md.seconds_equilibrate},
-                    {"phase_check", md.seconds_phase},
-                    {"cases", md.seconds_cases},
-                    {"total", total_s}};
-    std::cout << j.dump() << std::endl;
-  }
-  if (card.verdict.level == VerdictLevel::not_usable) {
-    std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
-                 "and the plugin refuses it unless the host allows unusable cards\n";
-    return kExitNotUsable;
-  }
-  if (!rep.converged) {
-    std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
-              << "; the card was written but check it before use\n";
-    return 3;
   }
   return 0;
 }
@@ -559,19 +240,41 @@ void register_rve(CLI::App& app, Action& action) {
                  "Recipe file (.json or .toml) or preset name (" + preset_list() + ")")
       ->required();
   ch->add_option("--out", ca->out, "Output directory")->required();
-  ch->add_flag("--resume", ca->resume, "Continue a stopped run without recomputing finished steps");
+  ch->add_flag("--resume", ca->resume,
+               "Continue a stopped run: only the units that are not done run (or are submitted) "
+               "again, from their checkpoints");
   ch->add_option("--ranks", ca->ranks,
                  "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
       ->check(CLI::Range(1, 256));
-  ch->add_option("--jobs", ca->jobs, "Cases run at the same time (default: the recipe's run.jobs)")
+  ch->add_option("--jobs", ca->jobs,
+                 "local: units (equilibrations, cases) run at the same time (default: the "
+                 "recipe's run.jobs)")
       ->check(CLI::Range(1, 64));
   ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
                  "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
-                 "machine's cores)")
+                 "machine's cores, shared by the equilibrations that run at once)")
       ->check(CLI::Range(1, 256));
+  ch->add_option("--executor", ca->executor,
+                 "Who runs the units: local (children of this process, --jobs at a time) or "
+                 "slurm (sbatch job arrays with dependencies; docs/cluster.md)")
+      ->check(CLI::IsMember({"local", "slurm"}));
+  ch->add_flag("--wait", ca->wait,
+               "slurm: wait until the fit ends, printing every unit's change, then report as "
+               "the local executor does (default: submit and return)");
+  ch->add_option("--partition", ca->partition,
+                 "slurm: partition (default: recipe slurm.partition)");
+  ch->add_option("--account", ca->account, "slurm: account (default: recipe slurm.account)");
+  ch->add_option("--time", ca->time,
+                 "slurm: time limit per unit job, e.g. 2:00:00 (default: recipe slurm.time)");
+  ch->add_option("--sbatch-template", ca->sbatch_template,
+                 "slurm: job-script template with {{placeholders}} (default: recipe "
+                 "slurm.template, else the built-in one)");
+  ch->add_option("--job-name", ca->job_name,
+                 "slurm: prefix of the job names (default pnc-<recipe name>)");
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });
+  register_campaign(app, action); // pnc run-unit, pnc status
 }
 
 } // namespace pnc::app

@@ -15,7 +15,8 @@ struct FitArgs {
   std::optional<double> alpha;
   double loss_scale = 1.0;
   int max_iterations = 200;
-  double strain_max = 0; ///< fit range (D12h), 0 = every row
+  double strain_max = 0;  ///< fit range (D12h), 0 = every row
+  double stretch_max = 0; ///< fit range by lambda_max - 1 (D12m), 0 = every row
   std::string command_line;
 };
 int run_fit(const FitArgs& a);

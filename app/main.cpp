@@ -1,13 +1,17 @@
 // pnc: command-line entry point. One subcommand per file (cmd_*.cpp); CLI11 only here.
-// Exit codes: 0 success, 1 bad input (one line "pnc: error: ..." naming file, field, value,
-// rule), 2 internal error, 3 a fit that did not converge, 4 a card written with the verdict
-// "not usable" (docs/decisions.md D12d); 128 + N for a long command stopped by signal N
-// (130 SIGINT, 143 SIGTERM) with its work up to the last checkpoint kept and one line
-// "pnc: interrupted by SIGINT: <where>; continue with: <the command> --resume" on stderr;
-// for `pnc material drive` also 3 when a Newton solve did not converge and 5 when the
-// response leaves the reference tolerances (docs/decisions.md D169);
-// CLI11's own codes for bad usage.
+// Exit codes (pnc::exit_code in core/error.hpp; the table with what the user does:
+// docs/errors.md): 0 success; 1 bad input (pnc::InputError, one line "pnc: error: ..." naming
+// file, field, value, rule) or a command line CLI11 cannot parse (one line, the nearest valid
+// names for a mistyped subcommand or option: cli_errors.hpp); 2 internal error (a bug);
+// 3 a fit (or a stress-controlled step of `pnc material drive`) that did not converge; 4 a
+// card written with the verdict "not usable"; 5 `pnc material drive` outside a reference's
+// tolerances; 6 a simulation that failed (pnc::SimulationError); 7 an external tool that
+// failed (pnc::ToolError: LAMMPS, mpirun; the line names the tool's log); 128 + N for a long
+// command stopped by signal N (130 SIGINT, 143 SIGTERM) with its work up to the last
+// checkpoint kept and one line "pnc: interrupted by SIGINT: <where>; continue with: <the
+// command> --resume" on stderr. `--help` and `--version` exit 0.
 #include "checks.hpp"
+#include "cli_errors.hpp"
 #include "commands.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
@@ -20,11 +24,17 @@
 
 #include <iostream>
 
+namespace {
+constexpr const char* kInternalError =
+    "internal error (a bug: please report it with the command line and pnc --version)";
+} // namespace
+
 int main(int argc, char** argv) {
   using namespace pnc::app;
   CLI::App app{"pnc: multiscale toolkit for polymer nanocomposites (Nair 2010 method).\n"
                "Fits the nano-scale damage model (NDM) to stress-strain curves and writes a "
                "material card (HDF5, SI units) for the fe_material plugin."};
+  configure_cli(app); // before any option: subcommands inherit it
   app.require_subcommand(1);
   app.set_version_flag("--version", pnc::version_string());
   set_command_line(argc, argv);
@@ -43,7 +53,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
   fit->add_flag("--fit-alpha", fa.fit_alpha,
-                "Always fit the critical-stretch factor alpha (1/lambda_c = 0.8035..1.5, D12i); default: fitted when "
+                "Always fit the critical-stretch factor alpha (1/lambda_c = 0.8035..1.5, D12i); "
+                "default: fitted when "
                 "the data pass the damage onset");
   fit->add_flag("--hold-alpha", fa.hold_alpha,
                 "Hold alpha at --alpha (or the tables' value) even past the damage onset");
@@ -61,6 +72,11 @@ int main(int argc, char** argv) {
                   "Fit only the leading rows of each curve whose strain components are all <= "
                   "this (dimensionless; 0 = every row; the card records it)")
       ->check(FiniteRange(0.0, 10.0));
+  fit->add_option("--stretch-max", fa.stretch_max,
+                  "Fit only the leading rows of each curve whose largest principal stretch minus "
+                  "one is <= this (dimensionless; 0 = every row; excludes --strain-max; D12m)")
+      ->check(FiniteRange(0.0, 10.0))
+      ->excludes("--strain-max");
   fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit (1 to 1e6)")
       ->check(CLI::Range(1, 1000000));
   fit->add_option("--prior", fa.prior,
@@ -142,7 +158,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return report_parse_error(app, e, argc, argv);
   }
   try {
     if (*fit) return run_fit(fa);
@@ -154,13 +170,16 @@ int main(int argc, char** argv) {
   } catch (const pnc::Interrupted& e) {
     std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
               << "; continue with: " << resume_command() << std::endl;
-    return 128 + (e.signal() > 0 ? e.signal() : 2);
-  } catch (const pnc::InputError& e) {
+    return pnc::exit_code::stopped_by_signal(e.signal());
+  } catch (const pnc::Error& e) { // InputError 1, SimulationError 6, ToolError 7 (with its log)
     std::cerr << "pnc: error: " << e.what() << "\n";
-    return 1;
+    return e.exit_code();
   } catch (const std::exception& e) {
-    std::cerr << "pnc: internal error: " << e.what() << "\n";
-    return 2;
+    std::cerr << "pnc: error: " << kInternalError << ": " << e.what() << "\n";
+    return pnc::exit_code::internal_error;
+  } catch (...) { // not even a std::exception (e.g. H5::Exception): a bug all the same
+    std::cerr << "pnc: error: " << kInternalError << ": an exception of unknown type\n";
+    return pnc::exit_code::internal_error;
   }
   return 0;
 }

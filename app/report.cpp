@@ -67,6 +67,10 @@ nlohmann::json constants_json(const damage::Card& c) {
 std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
   std::string s = "  fit quality (joint NDM fit):\n";
   s += fmt::format("    standard errors from: {}; alpha {}\n", f.error_model, f.alpha_choice);
+  if (f.stretch_max > 0) // decision D12m
+    s += fmt::format("    fit range: rows with largest principal stretch - 1 <= {:g} ({} row(s) "
+                     "beyond it not fitted; the law is extrapolated there)\n",
+                     f.stretch_max, f.rows_beyond_strain_max);
   if (f.strain_max > 0) // decision D12h
     s += fmt::format("    fit range: rows with every strain component <= {:g} ({} row(s) beyond it "
                      "not fitted; the law is extrapolated there)\n",
@@ -110,6 +114,7 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["alpha_choice"] = f.alpha_choice;
   j["strain_max"] = f.strain_max; // dimensionless, 0 = every row (D12h)
   j["rows_beyond_strain_max"] = f.rows_beyond_strain_max;
+  j["stretch_max"] = f.stretch_max; // lambda_max - 1, dimensionless, 0 = none (D12m)
   j["chi2"] = num(f.chi2);
   j["dof"] = f.dof;
   j["chi2_p"] = num(f.chi2_p);

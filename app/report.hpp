@@ -1,5 +1,6 @@
 #pragma once
 // Shared formatting of constants for the human-readable reports and the JSON output.
+#include "pnc/core/error.hpp"
 #include "pnc/damage/card.hpp"
 
 #include <nlohmann/json.hpp>
@@ -20,7 +21,7 @@ nlohmann::json fit_json(const damage::FitRecord& f);
 std::string verdict_text(const damage::Verdict& v);
 nlohmann::json verdict_json(const damage::Verdict& v);
 /// Exit code of a command that wrote a card with this verdict: 0, or kExitNotUsable.
-constexpr int kExitNotUsable = 4;
+constexpr int kExitNotUsable = pnc::exit_code::card_not_usable; // 4, docs/errors.md
 /// NaN/inf become null in JSON.
 nlohmann::json num(double v);
 } // namespace pnc::app

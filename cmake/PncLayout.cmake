@@ -30,7 +30,7 @@ endif()
 # <build>/share/pnc/scripts (configure_file: a changed script is copied again on the next
 # build), which is <build>/app/../share/pnc/scripts as seen from <build>/app/pnc.
 set(PNC_SHIPPED_SCRIPTS
-    scripts/plot_fit.py scripts/plot_thermo.py scripts/plot_escm.py scripts/plot_drive.py
+    scripts/plot_figures.py scripts/plot_thermo.py scripts/plot_escm.py scripts/plot_drive.py
     gimp_coupler/scripts/plot_energy.py gimp_coupler/scripts/plot_G.py)
 foreach(s IN LISTS PNC_SHIPPED_SCRIPTS)
   get_filename_component(n "${s}" NAME)

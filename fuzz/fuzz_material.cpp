@@ -5,7 +5,11 @@
 //  - creation either succeeds or returns NULL with a message;
 //  - integrate with status OK gives finite stress, tangent and state;
 //  - integrate with any other status leaves state1, stress and tangent untouched and writes a
-//    message.
+//    message;
+//  - pnc_material_integrate2 (ABI 1.1) on the same input, with the tangent request cycling
+//    through none/elastic/secant/consistent, gives the same status, and when OK the same
+//    stress and state bit for bit (the consistent tangent too: one kernel routine, D210) and
+//    finite energies; when not OK it writes nothing but its message.
 #include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/pnc_material.h"
 
@@ -94,6 +98,41 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     err[0] = '\0';
     const int st = pnc_material_integrate(m, state, state1, strain, d, stress,
                                           with_tangent ? tangent : nullptr, err, sizeof err);
+    // The same increment through the v2 point interface.
+    double stress2[6], tangent2[36], state2[8];
+    char err2[512] = "";
+    fill_canary(stress2, 6);
+    fill_canary(tangent2, 36);
+    fill_canary(state2, ns);
+    pnc_material_point pt;
+    pnc_material_point_init(&pt);
+    pt.tangent_request = step % 4; // NONE, ELASTIC, SECANT, CONSISTENT
+    pt.state0 = state;
+    pt.state1 = state2;
+    pt.strain0 = strain;
+    pt.dstrain = d;
+    pt.stress = stress2;
+    pt.tangent = tangent2;
+    pt.err = err2;
+    pt.err_len = sizeof err2;
+    const int st2 = pnc_material_integrate2(m, &pt);
+    if (st2 == PNC_MATERIAL_OK) {
+      if (st != PNC_MATERIAL_OK) bug("integrate2 OK where integrate failed", err);
+      if (std::memcmp(stress, stress2, sizeof stress) != 0 ||
+          std::memcmp(state1, state2, sizeof(double) * static_cast<std::size_t>(ns)) != 0)
+        bug("integrate2 and integrate differ", err2);
+      if (with_tangent && pt.tangent_request == PNC_MATERIAL_TANGENT_CONSISTENT &&
+          std::memcmp(tangent, tangent2, sizeof tangent) != 0)
+        bug("the consistent tangents of integrate2 and integrate differ", err2);
+      if (pt.tangent_request != PNC_MATERIAL_TANGENT_NONE && !all_finite(tangent2, 36))
+        bug("integrate2 OK with a non-finite tangent", err2);
+      if (!std::isfinite(pt.stored_energy) || !std::isfinite(pt.dissipated_energy))
+        bug("integrate2 OK with a non-finite energy", err2);
+    } else {
+      if (!is_canary(stress2, 6) || !is_canary(tangent2, 36) || !is_canary(state2, ns))
+        bug("a failed integrate2 wrote its outputs", err2);
+      if (err2[0] == '\0') bug("a failed integrate2 gave no message", err2);
+    }
     if (st == PNC_MATERIAL_OK) {
       if (!all_finite(stress, 6)) bug("status OK with a non-finite stress", err);
       if (with_tangent && !all_finite(tangent, 36)) bug("status OK with a non-finite tangent", err);

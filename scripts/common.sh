@@ -14,6 +14,8 @@ PNC_PACKAGES=(
   clang llvm # scripts/sanitize.sh: ASan/UBSan build and libFuzzer targets (fuzz/)
   python3 python3-matplotlib python3-numpy
   gfortran make dpkg-dev file # tests/install: Fortran UMAT host, C host, cpack .deb (shlibdeps)
+  chromium # tests only: report.html rendered in a real headless browser (Report.*, rve tests)
+  slurm-wlm munge # tests/rve/slurm: a one-node Slurm cluster for the Slurm executor's tests
 )
 
 pnc_install_missing() {

@@ -88,9 +88,10 @@ fi
 echo
 echo "Results in $out:"
 echo "  pnc_card.h5, pp_card.h5   material cards (HDF5, SI units) for the fe_material plugin"
-echo "  pnc_plots/, pp_plots/     fitted NDM curves against the data, one PNG per case"
+echo "  pnc_plots/, pp_plots/     fitted NDM curves against the data (fit.png: every case)"
+echo "  pnc_card_report.html      the fit in one page (verdict, figures, constants); also pp_card_report.html"
 echo "  *_fit.json, *_card.json   key numbers for scripts"
-echo "  md_glass/                 LAMMPS glassy polymer, 4 replicas: cases.h5, card.h5, plots/, report.md"
+echo "  md_glass/                 LAMMPS glassy polymer, 4 replicas: cases.h5, card.h5, plots/, report.html"
 echo "  md_demo/                  LAMMPS RVE of the dissertation's polymer: phase check, card (not usable), report.md"
 echo "  gimp_glass_strip/         GIMP strip with the MD glass card through the plugin"
 echo "  dealii_sen/               deal.II demo: VTU per step, force_displacement.csv/.png"

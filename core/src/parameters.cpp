@@ -316,6 +316,14 @@ Parameters& Parameters::opaque_section(const std::string& path, std::string text
   return open_section(path, std::move(text), std::move(applies), true);
 }
 
+Parameters& Parameters::optional_section(const std::string& path, bool& given, std::string text,
+                                         std::string applies) {
+  open_section(path, std::move(text), std::move(applies), false);
+  sections_.back().store_given = [&given](bool g) { given = g; };
+  sections_.back().load_given = [&given] { return given; };
+  return *this;
+}
+
 Parameter& Parameters::add(Parameter p) {
   p.path = join_path(sections_[open_].path, p.path);
   for (const auto& m : members_[open_])
@@ -463,6 +471,10 @@ void Parameters::read_object(std::size_t s, const json& in, const std::string& s
         out[key] = in.at(key);
         continue;
       }
+      if (sub.store_given) {
+        sub.store_given(given);
+        if (!given) continue;
+      }
       json& o = out[key] = json::object();
       static const json empty = json::object();
       read_object(m.index, given ? in.at(key) : empty, source, prefix, o);
@@ -501,7 +513,7 @@ void Parameters::write_values(std::size_t s, json& out) const {
   for (const auto& m : members_[s]) {
     if (m.is_section) {
       const ParamSection& sub = sections_[m.index];
-      if (sub.opaque) continue;
+      if (sub.opaque || (sub.load_given && !sub.load_given())) continue;
       const auto dot = sub.path.rfind('.');
       json& o = out[dot == std::string::npos ? sub.path : sub.path.substr(dot + 1)] =
           json::object();

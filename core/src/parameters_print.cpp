@@ -68,6 +68,7 @@ json Parameters::to_json() const {
                     {"text", sec.text},
                     {"applies", sec.applies},
                     {"opaque", sec.opaque},
+                    {"optional", static_cast<bool>(sec.store_given)},
                     {"parameters", ps}});
   }
   return {{"title", title_}, {"sections", secs}};
@@ -78,7 +79,7 @@ std::string Parameters::to_toml() const {
   std::string out = "# " + title_ + ": every key with its default value.\n" +
                     "# A key left out takes its default; keys marked \"no default\" are " +
                     "optional.\n";
-  auto entry = [&](const Parameter& p) {
+  auto entry = [&](const Parameter& p, const std::string& c) { // c: "# " in optional sections
     std::string what = p.type_name();
     if (const std::string r = p.range_text(); !r.empty()) what += " " + r;
     if (!p.unit.empty()) what += "; unit " + p.unit;
@@ -88,10 +89,10 @@ std::string Parameters::to_toml() const {
     else if (p.default_value.is_null())
       out += "# " + p.key() + " =   (no default: " + p.absent + ")\n";
     else
-      out += p.key() + " = " + toml_value(p.default_value) + "\n";
+      out += c + p.key() + " = " + toml_value(p.default_value) + "\n";
   };
   for (const auto& m : members_[0])
-    if (!m.is_section) entry(params_[m.index]);
+    if (!m.is_section) entry(params_[m.index], "");
   for (std::size_t s = 1; s < sections_.size(); ++s) {
     const ParamSection& sec = sections_[s];
     const std::string head = sec.text + (sec.applies.empty() ? "" : " (" + sec.applies + ")");
@@ -99,9 +100,11 @@ std::string Parameters::to_toml() const {
       out += "\n# [" + sec.path + "]: " + head + "; its keys are described in the user guide\n";
       continue;
     }
-    out += "\n\n# " + head + "\n[" + sec.path + "]\n";
+    const std::string c = sec.store_given ? "# " : ""; // optional: written only if wanted
+    out += "\n\n# " + head + (c.empty() ? "" : " (optional: uncomment the table to give it)") +
+           "\n" + c + "[" + sec.path + "]\n";
     for (const auto& m : members_[s])
-      if (!m.is_section) entry(params_[m.index]);
+      if (!m.is_section) entry(params_[m.index], c);
   }
   return out;
 }

@@ -76,6 +76,7 @@ Card card_from_fit(const FitReport& rep, const StressStrainData& data, const std
   f.alpha_choice = rep.alpha_choice;
   f.strain_max = rep.strain_max;
   f.rows_beyond_strain_max = rep.rows_beyond_strain_max;
+  f.stretch_max = rep.stretch_max;
   f.chi2 = rep.chi2;
   f.chi2_p = rep.chi2_p;
   f.dof = rep.dof;
@@ -146,6 +147,7 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr("/fit", "alpha_choice", r.alpha_choice);
       f.set_attr("/fit", "strain_max", r.strain_max);
       f.set_attr("/fit", "rows_beyond_strain_max", r.rows_beyond_strain_max);
+      if (r.stretch_max > 0) f.set_attr("/fit", "stretch_max", r.stretch_max); // D12m
       f.set_attr("/fit", "chi2", r.chi2);
       f.set_attr("/fit", "dof", r.dof);
       f.set_attr("/fit", "chi2_p", r.chi2_p);
@@ -247,6 +249,9 @@ Card read_card(const std::string& path) {
     if (!(r.strain_max >= 0 && r.strain_max <= 10))
       fail(path, "/fit@strain_max", std::to_string(r.strain_max), "must be in [0, 10]");
     r.rows_beyond_strain_max = count("rows_beyond_strain_max");
+    r.stretch_max = f.attr_double("/fit", "stretch_max").value_or(0.0); // absent: none (D12m)
+    if (!(r.stretch_max >= 0 && r.stretch_max <= 10))
+      fail(path, "/fit@stretch_max", std::to_string(r.stretch_max), "must be in [0, 10]");
     r.chi2 = f.attr_double("/fit", "chi2").value_or(kNaN);
     r.chi2_p = f.attr_double("/fit", "chi2_p").value_or(kNaN);
     r.dof = count("dof");

@@ -281,6 +281,12 @@ void FitOptions::validate() const {
   if (!(strain_max >= 0 && strain_max <= 10))
     fail(src, "strain_max", std::to_string(strain_max),
          "must be in [0, 10] (0 = every row; a strain, dimensionless)");
+  if (!(stretch_max >= 0 && stretch_max <= 10))
+    fail(src, "stretch_max", std::to_string(stretch_max),
+         "must be in [0, 10] (0 = every row; lambda_max - 1, dimensionless)");
+  if (strain_max > 0 && stretch_max > 0)
+    fail(src, "stretch_max", std::to_string(stretch_max),
+         "strain_max and stretch_max exclude each other (one fit range)");
   if (!(stiffness_min > 0) || !(stiffness_max > stiffness_min) || !std::isfinite(stiffness_max))
     fail(src, "stiffness range",
          std::to_string(stiffness_min) + ".." + std::to_string(stiffness_max),
@@ -297,20 +303,19 @@ void FitOptions::validate() const {
 
 // ------------------------------------------------------------------ the fit
 namespace {
-/// The leading rows of every curve within the fit range (decision D12h); counts the others.
-StressStrainData within_strain_max(const StressStrainData& all, double strain_max, int& dropped) {
+/// The leading rows of every curve within the fit range (decisions D12h, D12m); counts the others.
+StressStrainData within_fit_range(const StressStrainData& all, double strain_max,
+                                  double stretch_max, int& dropped) {
   dropped = 0;
-  if (!(strain_max > 0)) return all;
+  if (!(strain_max > 0) && !(stretch_max > 0)) return all;
   StressStrainData d = all;
   for (auto& c : d.cases) {
-    Eigen::Index keep = 0;
-    while (keep < c.strain.rows() &&
-           c.strain.row(keep).cwiseAbs().maxCoeff() <= strain_max * (1 + 1e-12))
-      ++keep;
+    const Eigen::Index keep = rows_in_fit_range(c.strain, strain_max, stretch_max);
     if (keep < 3)
       fail(all.source, fmt::format("case {}", c.id), fmt::format("{} row(s)", keep),
-           fmt::format("fit range strain_max = {:g} leaves fewer than 3 rows of this case to fit",
-                       strain_max));
+           fmt::format("fit range {} = {:g} leaves fewer than 3 rows of this case to fit",
+                       strain_max > 0 ? "strain_max" : "stretch_max",
+                       strain_max > 0 ? strain_max : stretch_max));
     dropped += static_cast<int>(c.strain.rows() - keep);
     c.strain.conservativeResize(keep, Eigen::NoChange);
     c.stress.conservativeResize(keep, Eigen::NoChange);
@@ -320,12 +325,26 @@ StressStrainData within_strain_max(const StressStrainData& all, double strain_ma
 }
 } // namespace
 
+Eigen::Index rows_in_fit_range(const PathMatrix& strain, double strain_max, double stretch_max) {
+  constexpr double slack = 1 + 1e-12; // a row written at the bound stays inside it
+  Eigen::Index n = 0;
+  for (; n < strain.rows(); ++n) {
+    if (strain_max > 0 && strain.row(n).cwiseAbs().maxCoeff() > strain_max * slack) break;
+    if (stretch_max > 0) {
+      const Voigt e = strain.row(n).transpose();
+      if (mode_stretches(Model::pp, e, false).lambda_max - 1 > stretch_max * slack) break;
+    }
+  }
+  return n;
+}
+
 FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   opt.validate();
   const Model m = opt.model;
   check_cases(all_rows, m);
   int dropped = 0;
-  const StressStrainData data = within_strain_max(all_rows, opt.strain_max, dropped);
+  const StressStrainData data =
+      within_fit_range(all_rows, opt.strain_max, opt.stretch_max, dropped);
   const auto& names = constant_names(m);
   const int n = n_theta(m);
   const auto ns = static_cast<std::size_t>(n);
@@ -336,6 +355,7 @@ FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   FitReport rep;
   rep.strain_max = opt.strain_max;
   rep.rows_beyond_strain_max = dropped;
+  rep.stretch_max = opt.stretch_max;
   rep.regression = regress_cases(data, m, alpha0);
   std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
   std::vector<double> theta = detail::theta_from_constants(m, k0);

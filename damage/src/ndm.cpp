@@ -13,41 +13,6 @@
 
 namespace pnc::damage {
 
-const char* model_name(Model m) {
-  return m == Model::pnc ? "pnc" : "pp";
-}
-
-Model parse_model(const std::string& name, const std::string& source) {
-  if (name == "pnc") return Model::pnc;
-  if (name == "pp") return Model::pp;
-  fail(source, "model", name, "must be 'pnc' (nanocomposite) or 'pp' (pure polymer)");
-}
-
-const std::vector<std::string>& constant_names(Model m) {
-  static const std::vector<std::string> pnc = {
-      "C11", "C22", "C33", "C12", "C13", "C23", "C44", "C55", "C66", "A1",  "A5",
-      "A9",  "A10", "A11", "A13", "A15", "A17", "A18", "A22", "A24", "A26", "alpha"};
-  static const std::vector<std::string> pp = {"C11", "C12", "C44", "B1", "B2", "B4", "alpha"};
-  return m == Model::pnc ? pnc : pp;
-}
-
-int constant_index(Model m, const std::string& name) {
-  const auto& n = constant_names(m);
-  for (std::size_t i = 0; i < n.size(); ++i)
-    if (n[i] == name) return static_cast<int>(i);
-  return -1;
-}
-
-double& NdmParameters::operator[](const std::string& name) {
-  const int i = constant_index(model, name);
-  if (i < 0)
-    fail("<parameters>", name, "", std::string("not a constant of model ") + model_name(model));
-  return k[static_cast<std::size_t>(i)];
-}
-double NdmParameters::operator[](const std::string& name) const {
-  return const_cast<NdmParameters&>(*this)[name];
-}
-
 // ---------------------------------------------------------------- stiffness
 namespace {
 enum PncIdx {
@@ -79,27 +44,30 @@ enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
 
 namespace {
 // The one place where the layout of [C0] + [C1(D)] is written (eqs. 5.37, 5.58-5.66 in the
-// engineering form of decisions D1-D3); stiffness_c0/c1/c1_dD below are views of it.
-void assemble_stiffness(const NdmParameters& p, const std::array<double, 3>& D, Matrix6& C) {
+// engineering form of decisions D1-D3); stiffness_c0/c1/c1_dD below are views of it. Without
+// C0 (with_c0 false) and a unit D it gives d C1 / d D_m exactly (C1 is linear in D).
+void assemble_stiffness(const NdmParameters& p, const std::array<double, 3>& D, Matrix6& C,
+                        bool with_c0 = true) {
   const auto& k = p.k;
+  auto c0 = [&k, with_c0](int i) { return with_c0 ? k[static_cast<std::size_t>(i)] : 0.0; };
   C.setZero();
   if (p.model == Model::pnc) {
     const double D1 = D[0], D2 = D[1], D3 = D[2];
-    C(0, 0) = k[iC11] + D1 * (2 * k[iA1]);
-    C(1, 1) = k[iC22] + D2 * (2 * k[iA5]);
-    C(2, 2) = k[iC33] + D3 * (2 * k[iA9]);
-    C(0, 1) = C(1, 0) = k[iC12] + (D1 * k[iA10] + D2 * k[iA11]);
-    C(0, 2) = C(2, 0) = k[iC13] + (D1 * k[iA13] + D3 * k[iA15]);
-    C(1, 2) = C(2, 1) = k[iC23] + (D2 * k[iA17] + D3 * k[iA18]);
-    C(3, 3) = k[iC44] + D2 * k[iA22];
-    C(4, 4) = k[iC55] + D3 * k[iA26];
-    C(5, 5) = k[iC66] + D2 * k[iA24];
+    C(0, 0) = c0(iC11) + D1 * (2 * k[iA1]);
+    C(1, 1) = c0(iC22) + D2 * (2 * k[iA5]);
+    C(2, 2) = c0(iC33) + D3 * (2 * k[iA9]);
+    C(0, 1) = C(1, 0) = c0(iC12) + (D1 * k[iA10] + D2 * k[iA11]);
+    C(0, 2) = C(2, 0) = c0(iC13) + (D1 * k[iA13] + D3 * k[iA15]);
+    C(1, 2) = C(2, 1) = c0(iC23) + (D2 * k[iA17] + D3 * k[iA18]);
+    C(3, 3) = c0(iC44) + D2 * k[iA22];
+    C(4, 4) = c0(iC55) + D3 * k[iA26];
+    C(5, 5) = c0(iC66) + D2 * k[iA24];
   } else {
     const double d = D[0];
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j)
-        C(i, j) = (i == j) ? k[jC11] + d * (2 * k[jB1]) : k[jC12] + d * k[jB2];
-      C(3 + i, 3 + i) = k[jC44] + d * k[jB4];
+        C(i, j) = (i == j) ? c0(jC11) + d * (2 * k[jB1]) : c0(jC12) + d * k[jB2];
+      C(3 + i, 3 + i) = c0(jC44) + d * k[jB4];
     }
   }
 }
@@ -122,41 +90,8 @@ Matrix6 stiffness_c1_dD(const NdmParameters& p, int mode) {
   std::array<double, 3> D{0.0, 0.0, 0.0};
   if (mode < 0 || mode > 2 || (p.model == Model::pp && mode > 0)) return Matrix6::Zero();
   D[static_cast<std::size_t>(mode)] = 1.0;
-  return stiffness_c1(p, D); // C1 is linear in D
-}
-
-Matrix6 c0_from_c_constants(const std::array<double, 9>& c) {
-  Matrix6 C = Matrix6::Zero();
-  C(0, 0) = 2 * c[0];
-  C(1, 1) = 2 * c[1];
-  C(2, 2) = 2 * c[2];
-  C(0, 1) = C(1, 0) = c[3];
-  C(0, 2) = C(2, 0) = c[4];
-  C(1, 2) = C(2, 1) = c[5];
-  // eq. 5.37 puts 2 c7 on the diagonal for the TENSORIAL shear strain; on engineering shear
-  // (gamma = 2 eps) the same energy c7 eps4^2 gives C44 = c7 (eq. 5.38: c7 = C0_44).
-  C(3, 3) = c[6];
-  C(4, 4) = c[7];
-  C(5, 5) = c[8];
-  return C;
-}
-
-Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13, double nu23,
-                            double mu12, double mu13, double mu23) {
-  const double nu21 = nu12 * E2 / E1, nu31 = nu13 * E3 / E1, nu32 = nu23 * E3 / E2;
-  const double Y = 1.0 / (1 - nu12 * nu21 - nu23 * nu32 - nu13 * nu31 - 2 * nu21 * nu32 * nu13);
-  Matrix6 C = Matrix6::Zero();
-  C(0, 0) = E1 * (1 - nu23 * nu32) * Y;
-  C(1, 1) = E2 * (1 - nu13 * nu31) * Y;
-  C(2, 2) = E3 * (1 - nu12 * nu21) * Y;
-  C(1, 2) = C(2, 1) = E2 * (nu32 + nu12 * nu31) * Y;
-  C(0, 2) = C(2, 0) = E3 * (nu13 + nu12 * nu23) * Y;
-  // Printed eq. 5.44 (and the repair E1 (nu21 + nu31*nu32)) is not the orthotropic
-  // inverse, which requires nu31*nu23 (decision D1b; tested against the compliance matrix).
-  C(0, 1) = C(1, 0) = E1 * (nu21 + nu31 * nu23) * Y;
-  C(3, 3) = mu23;
-  C(4, 4) = mu13;
-  C(5, 5) = mu12;
+  Matrix6 C;
+  assemble_stiffness(p, D, C, false); // C1 is linear in D: exact, no C0 added and subtracted
   return C;
 }
 
@@ -197,14 +132,29 @@ double damage_function_derivative(double x) {
   return dD;
 }
 
-// ---------------------------------------------------------------- state
-const std::vector<std::string>& state_names(Model m) {
-  static const std::vector<std::string> pnc = {"kappa1", "kappa2", "kappa3", "D1", "D2", "D3"};
-  static const std::vector<std::string> pp = {"kappa", "D"};
-  return m == Model::pnc ? pnc : pp;
+namespace {
+// Damage of a mode at the largest stretch kappa, as integrate() forms it: below
+// `no_damage_below` (alpha lambda_c less a margin that covers the rounding of the division)
+// kappa / alpha <= lambda_c certainly, so D = dD/dx = 0 without dividing; above it,
+// D(kappa / alpha) as printed. Returns true when the mode is below the onset.
+inline bool mode_damage(double kappa, double alpha, double no_damage_below, double& D, double& dD) {
+  if (kappa < no_damage_below) {
+    D = dD = 0.0;
+    return true;
+  }
+  damage_and_slope(kappa / alpha, D, dD);
+  return false;
 }
-std::size_t state_size(Model m) {
-  return state_names(m).size();
+double onset_margin(double alpha) {
+  return alpha * kLambdaC * (1.0 - 1e-12);
+}
+} // namespace
+
+double damage_of_kappa(const NdmParameters& p, double kappa, double* slope) {
+  double D, dD;
+  mode_damage(kappa, p.alpha(), onset_margin(p.alpha()), D, dD);
+  if (slope) *slope = dD / p.alpha();
+  return D;
 }
 
 // ---------------------------------------------------------------- kinematics
@@ -362,8 +312,8 @@ void general_stretch(Stretch& s) {
     // closed form, and the capped stretches of D7 as min(uncapped, lambda_max) without
     // branches on the cap.
     const double p = 1.0 + v[0], q = v[5], r = 1.0 + v[1];
-    const double smax = 0.5 * (std::sqrt((p + r) * (p + r) + q * q) +
-                               std::sqrt((p - r) * (p - r) + q * q));
+    const double smax =
+        0.5 * (std::sqrt((p + r) * (p + r) + q * q) + std::sqrt((p - r) * (p - r) + q * q));
     s.lambda_max = std::max(1.0 + v[2], smax);
     s.have_lambda_max = true;
     const double t = 0.5 * std::abs(q);
@@ -483,45 +433,72 @@ Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
 }
 } // namespace
 
-PreparedNdm prepare(const NdmParameters& p) {
+namespace {
+
+// T^T C T is symmetric; the rounding of the two products is not, so symmetrise: the
+// row-major tangent route relies on C0g + sum D_m dC1g_m being exactly symmetric.
+void rotate_symmetric(const Matrix6& T, Matrix6& C) {
+  const Matrix6 G = T.transpose() * C * T;
+  C = 0.5 * (G + G.transpose());
+}
+
+// prepare() without the damage pieces dC1g: T and C0g only.
+PreparedNdm prepare_base(const NdmParameters& p) {
   PreparedNdm q;
   q.p = p;
   q.rotated = !p.R.isIdentity(0.0);
-  if (q.rotated) q.T = strain_rotation(p.R);
-  // T^T C T is symmetric; the rounding of the two products is not, so symmetrise: the
-  // row-major tangent route relies on C0g + sum D_m dC1g_m being exactly symmetric.
-  auto rotate = [&q](const Matrix6& C) -> Matrix6 {
-    const Matrix6 G = q.T.transpose() * C * q.T;
-    return 0.5 * (G + G.transpose());
-  };
-  q.C0g = rotate(stiffness_c0(p));
+  q.C0g = stiffness_c0(p);
+  if (q.rotated) { // otherwise the platelet frame is the global frame: no products
+    q.T = strain_rotation(p.R);
+    rotate_symmetric(q.T, q.C0g);
+  }
+  return q;
+}
+
+// The damage piece dC1g_m of prepared parameters, as prepare() forms it.
+Matrix6 damage_piece(const PreparedNdm& q, int m) {
+  Matrix6 M = stiffness_c1_dD(q.p, m);
+  if (q.rotated) rotate_symmetric(q.T, M);
+  return M;
+}
+
+} // namespace
+
+PreparedNdm prepare(const NdmParameters& p) {
+  PreparedNdm q = prepare_base(p);
   for (int m = 0; m < 3; ++m)
-    q.dC1g[static_cast<std::size_t>(m)] = rotate(stiffness_c1_dD(p, m));
+    q.dC1g[static_cast<std::size_t>(m)] = damage_piece(q, m);
   return q;
 }
 
 namespace {
 
-// The one integration routine behind both integrate() overloads. With `pre` the global-frame
-// stiffness is C0g + sum_m D_m dC1g_m and the damage-growth term of the tangent is rotated
-// as two vectors, T^T a (g T); without it, C is assembled in the platelet frame and rotated
-// as T^T C T. Both are T^T (C0 + C1(D)) T: equal up to rounding.
+// The one integration routine of the kernel (decision D210): every integrate() overload and
+// so every entry point (fit, plugin C ABI v1 and v2, UMAT, GIMP, deal.II) runs it. The
+// global-frame stiffness is C0g + sum_m D_m dC1g_m (prepare()); the damage-growth term of the
+// consistent tangent is rotated as two vectors, T^T a (g T).
 //
-// With `pre`, K may be a Map over a row-major array viewed column-major, i.e. K^T (KMatrix is
-// then a Map): the symmetric part is copied as it is (Cg is exactly symmetric, prepare()) while
-// the damage-growth outer product a g is added as g^T a^T.
+// K may be a Map over a row-major array viewed column-major, i.e. K^T (KMatrix is then a
+// Map): the symmetric part is copied as it is (Cg is exactly symmetric, prepare()) while the
+// damage-growth outer product a g is added as g^T a^T.
 // VIn / VOut are Voigt or Maps over the caller's arrays (the C ABI route copies nothing).
+//
+// have_pieces false: q came from prepare_base() (integrate(p, ...), one call per parameter
+// set), and the damage pieces dC1g_m are formed here, by the function prepare() uses, only for
+// the modes that are damaged: the same numbers without the cost of the undamaged ones.
 template <class KMatrix, class VIn, class VOut>
-Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmState& s0,
-                      NdmState& s1, const VIn& eps0, const VIn& deps, VOut& sigma, KMatrix* K,
-                      ErrorBuffer& err) {
+Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0, NdmState& s1,
+                      const VIn& eps0, const VIn& deps, VOut& sigma, KMatrix* K, TangentKind kind,
+                      NdmEnergy* energy, ErrorBuffer& err) {
   constexpr bool K_transposed = !std::is_same_v<KMatrix, Matrix6>;
+  const NdmParameters& p = q.p;
   const Voigt eps = eps0 + deps;
   if (!eps.allFinite()) {
     err.set("ndm: strain is not finite");
     return Status::bad_input;
   }
-  const bool rotated = pre ? pre->rotated : !p.R.isIdentity(0.0);
+  if (kind == TangentKind::none) K = nullptr;
+  const bool rotated = q.rotated;
   // A plane strain in the global x1-x2 plane (e33 = g23 = g13 = 0, every point of a 2-D run)
   // needs only columns 1, 2 and 6 of T and of the stiffness.
   const bool plane = eps[2] == 0.0 && eps[3] == 0.0 && eps[4] == 0.0;
@@ -529,18 +506,7 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
     if (plane) return A.col(0) * eps[0] + A.col(1) * eps[1] + A.col(5) * eps[5];
     return A * eps;
   };
-  Matrix6 T_local;
-  const Matrix6* T = nullptr;
-  Voigt el = eps;
-  if (rotated) {
-    if (pre) {
-      T = &pre->T;
-    } else {
-      T_local = strain_rotation(p.R);
-      T = &T_local;
-    }
-    el = times(*T);
-  }
+  const Voigt el = rotated ? times(q.T) : eps;
   // mode stretches (decisions D6/D7), derivatives only where the tangent needs them
   const bool pnc = p.model == Model::pnc;
   const int n = pnc ? 3 : 1;
@@ -551,75 +517,63 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
   NdmState out = s0;
   std::array<double, 3> dD{0, 0, 0};
   std::array<bool, 3> loading{false, false, false};
-  // Below this kappa, kappa / alpha <= lambda_c certainly (the margin covers the rounding of
-  // the division), so D = dD = 0 without dividing; above it, D(kappa / alpha) as printed.
-  const double no_damage_below = alpha * kLambdaC * (1.0 - 1e-12);
+  const double no_damage_below = onset_margin(alpha);
   bool below_onset = true; // every mode: D = dD = 0
   for (int m = 0; m < n; ++m) {
     loading[m] = lambda[m] > s0.kappa[m];
     out.kappa[m] = loading[m] ? lambda[m] : s0.kappa[m];
-    if (out.kappa[m] < no_damage_below) {
-      out.D[m] = dD[m] = 0.0;
-    } else {
-      below_onset = false;
-      damage_and_slope(out.kappa[m] / alpha, out.D[m], dD[m]);
-    }
+    below_onset = mode_damage(out.kappa[m], alpha, no_damage_below, out.D[m], dD[m]) && below_onset;
   }
-  bool have_N = false;
-  Eigen::Vector3d N = Eigen::Vector3d::Zero();
-  if (pre && below_onset) {
-    // Every mode below the damage onset (D = dD = 0): C0g is the stress matrix and the
-    // tangent, exactly what the general branch below would form.
-    sigma = times(pre->C0g);
-    if (K) *K = pre->C0g;
+  if (below_onset) {
+    // Every mode below the damage onset (D = dD = 0, and so D0 = 0: kappa never decreases):
+    // C0g is the stress matrix and every tangent, exactly what the general branch would form.
+    sigma = times(q.C0g);
+    if (K) *K = q.C0g;
+    if (energy) *energy = NdmEnergy{0.5 * sigma.dot(eps), 0.0};
     s1 = out;
     return Status::ok;
   }
-  if (pre) {
-    Matrix6 Cd; // C0g + sum D_m dC1g_m, formed only when some D_m > 0
-    const Matrix6* Cg = &pre->C0g;
+  Matrix6 Cd; // C0g + sum D_m dC1g_m, formed only when some D_m > 0
+  const Matrix6* Cg = &q.C0g;
+  for (int m = 0; m < n; ++m) {
+    if (out.D[m] == 0.0) continue;
+    if (Cg != &Cd) Cd = q.C0g;
+    Cg = &Cd;
+    if (have_pieces)
+      Cd.noalias() += out.D[m] * q.dC1g[static_cast<std::size_t>(m)];
+    else
+      Cd.noalias() += out.D[m] * damage_piece(q, m);
+  }
+  sigma = times(*Cg);
+  if (K) *K = kind == TangentKind::elastic ? q.C0g : *Cg;
+  if (K && kind == TangentKind::consistent) {
+    bool have_N = false;
+    Eigen::Vector3d N = Eigen::Vector3d::Zero();
     for (int m = 0; m < n; ++m) {
-      if (out.D[m] == 0.0) continue;
-      if (Cg != &Cd) Cd = pre->C0g;
-      Cg = &Cd;
-      Cd.noalias() += out.D[m] * pre->dC1g[static_cast<std::size_t>(m)];
+      if (!loading[m] || dD[m] == 0.0) continue;
+      const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
+      const double f = dD[m] / alpha;
+      const Voigt a = rotated ? Voigt(q.T.transpose() * c1_times(p, m, el)) : c1_times(p, m, el);
+      const Eigen::Matrix<double, 1, 6> g = rotated ? Eigen::Matrix<double, 1, 6>(f * (row * q.T))
+                                                    : Eigen::Matrix<double, 1, 6>(f * row);
+      if constexpr (K_transposed)
+        K->noalias() += g.transpose() * a.transpose();
+      else
+        K->noalias() += a * g;
     }
-    sigma = times(*Cg);
-    if (K) {
-      *K = *Cg;
-      for (int m = 0; m < n; ++m) {
-        if (!loading[m] || dD[m] == 0.0) continue;
-        const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
-        const double f = dD[m] / alpha;
-        const Voigt a = rotated ? Voigt(T->transpose() * c1_times(p, m, el)) : c1_times(p, m, el);
-        const Eigen::Matrix<double, 1, 6> g = rotated ? Eigen::Matrix<double, 1, 6>(f * (row * *T))
-                                                      : Eigen::Matrix<double, 1, 6>(f * row);
-        if constexpr (K_transposed)
-          K->noalias() += g.transpose() * a.transpose();
-        else
-          K->noalias() += a * g;
-      }
-    }
-    s1 = out;
-    return Status::ok;
   }
-  if constexpr (!K_transposed) {
-    Matrix6 C;
-    assemble_stiffness(p, out.D, C);
-    const Voigt sl = C * el;
-    if (K) {
-      Matrix6& Kl = rotated ? C : *K;
-      if (!rotated) *K = C;
-      for (int m = 0; m < n; ++m) {
-        if (!loading[m] || dD[m] == 0.0) continue;
-        const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
-        Kl.noalias() += c1_times(p, m, el) * ((dD[m] / alpha) * row);
-      }
-      if (rotated) *K = T->transpose() * Kl * *T;
+  if (energy) {
+    // psi(eps1, D0) - psi(eps1, D1) = -1/2 sum_m (D1_m - D0_m) el . dC1_m el (decision D212);
+    // eps . dC1g_m eps = el . dC1_m el in the platelet frame.
+    double released = 0.0;
+    for (int m = 0; m < n; ++m) {
+      double D0, dD0;
+      mode_damage(s0.kappa[m], alpha, no_damage_below, D0, dD0);
+      if (out.D[m] != D0) released -= 0.5 * (out.D[m] - D0) * el.dot(c1_times(p, m, el));
     }
-    sigma = rotated ? Voigt(T->transpose() * sl) : sl;
-    s1 = out;
+    *energy = NdmEnergy{0.5 * sigma.dot(eps), released};
   }
+  s1 = out;
   return Status::ok;
 }
 
@@ -627,35 +581,40 @@ Status integrate_impl(const NdmParameters& p, const PreparedNdm* pre, const NdmS
 
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(p, nullptr, s0, s1, eps0, deps, sigma, K, err);
+  return integrate_impl(prepare_base(p), false, s0, s1, eps0, deps, sigma, K,
+                        TangentKind::consistent, nullptr, err);
 }
 
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
-                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err) {
-  return integrate_impl(q.p, &q, s0, s1, eps0, deps, sigma, K, err);
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err, TangentKind kind,
+                 NdmEnergy* energy) {
+  return integrate_impl(q, true, s0, s1, eps0, deps, sigma, K, kind, energy, err);
 }
 
 Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
                            const double* eps0, const double* deps, double* sigma,
-                           double* K_row_major, ErrorBuffer& err) {
+                           double* K_row_major, ErrorBuffer& err, TangentKind kind,
+                           NdmEnergy* energy) {
   const Eigen::Map<const Voigt> e0(eps0), de(deps);
   Eigen::Map<Voigt> sig(sigma);
   // A column-major view of the row-major array is K^T.
   Eigen::Map<Matrix6> Kt(K_row_major);
-  return integrate_impl(q.p, &q, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, err);
+  return integrate_impl(q, true, s0, s1, e0, de, sig, K_row_major ? &Kt : nullptr, kind, energy,
+                        err);
 }
 
 Eigen::Matrix<double, Eigen::Dynamic, 6>
 stress_path(const NdmParameters& p, const Eigen::Matrix<double, Eigen::Dynamic, 6>& strain,
             std::vector<NdmState>* states) {
   Eigen::Matrix<double, Eigen::Dynamic, 6> out(strain.rows(), 6);
+  const PreparedNdm q = prepare(p);
   NdmState s0, s1;
   Voigt prev = Voigt::Zero(), sig;
   ErrorBuffer err;
   if (states) states->resize(static_cast<std::size_t>(strain.rows()));
   for (Eigen::Index i = 0; i < strain.rows(); ++i) {
     const Voigt e = strain.row(i).transpose();
-    if (integrate(p, s0, s1, prev, e - prev, sig, nullptr, err) != Status::ok)
+    if (integrate(q, s0, s1, prev, e - prev, sig, nullptr, err) != Status::ok)
       fail("<strain path>", "row " + std::to_string(i), "", err.msg);
     out.row(i) = sig.transpose();
     if (states) (*states)[static_cast<std::size_t>(i)] = s1;
@@ -663,38 +622,6 @@ stress_path(const NdmParameters& p, const Eigen::Matrix<double, Eigen::Dynamic, 
     prev = e;
   }
   return out;
-}
-
-// ---------------------------------------------------------------- validation
-void validate(const NdmParameters& p, const std::string& source) {
-  const auto& names = constant_names(p.model);
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (!std::isfinite(p.k[i])) fail(source, names[i], std::to_string(p.k[i]), "must be finite");
-  }
-  if (!(p.alpha() > 0.0))
-    fail(source, "alpha", std::to_string(p.alpha()),
-         "the critical-stretch correction factor must be > 0");
-  const Matrix6 C0 = stiffness_c0(p);
-  Eigen::LLT<Eigen::Matrix3d> llt(C0.topLeftCorner<3, 3>());
-  if (llt.info() != Eigen::Success) {
-    std::ostringstream v;
-    v << "eigenvalues of the normal block: "
-      << Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C0.topLeftCorner<3, 3>())
-             .eigenvalues()
-             .transpose();
-    fail(source, "C0 (C11..C33, C12, C13, C23)", v.str(),
-         "the undamaged stiffness must be positive definite");
-  }
-  for (int i = 3; i < 6; ++i) {
-    if (!(C0(i, i) > 0)) {
-      static const char* shear[3] = {"C44", "C55", "C66"};
-      fail(source, p.model == Model::pnc ? shear[i - 3] : "C44", std::to_string(C0(i, i)),
-           "shear stiffness must be > 0 (C0 positive definite)");
-    }
-  }
-  const Eigen::Matrix3d RtR = p.R.transpose() * p.R;
-  if (!RtR.isIdentity(1e-9) || std::abs(p.R.determinant() - 1.0) > 1e-9)
-    fail(source, "platelet_rotation", "", "must be a proper rotation (R^T R = I, det R = 1)");
 }
 
 } // namespace pnc::damage

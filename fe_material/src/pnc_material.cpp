@@ -3,6 +3,7 @@
 #include "pnc/fe_material/pnc_material.h"
 
 #include "abi_util.hpp"
+#include "material_impl.hpp"
 #include "umat_layout.hpp"
 
 #include "pnc/core/error.hpp"
@@ -16,14 +17,9 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <new>
 #include <string>
-
-struct pnc_material {
-  pnc::damage::PreparedNdm kernel; ///< the parameters (kernel.p), prepared once at creation
-  std::string source;              ///< card path or "<constants>", for messages
-  std::string verdict = "usable";  ///< the card's verdict level
-};
 
 namespace {
 
@@ -76,11 +72,11 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_ex(const char* card_path, uns
                         "); refit it, or load it deliberately with PNC_ALLOW_NOT_USABLE_CARD=1 "
                         "or pnc_material_create_ex(..., PNC_MATERIAL_ALLOW_NOT_USABLE, ...)");
         }
-        auto* m = new pnc_material;
+        auto m = std::make_unique<pnc_material>(); // no leak if a step below throws
         m->kernel = pnc::damage::prepare(card.params);
         m->source = card_path;
         m->verdict = pnc::damage::verdict_name(card.verdict.level);
-        return m;
+        return m.release();
       },
       err, errlen);
 }
@@ -123,10 +119,10 @@ PNC_MATERIAL_API pnc_material* pnc_material_create_from_constants(const char* mo
             for (int c = 0; c < 3; ++c)
               p.R(r, c) = rotation9[3 * r + c];
         pnc::damage::validate(p, kFromConstants);
-        auto* m = new pnc_material;
+        auto m = std::make_unique<pnc_material>(); // no leak if a step below throws
         m->kernel = pnc::damage::prepare(p);
         m->source = "<constants>";
-        return m;
+        return m.release();
       },
       err, errlen);
 }

@@ -5,6 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -126,13 +127,15 @@ Mat3 from_voigt_stress(const std::array<double, 6>& s) {
 }
 
 // ---------------------------------------------------------------- damage law (plugin)
+// Everything the solver needs of the law comes from the plugin's queries (ABI 1.1, D214): the
+// undamaged stiffness for the CFL wave speed, the moduli by compliance inversion, the state
+// names; the energy of a step from the integration itself.
 DamageLaw::DamageLaw(double rho0, std::shared_ptr<const pnc::fe_material::Material> law)
     : Material(rho0), law_(std::move(law)), n_state_(law_->n_state()), names_(law_->state_names()) {
-  std::vector<double> s0 = law_->initial_state(), s1;
-  pnc::fe_material::Voigt6 e{}, sig{};
-  pnc::fe_material::Tangent36 K{};
-  law_->integrate(s0, s1, e, e, sig, &K);
-  const double M = std::max(K[0], std::max(K[7], K[14]));
+  // M: the largest normal entry of [C0] (global frame), the longitudinal modulus along the
+  // stiffest axis (materials.hpp wave_speed()).
+  const pnc::fe_material::Tangent36 C0 = law_->elastic_stiffness();
+  const double M = std::max(C0[0], std::max(C0[7], C0[14]));
   c_ = std::sqrt(M / rho0_);
 }
 
@@ -141,23 +144,10 @@ void DamageLaw::init_state(double* s) const {
 }
 
 double DamageLaw::youngs_modulus() const {
-  std::vector<double> s0 = law_->initial_state(), s1;
-  pnc::fe_material::Voigt6 e{}, sig{};
-  pnc::fe_material::Tangent36 K{};
-  law_->integrate(s0, s1, e, e, sig, &K);
-  Eigen::Matrix<double, 6, 6> C =
-      Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(K.data());
-  return 1.0 / C.inverse()(0, 0);
+  return law_->property("youngs_modulus_1");
 }
 double DamageLaw::poisson_ratio() const {
-  std::vector<double> s0 = law_->initial_state(), s1;
-  pnc::fe_material::Voigt6 e{}, sig{};
-  pnc::fe_material::Tangent36 K{};
-  law_->integrate(s0, s1, e, e, sig, &K);
-  Eigen::Matrix<double, 6, 6> C =
-      Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(K.data());
-  const Eigen::Matrix<double, 6, 6> S = C.inverse();
-  return -S(0, 1) / S(0, 0);
+  return law_->property("poisson_ratio_12");
 }
 
 void DamageLaw::update(const Mat3& F0, const Mat3& F1, const double* s0, double* s1, Mat3& sigma,
@@ -172,10 +162,9 @@ void DamageLaw::update(const Mat3& F0, const Mat3& F1, const double* s0, double*
   std::array<double, 6> de{}, sig{};
   for (int i = 0; i < 6; ++i)
     de[i] = e1[i] - e0[i];
-  law_->integrate(s0, s1, e0.data(), de.data(), sig.data(), nullptr);
-  W = 0.0;
-  for (int i = 0; i < 6; ++i)
-    W += 0.5 * sig[i] * e1[i];
+  // W = 1/2 T . eps: the plugin's stored energy of the secant law (decision D32).
+  W = law_->integrate2(s0, s1, e0.data(), de.data(), sig.data(), nullptr, PNC_MATERIAL_TANGENT_NONE)
+          .stored;
   // The plugin's stress T is read as the Biot stress, work-conjugate to U (decision D32):
   // P = R T, sigma = J^-1 P F^T = J^-1 R sym(T U) R^T (sym: exact for coaxial T, U).
   const Mat3 T = from_voigt_stress(sig);

@@ -36,6 +36,9 @@ void DeformSpec::validate(const std::string& source) const {
   if (!(std::isfinite(strain_max) && strain_max != 0.0 && std::fabs(strain_max) <= 0.5))
     fail(source, "deform.strain_max", fmt::format("{}", strain_max),
          "must be non-zero with |strain_max| <= 0.5");
+  if (!(std::isfinite(shear_strain_max) && std::fabs(shear_strain_max) <= 0.5))
+    fail(source, "deform.shear_strain_max", fmt::format("{}", shear_strain_max),
+         "must satisfy |shear_strain_max| <= 0.5 (0: the shear cases use strain_max)");
   if (steps < 1 || steps > 100000)
     fail(source, "deform.steps", std::to_string(steps), "must be in 1..100000");
   // 50 fs: the bead-spring glass (tau 2.45 ps) takes 20 fs steps (decision D137)
@@ -134,7 +137,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.write_scalar("/case", spec.case_id);
     f.write_scalar("/rows_done", c.r.rows_done);
     f.write_scalar("/steps_planned", spec.steps);
-    f.write_scalar("/strain_max", spec.strain_max);
+    f.write_scalar("/strain_max", spec.amplitude());
     f.write_string("/seed", std::to_string(spec.seed));
     f.write_scalar("/hold_steps", static_cast<double>(spec.hold_steps));
     f.write_scalar("/timestep", spec.timestep_fs);
@@ -307,7 +310,7 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
   const auto t_start = clock::now();
   const int first = c.r.rows_done;
   for (int k = first; k <= spec.steps; ++k) {
-    const double t = spec.strain_max * k / spec.steps;
+    const double t = spec.amplitude() * k / spec.steps;
     read_state(l, spec, prev_state(dir, k));
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));

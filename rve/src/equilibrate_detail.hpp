@@ -138,7 +138,7 @@ void final_stage(Lammps& l, const std::vector<std::string>& ffcmds, const Equili
 
 /// Runs one equilibration stage `name` in a supervised child (skipped when `resume` and its
 /// results exist), then prints the end criterion the stage wrote to `<dir>/<name>.h5`.
-/// Throws pnc::InputError with LAMMPS's message when the stage fails.
+/// Throws (throw_stage_failure: pnc::ToolError with LAMMPS's message) when the stage fails.
 inline void run_equilibration_stage(const std::string& dir, const std::string& name,
                                     const StageBody& body, bool resume, int ranks) {
   namespace fs = std::filesystem;
@@ -151,7 +151,7 @@ inline void run_equilibration_stage(const std::string& dir, const std::string& n
   const StageOutcome o =
       run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, stoppable(body));
   pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
-  if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
+  if (!o.ok) throw_stage_failure(o, "stage equilibrate/" + name);
   const std::string crit =
       h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");
   std::cerr << fmt::format("  equilibrate/{}: {} ({:.1f} s)\n", name, crit, o.seconds);

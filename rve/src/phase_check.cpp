@@ -392,7 +392,7 @@ PhaseCheckResult run_phase_check(const PhaseCheckSpec& spec, const PhaseCheckInp
       run_stage({"phase check", log, {}, ranks},
                 stoppable([spec, in, dir](Lammps& l) { phase_child(l, spec, in, dir); }));
   pnc::throw_if_stopped("the phase check stopped; rerun with --resume to repeat it");
-  if (!o.ok) fail(o.log_path, "stage phase check", "", o.error);
+  if (!o.ok) throw_stage_failure(o, "stage phase check");
   PhaseCheckResult r = read_phase_check(dir);
   std::cerr << fmt::format("  phase check: {} ({:.1f} s)\n  {}\n", r.phase, o.seconds, r.summary);
   return r;

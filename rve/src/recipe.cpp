@@ -120,6 +120,9 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   r.phase_check.validate(source);
   if (r.fit_alpha && r.hold_alpha)
     fail(source, "fit.hold_alpha", "true", "fit.fit_alpha and fit.hold_alpha exclude each other");
+  if (r.fit_stretch_max > 0 && r.fit_strain_max > 0) // decision D12m
+    fail(source, "fit.stretch_max", fmt::format("{}", r.fit_stretch_max),
+         "fit.strain_max and fit.stretch_max exclude each other (one fit range)");
   if ((r.model == "pp" || r.model == "kg") &&
       std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
     fail(source, "deform.cases", fmt::format("{}", fmt::join(r.cases, ",")),

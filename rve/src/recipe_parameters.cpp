@@ -179,6 +179,9 @@ void declare_deform(Parameters& p, Recipe& r) {
               if (v.get<double>() == 0.0)
                 fail(source, field, "0", "must be non-zero with |strain_max| <= 0.5");
             });
+  p.real("shear_strain_max", d.shear_strain_max, RealRange::closed(-0.5, 0.5), "1",
+         "final gamma of the shear cases 4-6; 0 = they use strain_max (D12m)")
+      .omit_when_default(); // in the expanded recipe only when set
   p.integer("steps", d.steps, 1, 100000, "", "strain steps");
   p.real("timestep_fs", d.timestep_fs, RealRange::open_closed(0, 50), "fs", "MD time step");
   p.integer("hold_steps", d.hold_steps, 1, kMaxSteps, "", "MD steps held per strain step")
@@ -228,7 +231,7 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
   p.string("reference", r.reference,
            {{"subtract", "stress relative to the zero-strain hold"}, {"none", "raw stress"}},
            "reference state of the fitted stress (D18, D131)");
-  p.section("fit", "the NDM fit of the cases (D10-D12l)");
+  p.section("fit", "the NDM fit of the cases (D10-D12m)");
   p.boolean("fit_alpha", r.fit_alpha, "fit alpha (else held at its start value)")
       .remark("not with hold_alpha");
   p.boolean("hold_alpha", r.hold_alpha, "hold alpha at its start value past the damage onset")
@@ -239,11 +242,55 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
       .no_default("the dissertation's value");
   p.real("strain_max", r.fit_strain_max, RealRange::closed(0, 10), "1",
          "fit range: rows with every strain component <= it are fitted; 0 = every row (D12h)")
+      .remark("not with stretch_max")
+      .omit_when_default();
+  p.real("stretch_max", r.fit_stretch_max, RealRange::closed(0, 10), "1",
+         "fit range by stretch: rows with lambda_max - 1 <= it are fitted, lambda_max the "
+         "largest principal stretch; 0 = every row (D12m)")
+      .remark("not with strain_max")
       .omit_when_default();
   p.section("run", "how the cases run");
   p.integer("jobs", r.jobs, 1, 64, "", "cases at a time (pnc characterize --jobs overrides)");
   p.integer("replicas", r.replicas, 1, 64, "",
             "independent replicas: own build seed, own equilibration, every case (D130)");
+}
+
+// A string key of the slurm section checked by SlurmSpec::validate (its wording and field).
+ParamCheck slurm_check(std::string SlurmSpec::*member) {
+  return [member](const nlohmann::json& v, const std::string& source, const std::string&) {
+    SlurmSpec s;
+    s.*member = v.get<std::string>();
+    s.validate(source);
+  };
+}
+
+void declare_slurm(Parameters& p, Recipe& r) {
+  auto& s = r.slurm;
+  p.optional_section(
+      "slurm", s.given,
+      "the Slurm executor (docs/cluster.md, D245): where and how long the unit jobs run; "
+      "the command-line options override it; in the expanded recipe only when given");
+  const std::string name = "a name: 1 to 64 letters, digits, '_', '.', '-', not starting with '-'";
+  p.string("partition", s.partition, {}, "sbatch --partition of the unit jobs")
+      .also(name, slurm_check(&SlurmSpec::partition))
+      .no_default("the cluster's default partition");
+  p.string("account", s.account, {}, "sbatch --account of the unit jobs")
+      .also(name, slurm_check(&SlurmSpec::account))
+      .no_default("the user's default account");
+  p.string("time", s.time, {}, "time limit per unit job")
+      .also("a Slurm time limit: minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS",
+            slurm_check(&SlurmSpec::time))
+      .no_default("the partition's default");
+  p.integer("ranks", s.ranks, 1, 4096, "", "MPI ranks per case unit under Slurm")
+      .no_default("pnc characterize --ranks, else 1");
+  p.integer("equilibrate_ranks", s.equilibrate_ranks, 1, 4096, "",
+            "MPI ranks per equilibration and phase-check unit under Slurm")
+      .no_default("slurm.ranks");
+  p.string("template", s.template_path, {}, "the job-script template file (docs/cluster.md)")
+      .no_default("the built-in template");
+  p.string("mpi", s.mpi, {}, "srun's MPI plugin (--mpi) for units on more than one rank")
+      .also(name, slurm_check(&SlurmSpec::mpi))
+      .omit_when_default();
 }
 
 } // namespace
@@ -269,6 +316,7 @@ void declare_recipe(Parameters& p, Recipe& r, const std::string& variant) {
   declare_deform(p, r);
   declare_phase_check(p, r);
   declare_analysis_fit_run(p, r);
+  declare_slurm(p, r);
 }
 
 namespace {

@@ -26,19 +26,10 @@ double legendre(int m, double x) {
   }
 }
 
-// rows the fit used: the leading ones with every strain component <= strain_max (D12h)
-Eigen::Index fitted_rows(const PathM& strain, double strain_max) {
-  if (!(strain_max > 0)) return strain.rows();
-  Eigen::Index n = 0;
-  while (n < strain.rows() && strain.row(n).cwiseAbs().maxCoeff() <= strain_max * (1 + 1e-12))
-    ++n;
-  return n;
-}
-
 } // namespace
 
 ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport& joint,
-                                double strain_max) {
+                                double strain_max, double stretch_max) {
   ReplicaTrend out;
   out.replicas = c.replicas;
   if (c.replicas < 3) {
@@ -50,7 +41,7 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     const auto it = std::find_if(c.cases.begin(), c.cases.end(),
                                  [&](const CombinedCase& cc) { return cc.id == fc.case_id; });
     if (it == c.cases.end()) continue;
-    const Eigen::Index n = fitted_rows(it->strain, strain_max);
+    const Eigen::Index n = damage::rows_in_fit_range(it->strain, strain_max, stretch_max);
     if (n < 5) continue; // four coefficients need more rows than that
     const Eigen::Matrix<double, Eigen::Dynamic, 6> e = it->strain.topRows(n);
     const auto model = damage::stress_path(joint.params, e);

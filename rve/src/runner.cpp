@@ -3,6 +3,7 @@
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/locate.hpp"
+#include "pnc/core/params.hpp"
 
 #include <lammps/library.h>
 
@@ -28,7 +29,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 namespace pnc::rve {
 
@@ -41,10 +41,11 @@ std::vector<double> Lammps::call(char op, const std::string& text, int i, int j,
   std::vector<char> ans;
   if (!wire::write_frame(fd_, wire::encode(r)) || !wire::read_frame(fd_, ans) || ans.empty()) {
     const std::string err = last_lammps_error(log_);
-    fail(log_, "LAMMPS server", text,
-         err.empty()
-             ? "the LAMMPS server ended without an ERROR line in its log (see " + log_ + ".mpirun)"
-             : err);
+    fail_tool("LAMMPS", "running '" + clip(text) + "' on the LAMMPS server",
+              err.empty() ? "the LAMMPS server ended without an ERROR line in its log (see " +
+                                log_ + ".mpirun)"
+                          : err,
+              log_);
   }
   if (found) *found = ans[0] == 0;
   std::vector<double> v((ans.size() - 1) / sizeof(double));
@@ -172,6 +173,78 @@ std::string error_file(const std::string& log) {
   return log + ".pnc-error";
 }
 
+// `<log>.pnc-error`: the error the stage body threw in the child, so that the parent rebuilds
+// it with its kind. Line 1 "pnc-error K" (K: the error's exit code, core/error.hpp), then its
+// parts one per line (line breaks inside a part become blanks):
+//   1 (InputError): source, field, value, rule
+//   6 (SimulationError): entity, step, time, time unit, message
+//   7 (ToolError): tool, doing, message, log path
+//   2 (anything else): what()
+constexpr const char* kErrorTag = "pnc-error ";
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+void write_error_file(const std::string& log, const std::exception& e) {
+  std::vector<std::string> parts;
+  int kind = exit_code::internal_error;
+  if (const auto* ie = dynamic_cast<const InputError*>(&e)) {
+    const auto& c = ie->context();
+    kind = exit_code::bad_input;
+    parts = {c.source, c.field, c.value, c.rule};
+  } else if (const auto* se = dynamic_cast<const SimulationError*>(&e)) {
+    const auto& c = se->context();
+    kind = exit_code::simulation_failed;
+    parts = {c.entity, std::to_string(c.step), fmt::format("{:.17g}", c.time), c.time_unit,
+             c.message};
+  } else if (const auto* te = dynamic_cast<const ToolError*>(&e)) {
+    const auto& c = te->context();
+    kind = exit_code::tool_failed;
+    parts = {c.tool, c.doing, c.message, c.log_path};
+  } else {
+    parts = {e.what()};
+  }
+  std::ofstream f(error_file(log));
+  f << kErrorTag << kind << "\n";
+  for (const auto& p : parts)
+    f << one_line(p) << "\n";
+}
+
+/// Rebuilds the child's error from `<log>.pnc-error`; null when there is none. `text` gets its
+/// one-line message (what()).
+std::exception_ptr read_error_file(const std::string& log, std::string& text) {
+  std::ifstream f(error_file(log));
+  std::string head;
+  if (!f || !std::getline(f, head) || head.rfind(kErrorTag, 0) != 0) return nullptr;
+  std::vector<std::string> p;
+  for (std::string line; std::getline(f, line);)
+    p.push_back(line);
+  const int kind = std::atoi(head.c_str() + std::strlen(kErrorTag));
+  const auto part = [&p](std::size_t i) { return i < p.size() ? p[i] : std::string(); };
+  std::exception_ptr e;
+  try {
+    switch (kind) {
+    case exit_code::bad_input:
+      throw InputError(ErrorContext{part(0), part(1), part(2), part(3)});
+    case exit_code::simulation_failed:
+      throw SimulationError(SimulationContext{part(0), std::atoll(part(1).c_str()),
+                                              std::strtod(part(2).c_str(), nullptr), part(3),
+                                              part(4)});
+    case exit_code::tool_failed:
+      throw ToolError(ToolContext{part(0), part(1), part(2), part(3)});
+    default:
+      throw std::runtime_error(part(0));
+    }
+  } catch (const std::exception& x) {
+    text = x.what();
+    e = std::current_exception();
+  }
+  return e;
+}
+
 std::string server_executable() {
   if (const char* e = std::getenv("PNC_LAMMPS_SERVER"); e && *e) return e;
   // libexec/pnc relative to the running executable (install and build tree alike, D151)
@@ -181,6 +254,19 @@ std::string server_executable() {
          "the MPI stage server was not found (" + r.looked_in() +
              "); set PNC_LAMMPS_SERVER to its path (install layout: docs/install.md)");
   return r.path;
+}
+
+/// The launcher of a K-rank stage: `mpirun -np K --bind-to none`, or inside a Slurm job of
+/// the Slurm executor (PNC_STAGE_LAUNCHER=srun, decision D244) `srun --ntasks=K --mpi=<plugin>`
+/// (PNC_SRUN_MPI, default pmix), a job step on the job's own allocation.
+std::vector<std::string> stage_launcher(int ranks) {
+  const char* l = std::getenv("PNC_STAGE_LAUNCHER");
+  if (l && std::string(l) == "srun") {
+    const char* m = std::getenv("PNC_SRUN_MPI");
+    return {"srun", "--ntasks=" + std::to_string(ranks),
+            std::string("--mpi=") + (m && *m ? m : "pmix"), "--overlap"};
+  }
+  return {"mpirun", "-np", std::to_string(ranks), "--bind-to", "none"};
 }
 
 /// Starts `mpirun -np K pnc_lammps_server SOCKET <lammps args>` with a clean MPI environment
@@ -194,8 +280,8 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   PrivateListener channel; // throws naming the directory when it cannot be made
   const std::string exe = server_executable();
   const std::string out = spec.log_path + ".mpirun";
-  std::vector<std::string> args = {"mpirun", "-np", std::to_string(spec.ranks), "--bind-to",
-                                   "none",   exe,   channel.socket_path()};
+  std::vector<std::string> args = stage_launcher(spec.ranks); // mpirun, or srun in a Slurm job
+  args.insert(args.end(), {exe, channel.socket_path()});
   args.insert(args.end(), lammps_args.begin(), lammps_args.end());
   std::fflush(nullptr);
   mpirun_pid = fork();
@@ -231,8 +317,8 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
     for (auto& s : args)
       argv.push_back(s.data());
     argv.push_back(nullptr);
-    execvp("mpirun", argv.data());
-    std::fprintf(stderr, "pnc: cannot run mpirun: %s\n", std::strerror(errno));
+    execvp(argv[0], argv.data());
+    std::fprintf(stderr, "pnc: cannot run %s: %s\n", argv[0], std::strerror(errno));
     _exit(127);
   }
   const char* t = std::getenv("PNC_LAMMPS_CONNECT_TIMEOUT");
@@ -240,7 +326,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   const double t0 =
       std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   for (;;) { // accept, refusing impostors, until the real rank 0 connects or mpirun ends
-    const int fd = channel.accept_one(mpirun_pid, 200);
+    const int fd = channel.accept_one(args[0] == "srun" ? -1 : mpirun_pid, 200);
     if (fd >= 0) return fd; // `channel` removes the socket and its directory on return
     int status = 0;
     if (waitpid(mpirun_pid, &status, WNOHANG) == mpirun_pid) {
@@ -248,11 +334,12 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       std::string line, last;
       while (std::getline(f, line))
         if (!line.empty()) last = line;
-      fail(out, spec.name, fmt::format("mpirun -np {}", spec.ranks),
-           fmt::format("mpirun ended (status {}) before the LAMMPS server connected: {}{}",
-                       WIFEXITED(status) ? WEXITSTATUS(status) : -1, last,
-                       channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
-                                         : std::string()));
+      fail_tool("mpirun", fmt::format("starting the LAMMPS server (mpirun -np {})", spec.ranks),
+                fmt::format("mpirun ended (status {}) before the LAMMPS server connected: {}{}",
+                            WIFEXITED(status) ? WEXITSTATUS(status) : -1, last,
+                            channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
+                                              : std::string()),
+                out);
     }
     const double el =
         std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
@@ -261,10 +348,11 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       kill(mpirun_pid, SIGTERM);
       while (waitpid(mpirun_pid, &status, 0) < 0 && errno == EINTR) {
       }
-      fail(out, spec.name, fmt::format("mpirun -np {}", spec.ranks),
-           fmt::format("the LAMMPS server did not connect within {} s{}", timeout,
-                       channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
-                                         : std::string()));
+      fail_tool("mpirun", fmt::format("starting the LAMMPS server (mpirun -np {})", spec.ranks),
+                fmt::format("the LAMMPS server did not connect within {} s{}", timeout,
+                            channel.refused() ? " (refused peer: " + channel.last_refusal() + ")"
+                                              : std::string()),
+                out);
     }
   }
 }
@@ -288,7 +376,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       while (waitpid(mp, &status, 0) < 0) {
       }
     } catch (const std::exception& e) {
-      std::ofstream(error_file(spec.log_path)) << e.what() << "\n";
+      write_error_file(spec.log_path, e);
       code = 3;
     }
     std::fflush(nullptr);
@@ -302,14 +390,16 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   int code = 0;
   void* h = lammps_open_no_mpi(static_cast<int>(argv.size()), argv.data(), nullptr);
   if (!h) {
-    std::ofstream(error_file(spec.log_path)) << "could not create a LAMMPS instance\n";
+    write_error_file(spec.log_path,
+                     ToolError(ToolContext{"LAMMPS", "starting stage " + spec.name,
+                                           "could not create a LAMMPS instance", spec.log_path}));
     _exit(4);
   }
   try {
     Lammps lmp(h);
     body(lmp);
   } catch (const std::exception& e) {
-    std::ofstream(error_file(spec.log_path)) << e.what() << "\n";
+    write_error_file(spec.log_path, e);
     code = 3;
   }
   lammps_close(h);
@@ -344,12 +434,8 @@ StageOutcome finish(const StageSpec& spec, int status, double seconds) {
     o.signal = WTERMSIG(status);
   }
   if (o.ok) return o;
-  std::ifstream pe(error_file(spec.log_path));
-  std::stringstream ss;
-  ss << pe.rdbuf();
-  std::string msg = ss.str();
-  while (!msg.empty() && (msg.back() == '\n' || msg.back() == '\r'))
-    msg.pop_back();
+  std::string msg;
+  o.child_error = read_error_file(spec.log_path, msg);
   if (msg.empty()) msg = last_lammps_error(spec.log_path);
   if (msg.empty())
     msg = o.signal ? fmt::format("killed by signal {}", o.signal)
@@ -363,6 +449,29 @@ double now() {
 }
 
 } // namespace
+
+void throw_stage_failure(const StageOutcome& o, const std::string& stage, const std::string& note) {
+  if (o.child_error) {
+    try {
+      std::rethrow_exception(o.child_error);
+    } catch (const InputError& e) { // as before: the stage and its log name the source
+      fail(o.log_path, stage, "", e.what() + note);
+    } catch (const SimulationError& e) {
+      SimulationContext c = e.context();
+      c.entity = c.entity.empty() ? stage : stage + ": " + c.entity;
+      c.message += note + " (log " + o.log_path + ")";
+      throw SimulationError(c);
+    } catch (const ToolError& e) { // e.g. the MPI server: named with the stage it served
+      ToolContext c = e.context();
+      c.doing += (c.doing.empty() ? "" : " ") + ("(" + stage + ")");
+      c.message += note;
+      throw ToolError(c);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(stage + ": " + e.what() + note + " (log " + o.log_path + ")");
+    }
+  }
+  fail_tool("LAMMPS", "running " + stage, o.error + note, o.log_path);
+}
 
 StageOutcome run_stage(const StageSpec& spec, const StageBody& body) {
   const double t0 = now();

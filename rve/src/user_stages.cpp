@@ -213,7 +213,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
     const StageOutcome o =
         run_stage({"equilibrate/" + name, in_dir(dir, name, ".log"), {}, ranks}, stoppable(body));
     pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
-    if (!o.ok) fail(o.log_path, "stage equilibrate/" + name, "", o.error);
+    if (!o.ok) throw_stage_failure(o, "stage equilibrate/" + name);
     std::cerr << fmt::format(
         "  equilibrate/{}: {} ({:.1f} s)\n", name,
         h5::File(in_dir(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion"),

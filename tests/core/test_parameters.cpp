@@ -279,6 +279,40 @@ TEST(Parameters, OpaqueSectionsArePassedThroughAsObjects) {
   }
 }
 
+// An optional section: whether the input has it is a value of its own (a recipe's "slurm").
+TEST(Parameters, OptionalSectionsAreKeptOnlyWhenGiven) {
+  bool given = true; // read() sets it either way
+  int ranks = 0;
+  std::string mpi = "pmix";
+  Parameters p("input");
+  p.optional_section("slurm", given, "the cluster");
+  p.integer("ranks", ranks, 1, 4096, "", "ranks").no_default("one");
+  p.string("mpi", mpi, {}, "plugin").omit_when_default();
+  EXPECT_FALSE(p.read(json::object(), "in.json").contains("slurm"));
+  EXPECT_FALSE(given);
+  EXPECT_FALSE(p.values().contains("slurm"));
+  EXPECT_EQ(p.read(json::parse(R"({"slurm": {}})"), "in.json")["slurm"],
+            json::parse(R"({"mpi": "pmix"})"));
+  EXPECT_TRUE(given);
+  EXPECT_EQ(p.values()["slurm"], json::object()); // given, every entry left out
+  p.read(json::parse(R"({"slurm": {"ranks": 4}})"), "in.json");
+  EXPECT_EQ(p.values()["slurm"], json::parse(R"({"ranks": 4})"));
+  try {
+    p.read(json::parse(R"({"slurm": {"ranks": 0}})"), "in.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().field, "slurm.ranks");
+  }
+  // the template leaves it out (commented): read back, the section is not given
+  const std::string t = p.to_toml();
+  EXPECT_NE(t.find("# [slurm]"), std::string::npos) << t;
+  EXPECT_NE(t.find("# mpi = \"pmix\""), std::string::npos) << t;
+  given = true;
+  EXPECT_EQ(p.read(pnc::parse_toml(t, "t.toml"), "t.toml"), p.defaults());
+  EXPECT_FALSE(given);
+  EXPECT_TRUE(p.to_json()["sections"][1]["optional"].get<bool>());
+}
+
 TEST(Parameters, ValuesAreTheVariablesNowWithUnsetEntriesLeftOut) {
   V v;
   Parameters p = declare(v);

@@ -131,3 +131,57 @@ TEST(FitVerdict, AnOnsetBelowZeroStrainIsAWarningAndAFittedAlphaStopsAtZeroStrai
     }
   }
 }
+
+TEST(FitRange, AStretchRangeAdmitsTheSameLargestPrincipalStretchInExtensionAndShear) {
+  // Decision D12m. Extension e: lambda_max - 1 = e. Simple shear gamma (F = I + gamma e1 (x) e2):
+  // lambda_max = gamma/2 + sqrt(1 + gamma^2/4), and lambda_max = 1 + s exactly when
+  // gamma = (1 + s) - 1 / (1 + s) (lambda - 1/lambda = gamma for the principal stretches).
+  const double s = 0.08;
+  const double gamma_s = (1 + s) - 1 / (1 + s);
+  PathMatrix ext = PathMatrix::Zero(41, 6), shear = PathMatrix::Zero(41, 6);
+  for (int k = 0; k <= 40; ++k) {
+    ext(k, 1) = 0.005 * k;   // 0 .. 0.2
+    shear(k, 5) = 0.005 * k; // 0 .. 0.2
+  }
+  auto expected = [](double limit) { return static_cast<Eigen::Index>(std::floor(limit / 0.005 + 1e-9)) + 1; };
+  EXPECT_EQ(rows_in_fit_range(ext, 0, s), expected(s));
+  EXPECT_EQ(rows_in_fit_range(shear, 0, s), expected(gamma_s));
+  EXPECT_GT(gamma_s, 1.9 * s); // a shear reaches the same stretch at about twice the strain
+  // the strain range cuts both at the same component value; no range keeps every row
+  EXPECT_EQ(rows_in_fit_range(shear, s, 0), expected(s));
+  EXPECT_EQ(rows_in_fit_range(shear, 0, 0), 41);
+}
+
+TEST(FitRange, TheStretchRangeIsFittedRecordedOnTheCardAndExcludesTheStrainRange) {
+  NdmParameters truth = dissertation_parameters(Model::pp);
+  truth["alpha"] = 0.85;
+  StressStrainData d = pp_curves(truth, 0.2e6, 120);
+  FitOptions o;
+  o.model = Model::pp;
+  o.stretch_max = 0.15;
+  o.alpha_mode = AlphaMode::fit;
+  o.alpha = 0.9;
+  const FitReport r = fit_ndm(d, o);
+  int beyond = 0;
+  for (const auto& c : d.cases)
+    beyond += static_cast<int>(c.strain.rows() - rows_in_fit_range(c.strain, 0, 0.15));
+  EXPECT_GT(beyond, 0);
+  EXPECT_EQ(r.rows_beyond_strain_max, beyond);
+  EXPECT_DOUBLE_EQ(r.stretch_max, 0.15);
+  EXPECT_LT(max_abs_z(r, truth), 4.0);
+  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_fit_stretch_range";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "card.h5").string();
+  write_card(path, card_from_fit(r, d, "none"), "test");
+  const Card c = read_card(path);
+  EXPECT_DOUBLE_EQ(c.fit.stretch_max, 0.15);
+  EXPECT_DOUBLE_EQ(c.fit.strain_max, 0.0);
+  std::filesystem::remove_all(dir);
+  o.strain_max = 0.1; // both ranges at once: refused, naming the option
+  try {
+    fit_ndm(d, o);
+    FAIL() << "expected an input error";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().field, "stretch_max");
+  }
+}

@@ -83,14 +83,11 @@ t_relocated_fit() {
   "$pnc" fit --data cases.h5 --model pnc --out card.h5 --plots plots >fit.log 2>&1 ||
     { cat fit.log >&2; die "pnc fit failed in the moved tree"; }
   [ -s card.h5 ] || die "no card written"
-  local n=0 png
-  for c in 1 2 3 4 5 6; do # one PNG per case of the nanocomposite model (plot_fit.py)
-    png="plots/case$c.png"
-    [ -s "$png" ] || die "no plot $png (plots/: $(ls plots))"
-    [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || die "$png is not a PNG"
-    n=$((n + 1))
-  done
-  echo "pnc fit in the moved tree wrote $n plots: $(ls plots | tr '\n' ' ')"
+  local png=plots/fit.png # every case in one figure (scripts/plot_figures.py)
+  [ -s "$png" ] || die "no plot $png (plots/: $(ls plots))"
+  [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || die "$png is not a PNG"
+  grep -q 'src="data:image/png;base64,' card_report.html || die "card_report.html embeds no figure"
+  echo "pnc fit in the moved tree wrote $(ls plots | tr '\n' ' ') and card_report.html"
   # the documented override is honoured, and a wrong one is named in the error
   mkdir empty
   if PNC_SCRIPTS_DIR="$PWD/empty" "$pnc" fit --data cases.h5 --model pnc --out card2.h5 \

@@ -63,7 +63,7 @@ echo "$n NEEDED entries covered by Depends"
 
 for f in usr/bin/pnc usr/lib/libpnc_material.so.1 usr/lib/pkgconfig/pnc_material.pc \
   usr/lib/cmake/pnc/pncConfig.cmake usr/include/pnc/fe_material/umat.h \
-  usr/share/pnc/scripts/plot_fit.py usr/share/doc/pnc/LICENSE; do
+  usr/share/pnc/scripts/plot_figures.py usr/share/doc/pnc/LICENSE; do
   [ -e "$work/root/$f" ] || die "the package lacks /$f"
 done
 out="$(env -u PNC_SCRIPTS_DIR "$work/root/usr/bin/pnc" --version)"

@@ -15,7 +15,7 @@ want=(bin/pnc "lib/libpnc_material.so.$abi" lib/libpnc_material.so
   include/pnc/fe_material/material.hpp
   lib/cmake/pnc/pncConfig.cmake lib/cmake/pnc/pncConfigVersion.cmake lib/cmake/pnc/pncTargets.cmake
   lib/pkgconfig/pnc_material.pc
-  share/pnc/scripts/plot_fit.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
+  share/pnc/scripts/plot_figures.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
   share/pnc/scripts/plot_energy.py share/pnc/scripts/plot_G.py
   share/doc/pnc/README.md share/doc/pnc/LICENSE share/doc/pnc/CITATION.cff
   share/doc/pnc/docs/install.md share/doc/pnc/docs/plugin.md share/doc/pnc/examples)
@@ -34,10 +34,22 @@ done
 # the ABI version written once: soname and symbol version follow the header
 soname="$(readelf -d "lib/libpnc_material.so.$abi" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')"
 [ "$soname" = "libpnc_material.so.$abi" ] || die "soname '$soname', want libpnc_material.so.$abi"
-readelf --dyn-syms -W "lib/libpnc_material.so.$abi" | grep -q " pnc_material_integrate@@PNC_MATERIAL_$abi\$" ||
+# (the symbol table is read once: `readelf | grep -q` under pipefail fails when grep stops
+# reading early and readelf gets SIGPIPE)
+syms="$(readelf --dyn-syms -W "lib/libpnc_material.so.$abi")"
+grep -q " pnc_material_integrate@@PNC_MATERIAL_$abi\$" <<<"$syms" ||
   die "pnc_material_integrate is not exported with symbol version PNC_MATERIAL_$abi"
-readelf --dyn-syms -W "lib/libpnc_material.so.$abi" | grep -q " umat_@@PNC_MATERIAL_$abi\$" ||
+grep -q " umat_@@PNC_MATERIAL_$abi\$" <<<"$syms" ||
   die "umat_ is not exported with symbol version PNC_MATERIAL_$abi"
+# ABI minor m: the library file is .so.<abi>.<m>, and the functions added in 1.1 carry
+# PNC_MATERIAL_<abi>.1 (D213)
+minor="$(sed -n 's/^#define PNC_MATERIAL_ABI_VERSION_MINOR \([0-9]*\)$/\1/p' "$src/fe_material/include/pnc/fe_material/pnc_material.h")"
+[ -n "$minor" ] || die "no PNC_MATERIAL_ABI_VERSION_MINOR in pnc_material.h"
+[ -f "lib/libpnc_material.so.$abi.$minor" ] || die "lib/libpnc_material.so.$abi.$minor is missing"
+if [ "$minor" -ge 1 ]; then
+  grep -q " pnc_material_integrate2@@PNC_MATERIAL_$abi.1\$" <<<"$syms" ||
+    die "pnc_material_integrate2 is not exported with symbol version PNC_MATERIAL_$abi.1"
+fi
 
 # the plugin links only HDF5, fmt and the C/C++ runtime: no LAMMPS (GPL-2.0), deal.II or
 # Ceres (D150, D154)
@@ -55,6 +67,10 @@ grep -qx "abi_version=$abi" lib/pkgconfig/pnc_material.pc || die "pnc_material.p
 grep -q "set(PACKAGE_VERSION \"$version\")" lib/cmake/pnc/pncConfigVersion.cmake ||
   die "pncConfigVersion.cmake does not say $version"
 grep -q "PNC_MATERIAL_ABI_VERSION $abi)" lib/cmake/pnc/pncConfig.cmake || die "pncConfig.cmake lacks the ABI version"
+grep -qx "abi_version_minor=$minor" lib/pkgconfig/pnc_material.pc ||
+  die "pnc_material.pc lacks abi_version_minor=$minor"
+grep -q "PNC_MATERIAL_ABI_VERSION_MINOR $minor)" lib/cmake/pnc/pncConfig.cmake ||
+  die "pncConfig.cmake lacks the ABI minor version"
 out="$(bin/pnc --version)"
 case "$out" in "pnc $version "*) ;; *) die "pnc --version: '$out'" ;; esac
 

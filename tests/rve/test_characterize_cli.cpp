@@ -3,6 +3,7 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
 
+#include "common/page_check.hpp"
 #include "common/run_command.hpp"
 
 #include <gtest/gtest.h>
@@ -43,6 +44,29 @@ const char* tiny = R"({
   "analysis": { "moving_average": 1 },
   "run": { "jobs": 2 }
 })";
+/// report.html of a run drawn with its figures: self-contained, the verdict and every
+/// constant of the JSON summary `j`, both figures (the fit, the MD stresses) embedded; the
+/// progress line counts them.
+void expect_report_page(const std::string& out, const nlohmann::json& j, const std::string& err) {
+  const std::string html = slurp(out + "/report.html");
+  ASSERT_FALSE(html.empty());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_NE(html.find("Verdict: " + j["verdict"]["level"].get<std::string>()), std::string::npos);
+  for (const auto& [name, c] : j["constants"].items())
+    EXPECT_NE(html.find("<td>" + name + "</td>"), std::string::npos) << name;
+  EXPECT_NE(html.find("What to do next"), std::string::npos);
+  EXPECT_NE(html.find("<h2>Statistics</h2>"), std::string::npos); // report.md's details
+  std::size_t images = 0;
+  for (auto at = html.find("src=\"data:image/png;base64,iVBORw0KGgo"); at != std::string::npos;
+       at = html.find("src=\"data:image/png;base64,iVBORw0KGgo", at + 1))
+    ++images;
+  EXPECT_EQ(images, 2u) << "plots/fit.png and plots/stress.png";
+  EXPECT_TRUE(fs::exists(fs::path(out) / "plots/stress.png"));
+  EXPECT_NE(err.find("plotting 2 figures ..."), std::string::npos) << err;
+  const std::string md = slurp(out + "/report.md");
+  EXPECT_NE(md.find("](plots/stress.png)"), std::string::npos);
+  EXPECT_NE(md.find("## Verdict: "), std::string::npos);
+}
 } // namespace
 
 TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
@@ -101,10 +125,19 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   EXPECT_NE(data.stress_definition.find("zero-strain hold"), std::string::npos);
   // resume of a finished run recomputes nothing (case checkpoints untouched)
   const auto t2 = fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5");
+  // (with the figures this time: the report page of a one-replica run, D131 error bars)
   const Proc again = run("characterize " + (d / "tiny.json").string() + " --out " + out +
-                         " --resume --no-plots 2>" + (d / "err2.txt").string());
+                         " --resume 2>" + (d / "err2.txt").string());
   EXPECT_EQ(again.code, r.code); // the same data, the same fit and verdict
   EXPECT_EQ(fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5"), t2);
+  expect_report_page(out, j, slurp((d / "err2.txt").string()));
+  // the page in a real browser (here, not in the slower two-replica test): both figures decode, no
+  // console error, not blank
+  const auto page = pnc::test::render_in_chromium(out + "/report.html", d.string());
+  ASSERT_EQ(page.error, "");
+  EXPECT_EQ(page.images, (std::vector<std::string>{"ok", "ok"}));
+  EXPECT_EQ(page.console, std::vector<std::string>{});
+  EXPECT_GT(page.ink, 0.02); // text, tables and figures (a blank page is below 1 %)
   // without --resume an existing run is refused, naming --out
   const Proc refuse = run("characterize " + (d / "tiny.json").string() + " --out " + out + " 2>&1");
   EXPECT_EQ(refuse.code, 1);
@@ -186,8 +219,9 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
     times.push_back(fs::last_write_time(p));
   const auto tb = fs::last_write_time(fs::path(out) / "replica_2/build/rve.data");
   const Proc again = run("characterize " + (d / "tiny2.json").string() + " --out " + out +
-                         " --resume --no-plots 2>" + (d / "err2.txt").string());
+                         " --resume 2>" + (d / "err2.txt").string());
   EXPECT_EQ(again.code, r.code);
+  expect_report_page(out, js, slurp((d / "err2.txt").string()));
   for (std::size_t i = 0; i < ckpts.size(); ++i)
     EXPECT_EQ(fs::last_write_time(ckpts[i]), times[i]) << ckpts[i];
   EXPECT_EQ(fs::last_write_time(fs::path(out) / "replica_2/build/rve.data"), tb);

@@ -1,6 +1,7 @@
 // Stages on K = 2 MPI ranks (runner.hpp StageSpec::ranks, lammps_server.hpp): the same
 // calls give the same numbers as on one rank, a LAMMPS error on 2 ranks is reported with
 // LAMMPS's own message, and a stage killed mid-run takes its MPI server down with it.
+#include "pnc/core/error.hpp"
 #include "pnc/rve/runner.hpp"
 
 #include <gtest/gtest.h>
@@ -150,6 +151,19 @@ TEST(RveMpiStage, LammpsErrorOnTwoRanksIsReportedWithLammpsMessage) {
   EXPECT_FALSE(o.ok);
   EXPECT_NE(o.error.find("ERROR"), std::string::npos) << o.error;
   EXPECT_NE(o.error.find("no_such_pair_style"), std::string::npos) << o.error;
+  try { // the server's LAMMPS ended: a tool failure naming the command, the stage and the log
+    throw_stage_failure(o, "stage bad on 2");
+    ADD_FAILURE() << "no error";
+  } catch (const pnc::ToolError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(e.context().tool, "LAMMPS");
+    EXPECT_EQ(e.context().log_path, s.log_path);
+    EXPECT_EQ(m.rfind("LAMMPS failed while running 'pair_style no_such_pair_style 2.5' on the "
+                      "LAMMPS server (stage bad on 2): ERROR",
+                      0),
+              0u)
+        << m;
+  }
   // the parent goes on, and so does a following 2-rank stage
   const auto ok =
       run_stage({"good", (d / "good.log").string(), {}, 2}, [](Lammps& l) { l.cmd("units real"); });

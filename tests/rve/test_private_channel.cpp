@@ -1,6 +1,7 @@
 // The stage child <-> LAMMPS server channel (private_channel.hpp): a 0600 socket in a 0700
 // directory, no abstract-namespace name, peers checked by uid, ancestry and token; a stage
 // on 2 ranks still works through it and leaves nothing behind.
+#include "pnc/core/error.hpp"
 #include "pnc/rve/private_channel.hpp"
 #include "pnc/rve/runner.hpp"
 
@@ -278,6 +279,13 @@ TEST(PrivateChannel, TwoRankStageUsesThePrivateChannelAndCleansUp) {
   unsetenv("PNC_LAMMPS_SERVER");
   EXPECT_FALSE(bad.ok);
   EXPECT_NE(bad.error.find("before the LAMMPS server connected"), std::string::npos) << bad.error;
+  try { // mpirun's failure is a tool failure naming mpirun and its output file
+    throw_stage_failure(bad, "stage no server");
+    ADD_FAILURE() << "no error";
+  } catch (const pnc::ToolError& e) {
+    EXPECT_EQ(e.context().tool, "mpirun");
+    EXPECT_EQ(e.context().log_path, (d / "bad.log").string() + ".mpirun");
+  }
   std::ifstream rec(record);
   std::string sock, dir_mode, sock_mode, token_chars, argv_check;
   std::getline(rec, sock);

@@ -260,3 +260,30 @@ TEST(RveRecipe, DeepNestingAndHugeNumbersAreInputErrors) {
     std::filesystem::remove(p);
   }
 }
+
+TEST(RveRecipe, ShearAmplitudeAndStretchRangeAreOptionalAndRoundTrip) {
+  // decision D12m: deform.shear_strain_max drives cases 4-6 to their own gamma; fit.stretch_max
+  // is the fit range by lambda_max - 1, exclusive with fit.strain_max
+  const Recipe plain = parse_recipe(json::object(), "r.json");
+  EXPECT_EQ(plain.deform.shear_strain_max, 0.0);
+  EXPECT_FALSE(expanded_json(plain)["deform"].contains("shear_strain_max")); // unchanged recipes
+  EXPECT_FALSE(expanded_json(plain)["fit"].contains("stretch_max"));
+  const json j{{"deform", {{"cases", {1, 4}}, {"strain_max", 0.1}, {"shear_strain_max", 0.2}}},
+               {"fit", {{"stretch_max", 0.08}}}};
+  const Recipe r = parse_recipe(j, "r.json");
+  EXPECT_DOUBLE_EQ(r.fit_stretch_max, 0.08);
+  DeformSpec d = r.deform;
+  d.case_id = 1;
+  EXPECT_DOUBLE_EQ(d.amplitude(), 0.1);
+  d.case_id = 4;
+  EXPECT_DOUBLE_EQ(d.amplitude(), 0.2);
+  const Recipe back = parse_recipe(expanded_json(r), "expanded");
+  EXPECT_DOUBLE_EQ(back.deform.shear_strain_max, 0.2);
+  EXPECT_DOUBLE_EQ(back.fit_stretch_max, 0.08);
+  auto e = error_of(json{{"deform", {{"shear_strain_max", 0.7}}}});
+  EXPECT_EQ(e.field, "deform.shear_strain_max");
+  e = error_of(json{{"fit", {{"stretch_max", 0.08}, {"strain_max", 0.08}}}});
+  EXPECT_EQ(e.field, "fit.stretch_max");
+  e = error_of(json{{"fit", {{"stretch_max", -1.0}}}});
+  EXPECT_EQ(e.field, "fit.stretch_max");
+}

@@ -11,6 +11,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <tuple>
+#include <utility>
 
 using namespace pnc::rve;
 namespace fs = std::filesystem;
@@ -66,6 +69,76 @@ TEST(RveRunner, PncErrorInChildAndParallelStages) {
     EXPECT_TRUE(out[i].ok) << out[i].error;
   EXPECT_FALSE(out[4].ok);
   EXPECT_EQ(out[4].error.rfind("ERROR", 0), 0u) << out[4].error;
+  fs::remove_all(d);
+}
+
+namespace {
+/// The error throw_stage_failure() throws for `o`, as (exit code, what()).
+std::pair<int, std::string> thrown(const StageOutcome& o, const std::string& stage) {
+  try {
+    throw_stage_failure(o, stage);
+  } catch (const std::exception& e) {
+    return {pnc::exit_code_of(e), e.what()};
+  }
+  return {-1, ""};
+}
+} // namespace
+
+// A failed stage becomes the error of its kind (core/error.hpp, docs/errors.md): LAMMPS ending
+// the child is a ToolError (7) naming LAMMPS's message and the log; a pnc error thrown by the
+// body in the child crosses the process boundary with its kind and parts; anything else is
+// an internal error (2).
+TEST(RveRunner, FailedStagesThrowTheErrorOfTheirKind) {
+  const auto d = tmpdir("kinds");
+  std::vector<std::pair<StageSpec, StageBody>> st;
+  st.push_back(
+      {{"lmp", (d / "lmp.log").string(), {}}, [](Lammps& l) { l.cmd("no_such_command_xyz 1"); }});
+  st.push_back({{"input", (d / "in.log").string(), {}},
+                [](Lammps&) { pnc::fail("recipe.json", "deform.steps", "0", "must be >= 1"); }});
+  st.push_back({{"sim", (d / "sim.log").string(), {}}, [](Lammps&) {
+                  pnc::fail_simulation("RVE box", 4000, 4.0, "ps", "cavitated\nfatal here");
+                }});
+  st.push_back({{"tool", (d / "tool.log").string(), {}},
+                [](Lammps&) { pnc::fail_tool("mpirun", "starting", "exit 1", "m.log"); }});
+  st.push_back({{"bug", (d / "bug.log").string(), {}},
+                [](Lammps&) { throw std::out_of_range("vector::at"); }});
+  const auto out = run_stages(st, 2);
+  ASSERT_EQ(out.size(), 5u);
+  for (const auto& o : out)
+    ASSERT_FALSE(o.ok) << o.name;
+
+  EXPECT_FALSE(out[0].child_error); // LAMMPS ended the child, no pnc error
+  auto [code, what] = thrown(out[0], "stage lmp");
+  EXPECT_EQ(code, pnc::exit_code::tool_failed);
+  EXPECT_EQ(what.rfind("LAMMPS failed while running stage lmp: ERROR", 0), 0u) << what;
+  EXPECT_NE(what.find("no_such_command_xyz"), std::string::npos) << what;
+  EXPECT_NE(what.find("(log " + (d / "lmp.log").string() + ")"), std::string::npos) << what;
+
+  std::tie(code, what) = thrown(out[1], "stage input"); // as before this contract
+  EXPECT_EQ(code, pnc::exit_code::bad_input);
+  EXPECT_EQ(what, (d / "in.log").string() +
+                      ": field 'stage input': recipe.json: field 'deform.steps': value '0': "
+                      "must be >= 1");
+
+  try {
+    throw_stage_failure(out[2], "stage sim");
+    FAIL() << "no error";
+  } catch (const pnc::SimulationError& e) {
+    EXPECT_EQ(e.exit_code(), pnc::exit_code::simulation_failed);
+    EXPECT_EQ(e.context().entity, "stage sim: RVE box");
+    EXPECT_EQ(e.context().step, 4000);
+    EXPECT_EQ(e.context().time, 4.0); // %.17g through the file: exact
+    EXPECT_EQ(e.context().time_unit, "ps");
+    EXPECT_EQ(e.context().message, "cavitated fatal here (log " + (d / "sim.log").string() + ")");
+  }
+
+  std::tie(code, what) = thrown(out[3], "stage tool");
+  EXPECT_EQ(code, pnc::exit_code::tool_failed);
+  EXPECT_EQ(what, "mpirun failed while starting (stage tool): exit 1 (log m.log)");
+
+  std::tie(code, what) = thrown(out[4], "stage bug");
+  EXPECT_EQ(code, pnc::exit_code::internal_error);
+  EXPECT_NE(what.find("vector::at"), std::string::npos) << what;
   fs::remove_all(d);
 }
 

@@ -62,9 +62,12 @@ TEST(ThermoCli, TiErrorsNameTheInput) {
                      " --vol 0 --dev none --points 2 --equil-steps 10 --prod-steps 30 "
                      "--sample-every 10 --blocks 3 --no-plots --out " +
                      (d / "o").string());
-  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(r.code, 7) << r.out; // LAMMPS refused the file: a tool failure (docs/errors.md)
+  EXPECT_NE(r.out.find("pnc: error: LAMMPS failed while running lambda point"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("ERROR"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("read_restart"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(".log)"), std::string::npos) << r.out; // the stage log to read
   r = run_err("thermo ti --restart " + (d / "missing").string() + " --out " + (d / "o2").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("no such LAMMPS restart file"), std::string::npos) << r.out;

@@ -344,8 +344,10 @@ TEST(ThermoTi, LammpsErrorIsReportedWithItsMessage) {
         {{j, polymer_system(spec, {"ref", 0, "ref"}, bogus, rve::polymer_forcefield_commands({}))}},
         false, 1, nullptr);
     FAIL() << "no error";
-  } catch (const pnc::InputError& e) {
+  } catch (const pnc::ToolError& e) {
     const std::string m = e.what();
+    EXPECT_EQ(e.context().tool, "LAMMPS");
+    EXPECT_EQ(e.context().log_path, (d / "p.log").string());
     EXPECT_NE(m.find("ERROR"), std::string::npos) << m;
     EXPECT_NE(m.find("read_restart"), std::string::npos) << m;
   }

@@ -279,7 +279,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
                                       rate_child(l, spec, g, rate, seed, rf.h5);
                                     }));
       pnc::throw_if_stopped(fmt::format("bending rate {} stopped; finished rates are kept", rate));
-      if (!o.ok) fail(o.log_path, fmt::format("bending rate {} A/fs", rate), "", o.error);
+      if (!o.ok) rve::throw_stage_failure(o, fmt::format("bending rate {} A/fs", rate));
       ++ran;
     }
     res.rates.push_back(read_rate(rf.h5));

@@ -8,6 +8,7 @@
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/lammps_path.hpp"
+#include "pnc/rve/runner.hpp"
 #include "pnc/rve/stage_stop.hpp"
 
 #include <lammps/library.h>
@@ -240,7 +241,7 @@ void run_points(const SamplingSpec& s,
     pnc::throw_if_stopped("the running lambda points stopped; finished points are kept");
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       if (!outcomes[i].ok)
-        fail(outcomes[i].log_path, "lambda point " + outcomes[i].name, "", outcomes[i].error);
+        rve::throw_stage_failure(outcomes[i], "lambda point " + outcomes[i].name);
       ++done;
       const double el = seconds_since(t0);
       const int left = total - done;

@@ -139,6 +139,9 @@ struct ParamSection {
   std::string text;    ///< one line: what the section is
   std::string applies; ///< "" always; else when it applies ("models kg, kg_platelet")
   bool opaque = false; ///< read by other code: its keys are not declared here (read() copies it)
+  /// optional_section: whether the input has the section is itself a value, bound to a bool
+  std::function<void(bool)> store_given;
+  std::function<bool()> load_given;
 };
 
 class Parameters {
@@ -153,6 +156,12 @@ public:
   /// A section that other code reads (declared so that read() accepts it and the tables list
   /// it); read() checks only that it is an object and returns it unchanged.
   Parameters& opaque_section(const std::string& path, std::string text, std::string applies = "");
+  /// A section whose presence is itself an input (e.g. a recipe's "slurm": settings kept only
+  /// when given): read() sets `given` to whether the input has it (and returns it only then),
+  /// values() writes it only while `given` is true, to_toml() writes it commented out. Its
+  /// entries are declared next, as in any section.
+  Parameters& optional_section(const std::string& path, bool& given, std::string text,
+                               std::string applies = "");
 
   /// Entries of the open section, bound to `target`; the default is target's value now.
   Parameter& boolean(const std::string& key, bool& target, std::string text);
@@ -189,10 +198,12 @@ public:
   nlohmann::json defaults() const;
   /// The bound variables' values now, every declared entry by its key (an entry without a
   /// default left out while it holds its "not given" value, an entry marked omit_when_default
-  /// while it holds its default; opaque sections left out): the expanded form of an input.
+  /// while it holds its default; opaque sections, and optional ones not given, left out): the
+  /// expanded form of an input.
   nlohmann::json values() const;
 
   /// The declarations as JSON: {"title", "sections": [{"path", "text", "applies", "opaque",
+  /// "optional",
   /// "parameters": [{"name", "type", "default", "unit", "text", "range", ...}]}]}.
   nlohmann::json to_json() const;
   /// A commented TOML template: every section as a table, every entry with its default (entries

@@ -14,7 +14,8 @@
 //                       reasons (one per line; each "not usable: ..." or "warning: ...")
 //   /fit                attrs also: error_model, alpha_choice, chi2, dof, chi2_p,
 //                       strain_max (fit range, dimensionless; 0 = every row; D12h),
-//                       rows_beyond_strain_max
+//                       rows_beyond_strain_max (rows beyond either range),
+//                       stretch_max (fit range by lambda_max - 1; present when used; D12m)
 //   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa),
 //                       chi^2 of the curve (NaN without data errors), runs, expected runs,
 //                       runs-test p, lag-1 autocorrelation of the residuals
@@ -39,6 +40,8 @@ struct FitRecord {
   /// (dimensionless); rows of the data left out by it
   double strain_max = 0;
   int rows_beyond_strain_max = 0;
+  /// fit range by stretch (D12m): largest lambda_max - 1 of the fitted rows, 0 = none
+  double stretch_max = 0;
   double chi2 = std::numeric_limits<double>::quiet_NaN(), chi2_p = chi2;
   int dof = 0;
   bool converged = false;

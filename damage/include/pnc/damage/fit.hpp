@@ -66,6 +66,12 @@ struct FitOptions {
   /// component |e| (engineering shear) is at most strain_max are fitted; 0 = every row.
   /// Dimensionless. The card records it: beyond it the law is extrapolated.
   double strain_max = 0;
+  /// Fit range by stretch (decision D12m), exclusive with strain_max: only the leading rows of
+  /// every curve whose largest principal stretch minus one, lambda_max - 1 of docs/theory.md
+  /// eq. (1.4), is at most stretch_max are fitted; 0 = every row. Dimensionless. The same
+  /// bound admits a normal strain e and a simple shear gamma ~ 2 e: the range the damage
+  /// driver sees, whatever the case.
+  double stretch_max = 0;
 
   /// Throws pnc::InputError naming the option and the constraint it breaks.
   void validate() const;
@@ -109,6 +115,7 @@ struct FitReport {
   /// FitOptions::strain_max of the fit (0 = every row), and the rows left out by it
   double strain_max = 0;
   int rows_beyond_strain_max = 0;
+  double stretch_max = 0; ///< FitOptions::stretch_max (rows beyond it are counted above too)
   /// the caller's FitOptions::undefined, as given (names and reasons)
   std::vector<UndefinedConstant> declared_undefined;
   /// "data standard errors" or "sandwich (HC3)": where the standard errors come from
@@ -136,6 +143,11 @@ struct FitReport {
 /// Fit. Throws pnc::InputError for data the model cannot use (a missing extension case, a
 /// case the model does not have, too few points).
 FitReport fit_ndm(const StressStrainData& data, const FitOptions& options);
+
+/// The number of leading rows of a strain path inside the fit range: every strain component
+/// |e| <= strain_max (when > 0) and lambda_max - 1 <= stretch_max (when > 0); all rows when
+/// both are 0 (decisions D12h, D12m). One rule for the fit and everything that judges it.
+Eigen::Index rows_in_fit_range(const PathMatrix& strain, double strain_max, double stretch_max);
 
 /// The dissertation's per-case linear regressions alone (cross-check).
 std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model model, double alpha);

@@ -154,6 +154,30 @@ struct ErrorBuffer {
   void set(const char* text);
 };
 
+/// Which tangent an integration returns (the plugin's tangent_request, decision D211).
+///  none       : no tangent (K is not written even when given)
+///  elastic    : the undamaged stiffness C0 in the global frame, T^T C0 T
+///  secant     : the secant stiffness of the end state, T^T (C0 + C1(D1)) T, so that
+///               sigma = K eps exactly (no damage-growth term)
+///  consistent : d sigma / d eps of the increment: the secant plus the damage-growth term of
+///               every loading mode (in general not symmetric)
+enum class TangentKind { none = 0, elastic = 1, secant = 2, consistent = 3 };
+
+/// Energy densities of an increment, in the units of the constants times strain^2 (J/m^3 for
+/// a card in Pa); decision D212. The NDM is a secant law, sigma = S(D) eps with
+/// S(D) = T^T (C0 + C1(D)) T, so
+///  stored     = psi(eps1, D1) = 1/2 eps1 . S(D1) eps1 = 1/2 sigma1 . eps1 (a state value at
+///               the end of the increment, not an increment);
+///  dissipated = psi(eps1, D0) - psi(eps1, D1) = -1/2 sum_m (D1_m - D0_m) eps1 . dS/dD_m eps1,
+///               the energy released by this increment's damage growth at the end strain
+///               (D0 = D(kappa0) as the kernel computes it from the start state). Then
+///               stored1 - stored0 + dissipated = 1/2 (eps1 - eps0) . S(D0) (eps1 + eps0)
+///               exactly: the work of the frozen-damage stress over the increment.
+struct NdmEnergy {
+  double stored = 0.0;
+  double dissipated = 0.0;
+};
+
 /// Integrate the NDM over one strain increment (MGIS-style).
 ///  p     : parameters (constants and platelet rotation)
 ///  s0    : state at the start of the increment (read only)
@@ -164,15 +188,18 @@ struct ErrorBuffer {
 ///          includes the damage-growth term when a mode is loading.
 /// Returns Status::ok, or Status::bad_input (non-finite strain or parameter) with a message
 /// in err; s1 and sigma are then untouched.
+/// The one routine of the prepared overload below (D210), prepared for this call only (damage
+/// pieces of damaged modes alone): the same numbers as integrate(prepare(p), ...).
 Status integrate(const NdmParameters& p, const NdmState& s0, NdmState& s1, const Voigt& eps0,
                  const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
 
 /// Parameters with what integrate() would otherwise recompute at every call done once: the
 /// strain rotation T(R) (identity for an aligned platelet) and the global-frame stiffness
 /// pieces C0g = T^T C0 T and dC1g_m = T^T (d C1 / d D_m) T (C1 is linear in D; both stored
-/// exactly symmetric, as they are mathematically). Build it with
-/// prepare() when the parameters are fixed for many calls (the material plugin does); the
-/// result of integrate() is the same as with the NdmParameters overload up to rounding.
+/// exactly symmetric, as they are mathematically; without rotation they are C0 and dC1/dD_m
+/// as assembled, with no product). Build it with prepare() when the parameters are fixed for
+/// many calls (the material plugin does). It is the only integration route: the
+/// NdmParameters overload prepares and calls it (decision D210).
 /// A plain value: copy it, share it read-only between threads; rebuild it if p changes.
 struct PreparedNdm {
   NdmParameters p;
@@ -182,15 +209,24 @@ struct PreparedNdm {
   std::array<Matrix6, 3> dC1g{};
 };
 PreparedNdm prepare(const NdmParameters& p);
-/// integrate() with prepared parameters (same contract as above).
+/// integrate() with prepared parameters (same contract as above); `kind` chooses the tangent
+/// written into K (ignored when K is null) and `energy`, when not null, receives the energy
+/// densities of the increment.
 Status integrate(const PreparedNdm& q, const NdmState& s0, NdmState& s1, const Voigt& eps0,
-                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err);
+                 const Voigt& deps, Voigt& sigma, Matrix6* K, ErrorBuffer& err,
+                 TangentKind kind = TangentKind::consistent, NdmEnergy* energy = nullptr);
 /// The same over plain arrays, the layout of the C plugin ABI, without intermediate copies:
 /// eps0[6], deps[6] and sigma[6] in Voigt order, the tangent written row-major into
 /// K_row_major[0..35] (not computed when null). Equal to the Matrix6 overload entry by entry.
 Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s1,
                            const double* eps0, const double* deps, double* sigma,
-                           double* K_row_major, ErrorBuffer& err);
+                           double* K_row_major, ErrorBuffer& err,
+                           TangentKind kind = TangentKind::consistent, NdmEnergy* energy = nullptr);
+
+/// Damage of one mode at the largest stretch kappa, as integrate() computes it: 0 up to the
+/// onset kappa = alpha lambda_c, D(kappa / alpha) beyond; `slope` (if not null) receives
+/// dD/dkappa (1/stretch). Dimensionless.
+double damage_of_kappa(const NdmParameters& p, double kappa, double* slope = nullptr);
 
 /// Drive the kernel along a strain path from a virgin state; returns stresses (rows) and,
 /// if states is not null, the state after each point. Used by the fit, the synthetic data

@@ -14,6 +14,12 @@
 //   std::array<double, 36> K;                      // row-major d sigma / d eps, Pa
 //   mat.integrate(s0, s1, eps0, deps, sig, &K);    // throws pnc::fe_material::Error
 //
+//   // ABI 1.1: tangent on request, energies, properties, state indices
+//   auto e = mat.integrate2(s0.data(), s1.data(), eps0.data(), deps.data(), sig.data(),
+//                           K.data(), PNC_MATERIAL_TANGENT_SECANT);    // e.stored, e.dissipated
+//   double onset = mat.property("damage_onset_stretch");
+//   int k2 = mat.state_index("kappa2");
+//
 // Units and Voigt order as in pnc_material.h: Pa, 11,22,33,23,13,12, engineering shear
 // strain. A Material is move-only; integrate() is const and may be called from many threads
 // on one Material. A Material made by a Plugin keeps the plugin loaded while it exists.
@@ -69,6 +75,24 @@ struct Api {
   pnc_material_umat_props_fn umat_props = nullptr;
   pnc_material_umat_prop_name_fn umat_prop_name = nullptr;
   pnc_material_umat_prop_units_fn umat_prop_units = nullptr;
+  // ABI 1.1 (null for a plugin older than minor 1; the methods that need them throw)
+  pnc_material_abi_version_minor_fn abi_version_minor = nullptr;
+  pnc_material_integrate2_fn integrate2 = nullptr;
+  pnc_material_property_fn property = nullptr;
+  pnc_material_n_properties_fn n_properties = nullptr;
+  pnc_material_property_name_fn property_name = nullptr;
+  pnc_material_property_units_fn property_units = nullptr;
+  pnc_material_elastic_stiffness_fn elastic_stiffness = nullptr;
+  pnc_material_damage_stiffness_fn damage_stiffness = nullptr;
+  pnc_material_state_index_fn state_index = nullptr;
+  pnc_material_model_n_constants_fn model_n_constants = nullptr;
+  pnc_material_model_constant_name_fn model_constant_name = nullptr;
+  /// All of ABI 1.1 is there.
+  bool has_v2() const noexcept {
+    return abi_version_minor && integrate2 && property && n_properties && property_name &&
+           property_units && elastic_stiffness && damage_stiffness && state_index &&
+           model_n_constants && model_constant_name;
+  }
 };
 
 namespace detail {
@@ -88,6 +112,29 @@ struct Library {
 
 inline std::string str(const char* s) {
   return s ? std::string(s) : std::string();
+}
+
+/// Throws when the library lacks ABI 1.1 (`what` names the function the caller needs).
+inline void require_v2(const Library& lib, const char* what) {
+  if (!lib.api.has_v2())
+    throw Error("pnc::fe_material: '" + lib.path + "': symbol '" + what +
+                "' is missing: the plugin predates ABI " +
+                std::to_string(PNC_MATERIAL_ABI_VERSION) +
+                ".1 (pnc_material_integrate2 and the property queries); use a newer "
+                "libpnc_material");
+}
+
+/// The constant names of a model through a library's ABI 1.1 query.
+inline std::vector<std::string> model_constant_names(const Library& lib, const std::string& model) {
+  require_v2(lib, "pnc_material_model_constant_name");
+  const int n = lib.api.model_n_constants(model.c_str());
+  if (n == 0)
+    throw Error("pnc::fe_material: field 'model': value '" + model +
+                "': must be 'pnc' (nanocomposite) or 'pp' (pure polymer)");
+  std::vector<std::string> out;
+  for (int i = 0; i < n; ++i)
+    out.push_back(str(lib.api.model_constant_name(model.c_str(), i)));
+  return out;
 }
 
 } // namespace detail
@@ -229,6 +276,112 @@ public:
   /// The card's verdict: "usable", "usable with warnings" or "not usable".
   std::string verdict() const { return detail::str(api().verdict(m_)); }
 
+  // ---- ABI 1.1 (pnc_material_integrate2 and the queries; docs/plugin.md "ABI 1.1"). Every
+  // method below throws Error when the library predates it.
+
+  /// Energy densities of one increment (J/m^3), as in pnc_material_point.
+  struct Energies {
+    double stored = 0.0;     ///< 1/2 stress . strain at the end of the increment
+    double dissipated = 0.0; ///< dissipated in the increment (psi(eps1, D0) - psi(eps1, D1))
+  };
+  /// One increment through pnc_material_integrate2, no exceptions: fills a point (size,
+  /// version, the arrays, tangent_request = PNC_MATERIAL_TANGENT_*, dt in s) and returns the
+  /// status; the message goes to err, the energies to *energies (may be null).
+  int try_integrate2(const double* state0, double* state1, const double* eps0, const double* deps,
+                     double* stress, double* tangent, int tangent_request, Energies* energies,
+                     char* err, std::size_t errlen, double dt = 0.0) const noexcept {
+    if (!api().integrate2) {
+      detail_copy(err, errlen, "pnc_material_integrate2 is missing: the plugin predates ABI 1.1");
+      return PNC_MATERIAL_INTERNAL;
+    }
+    pnc_material_point pt;
+    pnc_material_point_init(&pt);
+    pt.dt = dt;
+    pt.tangent_request = tangent_request;
+    pt.state0 = state0;
+    pt.state1 = state1;
+    pt.strain0 = eps0;
+    pt.dstrain = deps;
+    pt.stress = stress;
+    pt.tangent = tangent;
+    pt.err = err;
+    pt.err_len = errlen;
+    const int st = api().integrate2(m_, &pt);
+    if (st == PNC_MATERIAL_OK && energies) *energies = {pt.stored_energy, pt.dissipated_energy};
+    return st;
+  }
+  /// The same; throws Error (naming the field, the value and the rule) on failure.
+  Energies integrate2(const double* state0, double* state1, const double* eps0, const double* deps,
+                      double* stress, double* tangent = nullptr,
+                      int tangent_request = PNC_MATERIAL_TANGENT_NONE, double dt = 0.0) const {
+    detail::require_v2(*lib_, "pnc_material_integrate2");
+    char err[640] = {0};
+    Energies e;
+    const int st = try_integrate2(state0, state1, eps0, deps, stress, tangent, tangent_request, &e,
+                                  err, sizeof err, dt);
+    if (st != PNC_MATERIAL_OK) throw Error(err, st);
+    return e;
+  }
+  /// A property by name (pnc_material_property; units from property_units()); throws Error
+  /// for a name the material does not have.
+  double property(const std::string& name) const {
+    detail::require_v2(*lib_, "pnc_material_property");
+    int st = PNC_MATERIAL_OK;
+    const double v = api().property(m_, name.c_str(), &st);
+    if (st != PNC_MATERIAL_OK)
+      throw Error("pnc::fe_material::Material::property: field '" + name +
+                      "': not a property of this material (property_names() lists them)",
+                  st);
+    return v;
+  }
+  /// Every property name, and the units of each ("Pa", "1"), in the library's order.
+  std::vector<std::string> property_names() const {
+    detail::require_v2(*lib_, "pnc_material_property_name");
+    std::vector<std::string> out;
+    for (int i = 0; i < api().n_properties(m_); ++i)
+      out.push_back(detail::str(api().property_name(m_, i)));
+    return out;
+  }
+  std::vector<std::string> property_units() const {
+    detail::require_v2(*lib_, "pnc_material_property_units");
+    std::vector<std::string> out;
+    for (int i = 0; i < api().n_properties(m_); ++i)
+      out.push_back(detail::str(api().property_units(m_, i)));
+    return out;
+  }
+  /// [C0] in the global frame, row-major, Pa.
+  Tangent36 elastic_stiffness() const {
+    detail::require_v2(*lib_, "pnc_material_elastic_stiffness");
+    Tangent36 C{};
+    api().elastic_stiffness(m_, C.data());
+    return C;
+  }
+  /// d[C]/dD of damage mode `mode` (0-based, < n_damage_modes()), global frame, Pa.
+  Tangent36 damage_stiffness(int mode) const {
+    detail::require_v2(*lib_, "pnc_material_damage_stiffness");
+    Tangent36 C{};
+    if (api().damage_stiffness(m_, mode, C.data()) != PNC_MATERIAL_OK)
+      throw Error("pnc::fe_material::Material::damage_stiffness: argument 'mode': value '" +
+                  std::to_string(mode) + "': must be 0.." + std::to_string(n_damage_modes() - 1));
+    return C;
+  }
+  /// Number of damage modes (3 for pnc, 1 for pp).
+  int n_damage_modes() const { return static_cast<int>(property("n_damage_modes")); }
+  /// Index of a state variable by name ("kappaK", "DK" for every mode K); throws Error if
+  /// the material has no such variable.
+  int state_index(const std::string& name) const {
+    detail::require_v2(*lib_, "pnc_material_state_index");
+    const int i = api().state_index(m_, name.c_str());
+    if (i < 0)
+      throw Error("pnc::fe_material::Material::state_index: field '" + name +
+                  "': not a state variable of model " + model());
+    return i;
+  }
+  /// The constant names of a model, in the order from_constants() takes (linked library).
+  static std::vector<std::string> model_constant_names(const std::string& model) {
+    return detail::model_constant_names(*linked(), model);
+  }
+
   /// The C handle, for code that calls the C ABI directly.
   const pnc_material* get() const noexcept { return m_; }
 
@@ -247,6 +400,13 @@ private:
   void reset() noexcept {
     if (m_) lib_->api.destroy(m_);
     m_ = nullptr;
+  }
+  static void detail_copy(char* dst, std::size_t n, const char* text) noexcept {
+    if (!dst || n == 0) return;
+    std::size_t k = 0;
+    for (; text[k] && k + 1 < n; ++k)
+      dst[k] = text[k];
+    dst[k] = '\0';
   }
 
   static std::shared_ptr<const detail::Library> linked() {
@@ -272,6 +432,17 @@ private:
     a.umat_props = &pnc_material_umat_props;
     a.umat_prop_name = &pnc_material_umat_prop_name;
     a.umat_prop_units = &pnc_material_umat_prop_units;
+    a.abi_version_minor = &pnc_material_abi_version_minor;
+    a.integrate2 = &pnc_material_integrate2;
+    a.property = &pnc_material_property;
+    a.n_properties = &pnc_material_n_properties;
+    a.property_name = &pnc_material_property_name;
+    a.property_units = &pnc_material_property_units;
+    a.elastic_stiffness = &pnc_material_elastic_stiffness;
+    a.damage_stiffness = &pnc_material_damage_stiffness;
+    a.state_index = &pnc_material_state_index;
+    a.model_n_constants = &pnc_material_model_n_constants;
+    a.model_constant_name = &pnc_material_model_constant_name;
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
@@ -340,11 +511,30 @@ public:
     resolve_optional(*lib, "pnc_material_umat_props", a.umat_props);
     resolve_optional(*lib, "pnc_material_umat_prop_name", a.umat_prop_name);
     resolve_optional(*lib, "pnc_material_umat_prop_units", a.umat_prop_units);
+    resolve_optional(*lib, "pnc_material_abi_version_minor", a.abi_version_minor);
+    resolve_optional(*lib, "pnc_material_integrate2", a.integrate2);
+    resolve_optional(*lib, "pnc_material_property", a.property);
+    resolve_optional(*lib, "pnc_material_n_properties", a.n_properties);
+    resolve_optional(*lib, "pnc_material_property_name", a.property_name);
+    resolve_optional(*lib, "pnc_material_property_units", a.property_units);
+    resolve_optional(*lib, "pnc_material_elastic_stiffness", a.elastic_stiffness);
+    resolve_optional(*lib, "pnc_material_damage_stiffness", a.damage_stiffness);
+    resolve_optional(*lib, "pnc_material_state_index", a.state_index);
+    resolve_optional(*lib, "pnc_material_model_n_constants", a.model_n_constants);
+    resolve_optional(*lib, "pnc_material_model_constant_name", a.model_constant_name);
     lib_ = std::move(lib);
   }
 
   const std::string& path() const { return lib_->path; }
   int abi_version() const { return lib_->api.abi_version(); }
+  /// The library's minor ABI version (0 when it predates the query, i.e. ABI 1.0).
+  int abi_version_minor() const {
+    return lib_->api.abi_version_minor ? lib_->api.abi_version_minor() : 0;
+  }
+  /// The constant names of a model, in the order from_constants() takes (ABI 1.1).
+  std::vector<std::string> model_constant_names(const std::string& model) const {
+    return detail::model_constant_names(*lib_, model);
+  }
   const Api& api() const { return lib_->api; }
 
   /// Reads a material card through the plugin (a "not usable" card as in Material::from_card).

@@ -28,9 +28,19 @@
 #define PNC_FE_MATERIAL_PNC_MATERIAL_H
 
 #include <stddef.h>
+#include <stdint.h>
 
-/* Bumped on any incompatible change of the functions or the conventions above. */
+/* The ABI version, written here and nowhere else (docs/decisions.md D153, D213).
+ * MAJOR: bumped on any incompatible change of the functions or the conventions above; it is
+ * the soname (libpnc_material.so.MAJOR) and pnc_material_abi_version().
+ * MINOR: bumped when functions are added compatibly (a program built against MAJOR.m runs
+ * with any library MAJOR.n, n >= m); the library file is libpnc_material.so.MAJOR.MINOR and
+ * the symbols added in MINOR carry the symbol version PNC_MATERIAL_MAJOR.MINOR.
+ * 1.0: the first ABI (pnc_material_integrate, the queries, UMAT PROPS metadata).
+ * 1.1: the v2 point interface (pnc_material_point, pnc_material_integrate2), property and
+ *      state-index queries. */
 #define PNC_MATERIAL_ABI_VERSION 1
+#define PNC_MATERIAL_ABI_VERSION_MINOR 1
 
 #if defined(_WIN32)
 #if defined(PNC_MATERIAL_BUILDING)
@@ -48,11 +58,12 @@
 extern "C" {
 #endif
 
-/* Status codes of pnc_material_integrate(). */
+/* Status codes of pnc_material_integrate(), pnc_material_integrate2() and the queries. */
 #define PNC_MATERIAL_OK 0
 #define PNC_MATERIAL_BAD_INPUT 1    /* non-finite strain or state, or a non-finite result */
 #define PNC_MATERIAL_BAD_ARGUMENT 2 /* NULL material or array where one is required */
 #define PNC_MATERIAL_INTERNAL 3     /* unexpected failure inside the library */
+#define PNC_MATERIAL_UNKNOWN_NAME 4 /* a property or state name the material does not have */
 
 /* Number of Voigt components, and of tangent entries. */
 #define PNC_MATERIAL_NTENS 6
@@ -149,6 +160,132 @@ PNC_MATERIAL_API int pnc_material_umat_props(const pnc_material* m, unsigned fla
 PNC_MATERIAL_API const char* pnc_material_umat_prop_name(const pnc_material* m, int i);
 PNC_MATERIAL_API const char* pnc_material_umat_prop_units(const pnc_material* m, int i);
 
+/* ======================================================================================
+ * ABI 1.1: the v2 point interface and the property queries (docs/plugin.md "ABI 1.1").
+ * In the spirit of the MGIS behaviour data view: one extensible struct per call.
+ * ====================================================================================== */
+
+/* The minor ABI version the library was built with (PNC_MATERIAL_ABI_VERSION_MINOR). A host
+ * that uses the functions below needs a library with minor >= 1; dlopen()-based hosts
+ * should check it (pnc::fe_material::Plugin does, lazily, by symbol). */
+PNC_MATERIAL_API int pnc_material_abi_version_minor(void);
+
+/* tangent_request of pnc_material_point: which 6x6 tangent the call writes (Pa, row-major,
+ * tangent[6*i + j] = d sigma_i / d eps_j, engineering shear strain, global frame). */
+#define PNC_MATERIAL_TANGENT_NONE 0    /* no tangent; point.tangent may be NULL */
+#define PNC_MATERIAL_TANGENT_ELASTIC 1 /* the undamaged stiffness [C0] (symmetric) */
+#define PNC_MATERIAL_TANGENT_SECANT                                                                \
+  2 /* [C0] + [C1(D)] of the END state: stress = K strain                                          \
+       exactly; symmetric, no damage-growth term */
+#define PNC_MATERIAL_TANGENT_CONSISTENT                                                            \
+  3 /* d stress / d strain of the increment: the secant                                            \
+       plus the damage-growth term of each loading mode                                            \
+       (in general not symmetric); what                                                            \
+       pnc_material_integrate() returns */
+
+/* The version of the layout below; the layout only ever grows at the end. */
+#define PNC_MATERIAL_POINT_VERSION 1
+
+/* One integration point and increment: inputs, outputs and the error buffer of
+ * pnc_material_integrate2(). The caller owns the struct and every array it points to; the
+ * library keeps no pointer after the call returns. Arrays as in pnc_material_integrate():
+ * Voigt 11, 22, 33, 23, 13, 12, engineering shear strain, stress in Pa.
+ *
+ * Set size = sizeof(pnc_material_point) and version = PNC_MATERIAL_POINT_VERSION (or call
+ * pnc_material_point_init()). The library reads and writes only the first `size` bytes: a
+ * smaller struct from an older header is accepted as long as it reaches `tangent` (its
+ * missing trailing outputs are simply not written; without err/err_len there is no message);
+ * a version newer than the library knows is refused (PNC_MATERIAL_BAD_ARGUMENT, with a
+ * message when the struct reaches err_len: the layout is append-only). */
+typedef struct pnc_material_point {
+  uint32_t size;            /* bytes of this struct as the caller compiled it */
+  uint32_t version;         /* PNC_MATERIAL_POINT_VERSION of the caller's header */
+  double dt;                /* time increment, s: finite and >= 0; the law is rate-independent
+                               and does not use it otherwise */
+  int tangent_request;      /* PNC_MATERIAL_TANGENT_NONE / ELASTIC / SECANT / CONSISTENT */
+  const double* state0;     /* state at the start, pnc_material_n_state() entries (in) */
+  double* state1;           /* state at the end (out; may alias state0) */
+  const double* strain0;    /* total strain at the start, 6 entries (in) */
+  const double* dstrain;    /* strain increment, 6 entries (in) */
+  double* stress;           /* Cauchy stress at the end, Pa, 6 entries (out) */
+  double* tangent;          /* 36 entries, Pa (out); NULL only with TANGENT_NONE */
+  double stored_energy;     /* out, J/m^3: the elastic energy density stored at the END of the
+                               increment, 1/2 stress . strain (a state value, not an
+                               increment; the NDM is a secant law) */
+  double dissipated_energy; /* out, J/m^3: the energy density dissipated IN this increment,
+                             psi(eps1, D0) - psi(eps1, D1): the stored energy released by the
+                             increment's damage growth at the end strain (0 without growth).
+                             Exact identity: stored1 - stored0 + dissipated =
+                             1/2 (eps1 - eps0) . [S(D0)] (eps1 + eps0), the work of the
+                             stress with the damage of the start state. The fitted law does
+                             not guarantee it is >= 0 for every strain (docs/plugin.md). */
+  char* err;                /* caller's buffer for one NUL-terminated message, or NULL */
+  size_t err_len;           /* bytes of err (0 for none) */
+} pnc_material_point;
+
+/* Zeroes a point and sets size and version for this header. */
+static inline void pnc_material_point_init(pnc_material_point* point) {
+  size_t i;
+  unsigned char* b = (unsigned char*)point;
+  for (i = 0; i < sizeof *point; ++i)
+    b[i] = 0;
+  point->size = (uint32_t)sizeof *point;
+  point->version = PNC_MATERIAL_POINT_VERSION;
+}
+
+/* Integrates the law over one increment described by *point. Returns PNC_MATERIAL_OK or:
+ *  PNC_MATERIAL_BAD_ARGUMENT: NULL material or point, a size smaller than the fields up to
+ *    `tangent`, an unknown (newer) version, an unknown tangent_request, a NULL array that is
+ *    required (tangent is required unless TANGENT_NONE);
+ *  PNC_MATERIAL_BAD_INPUT: a non-finite or negative dt, a non-finite strain or state, or a
+ *    non-finite result (stress, state, tangent or energies);
+ *  PNC_MATERIAL_INTERNAL: an unexpected failure.
+ * On failure nothing but err is written. Never OK with a non-finite output. */
+PNC_MATERIAL_API int pnc_material_integrate2(const pnc_material* m, pnc_material_point* point);
+
+/* Scalar properties of the material, by name (units in docs/plugin.md and from
+ * pnc_material_property_units()). All are of the undamaged law in the GLOBAL frame (the
+ * platelet rotation applied), computed once, at the first query:
+ *   elastic_stiffness_IJ   (I, J = 1..6) [C0], Pa, engineering Voigt
+ *   damage_stiffness_K_IJ  (K = 1..n_damage_modes) d[C]/dD_K, Pa per unit damage
+ *   n_damage_modes         3 (pnc) or 1 (pp)
+ *   critical_stretch       lambda_c = (26/7)^(1/6), 1
+ *   damage_onset_stretch   alpha * lambda_c: a mode damages once its stretch exceeds it, 1
+ *   p_wave_modulus_max     the largest P-wave (longitudinal) modulus over all propagation
+ *                          directions, max_n max eig of the acoustic tensor C_ijkl n_j n_l,
+ *                          Pa; c = sqrt(p_wave_modulus_max / rho) bounds every wave speed
+ *   youngs_modulus_I       (I = 1..3) 1 / S_II, S = [C0]^-1, Pa
+ *   shear_modulus_23, _13, _12   1 / S_44, 1 / S_55, 1 / S_66, Pa
+ *   poisson_ratio_IJ       (IJ = 12, 13, 23, 21, 31, 32) -S_IJ / S_II: lateral strain in J
+ *                          per axial strain in I, 1
+ * Unknown name or NULL: NaN with *status = PNC_MATERIAL_UNKNOWN_NAME (BAD_ARGUMENT for a NULL
+ * material, INTERNAL if the properties cannot be computed); status may be NULL. */
+PNC_MATERIAL_API double pnc_material_property(const pnc_material* m, const char* name, int* status);
+/* Enumeration: the number of properties, the name and the units ("Pa", "1") of property i
+ * (0-based); NULL outside. Strings live as long as the material. */
+PNC_MATERIAL_API int pnc_material_n_properties(const pnc_material* m);
+PNC_MATERIAL_API const char* pnc_material_property_name(const pnc_material* m, int i);
+PNC_MATERIAL_API const char* pnc_material_property_units(const pnc_material* m, int i);
+
+/* The undamaged stiffness [C0] (global frame, Pa, row-major, engineering Voigt) into C[36],
+ * and d[C]/dD_mode (mode 0-based, < n_damage_modes; C1 is linear in D, so the secant
+ * stiffness of a state is [C0] + sum_mode D_mode * d[C]/dD_mode). Return PNC_MATERIAL_OK or
+ * PNC_MATERIAL_BAD_ARGUMENT (NULL, or mode out of range; nothing written). */
+PNC_MATERIAL_API int pnc_material_elastic_stiffness(const pnc_material* m, double* C36);
+PNC_MATERIAL_API int pnc_material_damage_stiffness(const pnc_material* m, int mode, double* C36);
+
+/* 0-based index of a state variable by name (pnc_material_state_name()), or -1. So that one
+ * loop over the damage modes k = 1..n_damage_modes serves both models, "kappaK" and "DK" are
+ * accepted for every mode: for pp, "kappa1" and "D1" are its "kappa" and "D". */
+PNC_MATERIAL_API int pnc_material_state_index(const pnc_material* m, const char* name);
+
+/* The constants a model takes, without a material (for hosts that build one from a list of
+ * named values, e.g. the JSON of `pnc card show --json`): their number (0 for an unknown
+ * model) and names in the order pnc_material_create_from_constants() expects (NULL outside).
+ * model is "pnc" or "pp"; static strings. */
+PNC_MATERIAL_API int pnc_material_model_n_constants(const char* model);
+PNC_MATERIAL_API const char* pnc_material_model_constant_name(const char* model, int i);
+
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
 typedef pnc_material* (*pnc_material_create_fn)(const char*, char*, size_t);
@@ -171,6 +308,18 @@ typedef int (*pnc_material_umat_nprops_fn)(const pnc_material*, unsigned);
 typedef int (*pnc_material_umat_props_fn)(const pnc_material*, unsigned, double*, int);
 typedef const char* (*pnc_material_umat_prop_name_fn)(const pnc_material*, int);
 typedef const char* (*pnc_material_umat_prop_units_fn)(const pnc_material*, int);
+/* ABI 1.1 */
+typedef int (*pnc_material_abi_version_minor_fn)(void);
+typedef int (*pnc_material_integrate2_fn)(const pnc_material*, pnc_material_point*);
+typedef double (*pnc_material_property_fn)(const pnc_material*, const char*, int*);
+typedef int (*pnc_material_n_properties_fn)(const pnc_material*);
+typedef const char* (*pnc_material_property_name_fn)(const pnc_material*, int);
+typedef const char* (*pnc_material_property_units_fn)(const pnc_material*, int);
+typedef int (*pnc_material_elastic_stiffness_fn)(const pnc_material*, double*);
+typedef int (*pnc_material_damage_stiffness_fn)(const pnc_material*, int, double*);
+typedef int (*pnc_material_state_index_fn)(const pnc_material*, const char*);
+typedef int (*pnc_material_model_n_constants_fn)(const char*);
+typedef const char* (*pnc_material_model_constant_name_fn)(const char*, int);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -101,7 +101,9 @@ private:
 };
 
 /// The NDM damage law through the fe_material plugin (decision D32). State per particle: the
-/// plugin's state variables (names from the card's model, e.g. kappa1..D3).
+/// plugin's state variables (names from the card's model, e.g. kappa1..D3). [C0], E1, nu12
+/// and the stored energy W come from the plugin's ABI 1.1 queries and integrate2 (D214);
+/// wave_speed() is sqrt(max(C11, C22, C33) / rho0) of the global-frame [C0].
 class DamageLaw final : public Material {
 public:
   DamageLaw(double rho0, std::shared_ptr<const pnc::fe_material::Material> law);

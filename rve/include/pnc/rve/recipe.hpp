@@ -7,12 +7,12 @@
 // A recipe is a JSON object (or a TOML document with the same tables): the top-level keys
 // "name", "seed", "model" and the sections "build", "clay" (model pnc), "forcefield" (one set
 // of keys for models pp and pnc, another for kg and kg_platelet), "platelet" (model
-// kg_platelet), "equilibrate", "deform", "phase_check", "analysis", "fit", "run", or, instead
-// of the builder, "system" (user_system.hpp). Every key is declared once, with its type,
-// default (the values of the structs below), range, unit and text, in recipe_parameters.cpp
-// (declare_recipe); `pnc recipe parameters` prints them (JSON, a TOML template, the Markdown
-// tables of docs/rve.md). Every key is optional; unknown keys are errors. Errors name the
-// file, the field (dotted path), the value and the rule.
+// kg_platelet), "equilibrate", "deform", "phase_check", "analysis", "fit", "run", "slurm"
+// (slurm.hpp), or, instead of the builder, "system" (user_system.hpp). Every key is declared
+// once, with its type, default (the values of the structs below), range, unit and text, in
+// recipe_parameters.cpp (declare_recipe); `pnc recipe parameters` prints them (JSON, a TOML
+// template, the Markdown tables of docs/rve.md). Every key is optional; unknown keys are
+// errors. Errors name the file, the field (dotted path), the value and the rule.
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
@@ -20,6 +20,7 @@
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/phase_check.hpp"
 #include "pnc/rve/platelet.hpp"
+#include "pnc/rve/slurm.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include "pnc/core/parameters.hpp"
@@ -66,6 +67,9 @@ struct Recipe {
   /// fit range (key "fit.strain_max", decision D12h): rows with every strain component <= it
   /// are fitted; 0 = every row. Dimensionless.
   double fit_strain_max = 0;
+  /// fit.stretch_max: fit range by largest principal stretch - 1, exclusive with
+  /// fit.strain_max; 0 = every row (decision D12m)
+  double fit_stretch_max = 0;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
@@ -73,6 +77,9 @@ struct Recipe {
   UserSystem system;
   /// independent replicas: own build seed, own equilibration, every case (decision D130)
   int replicas = 1;
+  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D245); in
+  /// the expanded recipe only when given
+  SlurmSpec slurm;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
@@ -110,8 +117,9 @@ std::vector<std::string> preset_names();
 /// A recipe (JSON form, e.g. preset_json) written as TOML; read_recipe reads it back.
 std::string recipe_toml(const nlohmann::json& recipe);
 /// The recipe fully expanded (every declared key with its value; fit.alpha, fit.hold_alpha,
-/// fit.strain_max and clay.aspect_ratio only when set), for records and `recipe show`: the
-/// declarations' values() (declare_recipe) plus the user's system with its resolved file and hash.
+/// fit.strain_max, fit.stretch_max, deform.shear_strain_max and clay.aspect_ratio only when set,
+/// the slurm section only when given), for records and `recipe show`: the declarations'
+/// values() (declare_recipe) plus the user's system with its resolved file and hash.
 nlohmann::json expanded_json(const Recipe& r);
 
 } // namespace pnc::rve

@@ -36,10 +36,10 @@ struct ReplicaTrend {
 };
 
 /// The test for the fitted curves of `joint` (its components list) on the replica curves of
-/// `c`, over the rows the fit used (the leading rows with every strain component <=
-/// strain_max; 0 = every row).
+/// `c`, over the rows the fit used (damage::rows_in_fit_range: every strain component <=
+/// strain_max, lambda_max - 1 <= stretch_max; 0 = no bound).
 ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport& joint,
-                                double strain_max);
+                                double strain_max, double stretch_max = 0);
 
 /// Markdown section: per curve the coefficients, their errors and p.
 std::string replica_trend_markdown(const ReplicaTrend& t);

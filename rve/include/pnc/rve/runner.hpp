@@ -8,10 +8,13 @@
 // opens LAMMPS with `-log <stage log> -screen none -nocite`, runs the stage body, writes its
 // result files atomically, and _exit(0)s. The parent waits and, when the child did not exit
 // with 0, reports the last "ERROR..." line of the stage log (LAMMPS's own message) plus the
-// "Last command:" line, or the pnc error text the body threw (kept in `<log>.pnc-error`),
-// or the signal that killed it. The parent never loads LAMMPS state and always survives.
+// "Last command:" line, or the pnc error the body threw (kept in `<log>.pnc-error` with its
+// kind and parts, rebuilt in the parent), or the signal that killed it. The parent never loads
+// LAMMPS state and always survives. throw_stage_failure() turns a failed outcome into the
+// error of its kind (core/error.hpp): LAMMPS ending the stage is a pnc::ToolError.
 //
 // The parent must not have initialised MPI (the child does, through lammps_open_no_mpi).
+#include <exception>
 #include <functional>
 #include <string>
 #include <utility>
@@ -76,6 +79,10 @@ struct StageOutcome {
   std::string error; ///< LAMMPS's ERROR line (+ last command) or the pnc error, if !ok
   std::string log_path;
   double seconds = 0;
+  /// The pnc error (InputError, SimulationError, ToolError; any other exception as a
+  /// std::runtime_error) the stage body threw in the child, rebuilt in the parent; null when
+  /// LAMMPS or a signal ended the child.
+  std::exception_ptr child_error;
 };
 
 using StageBody = std::function<void(Lammps&)>;
@@ -86,6 +93,18 @@ StageOutcome run_stage(const StageSpec& spec, const StageBody& body);
 /// Runs stages concurrently, at most `jobs` at a time (one child each). Outcomes in input order.
 std::vector<StageOutcome> run_stages(const std::vector<std::pair<StageSpec, StageBody>>& stages,
                                      int jobs);
+
+/// Throws the error a failed stage stands for; `stage` names it for the user ("stage
+/// equilibrate/hot", "lambda point ref_0.5"), `note` (may be empty) is added to the message.
+///  - LAMMPS (or a signal) ended the child: pnc::ToolError("LAMMPS", "running <stage>",
+///    LAMMPS's ERROR line + last command, the stage log) - exit code 7;
+///  - the body threw a pnc::InputError: InputError(log, stage, "", its message) - exit code 1;
+///  - a pnc::SimulationError: the same error, its entity prefixed by the stage - exit code 6;
+///  - a pnc::ToolError (e.g. mpirun did not start the server): that error, the stage added to
+///    what pnc was doing - exit code 7;
+///  - anything else: std::runtime_error naming the stage and log (a bug) - exit code 2.
+[[noreturn]] void throw_stage_failure(const StageOutcome& o, const std::string& stage,
+                                      const std::string& note = "");
 
 /// The last "ERROR" line of a LAMMPS log with the following "Last command:" line, or "".
 std::string last_lammps_error(const std::string& log_path);

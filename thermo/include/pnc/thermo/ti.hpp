@@ -131,7 +131,8 @@ struct PointJob {
 
 /// Runs every job whose file is missing (or all when !resume), `jobs` at a time, each in its
 /// own child with its LAMMPS log `<h5 without .h5>.log`; `progress` after each batch.
-/// Throws InputError with LAMMPS's message on the first failed point (finished points stay).
+/// Throws on the first failed point (rve::throw_stage_failure: pnc::ToolError with LAMMPS's
+/// message; finished points stay).
 void run_points(const SamplingSpec& s,
                 const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
                 int jobs, const Progress& progress);
