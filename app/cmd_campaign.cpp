@@ -5,6 +5,7 @@
 #include "run_control.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/error_record.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
@@ -106,10 +107,25 @@ int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, 
 }
 
 /// After the executor: the fit's result (its summary and exit code), or the failures.
-int conclude(const CharacterizeArgs& a, const std::vector<std::string>& failed,
+int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
              const std::vector<std::string>& not_run) {
   const rve::UnitStatus fit = rve::read_status(a.out, "fit");
   if (fit.state != rve::UnitState::done) {
+    // a unit stopped by LAMMPS (or by a simulation failure): the driver ends with that error
+    // and its exit code (7 or 6, docs/errors.md), the other failures counted on the line before
+    for (const auto& u : p.units) {
+      const rve::UnitStatus s = rve::read_status(a.out, u.id);
+      const auto e = s.detail.find("error");
+      if (s.state != rve::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
+      const int code = e->value("exit_code", 0);
+      if (code != pnc::exit_code::tool_failed && code != pnc::exit_code::simulation_failed)
+        continue;
+      std::cerr << fmt::format(
+          "pnc characterize: {} unit(s) failed{}; finished units are kept: "
+          "rerun with --resume (pnc status {} shows every unit)\n",
+          failed.size(), not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), a.out);
+      pnc::rethrow_error_record(*e);
+    }
     std::string first = failed.empty() ? "the fit did not run" : failed.front();
     for (const auto& f : failed)
       if (f.rfind("fit:", 0) != 0) {
@@ -215,7 +231,7 @@ int run_slurm(const CharacterizeArgs& a, const rve::Recipe& r, const rve::Plan& 
   std::vector<std::string> failed;
   const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
   wait_for_slurm(a, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
-  return conclude(a, failed, {});
+  return conclude(a, p, failed, {});
 }
 
 int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
@@ -319,6 +335,9 @@ int run_characterize(const CharacterizeArgs& a) {
   const RunDirLock lock(a.out, command_line());
   const StopSignals signals;
   rve::prepare_run_folder(r, a.out, a.resume);
+  // the fit runs again on every --resume: it takes seconds, reads only what the MD units left
+  // on disk, and follows this command's options (--no-plots) rather than the first run's
+  if (a.resume) rve::clear_status(a.out, "fit");
   const nlohmann::json params = {
       {"recipe", a.recipe}, {"no_plots", a.no_plots}, {"executor", a.executor}, {"jobs", jobs}};
   const rve::Plan p = rve::characterize_plan(r, ranks, eq_ranks, params);
@@ -329,7 +348,7 @@ int run_characterize(const CharacterizeArgs& a) {
                            p.units.size(), jobs, ranks, eq_ranks, a.out, a.out);
   const rve::LocalRun lr = rve::run_local(
       a.out, p, jobs, [&](const rve::Unit& u) { return unit_main(a.out, p, r, u, false); });
-  return conclude(a, lr.failed, lr.not_run);
+  return conclude(a, p, lr.failed, lr.not_run);
 }
 
 void register_campaign(CLI::App& app, Action& action) {

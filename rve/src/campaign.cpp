@@ -3,6 +3,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/error_record.hpp"
 #include "pnc/core/stop.hpp"
 
 #include <fmt/format.h>
@@ -273,6 +274,7 @@ void run_unit_recorded(const std::string& dir, const Unit& u,
   } catch (const pnc::InputError& e) {
     s.state = UnitState::failed;
     s.message = e.what();
+    s.detail["error"] = error_record(e);
     // a stage failure names its LAMMPS log as the error's source (runner.hpp)
     const std::string src = e.context().source;
     if (src.size() > 4 && (src.find(".log") != std::string::npos) && fs::exists(src))
@@ -284,6 +286,10 @@ void run_unit_recorded(const std::string& dir, const Unit& u,
   } catch (const std::exception& e) {
     s.state = UnitState::failed;
     s.message = e.what();
+    // the driver throws the same kind again (exit code 6 or 7 with the tool's log)
+    s.detail["error"] = error_record(e);
+    if (const auto* te = dynamic_cast<const ToolError*>(&e); te && !te->context().log_path.empty())
+      s.log_path = te->context().log_path;
     s.pid = 0;
     s.ended_s = epoch_seconds();
     write_status(dir, u.id, s);

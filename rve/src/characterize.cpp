@@ -250,7 +250,7 @@ nlohmann::json run_case_unit(const Recipe& r, const std::string& dir, const std:
   if (!o.ok) {
     std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", name, o.error,
                              o.log_path);
-    throw UnitFailure(fmt::format("{}: {}", name, o.error), o.log_path);
+    throw_stage_failure(o, "stage " + name); // ToolError with LAMMPS's message: exit code 7
   }
   std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", name, o.seconds);
   return {{"resumed", false}};

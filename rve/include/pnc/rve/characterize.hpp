@@ -66,7 +66,8 @@ Recipe read_run_recipe(const std::string& dir);
 /// Runs one MD unit (equilibrate, phase_check or case) of the plan in this process, its LAMMPS
 /// stages in supervised children; continues from what is on disk (finished stages are reused,
 /// a case continues from its checkpoint). Returns the unit's detail for its state file
-/// (seconds). Throws UnitFailure with LAMMPS's message and log, InputError, or Interrupted.
+/// (seconds). Throws (throw_stage_failure) ToolError with LAMMPS's message and log,
+/// InputError, SimulationError, or Interrupted.
 nlohmann::json run_md_unit(const Recipe& r, const std::string& dir, const Unit& u);
 
 /// The fit's input: every unit `fit` needs must be done (else InputError listing the missing
