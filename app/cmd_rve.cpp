@@ -1,6 +1,6 @@
-// pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
-// cases.h5 and cards in Pa.
+// pnc rve build | pnc recipe show | pnc recipe parameters | pnc characterize: the RVE builder,
+// recipes (presets and the declared keys) and the MD -> fit pipeline (docs/rve.md, docs/theory.md
+// section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
 #include "characterize.hpp"
 #include "checks.hpp"
 #include "figures.hpp"
@@ -145,6 +145,25 @@ int run_recipe_show(const RecipeShowArgs& a) {
   return 0;
 }
 
+struct RecipeParametersArgs {
+  std::string format = "markdown", model;
+};
+
+// `pnc recipe parameters`: the declared recipe keys (recipe_parameters.cpp) as Markdown tables
+// (the generated region of docs/rve.md), JSON or a commented TOML template of one model.
+int run_recipe_parameters(const RecipeParametersArgs& a) {
+  const std::string variant = a.model == "all" ? "" : a.model;
+  if (a.format == "toml") {
+    const std::string m = variant.empty() ? "pp" : variant;
+    std::cout << rve::recipe_parameters(m).to_toml();
+  } else if (a.format == "json") {
+    std::cout << rve::recipe_parameters(variant).to_json().dump(2) << "\n";
+  } else {
+    std::cout << rve::recipe_parameters(variant).to_markdown(3);
+  }
+  return 0;
+}
+
 } // namespace
 
 void register_rve(CLI::App& app, Action& action) {
@@ -198,6 +217,20 @@ void register_rve(CLI::App& app, Action& action) {
   show->add_flag("--expanded", rs->expanded, "Print every field with its value");
   show->add_flag("--toml", rs->toml, "Print TOML instead of JSON (pnc characterize reads both)");
   show->callback([rs, &action] { action = [rs] { return run_recipe_show(*rs); }; });
+  auto rp = std::make_shared<RecipeParametersArgs>();
+  auto* params = recipe->add_subcommand(
+      "parameters", "Print every recipe key: type, default, range, unit, meaning");
+  params
+      ->add_option("--format", rp->format,
+                   "markdown (tables, default), json or toml (a "
+                   "commented template with the defaults)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  params
+      ->add_option("--model", rp->model,
+                   "the keys of one model (pp, pnc, kg, kg_platelet) or of a recipe with your "
+                   "own system (system); default all (toml: pp)")
+      ->check(CLI::IsMember({"all", "pp", "pnc", "kg", "kg_platelet", "system"}));
+  params->callback([rp, &action] { action = [rp] { return run_recipe_parameters(*rp); }; });
 
   auto ca = std::make_shared<CharacterizeArgs>();
   auto* ch = app.add_subcommand(
