@@ -301,7 +301,7 @@ TEST(FeMaterialAbi, AHostBuiltAgainstTheV1HeaderRunsWithTheSameResults) {
           s0[i] = o.state1[i];
       }
     }
-    // pnc: e22 drives mode 2 (D2); pp: the one damage variable (D, also named D1)
+    // pnc: e22 drives the damage of mode 2; pp: its one damage variable (alias "D1")
     const int d_at = pnc_material_state_index(m.get(), std::string(model) == "pnc" ? "D2" : "D1");
     ASSERT_GE(d_at, 0) << model;
     EXPECT_GT(s0[static_cast<std::size_t>(d_at)], 0.0)
