@@ -86,6 +86,17 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 } // namespace
 
 namespace detail {
+Parameter param_entry(const std::string& key, ParamType type, json default_value, std::string unit,
+                      std::string text) {
+  Parameter p;
+  p.path = key;
+  p.type = type;
+  p.default_value = std::move(default_value);
+  p.unit = std::move(unit);
+  p.text = std::move(text);
+  return p;
+}
+
 std::int64_t param_integer(const json& v) {
   return v.is_number_unsigned() ? static_cast<std::int64_t>(v.get<std::uint64_t>())
                                 : v.get<std::int64_t>();
@@ -336,11 +347,7 @@ Parameter& Parameters::add(Parameter p) {
 }
 
 Parameter& Parameters::boolean(const std::string& key, bool& target, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::boolean;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::boolean, target, "", std::move(text));
   p.store = [&target](const json& v) { target = v.get<bool>(); };
   p.load = [&target] { return json(target); };
   return add(std::move(p));
@@ -348,12 +355,7 @@ Parameter& Parameters::boolean(const std::string& key, bool& target, std::string
 
 Parameter& Parameters::real(const std::string& key, double& target, RealRange range,
                             std::string unit, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::real;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::real, target, std::move(unit), std::move(text));
   p.range = range;
   p.store = [&target](const json& v) { target = v.get<double>(); };
   p.load = [&target] { return json(target); };
@@ -362,11 +364,7 @@ Parameter& Parameters::real(const std::string& key, double& target, RealRange ra
 
 Parameter& Parameters::string(const std::string& key, std::string& target,
                               std::vector<Choice> choices, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::string;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::string, target, "", std::move(text));
   p.choices = std::move(choices);
   p.store = [&target](const json& v) { target = v.get<std::string>(); };
   p.load = [&target] { return json(target); };
@@ -376,12 +374,8 @@ Parameter& Parameters::string(const std::string& key, std::string& target,
 Parameter& Parameters::reals(const std::string& key, std::vector<double>& target, RealRange range,
                              std::size_t min_size, std::size_t max_size, std::string unit,
                              std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::real_list;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  Parameter p =
+      detail::param_entry(key, ParamType::real_list, target, std::move(unit), std::move(text));
   p.range = range;
   p.min_size = min_size;
   p.max_size = max_size;
@@ -392,11 +386,7 @@ Parameter& Parameters::reals(const std::string& key, std::vector<double>& target
 
 Parameter& Parameters::strings(const std::string& key, std::vector<std::string>& target,
                                std::size_t min_size, std::size_t max_size, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::string_list;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::string_list, target, "", std::move(text));
   p.min_size = min_size;
   p.max_size = max_size;
   p.store = [&target](const json& v) { target = v.get<std::vector<std::string>>(); };

@@ -247,23 +247,27 @@ std::string nearest_name(const std::string& key, const std::vector<std::string>&
 
 namespace detail {
 std::int64_t param_integer(const nlohmann::json& v);
-}
-
+/// A declaration with its key, type, default, unit and text set; the rest left to the caller.
+Parameter param_entry(const std::string& key, ParamType type, nlohmann::json default_value,
+                      std::string unit, std::string text);
+/// Refuses (std::logic_error: a programming error) a range that the integer type T cannot hold.
 template <class T>
-Parameter& Parameters::integer(const std::string& key, T& target, std::int64_t min,
-                               std::int64_t max, std::string unit, std::string text) {
+void check_integer_range(const std::string& key, std::int64_t min, std::int64_t max) {
   static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an integer type");
   using L = std::numeric_limits<T>;
   if (min < static_cast<std::int64_t>(L::min()) ||
       (L::max() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) &&
        max > static_cast<std::int64_t>(L::max())))
-    throw std::logic_error("Parameters::integer: the range of '" + key + "' does not fit");
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::integer;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+    throw std::logic_error("Parameters: the range of '" + key + "' does not fit its type");
+}
+} // namespace detail
+
+template <class T>
+Parameter& Parameters::integer(const std::string& key, T& target, std::int64_t min,
+                               std::int64_t max, std::string unit, std::string text) {
+  detail::check_integer_range<T>(key, min, max);
+  Parameter p =
+      detail::param_entry(key, ParamType::integer, target, std::move(unit), std::move(text));
   p.int_min = min;
   p.int_max = max;
   p.store = [&target](const nlohmann::json& v) {
@@ -277,18 +281,9 @@ template <class T>
 Parameter& Parameters::integers(const std::string& key, std::vector<T>& target, std::int64_t min,
                                 std::int64_t max, std::size_t min_size, std::size_t max_size,
                                 std::string unit, std::string text) {
-  static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an integer type");
-  using L = std::numeric_limits<T>;
-  if (min < static_cast<std::int64_t>(L::min()) ||
-      (L::max() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) &&
-       max > static_cast<std::int64_t>(L::max())))
-    throw std::logic_error("Parameters::integers: the range of '" + key + "' does not fit");
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::integer_list;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  detail::check_integer_range<T>(key, min, max);
+  Parameter p =
+      detail::param_entry(key, ParamType::integer_list, target, std::move(unit), std::move(text));
   p.int_min = min;
   p.int_max = max;
   p.min_size = min_size;
