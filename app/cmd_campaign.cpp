@@ -7,6 +7,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/error_record.hpp"
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
@@ -253,6 +254,7 @@ int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
   }
   const rve::Recipe r = rve::read_run_recipe(dir);
   const StopSignals signals; // scancel's SIGTERM: stop at the next checkpoint, pending again
+  start_run_log(dir, command_line()); // the unit's lines join the run folder's pnc.log
   std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, rve::host_name(),
                            ::getpid());
   return unit_main(dir, p, r, u, true);
@@ -333,6 +335,7 @@ int run_characterize(const CharacterizeArgs& a) {
   // one driver per run folder (core/run_dir.hpp); SIGINT/SIGTERM stop the units at their next
   // checkpoint and leave them pending for --resume (run_control.hpp)
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   rve::prepare_run_folder(r, a.out, a.resume);
   // the fit runs again on every --resume: it takes seconds, reads only what the MD units left

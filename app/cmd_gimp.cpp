@@ -3,6 +3,7 @@
 #include "run_control.hpp"
 
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 
 #include "pnc/gimp_coupler/run.hpp"
@@ -39,6 +40,7 @@ int run_gimp(const GimpRunArgs& a) {
   o.stop_after_steps = a.max_steps;
   o.stop = &pnc::process_stop();
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   const gimp::RunSummary s = gimp::run(o);
   if (s.stopped)
@@ -132,6 +134,7 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   o.stop_after_steps = a.max_steps;
   o.stop = &pnc::process_stop();
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   const gimp::escm::CoupleSummary s = gimp::escm::run_couple(o);
   if (!s.interrupted.empty()) { // checkpoint written; continue with --resume

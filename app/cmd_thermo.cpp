@@ -11,6 +11,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/builder.hpp"
@@ -153,6 +154,7 @@ int run_thermo_ti(TiArgs a) {
   a.spec.dev = parse_list(a.dev, "--dev");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
+  start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept
   // one spec per output directory: --resume must not mix protocols
   const std::string sj = spec_json(a.spec).dump(2) + "\n";
@@ -294,6 +296,7 @@ int run_thermo_persistence(PersistenceArgs a) {
   a.spec.rates = parse_list(a.rates, "--rates");
   a.spec.validate("<command line>");
   const RunDirLock lock(a.out, command_line()); // one process per run directory
+  start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const StopSignals signals;                    // SIGINT/SIGTERM: finished rates are kept
   std::cerr << fmt::format("pnc thermo persistence: {} chain of {} beads, supports {}, spring {} "
                            "kcal/mol/A^2, {} rates, pull {} A at {} fs steps, T {} K\n",
@@ -385,6 +388,7 @@ int run_thermo_work(const WorkArgs& a) {
     fail("<command line>", "--from", fmt::format("{} given", a.from.size()),
          "give one run directory, or two at different temperatures");
   const RunDirLock lock(a.out, command_line()); // one process per output directory
+  start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const thermo::WorkRun r1 = thermo::read_work_run(a.from[0]);
   std::unique_ptr<thermo::WorkRun> r2;
   if (a.from.size() == 2) r2 = std::make_unique<thermo::WorkRun>(thermo::read_work_run(a.from[1]));

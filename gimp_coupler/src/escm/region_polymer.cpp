@@ -8,7 +8,9 @@
 #include "pnc/gimp_coupler/escm_polymer.hpp"
 
 #include <cmath>
-#include <cstdio>
+#include <fmt/format.h>
+
+#include <iostream>
 #include <limits>
 #include <stdexcept>
 
@@ -104,8 +106,8 @@ void PolymerRegion::build(const CoupleInput& p, const std::string& out_dir, cons
   sigma_A_ = ps.ff.sigma;
   pnc::make_output_directory(out_dir);
   if (progress)
-    std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
-                 p.nby);
+    std::cerr << fmt::format("pnc gimp couple: building the polymer block ({} x {} cells)\n", p.nbx,
+                             p.nby);
   poly_ = build_polymer_block(ps, out_dir, src);
   lj_.a0_A = poly_.h_A;
   lj_.density = poly_.density_kg_m3;
