@@ -31,6 +31,7 @@
 // energies mJ or mJ/mm.
 
 #include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/tensor.h>
@@ -46,9 +47,15 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/solver_bicgstab.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/solution_transfer.h>
@@ -150,6 +157,15 @@ struct Params {
   double tolerance = 1e-8;
   std::string nonlocal_tangent = "exact"; // | local (D51, D56)
   bool line_search = false;
+  // Linear solver of each Newton iteration (D250-D252)
+  std::string solver = "direct";  // | iterative
+  std::string krylov = "auto";    // | cg | gmres | bicgstab
+  double solver_tolerance = 1e-8; // relative residual of the Krylov solve
+  unsigned solver_max_iterations = 1000;
+  unsigned gmres_restart = 100;
+  unsigned amg_sweeps = 2;
+  double amg_threshold = 1e-4;
+  bool solver_fallback = true;
   // Fracture closure (D54)
   std::string fracture = "none"; // | stability-limit
   double stability_margin = 0.95;
@@ -290,6 +306,41 @@ void declare_parameters(ParameterHandler& prm) {
                     "(D55).");
   prm.leave_subsection();
 
+  prm.enter_subsection("Solver");
+  prm.declare_entry(
+      "Type", "direct", Patterns::Selection("direct|iterative"),
+      "Linear solver of every Newton iteration. direct: UMFPACK (sparse LU), exact to round-off, "
+      "cost ~n^1.2-1.3 in 2-D and much more in 3-D (time and memory). iterative: a Krylov method "
+      "preconditioned with algebraic multigrid (Trilinos ML smoothed aggregation, one V-cycle, "
+      "the rigid-body modes as near null space), cost ~n; faster from ~10^5 dofs in 2-D and "
+      "~10^4 in 3-D (docs/dealii_demo.md, Speed; D250).");
+  prm.declare_entry(
+      "Krylov method", "auto", Patterns::Selection("auto|cg|gmres|bicgstab"),
+      "iterative only. auto: CG when the assembled tangent is symmetric (every point's 6x6 "
+      "tangent symmetric to 1e-12 of its largest entry and no nonlocal coupling block: the "
+      "elastic and the IMPL-EX secant systems), GMRES otherwise (the consistent tangent of a "
+      "damaging point, the exact nonlocal coupling of D56); D251.");
+  prm.declare_entry(
+      "Relative tolerance", "1e-8", Patterns::Double(1e-14, 1e-1),
+      "iterative only. The Krylov solve stops when |K du - b| <= this * |b| (dimensionless). "
+      "The Newton test on the nonlinear residual is unchanged, so a looser value costs Newton "
+      "iterations, never accuracy (D252).");
+  prm.declare_entry("Max iterations", "1000", Patterns::Integer(1, 100000),
+                    "iterative only. Krylov iterations per solve.");
+  prm.declare_entry("GMRES restart", "100", Patterns::Integer(5, 1000),
+                    "iterative only. Krylov vectors kept by GMRES before it restarts.");
+  prm.declare_entry("AMG smoother sweeps", "2", Patterns::Integer(1, 10),
+                    "iterative only. Chebyshev smoother sweeps per level of the AMG V-cycle.");
+  prm.declare_entry("AMG aggregation threshold", "1e-4", Patterns::Double(0, 0.5),
+                    "iterative only. Matrix entries weaker than this (relative) are ignored when "
+                    "the AMG forms its aggregates (dimensionless).");
+  prm.declare_entry("Fallback to direct", "true", Patterns::Bool(),
+                    "iterative only. When the Krylov solve does not reach its tolerance within "
+                    "'Max iterations', solve that system with UMFPACK instead (counted in the "
+                    "JSON as timing/linear_solver/fallbacks); false: the Newton iteration fails "
+                    "and the step is cut.");
+  prm.leave_subsection();
+
   prm.enter_subsection("Fracture");
   prm.declare_entry("Type", "none", Patterns::Selection("none|stability-limit"),
                     "none: the card's law only (with the dissertation's card it has no tensile "
@@ -378,6 +429,16 @@ Params read_parameters(ParameterHandler& prm) {
   p.tolerance = prm.get_double("Tolerance");
   p.nonlocal_tangent = prm.get("Nonlocal tangent");
   p.line_search = prm.get_bool("Line search");
+  prm.leave_subsection();
+  prm.enter_subsection("Solver");
+  p.solver = prm.get("Type");
+  p.krylov = prm.get("Krylov method");
+  p.solver_tolerance = prm.get_double("Relative tolerance");
+  p.solver_max_iterations = static_cast<unsigned>(prm.get_integer("Max iterations"));
+  p.gmres_restart = static_cast<unsigned>(prm.get_integer("GMRES restart"));
+  p.amg_sweeps = static_cast<unsigned>(prm.get_integer("AMG smoother sweeps"));
+  p.amg_threshold = prm.get_double("AMG aggregation threshold");
+  p.solver_fallback = prm.get_bool("Fallback to direct");
   prm.leave_subsection();
   prm.enter_subsection("Fracture");
   p.fracture = prm.get("Type");
@@ -528,6 +589,146 @@ std::size_t peak_record(const std::vector<StepRecord>& records) {
 struct Timing {
   double assembly = 0, plugin = 0, solve = 0, nonlocal = 0;
   unsigned newton_iterations = 0, assemblies = 0;
+  // The linear solver (D250): time spent factorising or building the AMG hierarchy (part of
+  // `solve`), systems solved, Krylov iterations, CG/GMRES choices, fallbacks to UMFPACK.
+  double solver_setup = 0;
+  unsigned linear_solves = 0, krylov_iterations = 0, cg_solves = 0, fallbacks = 0;
+};
+
+// @sect3{The linear solver}
+//
+// Every Newton iteration solves K du = b with the tangent K. The direct route is UMFPACK, as
+// in most deal.II tutorials: exact, but its cost grows like n^1.2-1.3 in 2-D (19 s of solve
+// against 1.1 s of assembly at 10^6 dofs) and its fill-in makes 3-D meshes of a few 10^5
+// dofs impractical. The iterative route (`Solver/Type = iterative`, D250) is a Krylov method
+// preconditioned with one V-cycle of smoothed-aggregation algebraic multigrid (Trilinos ML,
+// through TrilinosWrappers::PreconditionAMG; Debian's deal.II 9.4 links ML but not MueLu).
+// For elasticity the aggregates must reproduce the rigid-body motions, so they are handed to
+// ML as its near null space (three modes in 2-D, six in 3-D, from the dof support points).
+//
+// Which Krylov method (D251): the elastic and the IMPL-EX secant systems are symmetric
+// positive definite, so CG; the consistent tangent of a damaging point (the plugin's, or the
+// composed one with H of D56) is not symmetric, and the exact nonlocal coupling blocks are not
+// either, so GMRES. The assembly reports which case it built (`symmetric`). The bordered
+// dissipation-controlled step (D55) solves with K twice (one hierarchy, two Krylov solves);
+// the border itself is eliminated by hand, so only K's symmetry matters.
+//
+// Accuracy (D252): the Krylov solve stops at |K du - b| <= eta |b|. The Newton loop tests the
+// NONLINEAR residual exactly as before, so an inexact du costs at most extra Newton
+// iterations (the error after an update is eta |r| plus the quadratic Newton term), and the
+// converged state satisfies the same equilibrium tolerance as with UMFPACK.
+class LinearSolver {
+public:
+  explicit LinearSolver(const Params& p) : prm_(p) {}
+
+  /// Near null space of the operator for the AMG: the rigid-body modes at the support points
+  /// `x` (coordinates in mm, dim per dof) of the dofs with components `comp`.
+  void set_rigid_body_modes(unsigned dim, const std::vector<std::array<double, 3>>& x,
+                            const std::vector<unsigned>& comp) {
+    const std::size_t n = x.size();
+    dim_ = dim;
+    n_modes_ = dim == 2 ? 3 : 6;
+    std::array<double, 3> c{};
+    for (const auto& p : x)
+      for (int d = 0; d < 3; ++d)
+        c[d] += p[d] / std::max<std::size_t>(n, 1);
+    modes_.assign(n * n_modes_, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const unsigned a = comp[i];
+      const double r[3] = {x[i][0] - c[0], x[i][1] - c[1], x[i][2] - c[2]};
+      modes_[a * n + i] = 1; // translation along a
+      // Rotations: about x3 (u1 = -r2, u2 = r1); in 3-D also about x1 and x2.
+      const double about3[3] = {-r[1], r[0], 0}, about1[3] = {0, -r[2], r[1]},
+                   about2[3] = {r[2], 0, -r[0]};
+      modes_[dim * n + i] = about3[a];
+      if (dim == 3) {
+        modes_[4 * n + i] = about1[a];
+        modes_[5 * n + i] = about2[a];
+      }
+    }
+  }
+
+  /// Prepares the solves with `matrix` (factorisation or AMG hierarchy).
+  void initialize(const SparseMatrix<double>& matrix, bool symmetric, Timing& t) {
+    const auto t0 = Clock::now();
+    matrix_ = &matrix;
+    symmetric_ = symmetric;
+    direct_ready_ = false;
+    if (prm_.solver == "direct") {
+      direct_.initialize(matrix);
+      direct_ready_ = true;
+    } else {
+      trilinos_matrix_.reinit(matrix);
+      TrilinosWrappers::PreconditionAMG::AdditionalData data;
+      data.elliptic = true;
+      data.higher_order_elements = false;
+      data.smoother_sweeps = prm_.amg_sweeps;
+      data.aggregation_threshold = prm_.amg_threshold;
+      Teuchos::ParameterList list;
+      std::unique_ptr<Epetra_MultiVector> unused;
+      data.set_parameters(list, unused, trilinos_matrix_);
+      if (modes_.size() == matrix.m() * n_modes_ && n_modes_ > 0) {
+        list.set("PDE equations", static_cast<int>(dim_));
+        list.set("null space: type", "pre-computed");
+        list.set("null space: dimension", static_cast<int>(n_modes_));
+        list.set("null space: vectors", modes_.data());
+      }
+      amg_.initialize(trilinos_matrix_, list);
+    }
+    t.solver_setup += seconds_since(t0);
+  }
+
+  /// x = K^-1 b. Throws if the system could not be solved.
+  void solve(const Vector<double>& b, Vector<double>& x, Timing& t) {
+    ++t.linear_solves;
+    x = 0;
+    if (prm_.solver == "direct") {
+      direct_.vmult(x, b);
+      return;
+    }
+    const std::string method =
+        prm_.krylov != "auto" ? prm_.krylov : (symmetric_ ? std::string("cg") : "gmres");
+    SolverControl control(prm_.solver_max_iterations, prm_.solver_tolerance * b.l2_norm(), false,
+                          false);
+    try {
+      if (method == "cg") {
+        SolverCG<Vector<double>> cg(control);
+        cg.solve(*matrix_, x, b, amg_);
+        ++t.cg_solves;
+      } else if (method == "gmres") {
+        SolverGMRES<Vector<double>> gmres(
+            control, SolverGMRES<Vector<double>>::AdditionalData(prm_.gmres_restart));
+        gmres.solve(*matrix_, x, b, amg_);
+      } else {
+        SolverBicgstab<Vector<double>> bicgstab(control);
+        bicgstab.solve(*matrix_, x, b, amg_);
+      }
+      t.krylov_iterations += control.last_step();
+    } catch (const SolverControl::NoConvergence& e) {
+      t.krylov_iterations += control.last_step();
+      if (!prm_.solver_fallback) throw;
+      // The Krylov method stalled (a nearly singular tangent at a limit point, or an
+      // indefinite one past it): this system goes to UMFPACK.
+      ++t.fallbacks;
+      if (!direct_ready_) {
+        const auto t0 = Clock::now();
+        direct_.initialize(*matrix_);
+        direct_ready_ = true;
+        t.solver_setup += seconds_since(t0);
+      }
+      direct_.vmult(x, b);
+    }
+  }
+
+private:
+  const Params& prm_;
+  const SparseMatrix<double>* matrix_ = nullptr;
+  bool symmetric_ = false, direct_ready_ = false;
+  SparseDirectUMFPACK direct_;
+  TrilinosWrappers::SparseMatrix trilinos_matrix_;
+  TrilinosWrappers::PreconditionAMG amg_;
+  unsigned dim_ = 2, n_modes_ = 0;
+  std::vector<double> modes_; // column-major, n_dofs x n_modes (ML's layout)
 };
 
 // @sect3{The FractureProblem class}
@@ -640,6 +841,10 @@ private:
   std::vector<unsigned> nl_index;
   std::vector<double> nl_weight;
   mutable std::vector<std::pair<double, std::string>> pvd;
+  // The linear solver (D250) and whether the last assembled tangent is symmetric (D251).
+  LinearSolver linear{prm};
+  bool tangent_symmetric = true;
+  void set_rigid_body_modes();
 };
 
 template <int dim>
@@ -923,6 +1128,25 @@ template <int dim> void FractureProblem<dim>::setup_system() {
   make_constraints(current_load, false, c);
   make_sparsity(c);
   make_load_pattern();
+  if (prm.solver == "iterative") set_rigid_body_modes();
+}
+
+// The rigid-body modes for the AMG of the iterative solver (D250), at the dof support points.
+template <int dim> void FractureProblem<dim>::set_rigid_body_modes() {
+  std::vector<Point<dim>> sp(dof_handler.n_dofs());
+  DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, sp);
+  std::vector<std::array<double, 3>> x(dof_handler.n_dofs());
+  std::vector<unsigned> comp(dof_handler.n_dofs(), 0);
+  for (std::size_t i = 0; i < sp.size(); ++i)
+    for (int d = 0; d < dim; ++d)
+      x[i][d] = sp[i][d];
+  std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    cell->get_dof_indices(dofs);
+    for (unsigned i = 0; i < dofs.size(); ++i)
+      comp[dofs[i]] = fe.system_to_component_index(i).first;
+  }
+  linear.set_rigid_body_modes(dim, x, comp);
 }
 
 // The matrix pattern: the element couplings, plus (exact nonlocal tangent, D56) the couplings
@@ -1172,6 +1396,9 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   if (want_matrix) matrix = 0;
   rhs = 0;
   f_int = 0;
+  // Symmetry of the tangent (D251), only looked at when the iterative solver chooses the method.
+  const bool check_symmetry = want_matrix && prm.solver == "iterative" && prm.krylov == "auto";
+  if (want_matrix) tangent_symmetric = true;
   const bool border = want_matrix && need_border;
   if (border) {
     k_u = 0;
@@ -1303,6 +1530,15 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
       }
       for (int v = 0; v < 6; ++v)
         if (!std::isfinite(h.sigma[v])) ok = false;
+      if (check_symmetry && tangent_symmetric) {
+        double big = 0, asym = 0;
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) {
+            big = std::max(big, std::abs(K[6 * i + j]));
+            asym = std::max(asym, std::abs(K[6 * i + j] - K[6 * j + i]));
+          }
+        if (asym > 1e-12 * big || has_H[base + q]) tangent_symmetric = false;
+      }
     }
   };
   auto assemble_cell = [&](const typename DoFHandler<dim>::active_cell_iterator& cell,
@@ -1472,10 +1708,9 @@ template <int dim> bool FractureProblem<dim>::solve_step(double load, unsigned& 
     }
     const auto t0 = Clock::now();
     Vector<double> du(dof_handler.n_dofs());
-    SparseDirectUMFPACK solver;
     try {
-      solver.initialize(matrix);
-      solver.vmult(du, rhs);
+      linear.initialize(matrix, tangent_symmetric, timing);
+      linear.solve(rhs, du, timing);
     } catch (const std::exception& e) {
       if (!prm.quiet) std::cerr << "  linear solver failed: " << e.what() << "\n";
       timing.solve += seconds_since(t0);
@@ -1553,11 +1788,10 @@ bool FractureProblem<dim>::solve_step_dissipation(double dtau, double& load, uns
     Vector<double> a(dof_handler.n_dofs()), b(dof_handler.n_dofs()), kuc = k_u;
     zero.condense(kuc);
     kuc *= -1.0;
-    SparseDirectUMFPACK solver;
     try {
-      solver.initialize(matrix);
-      solver.vmult(a, rhs);
-      solver.vmult(b, kuc);
+      linear.initialize(matrix, tangent_symmetric, timing);
+      linear.solve(rhs, a, timing);
+      linear.solve(kuc, b, timing);
     } catch (const std::exception& e) {
       if (!prm.quiet) std::cerr << "  linear solver failed: " << e.what() << "\n";
       timing.solve += seconds_since(t0);
@@ -2204,7 +2438,14 @@ template <int dim> nlohmann::json FractureProblem<dim>::summary() const {
       {"nonlocal_s", timing.nonlocal},
       {"solve_s", timing.solve},
       {"newton_iterations", timing.newton_iterations},
-      {"assemblies", timing.assemblies}};
+      {"assemblies", timing.assemblies},
+      {"linear_solver",
+       {{"type", prm.solver},
+        {"setup_s", timing.solver_setup},
+        {"solves", timing.linear_solves},
+        {"krylov_iterations", timing.krylov_iterations},
+        {"cg_solves", timing.cg_solves},
+        {"fallbacks", timing.fallbacks}}}};
   return j;
 }
 
@@ -2770,6 +3011,9 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json) {
 
 int main(int argc, char** argv) {
   using namespace pncdemo;
+  // Trilinos (the AMG of the iterative solver) needs MPI; one process, deal.II's default
+  // number of threads.
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, numbers::invalid_unsigned_int);
   try {
     ParameterHandler prm;
     declare_parameters(prm);
