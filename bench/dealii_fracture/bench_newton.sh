@@ -4,9 +4,11 @@
 # assembly).
 #
 #   bench_newton.sh BUILD_DIR CARD [MAX_REFINEMENT=6] [REGULARISATION=none] [TIMEOUT_S=900] [DIM=2]
+#                   [SOLVER=direct]
 #
-# First prints the cost of one plugin call alone (dealii_fracture --bench-plugin), so the
-# share can be read against the kernel's own cost. A mesh that does not finish within
+# First prints the cost of one plugin call alone (bench_dealii_plugin_call, built with
+# PNC_BUILD_BENCH), so the share can be read against the kernel's own cost. The direct and
+# the iterative linear solver side by side, with repeats: bench_solvers.py next to this file. A mesh that does not finish within
 # TIMEOUT_S prints "timeout" and ends the scan.
 #
 # Single-edge notch (coarse cell 0.5 mm, 128 cells) refined uniformly r = 2..MAX times
@@ -14,7 +16,7 @@
 # two load steps, to u = 0.2 mm (damage onset at
 # the notch tip) and on to 0.25 mm (D_max ~ 0.03), so the Newton iterations of the second
 # step have loading points. Prints one CSV
-# line per mesh: dofs, Newton iterations, assembly s/iteration, solve (UMFPACK) s/iteration,
+# line per mesh: dofs, Newton iterations, assembly s/iteration, solve (UMFPACK or iterative, SOLVER) s/iteration,
 # plugin share of the assembly. The nonlocal regularisation adds its averaging cost
 # (reported separately in the JSON as nonlocal_s); the default here measures the plain
 # assembly.
@@ -25,9 +27,10 @@ MAX=${3:-6}
 REG=${4:-none}
 TMO=${5:-900}
 DIM=${6:-2}
+SOLVER=${7:-direct}
 EXE=$BUILD/examples/dealii_fracture/dealii_fracture
-SRC=$(dirname "$0")/..
-"$EXE" --bench-plugin --card "$CARD" | /usr/bin/python3 -c '
+SRC=$(dirname "$0")/../../examples/dealii_fracture
+"$BUILD/bench/bench_dealii_plugin_call" "$CARD" | /usr/bin/python3 -c '
 import json, sys
 j = json.load(sys.stdin)
 print("# plugin call alone: %.0f ns (elastic point), %.0f ns (damaging point), steady_clock %.0f ns"
@@ -40,7 +43,7 @@ while [ "$r" -le "$MAX" ]; do
   timeout "$TMO" "$EXE" "$SRC/short.prm" --json --set "Material/Card=$CARD" --set "Mesh/Adaptive=false" \
     --set "Mesh/Global refinements=$r" --set "Loading/Path=0, 0.2, 0.25" --set "Loading/Step=0.2" \
     --set "Regularisation/Type=$REG" --set "Geometry/Dimension=$DIM" --set "Output/VTU every=0" --set "Output/Plot=false" \
-    --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" 2>/dev/null >/tmp/bench_newton_$$.json ||
+    --set "Newton/Tolerance=1e-8" --set "Newton/Max iterations=30" --set "Solver/Type=$SOLVER" 2>/dev/null >/tmp/bench_newton_$$.json ||
     { echo "refinement $r: timeout or failure (limit ${TMO} s)"; break; }
   /usr/bin/python3 -c '
 import json, sys
