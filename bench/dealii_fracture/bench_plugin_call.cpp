@@ -50,8 +50,8 @@ int main(int argc, char** argv) {
     for (const auto& [name, de] : cases) {
       const auto t0 = Clock::now();
       for (int i = 0; i < n; ++i) {
-        mat.try_integrate(s0.data(), s1.data(), e0.data(), de.data(), sg.data(), K.data(),
-                          nullptr, 0);
+        mat.try_integrate(s0.data(), s1.data(), e0.data(), de.data(), sg.data(), K.data(), nullptr,
+                          0);
         sink += sg[1];
       }
       j[name]["ns_per_call_with_tangent"] = 1e9 * seconds_since(t0) / n;

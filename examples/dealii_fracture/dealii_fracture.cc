@@ -129,7 +129,10 @@ void declare_parameters(ParameterHandler& prm) {
   prm.enter_subsection("Material");
   prm.declare_entry("Plugin", PNC_MATERIAL_PLUGIN_PATH, Patterns::FileName(),
                     "Path of the material plugin libpnc_material.so.1 (fe_material/, "
-                    "docs/plugin.md). Loaded with dlopen at run time.");
+                    "docs/plugin.md). Loaded with dlopen at run time. (The program's own "
+                    "default is the plugin of the build it was built with; this listing names "
+                    "the soname, which dlopen finds in an installed tree or on "
+                    "LD_LIBRARY_PATH.)");
   prm.declare_entry("Card", "", Patterns::FileName(),
                     "Material card (HDF5) written by `pnc fit` or `pnc card tables`; read inside "
                     "the plugin. Leave empty to use 'Constants JSON'.");
@@ -427,7 +430,20 @@ void set_parameter(ParameterHandler& prm, const std::string& assignment) {
   const auto sections = Utilities::split_string_list(assignment.substr(0, sl), '/');
   for (const auto& sec : sections)
     prm.enter_subsection(sec);
-  prm.set(assignment.substr(sl + 1, eq - sl - 1), assignment.substr(eq + 1));
+  const std::string entry = assignment.substr(sl + 1, eq - sl - 1),
+                    value = assignment.substr(eq + 1);
+  try {
+    prm.set(entry, value);
+  } catch (const ExceptionBase& e) {
+    // deal.II's message has the rule after "Additional information:"; keep that part only.
+    std::string why = e.what();
+    const auto k = why.find("Additional information:"), end = why.find("Stacktrace:");
+    if (k != std::string::npos)
+      why = why.substr(k + 23, end == std::string::npos ? end : end - k - 23);
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    throw std::runtime_error("--set: entry '" + assignment.substr(0, eq) + "', value '" + value +
+                             "':" + why);
+  }
   for (std::size_t k = 0; k < sections.size(); ++k)
     prm.leave_subsection();
 }

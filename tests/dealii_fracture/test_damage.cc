@@ -221,8 +221,16 @@ bool test_impl_ex() {
 
 } // namespace
 
-TEST(DealiiFracture, EnergyObjectivity) { EXPECT_TRUE(test_energy_objectivity()); }
-TEST(DealiiFracture, Softening) { EXPECT_TRUE(run_softening({1})); }
-TEST(DealiiFracture, SofteningObjectivity) { EXPECT_TRUE(run_softening({1, 2})); }
-TEST(DealiiFracture, ImplEx) { EXPECT_TRUE(test_impl_ex()); }
+TEST(DealiiFracture, EnergyObjectivity) {
+  EXPECT_TRUE(test_energy_objectivity());
+}
+TEST(DealiiFracture, Softening) {
+  EXPECT_TRUE(run_softening({1}));
+}
+TEST(DealiiFracture, SofteningObjectivity) {
+  EXPECT_TRUE(run_softening({1, 2}));
+}
+TEST(DealiiFracture, ImplEx) {
+  EXPECT_TRUE(test_impl_ex());
+}
 } // namespace pncdemo::test

@@ -115,8 +115,8 @@ bool test_uniform() {
       p.global_refinements = 0;
       p.path = "0, 0.004"; // eps11 = 1e-3
       p.step = 0.002;
-      auto m =
-          make_material(context().plugin, route == 0 ? context().card : "", route == 1 ? context().json : "", angle);
+      auto m = make_material(context().plugin, route == 0 ? context().card : "",
+                             route == 1 ? context().json : "", angle);
       FractureProblem<2> fp(p, *m.material);
       fp.make_grid();
       fp.run();
@@ -150,8 +150,8 @@ bool test_uniform() {
         << " N/mm vs " << expected << " (rel " << rel << "), max |sigma - uniform| = " << spread
         << " MPa";
       report("uniform", s.str());
-    EXPECT_TRUE(pass) << s.str();
-    ok = ok && pass;
+      EXPECT_TRUE(pass) << s.str();
+      ok = ok && pass;
     }
   return ok;
 }
@@ -250,9 +250,19 @@ bool test_elastic_convergence() {
 
 } // namespace
 
-TEST(DealiiFracture, Patch2D) { EXPECT_TRUE(test_patch<2>()); }
-TEST(DealiiFracture, Patch3D) { EXPECT_TRUE(test_patch<3>()); }
-TEST(DealiiFracture, Uniform) { EXPECT_TRUE(test_uniform()); }
-TEST(DealiiFracture, OneElement) { EXPECT_TRUE(test_one_element()); }
-TEST(DealiiFracture, ElasticConvergence) { EXPECT_TRUE(test_elastic_convergence()); }
+TEST(DealiiFracture, Patch2D) {
+  EXPECT_TRUE(test_patch<2>());
+}
+TEST(DealiiFracture, Patch3D) {
+  EXPECT_TRUE(test_patch<3>());
+}
+TEST(DealiiFracture, Uniform) {
+  EXPECT_TRUE(test_uniform());
+}
+TEST(DealiiFracture, OneElement) {
+  EXPECT_TRUE(test_one_element());
+}
+TEST(DealiiFracture, ElasticConvergence) {
+  EXPECT_TRUE(test_elastic_convergence());
+}
 } // namespace pncdemo::test
