@@ -271,8 +271,11 @@ void declare_parameters(ParameterHandler& prm) {
       "iterative only. The Krylov solve stops when |K du - b| <= this * |b| (dimensionless). "
       "The Newton test on the nonlinear residual is unchanged, so a looser value costs Newton "
       "iterations, never accuracy (D252).");
-  prm.declare_entry("Max iterations", "1000", Patterns::Integer(1, 100000),
-                    "iterative only. Krylov iterations per solve.");
+  prm.declare_entry("Max iterations", "200", Patterns::Integer(1, 100000),
+                    "iterative only. Krylov iterations per solve (the solves of the demos take "
+                    "10-25): a system that needs more is one the AMG does not handle, typically "
+                    "a nearly singular tangent at a limit point, and goes to UMFPACK when "
+                    "'Fallback to direct' is true.");
   prm.declare_entry("GMRES restart", "100", Patterns::Integer(5, 1000),
                     "iterative only. Krylov vectors kept by GMRES before it restarts.");
   prm.declare_entry("AMG smoother sweeps", "2", Patterns::Integer(1, 10),
@@ -441,6 +444,9 @@ void set_parameter(ParameterHandler& prm, const std::string& assignment) {
     if (k != std::string::npos)
       why = why.substr(k + 23, end == std::string::npos ? end : end - k - 23);
     std::replace(why.begin(), why.end(), '\n', ' ');
+    why.erase(
+        std::unique(why.begin(), why.end(), [](char a, char b) { return a == ' ' && b == ' '; }),
+        why.end());
     throw std::runtime_error("--set: entry '" + assignment.substr(0, eq) + "', value '" + value +
                              "':" + why);
   }

@@ -92,7 +92,7 @@ struct Params {
   std::string solver = "direct";  // | iterative
   std::string krylov = "auto";    // | cg | gmres | bicgstab
   double solver_tolerance = 1e-8; // relative residual of the Krylov solve
-  unsigned solver_max_iterations = 1000;
+  unsigned solver_max_iterations = 200;
   unsigned gmres_restart = 100;
   unsigned amg_sweeps = 2;
   double amg_threshold = 1e-4;
