@@ -2396,9 +2396,11 @@ int main(int argc, char** argv) {
 //   * the elastic response converges with the mesh, the dissipated energy of the nonlocal
 //     model changes by less than 10 % (pre-peak) and 15 % (post-peak) from h = l/2 to l/4
 //     (D53, D57), and the point-wise dissipation matches W - Psi (D57);
-//   * speed: one Newton iteration at 10^6 dofs in 2-D costs 1.1 s of assembly; the solve
-//     costs 19 s with UMFPACK and a few seconds with `Solver/Type = iterative` (AMG-CG),
-//     whose cost grows linearly with the dofs, in 3-D too (docs/dealii_demo.md, Speed; D250).
+//   * speed: one Newton iteration at 10^6 dofs in 2-D costs 1.1 s of assembly and 19 s of
+//     UMFPACK solve on the idle machine; `Solver/Type = iterative` (AMG-preconditioned CG or
+//     GMRES) makes a Newton iteration 2.2-2.7 times faster from ~7*10^4 dofs and, in 3-D,
+//     where UMFPACK stops at ~10^5 dofs, runs meshes of 4.4*10^5 and 8.6*10^5 dofs, with
+//     10-25 Krylov iterations per solve at every size (docs/dealii_demo.md, Speed; D250-D254).
 //
 // The tests (tests/dealii_fracture/, ctest -R dealii_fracture) hold these claims: patch and
 // uniform-strain tests, a one-element comparison with the plugin alone, elastic mesh
