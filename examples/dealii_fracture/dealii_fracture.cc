@@ -2281,7 +2281,7 @@ template class FractureProblem<3>;
 
 // @sect3{main()}
 namespace {
-void usage() {
+[[maybe_unused]] void usage() { // used by main(), absent from the library build
   std::cout << "usage: dealii_fracture [PARAMS.prm] [--set 'Section/Entry=value']... [--json]\n"
                "       dealii_fracture --print-parameters        (every option, described)\n";
 }
