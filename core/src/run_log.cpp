@@ -16,7 +16,6 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
-#include <memory>
 #include <mutex>
 #include <streambuf>
 
@@ -24,7 +23,10 @@ namespace pnc {
 
 namespace {
 
-std::mutex g_mutex; // guards the file descriptor and the line buffers of both streams
+// The log's state is never destroyed: a process that ends with exit() while a log is active
+// (LAMMPS ends a stage child that way) flushes std::cout and std::cerr after static objects are
+// gone, and their buffers must still be there then. It is one mutex and two small buffers.
+std::mutex& g_mutex = *new std::mutex; // guards the descriptor and the line buffers
 
 /// A child forked while another thread held g_mutex would wait for it forever: fork(2) takes
 /// the mutex first and both sides release it (registered once, at the first start_run_log).
@@ -111,9 +113,10 @@ private:
 
 struct ActiveLog {
   int fd = -1;
-  std::unique_ptr<TeeBuf> out, err;
+  TeeBuf* out = nullptr; ///< owned; deleted once std::cout uses its own buffer again
+  TeeBuf* err = nullptr;
 };
-ActiveLog g_log;
+ActiveLog& g_log = *new ActiveLog;
 
 void stop_copying() {
   if (g_log.fd < 0) return;
@@ -127,6 +130,8 @@ void stop_copying() {
   std::cout.rdbuf(g_log.out->original());
   std::cerr.rdbuf(g_log.err->original());
   ::close(g_log.fd);
+  delete g_log.out;
+  delete g_log.err;
   g_log = ActiveLog{};
 }
 
@@ -150,10 +155,10 @@ void start_run_log(const std::string& dir, const std::string& command_line) {
                             static_cast<long>(::getpid()),
                             std::filesystem::current_path(ec).string(), command_line));
   g_log.fd = fd;
-  g_log.out = std::make_unique<TeeBuf>(std::cout.rdbuf(), "out", fd);
-  g_log.err = std::make_unique<TeeBuf>(std::cerr.rdbuf(), "err", fd);
-  std::cout.rdbuf(g_log.out.get());
-  std::cerr.rdbuf(g_log.err.get());
+  g_log.out = new TeeBuf(std::cout.rdbuf(), "out", fd);
+  g_log.err = new TeeBuf(std::cerr.rdbuf(), "err", fd);
+  std::cout.rdbuf(g_log.out);
+  std::cerr.rdbuf(g_log.err);
 }
 
 void finish_run_log(int exit_code) {

@@ -114,3 +114,21 @@ TEST(RunLog, ASymbolicLinkInPlaceOfTheLogIsRefusedAndNothingIsWrittenThrough) {
   EXPECT_EQ(lines_of(target.string()), std::vector<std::string>{"keep"});
   pnc::finish_run_log(0); // nothing active: does nothing
 }
+
+// LAMMPS ends a stage child with exit() while the log is active: static objects are destroyed
+// and std::cout is flushed after them. The process must still end with its own exit code and
+// the lines it printed must be in the log.
+TEST(RunLogDeathTest, ExitWhileTheLogIsActiveKeepsTheExitCodeAndTheLines) {
+  const fs::path d = fresh_dir("pnc_run_log_exit");
+  EXPECT_EXIT(
+      {
+        pnc::start_run_log(d.string(), "exit test");
+        std::cout << "printed before exit\n";
+        std::cerr << "pending without newline";
+        std::exit(5);
+      },
+      ::testing::ExitedWithCode(5), "");
+  const auto l = lines_of(pnc::run_log_path(d.string()));
+  ASSERT_GE(l.size(), 2u);
+  EXPECT_EQ(l[1].substr(24), " out printed before exit");
+}
