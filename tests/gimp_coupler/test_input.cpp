@@ -441,9 +441,16 @@ TEST(GimpOutput, VtuAsciiAndBinaryHoldTheParticleData) {
     EXPECT_NE(xml.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
     EXPECT_NE(xml.find("NumberOfPoints=\"" + std::to_string(s.particles.size()) + "\""),
               std::string::npos);
-    for (const char* name : {"displacement", "velocity", "stress", "strain", "density", "volume",
-                             "mass", "strain_energy_density", "material", "types"})
+    for (const char* name : {"displacement_m", "velocity_m_per_s", "stress_Pa", "strain_1",
+                             "density_kg_per_m3", "volume_m3", "mass_kg",
+                             "strain_energy_density_J_per_m3", "material_index", "types", "time_s"})
       EXPECT_NE(xml.find(std::string("Name=\"") + name + "\""), std::string::npos) << name;
+    // the symmetric tensors as one 6-component array each (D236)
+    for (const char* name : {"stress_Pa", "strain_1"})
+      EXPECT_NE(xml.find(std::string("Name=\"") + name + "\" NumberOfTuples=\"" +
+                         std::to_string(s.particles.size()) + "\" NumberOfComponents=\"6\""),
+                std::string::npos)
+          << name;
     std::vector<double> pts;
     const std::string body = data_array(xml, "Points");
     if (binary) {

@@ -54,7 +54,7 @@ struct Frame {
   std::vector<std::array<double, 3>> points; ///< positions, m
   std::vector<PointArray> arrays;
   std::vector<FieldScalar> field;
-  std::string comment; ///< written as an XML comment (no "--"); e.g. the software version
+  std::string comment; ///< an XML comment ("--" written "- -"); e.g. the software version
 };
 
 struct Options {
