@@ -157,13 +157,13 @@ TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
   const auto v = read_vtu(j["particle_frames"].back().get<std::string>());
   const auto& P = v.at("Points");
   const auto& U = v.at("displacement_m");
-  const auto& Z = v.at("zone");
-  const auto& S = v.at("gradient_supported");
-  const auto& H = v.at("du_dX");
-  const auto& F = v.at("F_solver");
+  const auto& Z = v.at("zone_index");
+  const auto& S = v.at("gradient_supported_1");
+  const auto& H = v.at("displacement_gradient_1"); // 9 components, row-major (D236)
+  const auto& F = v.at("deformation_gradient_solver_1");
   const std::size_t n = Z.size();
-  ASSERT_EQ(H.size(), n);
-  ASSERT_EQ(v.at("dv_dY").size(), n);
+  ASSERT_EQ(H.size(), 9 * n);
+  ASSERT_EQ(F.size(), 9 * n);
   double sum = 0, sum2 = 0, sumF = 0;
   std::size_t m = 0;
   double slope_w = 0;
@@ -181,9 +181,9 @@ TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
       sxy += X * U[3 * p];
       ++k;
       if (S[p] != 1) continue;
-      sum += H[p];
-      sum2 += H[p] * H[p];
-      sumF += F[4 * p] - 1;
+      sum += H[9 * p];
+      sum2 += H[9 * p] * H[9 * p];
+      sumF += F[9 * p] - 1;
       ++m;
     }
     ASSERT_GT(k, 10u);

@@ -78,15 +78,16 @@ private:
   std::ostringstream prof_;
 };
 
-/// Continuum particles as a VTU point cloud (SI: m, m/s): zone (-1 ordinary continuum, 1 IVC
-/// probe, 2 SVC), displacement_m, velocity_m_per_s, F_solver (the GIMP solver's F11 F12 F21
-/// F22), then `extra`.
+/// Continuum particles as a VTU point cloud (SI: m, m/s): zone_index (-1 ordinary continuum,
+/// 1 IVC probe, 2 SVC), displacement_m, velocity_m_per_s, deformation_gradient_solver_1 (the
+/// GIMP solver's F as a 9-component tensor, F33 = 1 in plane strain), then `extra`.
 void write_particles_vtu(const std::string& path, const Solver<2>& s, const std::vector<int>& zone,
                          const std::vector<PointArray>& extra) {
   const std::size_t n = s.particles.size();
   std::vector<Eigen::Vector3d> x(n);
-  std::vector<PointArray> arrays = {
-      {"displacement_m", 3, {}}, {"velocity_m_per_s", 3, {}}, {"F_solver", 4, {}}};
+  std::vector<PointArray> arrays = {{"displacement_m", "m", 3, {}, {}},
+                                    {"velocity_m_per_s", "m/s", 3, {}, {}},
+                                    {"deformation_gradient_solver_1", "1", 9, {}, {}}};
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d& xi = s.particles.x[i];
     const Eigen::Vector2d u = xi - s.particles.x0[i];
@@ -95,7 +96,8 @@ void write_particles_vtu(const std::string& path, const Solver<2>& s, const std:
     x[i] = Eigen::Vector3d(xi[0], xi[1], 0.0);
     arrays[0].values.insert(arrays[0].values.end(), {u[0], u[1], 0.0});
     arrays[1].values.insert(arrays[1].values.end(), {v[0], v[1], 0.0});
-    arrays[2].values.insert(arrays[2].values.end(), {F(0, 0), F(0, 1), F(1, 0), F(1, 1)});
+    arrays[2].values.insert(arrays[2].values.end(),
+                            {F(0, 0), F(0, 1), 0.0, F(1, 0), F(1, 1), 0.0, 0.0, 0.0, 1.0});
   }
   arrays.insert(arrays.end(), extra.begin(), extra.end());
   write_point_cloud_vtu(path, x, zone, arrays, 12);

@@ -38,6 +38,7 @@
 // generates itself before any LAMMPS command; the user's md_setup commands are passed on
 // unchecked (run them once in a separate process, e.g. `lmp -in`, when in doubt).
 #include "pnc/core/units.hpp"
+#include "pnc/core/vtu.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <Eigen/Core>
@@ -124,17 +125,14 @@ struct EnergyRow {
   double initial = 0.0; ///< cont_kinetic + cont_strain + md_kinetic at setup
 };
 
-/// A named per-point array for the VTU writers: `components` values per point, point-major.
-struct PointArray {
-  std::string name;
-  int components = 1;
-  std::vector<double> values;
-};
+/// A named per-point array for the VTU writers (pnc/core/vtu.hpp: the unit in the name and in
+/// `unit`; 1, 3, 6 or 9 components per point, point-major).
+using PointArray = pnc::vtu::PointArray;
 
-/// Writes a VTU point cloud (one VTK_VERTEX cell per point; ASCII, `precision` digits) with
-/// the Int32 point array "zone" and then `arrays` (Float64), atomically. Positions in the
-/// caller's units (3 coordinates per point). Throws std::invalid_argument naming an array
-/// whose size is not points x components.
+/// Writes a VTU point cloud through pnc/core/vtu.hpp (one VTK_VERTEX cell per point; ASCII,
+/// `precision` digits; D236) with the Int32 point array "zone_index" and then `arrays`,
+/// atomically. Positions in m (3 coordinates per point). Throws pnc::InputError naming an
+/// array whose size is not points x components.
 void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
                            const std::vector<int>& zone, const std::vector<PointArray>& arrays,
                            int precision);
@@ -214,9 +212,9 @@ public:
   Eigen::Vector2d to_continuum(const Eigen::Vector3d& xA) const;
   /// Writes the energy log as CSV (columns in docs/formats.md, "ESCM energy log"), atomically.
   void write_energy_csv(const std::string& path) const;
-  /// Writes the atoms as a VTU point cloud (Angstrom, LAMMPS frame) with point data zone
-  /// (0 INT, 1 IVC, 2 SVC), displacement (A) since setup and velocity (A/fs), then the
-  /// `extra` arrays (Float64, one entry per atom in id order), atomically.
+  /// Writes the atoms as a VTU point cloud (positions in m: the LAMMPS frame's Angstrom times
+  /// 1e-10) with point data zone_index (0 INT, 1 IVC, 2 SVC), displacement_m since setup and
+  /// velocity_m_per_s, then the `extra` arrays (one entry per atom in id order), atomically.
   void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {}) const;
   /// A restart point (between steps): rebuilds LAMMPS's neighbour lists, box and ghost atoms
   /// from the current positions (`run 0`), puts back the forces of the last substep, re-creates
