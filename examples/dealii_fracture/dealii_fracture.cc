@@ -1919,9 +1919,29 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   out.set_flags(flags);
   std::ostringstream name;
   name << "solution-" << std::setw(4) << std::setfill('0') << step << ".vtu";
+  // Field data (D236): the step index and the physical load of the frame, unit in the name
+  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D).
+  std::ostringstream vtu;
+  out.write_vtu(vtu);
+  std::string text = vtu.str();
+  std::ostringstream fd;
+  fd << std::setprecision(17) << "<FieldData>\n";
+  auto scalar = [&](const char* n, double v) {
+    fd << "<DataArray type=\"Float64\" Name=\"" << n
+       << "\" NumberOfTuples=\"1\" format=\"ascii\">\n"
+       << v << "\n</DataArray>\n";
+  };
+  scalar("step_index", step);
+  scalar("displacement_mm", current_load);
+  scalar(dim == 2 ? "force_N_per_mm" : "force_N", records.empty() ? 0.0 : records.back().force);
+  fd << "</FieldData>\n";
+  const auto at = text.find("<UnstructuredGrid>");
+  if (at != std::string::npos) text.insert(text.find('\n', at) + 1, fd.str());
   std::ofstream f(prm.directory + "/" + name.str());
-  out.write_vtu(f);
-  pvd.emplace_back(current_load, name.str());
+  f << text;
+  // The PVD timestep is the step index: the load goes back through a snap-back and ParaView
+  // sorts the frames by timestep.
+  pvd.emplace_back(static_cast<double>(step), name.str());
   std::ofstream pf(prm.directory + "/solution.pvd");
   DataOutBase::write_pvd_record(pf, pvd);
 }
