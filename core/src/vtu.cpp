@@ -8,25 +8,29 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
-#include <string_view>
 
 namespace pnc::vtu {
 
 namespace {
 
 /// Names, units and file names go into XML attributes unescaped: refuse what would need it.
-void check_text(const std::string& path, const std::string& field, const std::string& s) {
+/// `=` is refused too in names and units: the field data "units" lists "name=unit".
+void check_text(const std::string& path, const std::string& field, const std::string& s,
+                bool allow_equals = false) {
   if (s.empty()) fail(path, field, s, "must not be empty");
   for (char c : s)
-    if (c == '"' || c == '<' || c == '>' || c == '&' || c == '=' ||
+    if (c == '"' || c == '<' || c == '>' || c == '&' || (c == '=' && !allow_equals) ||
         static_cast<unsigned char>(c) < 0x20)
-      fail(path, field, s, "must not contain quotes, <, >, &, = or control characters");
+      fail(path, field, s,
+           allow_equals ? "must not contain quotes, <, >, & or control characters"
+                        : "must not contain quotes, <, >, &, = or control characters");
 }
 
 class Writer {
 public:
-  Writer(const Options& o) : o_(o) { s_.precision(o.precision); }
+  explicit Writer(const Options& o) : o_(o) { s_.precision(o.precision); }
   std::ostringstream& os() { return s_; }
 
   void doubles(const std::string& name, int ncomp, const double* v, std::size_t n) {
@@ -91,8 +95,15 @@ private:
   std::ostringstream s_;
 };
 
-void check_frame(const std::string& path, const Frame& f) {
+void check_frame(const std::string& path, const Frame& f, const Options& opt) {
   const std::size_t n = f.points.size();
+  if (opt.precision < 1 || opt.precision > 17)
+    fail(path, "precision", std::to_string(opt.precision), "must be 1 to 17 digits");
+  // the inline binary header is a UInt32 byte count: the largest array must fit
+  constexpr std::size_t max_bytes = std::numeric_limits<std::uint32_t>::max();
+  if (opt.encoding == Encoding::base64 && 9 * n * sizeof(double) > max_bytes)
+    fail(path, "points", std::to_string(n),
+         "too many points for base64 output with a UInt32 header (use ASCII)");
   for (const PointArray& a : f.arrays) {
     check_text(path, "point array name", a.name);
     check_text(path, "unit of '" + a.name + "'", a.unit);
@@ -133,7 +144,7 @@ std::array<double, 6> symmetric6(const double* m) {
 }
 
 void write_vtu(const std::string& path, const Frame& f, const Options& opt) {
-  check_frame(path, f);
+  check_frame(path, f, opt);
   const std::size_t n = f.points.size();
   Writer w(opt);
   auto& o = w.os();
@@ -185,7 +196,7 @@ void write_pvd(const std::string& path, const std::vector<PvdEntry>& entries) {
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const PvdEntry& e = entries[i];
-    check_text(path, "file of entry " + std::to_string(i), e.file);
+    check_text(path, "file of entry " + std::to_string(i), e.file, true);
     if (!std::isfinite(e.timestep))
       fail(path, "timestep of entry " + std::to_string(i), std::to_string(e.timestep),
            "must be finite");

@@ -123,6 +123,13 @@ TEST(Vtu, BadArraysAreInputErrorsNamingFileArrayAndRule) {
   f = two_points();
   f.arrays[0].name = "a\"b";
   EXPECT_NE(error_of([&] { write_vtu(p, f); }).find("quotes"), std::string::npos);
+  f = two_points();
+  f.arrays[0].unit = "a=b"; // would break the "units" list
+  EXPECT_NE(error_of([&] { write_vtu(p, f); }).find("="), std::string::npos);
+  EXPECT_NE(error_of([&] {
+              write_vtu(p, two_points(), {Encoding::ascii, 0});
+            }).find("1 to 17"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(p)); // nothing written
 }
 

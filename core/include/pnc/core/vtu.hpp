@@ -22,8 +22,9 @@
 // time/load of each frame is field data of its VTU.
 // Files are written atomically (atomic_file.hpp). Bad arguments (an array whose size is not
 // points x components, a component count other than 1/3/6/9, a timestep that does not
-// increase, a name with characters XML would need escaped) throw pnc::InputError naming the
-// output file, the array or entry, the value and the rule.
+// increase, a name or unit with characters XML would need escaped or with '=', a precision
+// outside 1-17, base64 arrays over 4 GiB) throw pnc::InputError naming the output file, the
+// array or entry, the value and the rule.
 #include <array>
 #include <cstdint>
 #include <string>
