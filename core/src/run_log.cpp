@@ -2,6 +2,7 @@
 #include "pnc/core/run_log.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/fd_io.hpp"
 #include "pnc/core/version.hpp"
 
 #include <fcntl.h>
@@ -49,16 +50,9 @@ std::string utc_now() {
   return fmt::format("{}.{:03d}Z", buf, static_cast<int>(ms));
 }
 
-/// One write(2) per line (retried on EINTR and short writes); errors are ignored: the log is a
-/// copy, and the terminal has the text.
+/// One write(2) per line; errors are ignored: the log is a copy, and the terminal has the text.
 void write_all(int fd, const std::string& s) {
-  std::size_t done = 0;
-  while (done < s.size()) {
-    const ssize_t n = ::write(fd, s.data() + done, s.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;
-    done += static_cast<std::size_t>(n);
-  }
+  (void)write_fully(fd, s);
 }
 
 /// Forwards everything to the stream's own buffer and collects lines for the log.
@@ -118,15 +112,20 @@ struct ActiveLog {
 };
 ActiveLog& g_log = *new ActiveLog;
 
-void stop_copying() {
-  if (g_log.fd < 0) return;
+/// Flushes both streams, writes their pending partial lines and then `closing` (unless empty)
+/// as one more line, all under the lock. Needs an active log.
+void flush_pending(const std::string& closing) {
   std::cout.flush();
   std::cerr.flush();
-  {
-    const std::lock_guard<std::mutex> lock(g_mutex);
-    g_log.out->flush_partial();
-    g_log.err->flush_partial();
-  }
+  const std::lock_guard<std::mutex> lock(g_mutex);
+  g_log.out->flush_partial();
+  g_log.err->flush_partial();
+  if (!closing.empty()) write_all(g_log.fd, fmt::format("{} {}\n", utc_now(), closing));
+}
+
+void stop_copying() {
+  if (g_log.fd < 0) return;
+  flush_pending("");
   std::cout.rdbuf(g_log.out->original());
   std::cerr.rdbuf(g_log.err->original());
   ::close(g_log.fd);
@@ -163,14 +162,7 @@ void start_run_log(const std::string& dir, const std::string& command_line) {
 
 void finish_run_log(int exit_code) {
   if (g_log.fd < 0) return;
-  std::cout.flush();
-  std::cerr.flush();
-  {
-    const std::lock_guard<std::mutex> lock(g_mutex);
-    g_log.out->flush_partial();
-    g_log.err->flush_partial();
-    write_all(g_log.fd, fmt::format("{} --- pnc finished: exit code {}\n", utc_now(), exit_code));
-  }
+  flush_pending(fmt::format("--- pnc finished: exit code {}", exit_code));
   stop_copying();
 }
 

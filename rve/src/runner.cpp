@@ -2,6 +2,7 @@
 #include "pnc/rve/runner.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/fd_io.hpp"
 #include "pnc/core/locate.hpp"
 #include "pnc/core/params.hpp"
 #include "pnc/core/version.hpp"
@@ -70,14 +71,8 @@ bool Lammps::record_input(const std::string& path, const std::string& header) {
 // Written before LAMMPS runs the command, unbuffered: a LAMMPS error ends the process at once.
 void Lammps::record(const std::string& text) {
   if (input_fd_ < 0) return;
-  const std::string line = text.empty() || text.back() != '\n' ? text + "\n" : text;
-  std::size_t done = 0;
-  while (done < line.size()) {
-    const ssize_t n = ::write(input_fd_, line.data() + done, line.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<std::size_t>(n);
-  }
+  // best effort: the recorded input is a copy; LAMMPS runs the command either way
+  (void)write_fully(input_fd_, text.empty() || text.back() != '\n' ? text + "\n" : text);
 }
 
 void Lammps::cmd(const std::string& command) {

@@ -4,6 +4,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_log.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -19,6 +21,7 @@
 namespace fs = std::filesystem;
 
 namespace {
+using pnc::test::fresh_dir;
 
 std::vector<std::string> lines_of(const std::string& path) {
   std::ifstream f(path);
@@ -26,13 +29,6 @@ std::vector<std::string> lines_of(const std::string& path) {
   for (std::string l; std::getline(f, l);)
     v.push_back(l);
   return v;
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
 }
 
 /// Redirects std::cout and std::cerr into strings for the test's lifetime (the "terminal").
@@ -51,7 +47,7 @@ const std::regex kStamp(R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z (out|err|---)
 } // namespace
 
 TEST(RunLog, EveryPrintedLineReachesTheTerminalAndTheLogWithTimeAndStream) {
-  const fs::path d = fresh_dir("pnc_run_log_lines");
+  const fs::path d = fresh_dir("run_log_lines");
   Terminal term;
   std::streambuf* const terminal_out = std::cout.rdbuf();
   pnc::start_run_log(d.string(), "pnc demo --out x");
@@ -81,7 +77,7 @@ TEST(RunLog, EveryPrintedLineReachesTheTerminalAndTheLogWithTimeAndStream) {
 }
 
 TEST(RunLog, AResumedRunAppendsASession) {
-  const fs::path d = fresh_dir("pnc_run_log_append");
+  const fs::path d = fresh_dir("run_log_append");
   Terminal term;
   pnc::start_run_log(d.string(), "first");
   std::cerr << "one\n";
@@ -99,7 +95,7 @@ TEST(RunLog, AResumedRunAppendsASession) {
 }
 
 TEST(RunLog, ASymbolicLinkInPlaceOfTheLogIsRefusedAndNothingIsWrittenThrough) {
-  const fs::path d = fresh_dir("pnc_run_log_link");
+  const fs::path d = fresh_dir("run_log_link");
   const fs::path target = d / "elsewhere.txt";
   std::ofstream(target) << "keep\n";
   fs::create_symlink(target, d / "pnc.log");
@@ -119,7 +115,7 @@ TEST(RunLog, ASymbolicLinkInPlaceOfTheLogIsRefusedAndNothingIsWrittenThrough) {
 // and std::cout is flushed after them. The process must still end with its own exit code and
 // the lines it printed must be in the log.
 TEST(RunLogDeathTest, ExitWhileTheLogIsActiveKeepsTheExitCodeAndTheLines) {
-  const fs::path d = fresh_dir("pnc_run_log_exit");
+  const fs::path d = fresh_dir("run_log_exit");
   EXPECT_EXIT(
       {
         pnc::start_run_log(d.string(), "exit test");

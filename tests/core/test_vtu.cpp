@@ -4,6 +4,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/vtu.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,17 +18,9 @@ namespace fs = std::filesystem;
 using namespace pnc::vtu;
 
 namespace {
+using pnc::test::slurp;
 fs::path tmpdir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("pnc_test_vtu_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return pnc::test::fresh_dir("test_vtu_" + name);
 }
 Frame two_points() {
   Frame f;
