@@ -62,7 +62,7 @@ int run_card_show(const CardShowArgs& a) {
     strengths.push_back(
         {{"case", id},
          {"component", kComp[s.component]},
-         {"peak_pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
+         {"peak_Pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
          {"strain_at_peak", s.peak ? nlohmann::json(s.strain_at_peak) : nlohmann::json()},
          {"max_strain_searched", s.max_strain_searched}});
   }

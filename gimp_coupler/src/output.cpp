@@ -155,15 +155,15 @@ void write_checkpoint(const std::string& path, const Solver<D>& s, const Checkpo
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     const auto& P = s.particles;
     const auto n = static_cast<Eigen::Index>(P.size());
     f.write_string("/format", "pnc gimp checkpoint 1");
-    f.write_string("/software", version_string());
     f.write_string("/input_hash", x.input_hash);
     f.write_scalar("/dimension", D);
     f.write_scalar("/time", s.time);
     f.set_attr("/time", "units", "s");
-    f.write_scalar("/steps", static_cast<double>(s.steps));
+    f.write_scalar("/steps", s.steps);
     f.write_scalar("/energy/initial", s.energy.initial);
     f.write_scalar("/energy/kinetic", s.energy.kinetic);
     f.write_scalar("/energy/strain", s.energy.strain);

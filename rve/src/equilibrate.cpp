@@ -187,6 +187,7 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
   AtomicOutput out(p(dir, "final", ".h5"));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     stamp_stage_file(f, "final", crit, recipe_json);
     f.write_string("/ensemble", s.ensemble);
     f.write_scalar("/density", tf.mean(4));

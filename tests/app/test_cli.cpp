@@ -214,8 +214,8 @@ TEST_F(Cli, CardShowReportsTheFirstStrengthPeak) {
   bool found = false;
   for (const auto& s : j["strengths"])
     if (s["case"] == 2) {
-      ASSERT_FALSE(s["peak_pa"].is_null());
-      EXPECT_NEAR(s["peak_pa"].get<double>() / 1e6, 189.37, 189.37 * 2e-3);
+      ASSERT_FALSE(s["peak_Pa"].is_null());
+      EXPECT_NEAR(s["peak_Pa"].get<double>() / 1e6, 189.37, 189.37 * 2e-3);
       found = true;
     }
   EXPECT_TRUE(found);

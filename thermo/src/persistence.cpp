@@ -208,9 +208,8 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
   AtomicOutput o(out);
   {
     h5::File f(o.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-bending-rate");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.write_scalar("/rate", rate);
     f.set_attr("/rate", "units", "A/fs");
     f.write_vector("/samples/anchor", r.anchor);
@@ -321,9 +320,8 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
   AtomicOutput o(res.h5);
   {
     h5::File f(o.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-persistence");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real inside (A, fs, kcal/mol, K); SI where named");
     f.write_string("/spec/chain", spec.chain);
     f.write_string("/spec/supports", spec.supports);
@@ -332,7 +330,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     f.set_attr("/spec/spring_k", "units", "kcal/mol/A^2");
     f.write_scalar("/spec/pull_distance", spec.pull_distance);
     f.write_scalar("/spec/timestep", spec.timestep_fs);
-    f.write_scalar("/spec/hold_steps", static_cast<double>(spec.hold_steps));
+    f.write_scalar("/spec/hold_steps", spec.hold_steps);
     f.write_scalar("/spec/temperature", spec.temperature);
     f.write_scalar("/spec/damp", spec.damp_fs);
     f.write_string("/spec/seed", std::to_string(spec.seed));

@@ -103,9 +103,8 @@ void write_point(const std::string& path, const PointJob& j, const PointResult& 
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-lambda-point");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.write_string("/label", j.label);
     f.write_scalar("/lambda", r.lambda);
     f.write_scalar("/lambda_prev", r.lambda_prev);
@@ -113,8 +112,8 @@ void write_point(const std::string& path, const PointJob& j, const PointResult& 
     f.write_string("/seed", std::to_string(j.seed));
     f.write_scalar("/timestep", s.timestep_fs);
     f.set_attr("/timestep", "units", "fs");
-    f.write_scalar("/equil_steps", static_cast<double>(s.equil_steps));
-    f.write_scalar("/prod_steps", static_cast<double>(s.prod_steps));
+    f.write_scalar("/equil_steps", s.equil_steps);
+    f.write_scalar("/prod_steps", s.prod_steps);
     f.write_scalar("/sample_every", s.sample_every);
     f.write_scalar("/blocks", s.blocks);
     f.write_scalar("/temperature", s.temperature);
@@ -625,9 +624,8 @@ void write_ti_h5(const std::string& path, const TiResult& r, const std::string& 
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-ti");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real: kcal/mol, A, fs, K; moduli in Pa");
     f.write_string("/recipe", source_json.empty() ? "{}" : source_json);
     const auto& s = r.spec;
@@ -646,8 +644,8 @@ void write_ti_h5(const std::string& path, const TiResult& r, const std::string& 
     f.write_scalar("/spec/cutoff", s.path.cutoff);
     f.set_attr("/spec/cutoff", "units", "A (fixed at every lambda, D62)");
     f.write_scalar("/spec/timestep", s.sampling.timestep_fs);
-    f.write_scalar("/spec/equil_steps", static_cast<double>(s.sampling.equil_steps));
-    f.write_scalar("/spec/prod_steps", static_cast<double>(s.sampling.prod_steps));
+    f.write_scalar("/spec/equil_steps", s.sampling.equil_steps);
+    f.write_scalar("/spec/prod_steps", s.sampling.prod_steps);
     f.write_scalar("/spec/sample_every", s.sampling.sample_every);
     f.write_scalar("/spec/blocks", s.sampling.blocks);
     f.write_scalar("/spec/temperature", s.sampling.temperature);

@@ -51,9 +51,8 @@ void write_work_h5(const std::string& path, const WorkResult& r) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-work");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     std::string notes;
     for (const auto& n : r.notes)
       notes += n + ".\n";
