@@ -13,6 +13,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -63,7 +65,8 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
 // warning exactly when above it, 2-D quantities per unit thickness, and embeds energy.png and
 // G.png (critical-G line and stop marker drawn by plot_G.py); headless Chromium decodes both.
 TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_cli_report";
+  const fs::path d =
+      fs::temp_directory_path() / ("pnc_gimp_cli_report_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   std::ofstream(d / "crack.json") << R"({
@@ -118,6 +121,7 @@ TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
   // not a blank page: tables and two figures leave ink (an empty or unstyled white page is
   // below 1 % of the 1200 x 3000 screenshot)
   EXPECT_GT(b.ink, 0.02);
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {

@@ -19,6 +19,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -137,7 +139,7 @@ std::string tiny_polymer_restart(const fs::path& d) {
 // sampling): report.html names the command and every Delta A of --json with its standard
 // error, embeds both figures, and renders in headless Chromium with every image decoded.
 TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
-  const auto d = tmp("ti_report");
+  const auto d = tmp("ti_report_" + std::to_string(::getpid())); // parallel test runs
   const std::string rs = tiny_polymer_restart(d);
   const fs::path out = d / "ti";
   const CmdRun r = run("thermo ti --restart " + rs +
@@ -168,4 +170,5 @@ TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
   // not a blank page: the tables and two figures leave ink (an empty or unstyled white page
   // is below 1 % of the 1200 x 3000 screenshot)
   EXPECT_GT(b.ink, 0.02);
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
