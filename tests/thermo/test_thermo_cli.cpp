@@ -87,6 +87,22 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
   ASSERT_EQ(r2.code, 0);
   EXPECT_EQ(fs::last_write_time(d / "rate_0.h5"), t);
   EXPECT_EQ(nlohmann::json::parse(r2.out)["EI0_kcal_mol_A"], j["EI0_kcal_mol_A"]);
+  // resumed again with plots asked for, under a Python whose matplotlib import fails (as
+  // without python3-matplotlib): exit code 0, and the page says why there is no figure
+  fs::create_directories(d / "nompl" / "matplotlib");
+  std::ofstream(d / "nompl" / "matplotlib" / "__init__.py")
+      << "raise ModuleNotFoundError(\"No module named 'matplotlib'\")\n";
+  std::string plots = args;
+  plots.erase(plots.find("--no-plots "), 11);
+  const CmdRun r3 = pnc::test::run_command("PYTHONPATH='" + (d / "nompl").string() + "' " +
+                                           PNC_EXE + " " + plots + " --resume 2>/dev/null");
+  ASSERT_EQ(r3.code, 0) << r3.out;
+  EXPECT_TRUE(nlohmann::json::parse(r3.out)["plots"].empty());
+  html = report_page(d);
+  EXPECT_NE(html.find("Not drawn: "), std::string::npos);
+  EXPECT_NE(html.find("plotting: "), std::string::npos) << "in the warnings";
+  EXPECT_NE(html.find("matplotlib"), std::string::npos);
+  EXPECT_EQ(html.find("data:image/png"), std::string::npos);
 }
 
 TEST(ThermoCli, TiErrorsNameTheInput) {
