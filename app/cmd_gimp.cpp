@@ -1,4 +1,5 @@
 // pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md).
+#include "gimp_report.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
 
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -73,6 +75,15 @@ int run_gimp(const GimpRunArgs& a) {
   if (!s.plot_png.empty()) std::cerr << "  plot: " << s.plot_png << "\n";
   if (!s.plot_G_png.empty()) std::cerr << "  G plot: " << s.plot_G_png << "\n";
   if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
+  nlohmann::json summary;
+  std::ifstream(std::filesystem::path(a.out) / "summary.json") >> summary;
+  const double rel = gimp_relative_energy_error(s);
+  if (rel > kEnergyErrorThreshold)
+    std::cerr << fmt::format("  warning: relative energy error {:.3g} % is above {:.3g} % (D271)\n",
+                             100 * rel, 100 * kEnergyErrorThreshold);
+  const std::string report =
+      write_gimp_run_report({command_line(), a.input, a.out, !a.no_plot}, s, summary);
+  std::cerr << "  report: " << report << "\n";
 
   if (a.json) {
     nlohmann::json j;
@@ -107,6 +118,8 @@ int run_gimp(const GimpRunArgs& a) {
     j["plot"] = s.plot_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_png);
     j["plot_G"] = s.plot_G_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_G_png);
     j["crack_increments"] = s.crack_increments;
+    j["relative_energy_error"] = rel;
+    j["report"] = report;
     std::cout << j.dump() << std::endl;
   }
   return 0;
@@ -162,15 +175,24 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   std::cerr << "  energy log: " << s.energy_csv << "\n  profile: " << s.profile_csv
             << "\n  summary: " << s.summary_json << "\n";
   if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
+  std::ifstream f(s.summary_json);
+  nlohmann::json j = nlohmann::json::parse(f);
+  const double rel = couple_relative_energy_error(s);
+  if (rel > kCoupleEnergyErrorThreshold)
+    std::cerr << fmt::format("  warning: relative energy error {:.3g} % is above {:.3g} % (D271)\n",
+                             100 * rel, 100 * kCoupleEnergyErrorThreshold);
+  const std::string report =
+      write_gimp_couple_report({command_line(), a.input, a.out, !a.no_plot}, s, j, a.short_mode);
+  std::cerr << "  report: " << report << "\n";
   if (a.json) {
-    std::ifstream f(s.summary_json);
-    nlohmann::json j = nlohmann::json::parse(f);
     j["command"] = "gimp couple";
     j["out"] = a.out;
     j["energy_csv"] = s.energy_csv;
     j["profile_csv"] = s.profile_csv;
     j["frames"] = s.frames;
     j["plots"] = s.plots;
+    j["relative_energy_error"] = rel;
+    j["report"] = report;
     std::cout << j.dump() << std::endl;
   }
   return 0;

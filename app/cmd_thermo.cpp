@@ -7,6 +7,7 @@
 #include "registrars.hpp"
 #include "report.hpp"
 #include "run_control.hpp"
+#include "thermo_report.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -25,6 +26,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -44,8 +46,11 @@ nlohmann::json jnum(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
-std::vector<std::string> run_plot(const std::vector<std::string>& args) {
-  return run_plot_script("plot_thermo.py", args);
+/// Draws with plot_thermo.py; a failure is printed once and kept for the report.
+std::vector<std::string> run_plot(const std::vector<std::string>& args, ThermoRun& run) {
+  run.pngs = run_plot_script("plot_thermo.py", args, &run.plot_warning);
+  if (!run.plot_warning.empty()) std::cerr << "pnc: warning: no plot: " << run.plot_warning << "\n";
+  return run.pngs;
 }
 
 void print_progress(const std::string& what, int done, int total, double el, double eta) {
@@ -211,6 +216,7 @@ int run_thermo_ti(TiArgs a) {
                                f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9,
                                f.modulus_se * 1e-9, f.v0);
   std::vector<std::string> pngs;
+  ThermoRun rep{command_line(), a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
   if (!a.no_plots) {
     std::ostringstream c1, c2;
     c1.precision(12);
@@ -235,11 +241,14 @@ int run_thermo_ti(TiArgs a) {
     make_output_directory(pd.string());
     write_text_atomically((pd / "dhdl.csv").string(), c1.str());
     write_text_atomically((pd / "dA.csv").string(), c2.str());
-    pngs = run_plot({"ti", (pd / "dhdl.csv").string(), (pd / "dA.csv").string(), pd.string()});
+    pngs = run_plot({"ti", (pd / "dhdl.csv").string(), (pd / "dA.csv").string(), pd.string()}, rep);
   }
   std::cerr << "  results: " << r.h5 << "\n";
   for (const auto& p : pngs)
     std::cerr << "  plot: " << p << "\n";
+  rep.seconds = r.seconds;
+  const std::string report = write_ti_report(rep, a.spec, r, worst_fd);
+  std::cerr << "  report: " << report << "\n";
   std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
   if (a.json) {
     nlohmann::json j;
@@ -247,6 +256,7 @@ int run_thermo_ti(TiArgs a) {
     j["out"] = a.out;
     j["h5"] = r.h5;
     j["plots"] = pngs;
+    j["report"] = report;
     j["rule"] = a.spec.rule;
     j["kT_kcal_mol"] = kT;
     j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
@@ -303,8 +313,10 @@ int run_thermo_persistence(PersistenceArgs a) {
                            a.spec.chain, a.spec.beads, a.spec.supports, a.spec.spring_k,
                            a.spec.rates.size(), a.spec.pull_distance, a.spec.timestep_fs,
                            a.spec.temperature);
+  const auto t0 = std::chrono::steady_clock::now();
   const thermo::PersistenceResult r =
       thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
+  ThermoRun rep{command_line(), a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
   const double si = units::j_m_per_kcal_mol_A;
   std::cerr << fmt::format(
       "  L = {:.3f} A; EI(rate) = {:.4g} + {:.4g} rate (kcal/mol A, rate A/fs)\n", r.length,
@@ -329,16 +341,20 @@ int run_thermo_persistence(PersistenceArgs a) {
     c << "fit,0," << r.line.c[0] << ',' << r.ei0_ci95 << ',' << r.line.c[1] << '\n';
     const std::string csv = (fs::path(a.out) / "EI_vs_rate.csv").string();
     write_text_atomically(csv, c.str());
-    pngs = run_plot({"persistence", csv, a.out});
+    pngs = run_plot({"persistence", csv, a.out}, rep);
   }
   std::cerr << "  results: " << r.h5 << "\n";
   for (const auto& p : pngs)
     std::cerr << "  plot: " << p << "\n";
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string report = write_persistence_report(rep, a.spec, r);
+  std::cerr << "  report: " << report << "\n";
   if (a.json) {
     nlohmann::json j;
     j["command"] = "thermo persistence";
     j["h5"] = r.h5;
     j["plots"] = pngs;
+    j["report"] = report;
     j["chain"] = a.spec.chain;
     j["length_A"] = r.length;
     nlohmann::json rs = nlohmann::json::array();
