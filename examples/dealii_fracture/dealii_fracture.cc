@@ -1904,15 +1904,17 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
     }
   DataOut<dim> out;
   out.attach_dof_handler(dof_handler);
-  std::vector<std::string> names(dim, "displacement");
+  // Units in the names (D236, D277): after the last '_', "1" for dimensionless; the strains are
+  // engineering strains (shear components 23, 13, 12 are gamma = 2 eps).
+  std::vector<std::string> names(dim, "displacement_mm");
   std::vector<DataComponentInterpretation::DataComponentInterpretation> interp(
       dim, DataComponentInterpretation::component_is_part_of_vector);
   out.add_data_vector(solution, names, DataOut<dim>::type_dof_data, interp);
   for (int k = 0; k < n_modes; ++k)
-    out.add_data_vector(D[k], "D" + std::to_string(k + 1), DataOut<dim>::type_cell_data);
+    out.add_data_vector(D[k], "D" + std::to_string(k + 1) + "_1", DataOut<dim>::type_cell_data);
   for (int v = 0; v < 6; ++v) {
-    out.add_data_vector(S[v], "stress_" + vn[v], DataOut<dim>::type_cell_data);
-    out.add_data_vector(E[v], "strain_" + vn[v], DataOut<dim>::type_cell_data);
+    out.add_data_vector(S[v], "stress_" + vn[v] + "_MPa", DataOut<dim>::type_cell_data);
+    out.add_data_vector(E[v], "strain_" + vn[v] + "_1", DataOut<dim>::type_cell_data);
   }
   out.build_patches();
   DataOutBase::VtkFlags flags;
@@ -1921,7 +1923,8 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   std::ostringstream name;
   name << "solution-" << std::setw(4) << std::setfill('0') << step << ".vtu";
   // Field data (D236): the step index and the physical load of the frame, unit in the name
-  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D).
+  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D), and
+  // the String array "units" listing name=unit of every array (the format of pnc/core/vtu.hpp).
   std::ostringstream vtu;
   out.write_vtu(vtu);
   std::string text = vtu.str();
@@ -1935,7 +1938,22 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   scalar("step_index", step);
   scalar("displacement_mm", current_load);
   scalar(dim == 2 ? "force_N_per_mm" : "force_N", records.empty() ? 0.0 : records.back().force);
-  fd << "</FieldData>\n";
+  std::vector<std::string> units{"step_index=index", "displacement_mm=mm",
+                                 dim == 2 ? "force_N_per_mm=N/mm" : "force_N=N", "Points=mm"};
+  for (int k = 0; k < n_modes; ++k)
+    units.push_back("D" + std::to_string(k + 1) + "_1=1");
+  for (int v = 0; v < 6; ++v) {
+    units.push_back("stress_" + vn[v] + "_MPa=MPa");
+    units.push_back("strain_" + vn[v] + "_1=1");
+  }
+  fd << "<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" << units.size()
+     << "\" format=\"ascii\">\n"; // each string as its bytes and a 0 (VTK's ASCII form)
+  for (const auto& x : units) {
+    for (const unsigned char c : x)
+      fd << int(c) << ' ';
+    fd << "0\n";
+  }
+  fd << "</Array>\n</FieldData>\n";
   const auto at = text.find("<UnstructuredGrid>");
   if (at != std::string::npos) text.insert(text.find('\n', at) + 1, fd.str());
   std::ofstream f(prm.directory + "/" + name.str());

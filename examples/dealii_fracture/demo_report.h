@@ -1,9 +1,9 @@
 // examples/dealii_fracture/demo_report.h
 //
-// The run report of the demo: <Output/Directory>/report.html, a self-contained page (figures
-// embedded, no network), and its plain-text twin report.md, written with pnc's one page writer
-// pnc::html::Page (core/include/pnc/core/html_page.hpp; docs/formats.md "Run reports"). No
-// deal.II here: the page is built from the run's JSON summary (FractureProblem::summary()).
+// The run report of the demo (D275): <Output/Directory>/report.html, a self-contained page
+// (figures embedded, no network), and its plain-text twin report.md, written with pnc's one
+// page writer pnc::html::Page (core/include/pnc/core/html_page.hpp; docs/formats.md "Run reports").
+// No deal.II here: the page is built from the run's JSON summary (FractureProblem::summary()).
 //
 // Units: lengths and displacements in mm, forces in N/mm of thickness (2-D plane strain) or N
 // (3-D), energies in mJ/mm (2-D) or mJ (3-D), times in s.

@@ -6,7 +6,8 @@ controlled displacement). Usage:
 
 The force panel of the first CSV is annotated: the peak force, the first step under
 dissipation (arc-length) control (column `control`) with every dissipation-controlled step
-marked, and the last step with TEXT (where and why the run stopped; the program passes it).
+marked, and the last step with TEXT (where and why the run stopped; the program passes it;
+D276).
 Units from the CSV column names: force in N/mm of thickness and energy in mJ/mm in 2-D (plane
 strain), N and mJ in 3-D; displacement in mm. Needs matplotlib (/usr/bin/python3 has it)."""
 import csv
