@@ -112,7 +112,8 @@ def main(argv):
 
 def damage_map(path, png):
     """Cell-averaged damage (largest D_k per cell) of the last converged state, and, when the
-    CSV has it, the fracture variable omega of the closure (docs/dealii_demo.md) next to it."""
+    CSV has it, the fracture variable omega of the closure (D54) next to it; no decision codes
+    in the titles (D276)."""
     if not os.path.exists(path):
         return
     with open(path) as f:
