@@ -2402,6 +2402,8 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
   if (p.stop_fraction > 0) loading << ", stop below " << 100 * p.stop_fraction << " % of the peak";
   r.loading = loading.str();
   r.stop_fraction = p.stop_fraction;
+  r.vtu = p.vtu_every > 0;
+  r.plot_requested = p.plot;
   r.summary = j;
   r.wall_s = seconds_since(t0);
   try {

@@ -70,7 +70,7 @@ std::vector<std::string> warnings_of(const ReportInput& in) {
     w.push_back(fmt::format("IMPL-EX: negative point-wise dissipation summed to {:.4g} {} "
                             "(the extrapolated history overshot).",
                             neg, u.energy));
-  if (!in.plot_note.empty()) w.push_back("No figure: " + in.plot_note + ".");
+  if (in.plot_requested && !in.plot_note.empty()) w.push_back("No figure: " + in.plot_note + ".");
   return w;
 }
 
@@ -90,8 +90,9 @@ std::vector<std::string> next_steps(const ReportInput& in) {
   n.push_back("Check the mesh dependence of the peak: run again with one more "
               "`Mesh/Global refinements` (or `Mesh/Max adaptive levels`) and compare the peak "
               "force.");
-  n.push_back("Open `solution.pvd` in ParaView (one frame per written step; the frame's "
-              "displacement and force are its field data) to see where the damage localises.");
+  if (in.vtu)
+    n.push_back("Open `solution.pvd` in ParaView (one frame per written step; the frame's "
+                "displacement and force are its field data) to see where the damage localises.");
   return n;
 }
 
@@ -226,8 +227,10 @@ std::string write_report(const ReportInput& in) {
   if (in.png.empty()) {
     page.paragraph(
         "No figure: " + (in.plot_note.empty() ? std::string("not drawn") : in.plot_note) +
-            ". The data are in `force_displacement.csv`.",
-        Tone::warning);
+            (fs::exists(dir / "force_displacement.csv")
+                 ? ". The data are in `force_displacement.csv`."
+                 : "."),
+        in.plot_requested ? Tone::warning : Tone::neutral);
   } else {
     page.figure(in.png,
                 "Force" + std::string(s.value("dimension", 2) == 2 ? " per unit thickness" : "") +

@@ -33,7 +33,9 @@ struct ReportInput {
   std::string png;               ///< the force-displacement figure; empty when not drawn
   std::string damage_png;        ///< the damage map; empty when not drawn
   std::string plot_note;         ///< why there is no figure (empty when there is one)
+  bool plot_requested = true;    ///< Output/Plot: a missing figure is then a warning
   std::string stop;              ///< stop_text() of the run
+  bool vtu = true;               ///< VTU frames and solution.pvd were written (Output/VTU every)
 };
 
 /// Where and why the run ended, in words (also the annotation of the last point in the
