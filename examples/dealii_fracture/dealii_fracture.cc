@@ -85,6 +85,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "demo_report.h"
 #include "fracture_problem.h"
 
 #include <fcntl.h>
@@ -1903,15 +1904,17 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
     }
   DataOut<dim> out;
   out.attach_dof_handler(dof_handler);
-  std::vector<std::string> names(dim, "displacement");
+  // Units in the names (D236, D277): after the last '_', "1" for dimensionless; the strains are
+  // engineering strains (shear components 23, 13, 12 are gamma = 2 eps).
+  std::vector<std::string> names(dim, "displacement_mm");
   std::vector<DataComponentInterpretation::DataComponentInterpretation> interp(
       dim, DataComponentInterpretation::component_is_part_of_vector);
   out.add_data_vector(solution, names, DataOut<dim>::type_dof_data, interp);
   for (int k = 0; k < n_modes; ++k)
-    out.add_data_vector(D[k], "D" + std::to_string(k + 1), DataOut<dim>::type_cell_data);
+    out.add_data_vector(D[k], "D" + std::to_string(k + 1) + "_1", DataOut<dim>::type_cell_data);
   for (int v = 0; v < 6; ++v) {
-    out.add_data_vector(S[v], "stress_" + vn[v], DataOut<dim>::type_cell_data);
-    out.add_data_vector(E[v], "strain_" + vn[v], DataOut<dim>::type_cell_data);
+    out.add_data_vector(S[v], "stress_" + vn[v] + "_MPa", DataOut<dim>::type_cell_data);
+    out.add_data_vector(E[v], "strain_" + vn[v] + "_1", DataOut<dim>::type_cell_data);
   }
   out.build_patches();
   DataOutBase::VtkFlags flags;
@@ -1920,7 +1923,8 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   std::ostringstream name;
   name << "solution-" << std::setw(4) << std::setfill('0') << step << ".vtu";
   // Field data (D236): the step index and the physical load of the frame, unit in the name
-  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D).
+  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D), and
+  // the String array "units" listing name=unit of every array (the format of pnc/core/vtu.hpp).
   std::ostringstream vtu;
   out.write_vtu(vtu);
   std::string text = vtu.str();
@@ -1934,7 +1938,22 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   scalar("step_index", step);
   scalar("displacement_mm", current_load);
   scalar(dim == 2 ? "force_N_per_mm" : "force_N", records.empty() ? 0.0 : records.back().force);
-  fd << "</FieldData>\n";
+  std::vector<std::string> units{"step_index=index", "displacement_mm=mm",
+                                 dim == 2 ? "force_N_per_mm=N/mm" : "force_N=N", "Points=mm"};
+  for (int k = 0; k < n_modes; ++k)
+    units.push_back("D" + std::to_string(k + 1) + "_1=1");
+  for (int v = 0; v < 6; ++v) {
+    units.push_back("stress_" + vn[v] + "_MPa=MPa");
+    units.push_back("strain_" + vn[v] + "_1=1");
+  }
+  fd << "<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" << units.size()
+     << "\" format=\"ascii\">\n"; // each string as its bytes and a 0 (VTK's ASCII form)
+  for (const auto& x : units) {
+    for (const unsigned char c : x)
+      fd << int(c) << ' ';
+    fd << "0\n";
+  }
+  fd << "</Array>\n</FieldData>\n";
   const auto at = text.find("<UnstructuredGrid>");
   if (at != std::string::npos) text.insert(text.find('\n', at) + 1, fd.str());
   std::ofstream f(prm.directory + "/" + name.str());
@@ -2307,11 +2326,12 @@ namespace {
 }
 
 // The force-displacement plot: /usr/bin/python3 with the plot script, run without a shell
-// (the output directory comes from the parameter file); its output is discarded.
-bool plot(const std::string& csv, const std::string& png) {
+// (the output directory comes from the parameter file); its output is discarded. `stop` (where
+// and why the run ended) annotates the last point.
+bool plot(const std::string& csv, const std::string& png, const std::string& stop) {
   const std::string python = "/usr/bin/python3",
                     script = std::string(PNC_DEMO_SOURCE_DIR) + "/plot_force_displacement.py";
-  std::vector<std::string> args{python, script, csv, png};
+  std::vector<std::string> args{python, script, "--stop", stop, csv, png};
   std::vector<char*> argv;
   for (auto& a : args)
     argv.push_back(a.data());
@@ -2328,7 +2348,13 @@ bool plot(const std::string& csv, const std::string& png) {
          WEXITSTATUS(status) == 0;
 }
 
-template <int dim> int run_demo(const pncdemo::Params& p, bool json) {
+// What was run, for the report: the command line (arguments with a space quoted).
+struct Invocation {
+  std::string command, prm_file;
+  std::vector<std::string> sets;
+};
+
+template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invocation& inv) {
   using namespace pncdemo;
   const auto t0 = Clock::now();
   auto m = make_material(p.plugin, p.card, p.constants_json, p.platelet_angle);
@@ -2344,18 +2370,55 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json) {
   j["platelet_angle_deg"] = p.platelet_angle;
   j["wall_time_s"] = seconds_since(t0);
   j["output_directory"] = p.directory;
+  // The report (report.html + report.md in the output directory, demo_report.h).
+  ReportInput r;
+  r.stop = stop_text(j, p.stop_fraction);
+  const auto t_plot = Clock::now();
   if (p.plot && !fp.records.empty()) {
     const std::string png = p.directory + "/force_displacement.png";
-    j["plot"] = plot(p.directory + "/force_displacement.csv", png)
-                    ? png
-                    : "failed (needs /usr/bin/python3 + matplotlib)";
+    if (plot(p.directory + "/force_displacement.csv", png, r.stop)) {
+      j["plot"] = png;
+      r.png = png;
+      const std::string damage = p.directory + "/force_displacement_damage.png";
+      if (std::filesystem::exists(damage)) r.damage_png = damage;
+    } else {
+      j["plot"] = "failed (needs /usr/bin/python3 + matplotlib)";
+      r.plot_note = "the plot script failed (it needs /usr/bin/python3 with matplotlib)";
+    }
+  } else
+    r.plot_note = "Output/Plot is false";
+  r.plot_s = seconds_since(t_plot);
+  r.command = inv.command;
+  r.parameter_file = inv.prm_file;
+  r.overrides = inv.sets;
+  r.directory = p.directory;
+  r.plugin = m.plugin->path();
+  r.plugin_abi = m.plugin->abi_version();
+  r.dealii_version = DEAL_II_PACKAGE_VERSION;
+  std::ostringstream loading;
+  loading << "displacement waypoints " << p.path << " mm, step " << p.step << " mm";
+  if (p.control == "dissipation")
+    loading << ", dissipation step " << p.dissipation_step << (dim == 2 ? " mJ/mm" : " mJ");
+  if (p.stop_fraction > 0) loading << ", stop below " << 100 * p.stop_fraction << " % of the peak";
+  r.loading = loading.str();
+  r.stop_fraction = p.stop_fraction;
+  r.vtu = p.vtu_every > 0;
+  r.plot_requested = p.plot;
+  r.summary = j;
+  r.wall_s = seconds_since(t0);
+  try {
+    std::filesystem::create_directories(p.directory);
+    j["report"] = write_report(r);
+  } catch (const std::exception& e) {
+    std::cerr << "dealii_fracture: warning: no report: " << e.what() << "\n";
+    j["report"] = std::string("failed: ") + e.what();
   }
   if (json)
     std::cout << j.dump(2) << std::endl;
   else
     std::cout << "peak load " << j["peak_load"] << " at displacement " << j["displacement_at_peak"]
               << ", dissipated energy " << j["dissipated_energy"] << " (" << j["units"]
-              << "); outputs in " << p.directory << "\n";
+              << "); outputs in " << p.directory << " (report.html)\n";
   return fp.finished ? 0 : 2;
 }
 } // namespace
@@ -2394,7 +2457,14 @@ int main(int argc, char** argv) {
       }
     }
     const Params p = load_parameters(prm_file, sets);
-    return p.dim == 2 ? run_demo<2>(p, json) : run_demo<3>(p, json);
+    Invocation inv{"", prm_file, sets};
+    for (int i = 0; i < argc; ++i) {
+      const std::string a = argv[i];
+      inv.command +=
+          (i ? " " : "") +
+          (a.find_first_of(" \"'") == std::string::npos || a.empty() ? a : "\"" + a + "\"");
+    }
+    return p.dim == 2 ? run_demo<2>(p, json, inv) : run_demo<3>(p, json, inv);
   } catch (const std::exception& e) {
     std::cerr << "dealii_fracture: error: " << e.what() << std::endl;
     return 1;
