@@ -52,20 +52,6 @@ void add_figures(html::Page& page, const GimpRunInfo& run,
   if (!any) page.paragraph("Not drawn: " + warning, Tone::warning);
 }
 
-void add_warnings(html::Page& page, const std::vector<std::string>& w) {
-  page.section("Warnings");
-  if (w.empty())
-    page.paragraph("None.");
-  else
-    page.list(w, Tone::warning);
-}
-
-std::string write(const html::Page& page, const GimpRunInfo& run) {
-  const std::string html_path = (fs::path(run.out) / "report.html").string();
-  page.write(html_path, (fs::path(run.out) / "report.md").string());
-  return html_path;
-}
-
 /// Polyline length of a 2-D crack (summary.json points_m), m.
 double polyline_length(const nlohmann::json& pts) {
   double l = 0;
@@ -208,8 +194,8 @@ std::string write_gimp_run_report(const GimpRunInfo& run, const gimp::RunSummary
                               "and time; dash-dotted: the critical Gc; ✕: where growth "
                               "stopped, and why."}},
               s.plot_warning);
-  add_warnings(page, warnings);
-  return write(page, run);
+  page.warnings(warnings);
+  return page.write_report(run.out);
 }
 
 #ifdef PNC_GIMP_HAS_ESCM
@@ -324,8 +310,8 @@ std::string write_gimp_couple_report(const GimpRunInfo& run, const gimp::escm::C
                                              "openings against time."});
   }
   add_figures(page, run, figs, s.plot_warning);
-  add_warnings(page, warnings);
-  return write(page, run);
+  page.warnings(warnings);
+  return page.write_report(run.out);
 }
 #endif
 

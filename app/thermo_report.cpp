@@ -61,17 +61,7 @@ void add_figures(html::Page& page, const ThermoRun& run,
 void add_warnings(html::Page& page, const ThermoRun& run) {
   std::vector<std::string> w = run.notes;
   if (!run.plot_warning.empty()) w.push_back("plotting: " + run.plot_warning);
-  page.section("Warnings");
-  if (w.empty())
-    page.paragraph("None.");
-  else
-    page.list(w, Tone::warning);
-}
-
-std::string write(const html::Page& page, const ThermoRun& run) {
-  const std::string html_path = (fs::path(run.out) / "report.html").string();
-  page.write(html_path, (fs::path(run.out) / "report.md").string());
-  return html_path;
+  page.warnings(w);
 }
 
 Tone tone_of(int level) {
@@ -176,7 +166,7 @@ std::string write_ti_report(const ThermoRun& run, const thermo::TiSpec& spec,
                {"dA_vs_strain.png", "ΔA (kcal/mol) against the volumetric and deviatoric strain; "
                                     "error bars 1 standard error."}});
   add_warnings(page, run);
-  return write(page, run);
+  return page.write_report(run.out);
 }
 
 std::string write_persistence_report(const ThermoRun& run, const thermo::PersistenceSpec& spec,
@@ -238,7 +228,7 @@ std::string write_persistence_report(const ThermoRun& run, const thermo::Persist
               {{"EI_vs_rate.png", "EI (kcal/mol Å) against the pulling rate and the straight "
                                   "line extrapolated to rate 0."}});
   add_warnings(page, run);
-  return write(page, run);
+  return page.write_report(run.out);
 }
 
 } // namespace pnc::app

@@ -172,7 +172,6 @@ std::string stop_text(const nlohmann::json& s, double stop_fraction) {
 std::string write_report(const ReportInput& in) {
   const auto& s = in.summary;
   const fs::path dir(in.directory.empty() ? "." : in.directory);
-  const std::string html_path = (dir / "report.html").string();
   pnc::html::Page page(fmt::format("dealii_fracture: {}-D {}", s.value("dimension", 2),
                                    s.value("geometry", std::string("specimen"))));
   const std::vector<std::string> warn = warnings_of(in);
@@ -250,13 +249,8 @@ std::string write_report(const ReportInput& in) {
   page.section("Key numbers");
   key_numbers(page, in);
 
-  page.section("Warnings");
-  if (warn.empty())
-    page.paragraph("None.", Tone::good);
-  else
-    page.list(warn, Tone::warning);
-  page.write(html_path, (dir / "report.md").string());
-  return html_path;
+  page.warnings(warn);
+  return page.write_report(dir.string());
 }
 
 } // namespace pncdemo

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "tiny_polymer.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -127,29 +129,7 @@ TEST(ThermoCli, TiErrorsNameTheInput) {
   EXPECT_NE(r.out.find("0.5"), std::string::npos) << r.out;
 }
 
-namespace {
-/// A tiny equilibrated-enough polymer (12 chains x 10 beads, minimised) as a LAMMPS restart.
-std::string tiny_polymer_restart(const fs::path& d) {
-  pnc::rve::BuildSpec b;
-  b.chains = 12;
-  b.beads_per_chain = 10;
-  b.density = 0.9;
-  const pnc::rve::PolymerForceField ff;
-  const std::string data = (d / "rve.data").string(), rs = (d / "rve.restart").string();
-  pnc::rve::write_data_file(data, pnc::rve::build_polymer(b, ff), "thermo cli test");
-  const auto o = pnc::rve::run_stage({"prep", (d / "prep.log").string(), {}}, [&](auto& l) {
-    l.cmd("units real");
-    l.cmd("atom_style molecular");
-    l.cmd("read_data " + data);
-    l.cmds(pnc::rve::polymer_forcefield_commands(ff));
-    l.cmd("minimize 1e-4 1e-6 200 2000");
-    l.cmd("velocity all create 300 5 dist gaussian");
-    l.cmd("write_restart " + rs);
-  });
-  if (!o.ok) throw std::runtime_error(o.error);
-  return rs;
-}
-} // namespace
+using pnc::test::tiny_polymer_restart;
 
 // `pnc thermo ti` on a tiny polymer (a reference and one dilated state, 2 Gauss points, short
 // sampling): report.html names the command and every Delta A of --json with its standard
