@@ -24,8 +24,9 @@ void Coupler::write_energy_csv(const std::string& path) const {
 
 void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
                            const std::vector<int>& zone, const std::vector<PointArray>& arrays,
-                           int precision) {
+                           int precision, const std::vector<FieldScalar>& field) {
   pnc::vtu::Frame f;
+  f.field = field;
   f.points.reserve(x.size());
   for (const auto& p : x)
     f.points.push_back({p[0], p[1], p[2]});
@@ -35,7 +36,8 @@ void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vec
   pnc::vtu::write_vtu(path, f, {pnc::vtu::Encoding::ascii, precision});
 }
 
-void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra) const {
+void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra,
+                              const std::vector<FieldScalar>& field) const {
   constexpr double m_per_A = 1e-10, m_per_s_per_A_per_fs = 1e5;
   std::vector<int> ids;
   std::vector<Eigen::Vector3d> x, v;
@@ -53,7 +55,7 @@ void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointAr
     x[i] *= m_per_A;
   }
   arrays.insert(arrays.end(), extra.begin(), extra.end());
-  write_point_cloud_vtu(path, x, zone, arrays, 9);
+  write_point_cloud_vtu(path, x, zone, arrays, 9, field);
 }
 
 } // namespace pnc::gimp::escm

@@ -2,9 +2,11 @@
 #include "observers.hpp"
 
 #include "pnc/core/atomic_file.hpp"
+#include "pnc/core/vtu.hpp"
 
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -80,9 +82,11 @@ private:
 
 /// Continuum particles as a VTU point cloud (SI: m, m/s): zone_index (-1 ordinary continuum,
 /// 1 IVC probe, 2 SVC), displacement_m, velocity_m_per_s, deformation_gradient_solver_1 (the
-/// GIMP solver's F as a 9-component tensor, F33 = 1 in plane strain), then `extra`.
+/// GIMP solver's F as a 9-component tensor, F33 = 1 in plane strain), then `extra`, and the field
+/// data `field`.
 void write_particles_vtu(const std::string& path, const Solver<2>& s, const std::vector<int>& zone,
-                         const std::vector<PointArray>& extra) {
+                         const std::vector<PointArray>& extra,
+                         const std::vector<FieldScalar>& field) {
   const std::size_t n = s.particles.size();
   std::vector<Eigen::Vector3d> x(n);
   std::vector<PointArray> arrays = {{"displacement_m", "m", 3, {}, {}},
@@ -100,7 +104,7 @@ void write_particles_vtu(const std::string& path, const Solver<2>& s, const std:
                             {F(0, 0), F(0, 1), 0.0, F(1, 0), F(1, 1), 0.0, 0.0, 0.0, 1.0});
   }
   arrays.insert(arrays.end(), extra.begin(), extra.end());
-  write_point_cloud_vtu(path, x, zone, arrays, 12);
+  write_point_cloud_vtu(path, x, zone, arrays, 12, field);
 }
 
 std::string join_lines(const std::vector<std::string>& v) {
@@ -118,20 +122,42 @@ std::vector<std::string> split_lines(const std::string& s) {
   return v;
 }
 
+/// The frame index k of a frame file ".../<name>_<k>.vtu" (written by Frames below).
+double frame_index_of(const std::string& path) {
+  const auto us = path.find_last_of('_'), dot = path.rfind(".vtu");
+  return std::stod(path.substr(us + 1, dot - us - 1));
+}
+
+/// `dir`/<name>: the PVD series of `files` (frames of this run, resumed ones included), the
+/// timestep of each its frame index, strictly increasing; the physical time is each frame's
+/// field data `time_s` (D236).
+void write_frame_pvd(const std::string& dir, const std::string& name,
+                     const std::vector<std::string>& files) {
+  std::vector<pnc::vtu::PvdEntry> entries;
+  for (const auto& f : files)
+    entries.push_back({std::filesystem::path(f).filename().string(), frame_index_of(f)});
+  pnc::vtu::write_pvd(dir + "/" + name, entries);
+}
+
 /// atoms_<k>.vtu (Coupler::write_atoms_vtu) and particles_<k>.vtu at every frame, both with
-/// the displacement gradients (D79).
+/// the displacement gradients (D79), the field data time_s and frame_index, and the series
+/// atoms.pvd and particles.pvd rewritten after each frame.
 class Frames final : public Observer {
 public:
   void on_frame(const CoupledRun& run, long index) override {
     const std::string idx = std::to_string(index);
+    const std::vector<FieldScalar> field = {{"time_s", "s", run.solver().time},
+                                            {"frame_index", "index", static_cast<double>(index)}};
     const std::string f = run.out_dir() + "/atoms_" + idx + ".vtu";
     run.coupler().write_atoms_vtu(
-        f, run.gradient_arrays(run.continuum_points(), run.gradient_points()));
+        f, run.gradient_arrays(run.continuum_points(), run.gradient_points()), field);
     frames_.push_back(f);
     const std::string fp = run.out_dir() + "/particles_" + idx + ".vtu";
     write_particles_vtu(fp, run.solver(), run.particle_zones(),
-                        run.gradient_arrays(0, run.continuum_points()));
+                        run.gradient_arrays(0, run.continuum_points()), field);
     particle_frames_.push_back(fp);
+    write_frame_pvd(run.out_dir(), "atoms.pvd", frames_);
+    write_frame_pvd(run.out_dir(), "particles.pvd", particle_frames_);
   }
   void save(CoupledCheckpoint& ck) const override {
     ck.texts["frames"] = join_lines(frames_);

@@ -128,14 +128,16 @@ struct EnergyRow {
 /// A named per-point array for the VTU writers (pnc/core/vtu.hpp: the unit in the name and in
 /// `unit`; 1, 3, 6 or 9 components per point, point-major).
 using PointArray = pnc::vtu::PointArray;
+/// A frame's field-data scalar (the physical time "time_s", the "frame_index").
+using FieldScalar = pnc::vtu::FieldScalar;
 
 /// Writes a VTU point cloud through pnc/core/vtu.hpp (one VTK_VERTEX cell per point; ASCII,
 /// `precision` digits; D236) with the Int32 point array "zone_index" and then `arrays`,
-/// atomically. Positions in m (3 coordinates per point). Throws pnc::InputError naming an
-/// array whose size is not points x components.
+/// atomically; `field`: the frame's field data. Positions in m (3 coordinates per point).
+/// Throws pnc::InputError naming an array whose size is not points x components.
 void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
                            const std::vector<int>& zone, const std::vector<PointArray>& arrays,
-                           int precision);
+                           int precision, const std::vector<FieldScalar>& field = {});
 
 /// Wall-clock split of the coupled steps so far, s.
 struct Timing {
@@ -214,8 +216,10 @@ public:
   void write_energy_csv(const std::string& path) const;
   /// Writes the atoms as a VTU point cloud (positions in m: the LAMMPS frame's Angstrom times
   /// 1e-10) with point data zone_index (0 INT, 1 IVC, 2 SVC), displacement_m since setup and
-  /// velocity_m_per_s, then the `extra` arrays (one entry per atom in id order), atomically.
-  void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {}) const;
+  /// velocity_m_per_s, then the `extra` arrays (one entry per atom in id order), and the field
+  /// data `field` (e.g. time_s), atomically.
+  void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {},
+                       const std::vector<FieldScalar>& field = {}) const;
   /// A restart point (between steps): rebuilds LAMMPS's neighbour lists, box and ghost atoms
   /// from the current positions (`run 0`), puts back the forces of the last substep, re-creates
   /// the Langevin fixes with the seeds of the next segment (their heat tallies carried as
