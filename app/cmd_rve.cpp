@@ -88,9 +88,11 @@ int run_rve_build(const BuildArgs& a) {
     j["data"] = data;
     j["record"] = rec;
     j["atoms"] = s.x.size();
-    j["density_g_cm3"] = s.density();
-    j["box_A"] = {L[0], L[1], L[2]};
-    j["min_nonbonded_distance_A"] = dmin;
+    // SI as every --json (D238); the data file and build.h5 stay in LAMMPS real units (Å)
+    constexpr double m_per_A = 1e-10, kg_m3_per_g_cm3 = 1e3;
+    j["density_kg_per_m3"] = s.density() * kg_m3_per_g_cm3;
+    j["box_m"] = {L[0] * m_per_A, L[1] * m_per_A, L[2] * m_per_A};
+    j["min_nonbonded_distance_m"] = dmin * m_per_A;
     if (a.with_clay)
       j["clay"] = {{"cells_a", a.clay.cells_a},
                    {"cells_b", a.clay.cells_b},

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The --json outputs of pnc match the JSON Schemas shipped in docs/schemas/ (D238).
 
-Runs `pnc synth`, `pnc fit`, `pnc card show` and `pnc material drive` in a fresh temporary
+Runs `pnc synth`, `pnc fit`, `pnc card show`, `pnc material drive`, `pnc card tables`,
+`pnc rve build` and `pnc gimp run` (a 1-s bar impact) in a fresh temporary
 directory and validates each printed object against its schema (python3-jsonschema, Draft
 2020-12; the schemas forbid keys they do not describe, so a new key must be documented). Also
 checks the unit rule on every schema: each number has a `unit` annotation, and a key whose unit
@@ -13,6 +14,7 @@ Usage: json_schemas.py --root SOURCE_DIR --pnc PATH_TO_PNC
 """
 import argparse
 import copy
+import importlib.metadata
 import json
 import pathlib
 import subprocess
@@ -20,18 +22,21 @@ import sys
 import tempfile
 
 try:
-    import jsonschema
     from jsonschema import Draft202012Validator, RefResolver
 except ImportError:
     sys.exit("json_schemas: python3-jsonschema is missing (scripts/common.sh installs it)")
 
 
 def suffix(unit):
-    return "_" + unit.replace("/", "_per_").replace("^", "")
+    """`Pa` -> `_Pa`, `J/m^3` -> `_J_per_m3`, `1/s` -> `_per_s`."""
+    if unit.startswith("1/"):
+        unit = unit[1:]
+    return ("_" + unit.replace("/", "_per_").replace("^", "")).replace("__", "_")
 
 
-def unit_problems(schema, where, key=None, problems=None):
-    """Numbers without a unit annotation, unit-bearing keys without the unit's suffix."""
+def unit_problems(schema, where, key=None, problems=None, block=""):
+    """Numbers without a unit annotation, unit-bearing keys without the unit's suffix (or
+    inside a block whose key has it: `energy_J: {kinetic, ...}`)."""
     if problems is None:
         problems = []
     if not isinstance(schema, dict):
@@ -47,12 +52,16 @@ def unit_problems(schema, where, key=None, problems=None):
         unit = schema.get("unit")
         if unit is None:
             problems.append(f"{where}: number without a `unit` annotation")
-        elif unit not in ("1", "units") and not key.startswith("^") and not key.endswith(suffix(unit)):
+        elif (unit not in ("1", "units") and not key.startswith("^")
+              and not key.endswith(suffix(unit)) and not block.endswith(suffix(unit))):
             problems.append(f"{where}: unit {unit} but the key does not end with {suffix(unit)}")
     for name, sub in schema.get("properties", {}).items():
-        unit_problems(sub, f"{where}.{name}", name, problems)
+        unit_problems(sub, f"{where}.{name}", name, problems, key or "")
     for pattern, sub in schema.get("patternProperties", {}).items():
-        unit_problems(sub, f"{where}.<{pattern}>", pattern, problems)
+        unit_problems(sub, f"{where}.<{pattern}>", pattern, problems, key or "")
+    if isinstance(schema.get("additionalProperties"), dict):
+        unit_problems(schema["additionalProperties"], f"{where}.<any>", "<any>", problems,
+                      key or "")
     for name, sub in schema.get("$defs", {}).items():
         unit_problems(sub, f"{where}#{name}", None, problems)
     if isinstance(items, dict) and "properties" in items:
@@ -91,6 +100,7 @@ def main():
         return Draft202012Validator(s, resolver=RefResolver(s["$id"], s, store=store))
 
     drive = pathlib.Path(a.root).resolve() / "examples" / "drive" / "uniaxial_stress_lur.toml"
+    bar = pathlib.Path(a.root).resolve() / "examples" / "gimp" / "bar_impact_3d.json"
     with tempfile.TemporaryDirectory(prefix="pnc_json_schemas_") as d:
         outputs = {
             "synth.schema.json": run_json(a.pnc, ["synth", "--points", "40", "--out", "d.csv"], d),
@@ -100,7 +110,22 @@ def main():
             "material-drive.schema.json": run_json(a.pnc, ["material", "drive", "card.h5", "--path",
                                                            str(drive), "--out", "drive.csv",
                                                            "--no-plot"], d),
+            "card-tables.schema.json": run_json(a.pnc, ["card", "tables", "--out", "t.h5"], d),
+            "rve-build.schema.json": run_json(a.pnc, ["rve", "build", "--chains", "10", "--beads",
+                                                      "10", "--out", "rve"], d),
+            "gimp-run.schema.json": run_json(a.pnc, ["gimp", "run", str(bar), "--out", "gimp",
+                                                     "--quiet", "--no-plot"], d),
         }
+        # the numbers are SI too: the default build asks 0.9 g/cm^3 (= 900 kg/m^3) and keeps
+        # non-bonded atoms at least 2 Angstrom (2e-10 m) apart, in a cubic box
+        rb = outputs["rve-build.schema.json"]
+        if abs(rb["density_kg_per_m3"] / 900.0 - 1) > 1e-9:
+            failures.append(f"rve build: density_kg_per_m3 {rb['density_kg_per_m3']} != 900")
+        if not 2e-10 <= rb["min_nonbonded_distance_m"] < 1e-9:
+            failures.append(f"rve build: min_nonbonded_distance_m {rb['min_nonbonded_distance_m']}"
+                            " is not in [2e-10, 1e-9) m")
+        if max(rb["box_m"]) - min(rb["box_m"]) > 1e-12 * max(rb["box_m"]) or max(rb["box_m"]) > 1e-7:
+            failures.append(f"rve build: box_m {rb['box_m']} is not a cube of nanometres in m")
     for name, doc in outputs.items():
         v = validator(name)
         for e in v.iter_errors(doc):
@@ -118,7 +143,7 @@ def main():
         print("json_schemas: FAILED\n  " + "\n  ".join(failures))
         return 1
     print(f"json_schemas: {len(outputs)} outputs valid against docs/schemas/ "
-          f"(jsonschema {jsonschema.__version__}), unit rule holds in {len(store) // 2} schemas")
+          f"(jsonschema {importlib.metadata.version('jsonschema')}), unit rule holds in {len(store) // 2} schemas")
     return 0
 
 
