@@ -155,7 +155,7 @@ std::string details_markdown(const CharacterizeRun& c) {
                   "| E (eq. 6.47, pure polymer) | {:.3f} GPa | 0.162 GPa (Table 6.12) |\n"
                   "| E by inversion of C0 (E1) | {:.3f} GPa | -- |\n| nu12 | {:.3f} | -- |\n"
                   "| G12 | {:.3f} GPa | 0.109 GPa (C44, Table 6.11) |\n\n",
-                  dm.E_eq647 * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
+                  dm.E_isotropic_formula * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
   rep_md += fmt::format("Solver: {} after {} iterations; {}\n\n", rep.termination, rep.iterations,
                         rep.converged ? "converged" : "NOT converged");
   rep_md += fmt::format(
@@ -352,7 +352,7 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["fit"] = fit_json(card.fit);
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
-  j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
+  j["moduli"] = {{"E_eq647_Pa", num(dm.E_isotropic_formula)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
   j["seconds"] = {{"build", md.seconds_build},
                   {"equilibrate", md.seconds_equilibrate},
                   {"phase_check", md.seconds_phase},
@@ -370,7 +370,7 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
   std::cerr << constants_table(card) << fit_tables(card.fit, c.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
                            "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
-                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
+                           e.density, e.pressure_total, e.void_fraction, dm.E_isotropic_formula * 1e-9);
   if (md.phase.done)
     std::cerr << "pnc characterize: phase check: " << md.phase.phase
               << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
