@@ -94,7 +94,7 @@ std::string details_markdown(const CharacterizeRun& c) {
         r.kg.stress_unit_pa() * 1e-6);
   else
     rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
-                          "force field of section 6.1 (decision D13 units).\n\n",
+                          "force field of docs/theory.md §3.1 (decision D13 units).\n\n",
                           r.build.chains, r.build.beads_per_chain,
                           r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
   if (r.model == "kg_platelet") // what the builder wrote (platelet.json), decision D170
@@ -152,7 +152,7 @@ std::string details_markdown(const CharacterizeRun& c) {
             code_block(fit_tables(card.fit, c.model));
   rep_md +=
       fmt::format("\n## Derived moduli\n\n| quantity | this run | dissertation |\n|---|---|---|\n"
-                  "| E (eq. 6.47, pure polymer) | {:.3f} GPa | 0.162 GPa (Table 6.12) |\n"
+                  "| E (isotropic formula, pure polymer; docs/theory.md §1.5) | {:.3f} GPa | 0.162 GPa (published table) |\n"
                   "| E by inversion of C0 (E1) | {:.3f} GPa | -- |\n| nu12 | {:.3f} | -- |\n"
                   "| G12 | {:.3f} GPa | 0.109 GPa (C44, Table 6.11) |\n\n",
                   dm.E_isotropic_formula * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
@@ -369,7 +369,7 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
   const damage::DerivedModuli dm = damage::derive_moduli(card.params);
   std::cerr << constants_table(card) << fit_tables(card.fit, c.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
-                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
+                           "void fraction {:.4f}; E (isotropic formula) {:.3f} GPa\n",
                            e.density, e.pressure_total, e.void_fraction, dm.E_isotropic_formula * 1e-9);
   if (md.phase.done)
     std::cerr << "pnc characterize: phase check: " << md.phase.phase

@@ -330,7 +330,7 @@ int run_thermo_persistence(PersistenceArgs a) {
                              "{:.4g} (continuum k_theta l0) kcal/mol A\n",
                              r.expected_ei, r.expected_ei_continuum);
   else
-    std::cerr << "  dissertation (section 6.2.1): EI(0) = 2.433e-29 N m^2, xi_p = 58.74 A\n";
+    std::cerr << "  dissertation (published values, docs/theory.md §4.5): EI(0) = 2.433e-29 N m^2, xi_p = 58.74 A\n";
   std::vector<std::string> pngs;
   if (!a.no_plots) {
     std::ostringstream c;
@@ -549,7 +549,7 @@ void register_thermo(CLI::App& app, Action& action) {
   auto* pe = th->add_subcommand(
       "persistence", "Bending stiffness EI and persistence length by steered bending of a chain");
   pe->add_option("--chain", pa->spec.chain,
-                 "pp (CG polypropylene, section 6.1) or harmonic (straight, angle harmonic)")
+                 "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
       ->check(CLI::IsMember({"pp", "harmonic"}));
   pe->add_option("--beads", pa->spec.beads, "Beads (default 4, 3 to 200)")
       ->check(CLI::Range(3, 200));

@@ -254,7 +254,7 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
   const DerivedModuli d = derive_moduli(c.params);
   html::Table m;
   m.caption = "Derived moduli of C0, both readings: compliance inversion (the orthotropic "
-              "moduli) and the printed formula (docs/theory.md section 1.5)";
+              "moduli) and the printed formula (docs/theory.md §1.5)";
   m.header = {"modulus", "GPa", "reading"};
   m.numeric = {false, true, false};
   m.side_by_side = true;

@@ -36,7 +36,7 @@ def main(d):
     ax.set_ylabel(ucol.replace("_m", "").replace("u", "u_", 1) + " (Å)")
     ax.set_title("displacement across the handshake (lines: continuum, dots: MD cells)")
     ax.legend(fontsize=6)
-    if grad:  # displacement gradient of eqs. 6.3-6.7 (D79)
+    if grad:  # displacement gradient of docs/theory.md §6.3 (D79)
         ax = axes[1][0]
         for t in times:
             for src, mk in (("continuum", "-"), ("md", "o")):
@@ -46,7 +46,7 @@ def main(d):
                     ax.plot([p[0] * 1e10 for p in pts], [p[1] for p in pts], mk, ms=3)
         ax.set_xlabel("x (Å)")
         ax.set_ylabel(gcol.replace("_", "/"))
-        ax.set_title("displacement gradient (eqs. 6.3-6.7), same frames")
+        ax.set_title("displacement gradient (theory.md §6.3), same frames")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "profile.png"), dpi=120)
     e = list(csv.DictReader(open(os.path.join(d, "energy.csv"))))

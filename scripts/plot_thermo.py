@@ -69,7 +69,7 @@ def persistence(rates_csv, out):
     c0, c1, ci = float(fit["EI"]), float(fit["EI_end"]), float(fit["EI_se"])
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.errorbar(x, y, yerr=e, marker="o", ls="none", capsize=3, label="EI = L^3/48 dF/dd")
-    ax.plot(x, ye, "s", mfc="none", label="EI = F L^3/(48 d), end of pull (eq. 6.9)")
+    ax.plot(x, ye, "s", mfc="none", label="EI = F L^3/(48 d), end of pull (theory.md §4.5)")
     xs = [0.0, max(x) * 1.05]
     ax.plot(xs, [c0 + c1 * v for v in xs], "-", label="linear fit, extrapolated")
     ax.errorbar([0.0], [c0], yerr=[ci], marker="D", color="k", capsize=4, label="EI(0), 95 % CI")
