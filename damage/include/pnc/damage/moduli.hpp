@@ -1,6 +1,6 @@
 #pragma once
 // pnc/damage/moduli.hpp: engineering moduli derived from the undamaged stiffness C0 and the
-// NDM strengths per deformation case (section 6.3.3, Tables 6.12-6.13).
+// NDM strengths per deformation case (docs/theory.md §1.5; the published moduli and strength tables).
 // Units: those of the constants (Pa for a card); strains dimensionless.
 #include "pnc/damage/ndm.hpp"
 
