@@ -171,7 +171,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
       }
       f.set_attr(
           "/stress_virial", "definition",
-          "virial only, no kinetic term (eq. 6.23, Zhou 2003): compute pressure NULL virial");
+          "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003): compute pressure NULL virial");
       f.set_attr("/stress_total", "definition",
                  "virial + kinetic term (compute pressure thermo_temp)");
       const std::pair<const char*, const PathM*> checks[] = {

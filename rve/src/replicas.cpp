@@ -94,7 +94,7 @@ std::string describe(const Recipe& r, const CombinedCases& out, std::size_t ncas
   // the words "virial only" / "zero-strain hold" are what readers (and tests) look for
   std::string def =
       r.stress == "virial"
-          ? "virial only, no kinetic term (eq. 6.23, Zhou 2003; the dissertation's choice: "
+          ? "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003; the dissertation's choice: "
             "normal constants biased by -rho k_B T, D134)"
           : "virial + kinetic term (total stress, D134)";
   def += subtract ? fmt::format("; relative to the zero-strain hold (sigma - sigma_0, sigma_0 "

@@ -217,7 +217,7 @@ using pnc::test::tiny_polymer_restart;
 
 // Polymer: dH/dlambda from pair distances = central difference of LAMMPS's pair energy
 // (through pair_coeff at lambda -+ h) for the undeformed, dilated and sheared box; the
-// deformed volumes are det F V0 (F of eqs. 6.12, 6.13).
+// deformed volumes are det F V0 (F of docs/theory.md §4.2).
 TEST(ThermoTi, PolymerDhdlMatchesLammpsFiniteDifferenceAndStatesHaveDetFVolume) {
   const auto d = tmpdir("polymer");
   const std::string rs = tiny_polymer_restart(d);

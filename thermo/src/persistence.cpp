@@ -1,4 +1,4 @@
-// Steered bending of a short chain: EI and persistence length (section 6.2.1; units real).
+// Steered bending of a short chain: EI and persistence length (docs/theory.md §4.5, D66-D68; units real).
 #include "pnc/thermo/persistence.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -202,7 +202,7 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
   }
   fm /= static_cast<double>(tail);
   dm /= static_cast<double>(tail);
-  r.ei_end = fm * L3 / (48.0 * dm); // eq. 6.9
+  r.ei_end = fm * L3 / (48.0 * dm); // the printed end-of-pull ratio (docs/theory.md §4.5, D67)
   r.d_max = dm;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   AtomicOutput o(out);
@@ -225,7 +225,7 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
     f.write_scalar("/EI_stderr", r.ei.se);
     f.set_attr("/EI", "units", "kcal/mol*A (L^3/48 dF/dd)");
     f.write_scalar("/EI_end_ratio", r.ei_end);
-    f.set_attr("/EI_end_ratio", "units", "kcal/mol*A (F L^3/(48 d), last 10 % means, eq. 6.9)");
+    f.set_attr("/EI_end_ratio", "units", "kcal/mol*A (F L^3/(48 d), last 10 % means, theory.md §4.5)");
     f.write_scalar("/d_end", r.d_max);
     f.write_scalar("/length", g.length);
     f.write_scalar("/seconds", r.seconds);
@@ -376,7 +376,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     f.set_attr("/EI0_SI", "units", "N m^2");
     f.write_scalar("/xi_p", res.xi_p);
     f.write_scalar("/xi_p_ci95", res.xi_p_ci95);
-    f.set_attr("/xi_p", "units", "A (EI0 / kB T, eq. 6.8)");
+    f.set_attr("/xi_p", "units", "A (EI0 / kB T, theory.md §4.5)");
     if (spec.chain == "harmonic") {
       f.write_scalar("/expected/EI_discrete", res.expected_ei);
       f.write_scalar("/expected/EI_continuum", res.expected_ei_continuum);

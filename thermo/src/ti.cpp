@@ -312,9 +312,9 @@ std::vector<std::string> deform_commands(const DeformState& st, const double lo[
   H << hi[0] - lo[0], xy, xz, 0, hi[1] - lo[1], yz, 0, 0, hi[2] - lo[2];
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (st.kind == "vol")
-    F *= 1 + st.strain; // eq. 6.12
+    F *= 1 + st.strain; // volumetric F = (1+a) I (docs/theory.md §4.2, D63)
   else if (st.kind == "dev")
-    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity()); // eq. 6.13
+    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity()); // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2)
   else if (st.kind != "ref")
     fail("<ti>", "state", st.kind, "must be ref, vol or dev");
   std::vector<std::string> out;

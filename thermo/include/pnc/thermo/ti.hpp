@@ -37,7 +37,7 @@
 
 namespace pnc::thermo {
 
-/// Linear LJ ramp of docs/theory.md eq. 4.1. Defaults: the dissertation's eps0 = 0.0498,
+/// Linear LJ ramp of docs/theory.md §4.1. Defaults: the dissertation's eps0 = 0.0498,
 /// eps1 = 0.498 ("J/mol", read kJ/mol like D13, here in kcal/mol), sig0 = 0.95 A,
 /// sig1 = 2.95 A; cut-off 2.5 sig1 at every lambda (D62).
 struct LjPath {
@@ -147,8 +147,8 @@ LambdaIntegral collect(const Quadrature& rule, const std::vector<PointJob>& jobs
 // ---------------------------------------------------------------------------------------
 // The polymer RVE: free energy of deformation.
 
-/// A deformation state: "vol" F = (1+a) I (eq. 6.12) or "dev" F = I + b (1 - delta_ij)
-/// (eq. 6.13); the unstrained state is "ref".
+/// A deformation state: "vol" F = (1+a) I or "dev" F = I + b (1 - delta_ij)
+/// (docs/theory.md §4.2, D63); the unstrained state is "ref".
 struct DeformState {
   std::string kind; ///< "ref", "vol", "dev"
   double strain = 0;
