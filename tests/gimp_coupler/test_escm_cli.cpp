@@ -146,7 +146,7 @@ TEST(EscmCli, UnknownMdRegionKindListsTheKnownOnes) {
   fs::remove_all(d);
 }
 
-// Validation (3) of the displacement gradients (eqs. 6.3-6.7, D79) in the short Case I run
+// Validation (3) of the displacement gradients (docs/theory.md §6.3, D79) in the short Case I run
 // (24 x 14 cells, block 10 x 10 at cell 7, strain 0.2 %): the mean du/dX over the ordinary
 // continuum particles at least 2 cells away from the atom block (x < 5 h or x > 19 h, read
 // from the last particles_<k>.vtu), with all grid nodes of their element supported, against

@@ -1,4 +1,4 @@
-// Displacement gradients by eqs. 6.3-6.7 (pnc/gimp_coupler/escm_gradient.hpp, D79).
+// Displacement gradients by docs/theory.md §6.3 (pnc/gimp_coupler/escm_gradient.hpp, D79).
 #include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/core/error.hpp"
 

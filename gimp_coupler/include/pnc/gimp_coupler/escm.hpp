@@ -1,6 +1,6 @@
 #pragma once
 // pnc/gimp_coupler/escm.hpp: concurrent GIMP-MD coupling by the embedded statistical coupling
-// method (ESCM), dissertation chapter 4 (eqs. 4.1-4.11) and section 6.1; docs/escm.md;
+// method (ESCM) of the source, docs/theory.md §6; docs/escm.md;
 // decisions D70-D79 in docs/decisions.md.
 //
 // The continuum is the 2-D uGIMP solver (plane strain, SI, per metre of thickness); the MD
@@ -15,19 +15,19 @@
 // cells (IVC), the rest the interior (INT). Each atom belongs to the cell that contains it.
 // Continuum particles of INT cells are removed (the continuum has a hole there); SVC particles
 // stay ordinary continuum particles; IVC particles become zero-stress "probe" material points
-// (a tiny mass fraction) whose positions follow the IVC atoms (eq. 4.1).
+// (a tiny mass fraction) whose positions follow the IVC atoms (docs/theory.md §6.2, D73).
 //
 // One coupled step of length dt (continuum) = N MD substeps of dtau = dt / N:
 //  1. the corner nodes of the IVC cells (Gamma, fixed at setup) get the velocity of the IVC
 //     cells sharing them (equal weights w_ip = 1 / (number of IVC cells at node i)); continuum
 //     step with those nodes prescribed; their reactions R_i give the force of the continuum
 //     on each IVC cell, f_p = sum_i w_ip (-R_i) (a partition of unity, so
-//     sum_p f_p = sum_i (-R_i) exactly; eq. 4.2 with D71);
+//     sum_p f_p = sum_i (-R_i) exactly; docs/theory.md §6.2, D71);
 //  2. MD: IVC atoms get f_p / N_p each (fix external callback) and a zero-temperature
-//     Langevin damping (eqs. 4.6, 4.9); INT atoms a Langevin thermostat at T (eqs. 4.5, 4.8);
-//     SVC atoms move with the grid velocity v* interpolated at each atom (eq. 4.3, D72);
-//  3. IVC cell centroids are time-averaged over the N substeps (eq. 4.11); the IVC material
-//     point moves by the change of that average between blocks (eq. 4.1, D73).
+//     Langevin damping; INT atoms a Langevin thermostat at T (both docs/theory.md §6.2);
+//     SVC atoms move with the grid velocity v* interpolated at each atom (docs/theory.md §6.2, D72);
+//  3. IVC cell centroids are time-averaged over the N substeps (docs/theory.md §6.2); the IVC material
+//     point moves by the change of that average between blocks (D73).
 // Modes (D71): `neumann` (default): the MD region is driven by the IVC forces; pair forces
 // between SVC atoms and the other atoms are excluded so the continuum's stress is not
 // transmitted twice. `schwarz`: SVC atoms interact with the MD region (they shield its
@@ -95,7 +95,7 @@ struct Cell {
   std::array<int, 2> ij{};      ///< grid cell index
   std::vector<int> atoms;       ///< LAMMPS atom ids
   Eigen::Vector2d c0_A;         ///< initial centroid of its atoms, Angstrom (LAMMPS frame)
-  Eigen::Vector2d mean_A;       ///< IVC: time-averaged centroid of the last block (eq. 4.11)
+  Eigen::Vector2d mean_A;       ///< IVC: time-averaged centroid of the last block (docs/theory.md §6.2)
   Eigen::Vector2d prev_mean_A;  ///< IVC: the block before
   Eigen::Vector2d force_N;      ///< IVC: continuum force on the cell, N per m thickness
   Eigen::Vector2d atom_force;   ///< IVC: force per atom, kcal/mol/A (slab)

@@ -5,7 +5,7 @@
 // in the continuum growing toward the block under tension normal to it (Case II, mode I) or
 // shear parallel to it (Case III, mode II), escm_crack.hpp, decisions D80-D84.
 // Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, particles_<k>.vtu (both with the
-// displacement gradients of eqs. 6.3-6.7, escm_gradient.hpp), lammps.log, summary.json and, with
+// displacement gradients of docs/theory.md §6.3, escm_gradient.hpp), lammps.log, summary.json and, with
 // /usr/bin/python3 + matplotlib, profile.png and energy.png; with a crack also crack.csv
 // (continuum tip, J, G_I, G_II, crack-face opening and sliding, atomistic separation) and
 // crack.png. Units: input in LAMMPS real for
