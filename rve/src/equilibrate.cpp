@@ -1,4 +1,4 @@
-// Equilibration protocol (sections 3.3.1-3.3.2), one child process per stage. Units real.
+// Equilibration protocol (docs/theory.md §3.3, D19), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
 #include "equilibrate_detail.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// pnc/rve/equilibrate.hpp: the equilibration protocol of sections 3.3.1-3.3.2 for the
+// pnc/rve/equilibrate.hpp: the equilibration protocol of docs/theory.md §3.3 (D19) for the
 // polymer RVE, one supervised child process per stage.
 //
 // Units: LAMMPS `real` (A, fs, kcal/mol, atm, K); densities in g/cm^3.

@@ -1,6 +1,6 @@
 #pragma once
 // pnc/thermo/ti.hpp: Helmholtz free energy by thermodynamic integration (TI) over a
-// coupling parameter lambda (dissertation sections 3.4.1 and 6.2.2; docs/theory.md section 4).
+// coupling parameter lambda (docs/theory.md §4).
 //
 // Units: LAMMPS `real` throughout -- kcal/mol (energies, dH/dlambda, Delta A), A, fs, K;
 // moduli derived through appendix A are reported in Pa.
