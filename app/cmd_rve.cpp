@@ -64,7 +64,7 @@ int run_rve_build(const BuildArgs& a) {
                                    : "coarse-grained polypropylene RVE");
   write_build_record(rec, s, a.spec, ff, "{}");
   const std::string ffin = (fs::path(a.out) / "forcefield.lmp").string();
-  std::string cmds = "# force field of docs/theory.md §3.1 (+ §3.2 for the clay), units real "
+  std::string cmds = "# force field of docs/theory.md sections 3.1 (+ 3.2 for the clay), units real "
                      "(decisions D13, D14, D23)\n";
   for (const auto& c :
        a.with_clay ? rve::composite_forcefield_commands(ff) : rve::polymer_forcefield_commands(ff))
