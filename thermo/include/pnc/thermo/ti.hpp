@@ -205,7 +205,7 @@ struct StateResult {
   double volume = 0; ///< A^3, of the deformed box
 };
 
-/// Appendix A from Delta A(strain): quadratic fit a + b s + c s^2 (weighted by the
+/// Moduli from Delta A(strain) (docs/theory.md §4.4): quadratic fit a + b s + c s^2 (weighted by the
 /// standard errors) per kind; energy density W = Delta A / V0. Volumetric: eps_kk = 3 alpha,
 /// K = d2W/d eps_kk^2 = 2 c / (9 V0); deviatoric: eps_bar:eps_bar = 6 beta^2,
 /// W = mu eps_bar:eps_bar, mu = c / (6 V0). Pa. (D65)
