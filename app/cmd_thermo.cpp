@@ -211,7 +211,7 @@ int run_thermo_ti(TiArgs a) {
                            worst_fd);
   for (const auto& f : r.fits)
     if (std::isfinite(f.modulus))
-      std::cerr << fmt::format("  {} response (appendix A, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
+      std::cerr << fmt::format("  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
                                "GPa (quadratic fit, V0 {:.0f} A^3)\n",
                                f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9,
                                f.modulus_se * 1e-9, f.v0);

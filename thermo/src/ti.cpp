@@ -742,8 +742,8 @@ void write_ti_h5(const std::string& path, const TiResult& r, const std::string& 
         f.write_scalar(g + "/modulus_stderr", fit.modulus_se);
         f.set_attr(g + "/modulus", "units", "Pa");
         f.set_attr(g + "/modulus", "definition",
-                   fit.kind == "vol" ? "K = 2 c2 / (9 V0) (appendix A, D65)"
-                                     : "mu = c2 / (6 V0) (appendix A, D65)");
+                   fit.kind == "vol" ? "K = 2 c2 / (9 V0) (theory.md §4.4, D65)"
+                                     : "mu = c2 / (6 V0) (theory.md §4.4, D65)");
       }
     }
   }

@@ -104,7 +104,7 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
         ++count[I];
       }
   }
-  // docs/theory.md §6.3 (6.5) / D79: nodal increments and whether each node had a full fit.
+  // docs/theory.md §6.3 / D79: nodal increments and whether each node had a full fit.
   std::vector<Eigen::Vector2d> dU(nn, Eigen::Vector2d::Zero());
   std::vector<char> full(nn, 0);
   for (std::size_t I = 0; I < nn; ++I) {
@@ -128,7 +128,7 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
       full[I] = 1;
     }
   }
-  // docs/theory.md §6.3 (6.6): gradient, F update, H = F - I.
+  // docs/theory.md §6.3: gradient, F update, H = F - I.
   for (std::size_t p = 0; p < n; ++p) {
     Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
     bool ok = true;

@@ -3,7 +3,7 @@
 // coupling parameter lambda (docs/theory.md §4).
 //
 // Units: LAMMPS `real` throughout -- kcal/mol (energies, dH/dlambda, Delta A), A, fs, K;
-// moduli derived through appendix A are reported in Pa.
+// moduli derived by docs/theory.md §4.4 are reported in Pa.
 //
 //   Delta A = A(1) - A(0) = int_0^1 < dH/dlambda >_lambda dlambda
 //
