@@ -48,8 +48,15 @@ nlohmann::json jnum(double v) {
 
 /// Draws with plot_thermo.py; a failure is printed once and kept for the report.
 std::vector<std::string> run_plot(const std::vector<std::string>& args, ThermoRun& run) {
+  const auto t0 = std::chrono::steady_clock::now(); // announced: no silent seconds after ETA 0 s
+  std::cerr << "  plotting (" << args.front() << ") ..." << std::endl;
   run.pngs = run_plot_script("plot_thermo.py", args, &run.plot_warning);
-  if (!run.plot_warning.empty()) std::cerr << "pnc: warning: no plot: " << run.plot_warning << "\n";
+  if (!run.plot_warning.empty())
+    std::cerr << "pnc: warning: no plot: " << run.plot_warning << "\n";
+  else
+    std::cerr << fmt::format(
+        "  plotted {} figure(s) in {:.1f} s\n", run.pngs.size(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return run.pngs;
 }
 
@@ -211,10 +218,10 @@ int run_thermo_ti(TiArgs a) {
                            worst_fd);
   for (const auto& f : r.fits)
     if (std::isfinite(f.modulus))
-      std::cerr << fmt::format("  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
-                               "GPa (quadratic fit, V0 {:.0f} A^3)\n",
-                               f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9,
-                               f.modulus_se * 1e-9, f.v0);
+      std::cerr << fmt::format(
+          "  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
+          "GPa (quadratic fit, V0 {:.0f} A^3)\n",
+          f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9, f.modulus_se * 1e-9, f.v0);
   std::vector<std::string> pngs;
   ThermoRun rep{command_line(), a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
   if (!a.no_plots) {
@@ -330,7 +337,8 @@ int run_thermo_persistence(PersistenceArgs a) {
                              "{:.4g} (continuum k_theta l0) kcal/mol A\n",
                              r.expected_ei, r.expected_ei_continuum);
   else
-    std::cerr << "  dissertation (published values, docs/theory.md §4.5): EI(0) = 2.433e-29 N m^2, xi_p = 58.74 A\n";
+    std::cerr << "  dissertation (published values, docs/theory.md §4.5): EI(0) = 2.433e-29 N m^2, "
+                 "xi_p = 58.74 A\n";
   std::vector<std::string> pngs;
   if (!a.no_plots) {
     std::ostringstream c;
@@ -548,8 +556,9 @@ void register_thermo(CLI::App& app, Action& action) {
   auto pa = std::make_shared<PersistenceArgs>();
   auto* pe = th->add_subcommand(
       "persistence", "Bending stiffness EI and persistence length by steered bending of a chain");
-  pe->add_option("--chain", pa->spec.chain,
-                 "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
+  pe->add_option(
+        "--chain", pa->spec.chain,
+        "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
       ->check(CLI::IsMember({"pp", "harmonic"}));
   pe->add_option("--beads", pa->spec.beads, "Beads (default 4, 3 to 200)")
       ->check(CLI::Range(3, 200));

@@ -60,6 +60,22 @@ double polyline_length(const nlohmann::json& pts) {
                     pts[i][1].get<double>() - pts[i - 1][1].get<double>());
   return l;
 }
+
+/// The page's warnings: the relative energy error when above `threshold` (also the verdict's
+/// first reason, appended to `reasons`), then a plotting failure.
+std::vector<std::string> energy_warnings(double rel, double threshold,
+                                         const std::string& plot_warning,
+                                         std::vector<std::pair<Tone, std::string>>& reasons) {
+  std::vector<std::string> warnings;
+  if (rel > threshold) {
+    warnings.push_back(fmt::format("relative energy error {} is above the threshold: the "
+                                   "energy account does not close",
+                                   energy_error_text(rel, threshold)));
+    reasons.push_back({Tone::warning, warnings.back()});
+  }
+  if (!plot_warning.empty()) warnings.push_back("plotting: " + plot_warning);
+  return warnings;
+}
 } // namespace
 
 double gimp_relative_energy_error(const gimp::RunSummary& s) {
@@ -78,14 +94,10 @@ std::string write_gimp_run_report(const GimpRunInfo& run, const gimp::RunSummary
   const double rel = gimp_relative_energy_error(s);
   const bool high = rel > kEnergyErrorThreshold;
   const bool partial = s.end_reason.rfind("--max-steps", 0) == 0;
-  std::vector<std::string> warnings, next;
-  if (high)
-    warnings.push_back(fmt::format("relative energy error {} is above the threshold: the "
-                                   "energy account does not close",
-                                   energy_error_text(rel, kEnergyErrorThreshold)));
-  if (!s.plot_warning.empty()) warnings.push_back("plotting: " + s.plot_warning);
+  std::vector<std::string> next;
   std::vector<std::pair<Tone, std::string>> reasons;
-  if (high) reasons.push_back({Tone::warning, warnings.front()});
+  const std::vector<std::string> warnings =
+      energy_warnings(rel, kEnergyErrorThreshold, s.plot_warning, reasons);
   for (const auto& c : s.cracks)
     if (c.Gc > 0)
       reasons.push_back({Tone::neutral, fmt::format("crack '{}': {} increment(s); growth "
@@ -212,14 +224,10 @@ std::string write_gimp_couple_report(const GimpRunInfo& run, const gimp::escm::C
   const auto& e = s.energy;
   const double rel = couple_relative_energy_error(s);
   const bool high = rel > kCoupleEnergyErrorThreshold;
-  std::vector<std::string> warnings, next;
-  if (high)
-    warnings.push_back(fmt::format("relative energy error {} is above the threshold: the "
-                                   "energy account does not close",
-                                   energy_error_text(rel, kCoupleEnergyErrorThreshold)));
-  if (!s.plot_warning.empty()) warnings.push_back("plotting: " + s.plot_warning);
+  std::vector<std::string> next;
   std::vector<std::pair<Tone, std::string>> reasons;
-  if (high) reasons.push_back({Tone::warning, warnings.front()});
+  const std::vector<std::string> warnings =
+      energy_warnings(rel, kCoupleEnergyErrorThreshold, s.plot_warning, reasons);
   const nlohmann::json crack = summary.value("crack", nlohmann::json());
   std::string stop;
   if (crack.is_object()) {

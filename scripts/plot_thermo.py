@@ -52,7 +52,8 @@ def ti(dhdl_csv, da_csv, out):
                     marker="o", capsize=3, ls="-")
         ax.set_xlabel(lab)
         ax.set_ylabel("Delta A = A(lambda=1) - A(lambda=0) (kcal/mol)")
-        ax.set_title("figure 6.18" if kind == "vol" else "figure 6.19")
+        ax.set_title("free energy vs volumetric strain" if kind == "vol"
+                     else "free energy vs deviatoric strain")
     fig.tight_layout()
     p = os.path.join(out, "dA_vs_strain.png")
     fig.savefig(p, dpi=120)
@@ -75,7 +76,7 @@ def persistence(rates_csv, out):
     ax.errorbar([0.0], [c0], yerr=[ci], marker="D", color="k", capsize=4, label="EI(0), 95 % CI")
     ax.set_xlabel("pulling rate (A/fs)")
     ax.set_ylabel("EI (kcal/mol A)")
-    ax.set_title("bending stiffness vs rate (figure 6.16)")
+    ax.set_title("bending stiffness vs pulling rate")
     ax.legend(fontsize=8)
     fig.tight_layout()
     p = os.path.join(out, "EI_vs_rate.png")

@@ -100,7 +100,9 @@ def main(argv):
     a2.set_title("Dissipated energy", fontsize=10)
     for a in (a1, a2):
         a.grid(alpha=0.3)
-    a1.legend(fontsize=7, loc="upper left")
+    # Below the axes: inside, the legend covered the peak's label when the peak sat near the
+    # middle of the displacement range (the compact-tension run).
+    a1.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     if len(csvs) > 1:
         a2.legend(fontsize=7)
     fig.tight_layout()

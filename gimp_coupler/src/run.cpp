@@ -373,6 +373,9 @@ template <int D> void GimpRun<D>::fill_summary() {
   }
   fill_outcomes();
   if (o.plot) {
+    // the plotting phase is announced: no silent seconds after the last step's ETA 0 s
+    const auto plot0 = Clock::now();
+    if (o.progress) std::cerr << "plotting energy.png (and G.png for cracks) ..." << std::endl;
     const std::string png = (fs::path(o.out_dir) / "energy.png").string();
     sum.plot_warning = plot_energy(
         hist_csv, png, fs::path(o.input).filename().string(), "plot_energy.py",
@@ -393,6 +396,9 @@ template <int D> void GimpRun<D>::fill_summary() {
       else
         sum.plot_warning += (sum.plot_warning.empty() ? "" : "; ") + w;
     }
+    if (o.progress)
+      std::cerr << fmt::format("plotting done in {:.1f} s\n",
+                               std::chrono::duration<double>(Clock::now() - plot0).count());
   }
   sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
 }

@@ -474,6 +474,8 @@ StageOutcome finish(const StageSpec& spec, int status, double seconds) {
   } else if (WIFSIGNALED(status)) {
     o.signal = WTERMSIG(status);
   }
+  std::error_code ec;
+  if (std::filesystem::exists(stage_input_path(spec), ec)) o.input_path = stage_input_path(spec);
   if (o.ok) return o;
   std::string msg;
   o.child_error = read_error_file(spec.log_path, msg);
@@ -511,7 +513,10 @@ void throw_stage_failure(const StageOutcome& o, const std::string& stage, const 
       throw std::runtime_error(stage + ": " + e.what() + note + " (log " + o.log_path + ")");
     }
   }
-  fail_tool("LAMMPS", "running " + stage, o.error + note, o.log_path);
+  // the commands as LAMMPS received them, up to the one that failed (D247): rerunnable alone
+  const std::string input =
+      o.input_path.empty() ? "" : "; the commands sent, rerunnable with lmp -in: " + o.input_path;
+  fail_tool("LAMMPS", "running " + stage, o.error + note + input, o.log_path);
 }
 
 std::string stage_input_path(const StageSpec& spec) {

@@ -10,9 +10,38 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace pncdemo::test {
 namespace {
+// The demo run on `p` with the shipped card, platelet at `angle_deg`: its step records, the
+// index of the peak force, how it ended, its size and its wall time.
+struct DemoRun {
+  std::vector<StepRecord> records;
+  std::size_t peak = 0;
+  bool finished = false;
+  std::string stop_reason;
+  std::size_t n_dofs = 0;
+  double seconds = 0;
+};
+
+DemoRun run_demo(const Params& p, double angle_deg) {
+  auto m = make_material(context().plugin, context().card, "", angle_deg);
+  FractureProblem<2> fp(p, *m.material);
+  fp.make_grid();
+  const auto t0 = Clock::now();
+  fp.run();
+  DemoRun r;
+  r.seconds = seconds_since(t0);
+  r.records = fp.records;
+  r.peak = peak_record(r.records);
+  r.finished = fp.finished;
+  r.stop_reason = fp.stop_reason;
+  r.n_dofs = fp.dof_handler.n_dofs();
+  return r;
+}
+
 // Dissipated energy between two meshes (refinement 1 and 2, h = 0.25 and 0.125 mm), loaded
 // well past damage onset at the notch tip, with the nonlocal regularisation (l = 0.25 mm).
 // Claim (decision D52): the dissipated energy changes by less than 10 % between the two
@@ -115,13 +144,9 @@ bool run_softening(const std::vector<unsigned>& refinements) {
     p.stop_fraction = 0.4;
     p.path = "0, 2";
     p.tolerance = 1e-8;
-    auto m = make_material(context().plugin, context().card, "", 0.0);
-    FractureProblem<2> fp(p, *m.material);
-    fp.make_grid();
-    const auto t0 = Clock::now();
-    fp.run();
-    const auto& rec = fp.records;
-    const std::size_t ip = peak_record(rec);
+    const DemoRun run = run_demo(p, 0.0);
+    const auto& rec = run.records;
+    const std::size_t ip = run.peak;
     const double Fp = rec[ip].force;
     double e = -1;
     for (std::size_t i = ip + 1; i < rec.size() && e < 0; ++i)
@@ -135,12 +160,12 @@ bool run_softening(const std::vector<unsigned>& refinements) {
     balance = balance && gap < 0.05;
     e50.push_back(e);
     peaks.push_back(Fp);
-    s << "h = " << p.cell_size / (1 << r) << " mm (" << fp.dof_handler.n_dofs() << " dofs, "
-      << rec.size() - 1 << " steps, " << seconds_since(t0) << " s): peak " << Fp << " N/mm at "
-      << rec[ip].load << " mm, final F/F_peak " << last.force / Fp << " at u = " << last.load
+    s << "h = " << p.cell_size / (1 << r) << " mm (" << run.n_dofs << " dofs, " << rec.size() - 1
+      << " steps, " << run.seconds << " s): peak " << Fp << " N/mm at " << rec[ip].load
+      << " mm, final F/F_peak " << last.force / Fp << " at u = " << last.load
       << " mm, dissipated at F = 0.5 F_peak " << e << " mJ/mm, final dissipated " << last.dissipated
       << " vs W - Psi " << last.work - last.elastic << " (gap " << gap << ")"
-      << (fp.finished ? "" : " [stopped: " + fp.stop_reason + "]") << "; ";
+      << (run.finished ? "" : " [stopped: " + run.stop_reason + "]") << "; ";
   }
   if (refinements.size() < 2) {
     report("softening", s.str());
@@ -197,24 +222,20 @@ bool test_impl_ex() {
     << " (W - Psi " << b[2] << ") mJ/mm; errors " << e1 << ", " << e2 << " (ratio " << e1 / e2
     << "), Richardson estimate of the second " << richardson << "; force difference " << dF << "; ";
   const Params p = shipped("compact_tension.prm");
-  auto m = make_material(context().plugin, context().card, "", p.platelet_angle);
-  FractureProblem<2> fp(p, *m.material);
-  fp.make_grid();
-  const auto t0 = Clock::now();
-  fp.run();
-  const auto& rec = fp.records;
-  const std::size_t ip = peak_record(rec);
+  const DemoRun run = run_demo(p, p.platelet_angle);
+  const auto& rec = run.records;
+  const std::size_t ip = run.peak;
   const auto& pk = rec[ip];
   const auto& last = rec.back();
   const double gap_peak = std::abs(pk.work - pk.elastic - pk.dissipated) / pk.dissipated;
-  const bool ct = fp.finished && ip + 1 < rec.size() && last.force < 0.1 * pk.force &&
+  const bool ct = run.finished && ip + 1 < rec.size() && last.force < 0.1 * pk.force &&
                   gap_peak < 0.10 && last.work - last.elastic >= last.dissipated;
-  s << "compact-tension-like (" << rec.size() - 1 << " steps, " << seconds_since(t0) << " s): peak "
+  s << "compact-tension-like (" << rec.size() - 1 << " steps, " << run.seconds << " s): peak "
     << pk.force << " N/mm at " << pk.load << " mm, final " << last.force << " N/mm ("
     << last.force / pk.force << " of the peak) at " << last.load << " mm; at the peak dissipated "
     << pk.dissipated << " vs W - Psi " << pk.work - pk.elastic << " (gap " << gap_peak
     << "); final dissipated " << last.dissipated << " vs W - Psi " << last.work - last.elastic
-    << (fp.finished ? "" : " [stopped: " + fp.stop_reason + "]");
+    << (run.finished ? "" : " [stopped: " + run.stop_reason + "]");
   report("impl_ex", s.str());
   return conv && ct;
 }

@@ -15,15 +15,12 @@ wide, so every coordinate is below 1e-6 m). Exit code 0 when all holds. Needs py
 """
 import json
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
-import xml.etree.ElementTree as ET
 
-import vtk
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtk_read import Checks, check_arrays, pvd_frames, read_vtu, run_pnc  # noqa: E402
 
-FAILS = []
+check = Checks()
 ATOMS = {"zone_index": 1, "displacement_m": 3, "velocity_m_per_s": 3,
          "displacement_gradient_1": 9, "gradient_supported_1": 1}
 PARTICLES = {"zone_index": 1, "displacement_m": 3, "velocity_m_per_s": 3,
@@ -31,39 +28,42 @@ PARTICLES = {"zone_index": 1, "displacement_m": 3, "velocity_m_per_s": 3,
              "gradient_supported_1": 1}
 
 
-def check(cond, what):
-    if not cond:
-        FAILS.append(what)
-
-
-def read(path):
-    r = vtk.vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    r.Update()
-    check(r.GetErrorCode() == 0, "%s: VTK reader error %d" % (path, r.GetErrorCode()))
-    return r.GetOutput()
-
-
 def series(out, name, arrays):
     """[(timestep, time_s, grid)] of out/name, each frame checked against `arrays`."""
     frames = []
-    for d in ET.parse(os.path.join(out, name)).getroot().findall("./Collection/DataSet"):
-        path = os.path.join(out, d.get("file"))
-        g = read(path)
-        ts = float(d.get("timestep"))
+    for ts, path in pvd_frames(out, name):
+        g = read_vtu(path, check)
         fd = g.GetFieldData()
         check(fd.GetArray("frame_index") is not None and fd.GetArray("time_s") is not None,
               "%s: field data frame_index and time_s" % path)
-        if FAILS:
+        if check.fails:
             return frames
         check(fd.GetArray("frame_index").GetTuple1(0) == ts,
               "%s: frame_index != timestep %g" % (path, ts))
-        for a, nc in arrays.items():
-            arr = g.GetPointData().GetArray(a)
-            check(arr is not None and arr.GetNumberOfComponents() == nc,
-                  "%s: %s with %d components" % (path, a, nc))
+        check_arrays(g, arrays, path, check)
         frames.append((ts, fd.GetArray("time_s").GetTuple1(0), g))
     return frames
+
+
+def check_run(out, r):
+    reported = json.loads(r.stdout)["frames"]
+    atoms = series(out, "atoms.pvd", ATOMS)
+    particles = series(out, "particles.pvd", PARTICLES)
+    check(len(atoms) == len(reported) >= 2 and len(particles) == len(reported),
+          "frames: %d reported, %d atoms, %d particles" % (len(reported), len(atoms),
+                                                          len(particles)))
+    if not check.fails:
+        steps = [a[0] for a in atoms]
+        check(steps == [float(k) for k in range(1, len(steps) + 1)],
+              "timesteps are the frame indices: %s" % steps)
+        for (ka, ta, ga), (kp, tp, _) in zip(atoms, particles):
+            check(ka == kp and ta == tp, "frame %g: atoms time %g, particles time %g" % (ka, ta, tp))
+            check(ta > 0 and abs(ta / ka - atoms[0][1]) <= 1e-9 * atoms[0][1],
+                  "frame %g: time_s %g not %g x the first frame's" % (ka, ta, ka))
+            check(ga.GetNumberOfPoints() == 1200, "frame %g: %d atoms" % (ka, ga.GetNumberOfPoints()))
+            b = ga.GetBounds()
+            check(max(abs(x) for x in b) < 1e-6, "frame %g: atom bounds %s not in m" % (ka, b))
+    return check.report("escm frame series")
 
 
 def main():
@@ -71,39 +71,8 @@ def main():
         print(__doc__)
         return 2
     exe, src = sys.argv[1], sys.argv[2]
-    tmp = tempfile.mkdtemp(prefix="pnc_escm_vtk_")
-    try:
-        out = os.path.join(tmp, "out")
-        r = subprocess.run([exe, "gimp", "couple", os.path.join(src, "examples/escm/case1_lj_tension.json"),
-                            "--out", out, "--short", "--quiet", "--no-plot", "--json"],
-                           capture_output=True, text=True)
-        if r.returncode != 0:
-            print(r.stderr)
-            print("pnc gimp couple failed with exit code %d" % r.returncode)
-            return 1
-        reported = json.loads(r.stdout)["frames"]
-        atoms = series(out, "atoms.pvd", ATOMS)
-        particles = series(out, "particles.pvd", PARTICLES)
-        check(len(atoms) == len(reported) >= 2 and len(particles) == len(reported),
-              "frames: %d reported, %d atoms, %d particles" % (len(reported), len(atoms),
-                                                              len(particles)))
-        if not FAILS:
-            steps = [a[0] for a in atoms]
-            check(steps == [float(k) for k in range(1, len(steps) + 1)],
-                  "timesteps are the frame indices: %s" % steps)
-            for (ka, ta, ga), (kp, tp, _) in zip(atoms, particles):
-                check(ka == kp and ta == tp, "frame %g: atoms time %g, particles time %g" % (ka, ta, tp))
-                check(ta > 0 and abs(ta / ka - atoms[0][1]) <= 1e-9 * atoms[0][1],
-                      "frame %g: time_s %g not %g x the first frame's" % (ka, ta, ka))
-                check(ga.GetNumberOfPoints() == 1200, "frame %g: %d atoms" % (ka, ga.GetNumberOfPoints()))
-                b = ga.GetBounds()
-                check(max(abs(x) for x in b) < 1e-6, "frame %g: atom bounds %s not in m" % (ka, b))
-    finally:
-        shutil.rmtree(tmp)
-    for f in FAILS[:20]:
-        print("FAIL:", f)
-    print("escm frame series: %s" % ("ok" if not FAILS else "%d failures" % len(FAILS)))
-    return 1 if FAILS else 0
+    return run_pnc(exe, ["gimp", "couple", os.path.join(src, "examples/escm/case1_lj_tension.json"),
+                         "--short", "--quiet", "--no-plot", "--json"], "pnc_escm_vtk_", check_run)
 
 
 if __name__ == "__main__":

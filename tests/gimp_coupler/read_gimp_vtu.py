@@ -14,47 +14,27 @@ Exit code 0 when all holds. Needs python3-vtk9 (Debian: /usr/bin/python3).
 """
 import math
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
-import xml.etree.ElementTree as ET
 
-import vtk
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtk_read import Checks, check_arrays, pvd_frames, read_vtu, run_pnc, units  # noqa: E402
 
-FAILS = []
+check = Checks()
 COMPONENTS = {"displacement_m": 3, "velocity_m_per_s": 3, "stress_Pa": 6, "strain_1": 6,
               "density_kg_per_m3": 1, "volume_m3": 1, "mass_kg": 1,
               "strain_energy_density_J_per_m3": 1, "material_index": 1}
 
 
-def check(cond, what):
-    if not cond:
-        FAILS.append(what)
-
-
-def read_frame(path):
-    r = vtk.vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    r.Update()
-    check(r.GetErrorCode() == 0, "%s: VTK reader error %d" % (path, r.GetErrorCode()))
-    return r.GetOutput()
-
-
 def check_frame(path, g, timestep, first):
-    pd = g.GetPointData()
-    for name, nc in COMPONENTS.items():
-        a = pd.GetArray(name)
-        check(a is not None and a.GetNumberOfComponents() == nc,
-              "%s: %s with %d components" % (path, name, nc))
-    if FAILS:
+    check_arrays(g, COMPONENTS, path, check)
+    if check.fails:
         return None
     t = g.GetFieldData().GetArray("time_s").GetTuple1(0)
     check(abs(t - timestep) <= 1e-9 * max(abs(t), 1e-300), "%s: time_s %g != timestep %g" %
           (path, t, timestep))
-    units = g.GetFieldData().GetAbstractArray("units")
-    got = {units.GetValue(k) for k in range(units.GetNumberOfValues())}
+    got = units(g)
     check("stress_Pa=Pa" in got and "Points=m" in got, "%s: units %s" % (path, sorted(got)))
+    pd = g.GetPointData()
     u, s, v = pd.GetArray("displacement_m"), pd.GetArray("stress_Pa"), pd.GetArray("velocity_m_per_s")
     tol = 1e-9
     for i in range(g.GetNumberOfPoints()):
@@ -68,42 +48,32 @@ def check_frame(path, g, timestep, first):
     return min(s.GetComponent(i, 0) for i in range(g.GetNumberOfPoints()))
 
 
+def check_run(out, _):
+    frames = pvd_frames(out, "particles.pvd")
+    steps = [ts for ts, _ in frames]
+    check(len(steps) >= 3, "at least 3 frames, got %d" % len(steps))
+    check(all(b > a for a, b in zip(steps, steps[1:])), "timesteps increase: %s" % steps)
+    sxx = None
+    for k, (ts, path) in enumerate(frames):
+        sxx = check_frame(path, read_vtu(path, check), ts, k == 0)
+        if check.fails:
+            break
+    if not check.fails:
+        rho, E, v = 1200.0, 1.5e9, 10.0
+        wave = rho * math.sqrt(E / rho) * v
+        check(-3 * wave <= sxx <= -wave / 3,
+              "last frame's min stress_Pa XX %g not within a factor 3 of -rho c v = %g" %
+              (sxx, -wave))
+    return check.report("gimp frames")
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__)
         return 2
     exe, src = sys.argv[1], sys.argv[2]
-    tmp = tempfile.mkdtemp(prefix="pnc_gimp_vtk_")
-    try:
-        out = os.path.join(tmp, "out")
-        r = subprocess.run([exe, "gimp", "run", os.path.join(src, "examples/gimp/bar_impact_3d.json"),
-                            "--out", out, "--quiet", "--no-plot"], capture_output=True, text=True)
-        if r.returncode != 0:
-            print(r.stderr)
-            print("pnc gimp run failed with exit code %d" % r.returncode)
-            return 1
-        sets = ET.parse(os.path.join(out, "particles.pvd")).getroot().findall("./Collection/DataSet")
-        steps = [float(d.get("timestep")) for d in sets]
-        check(len(steps) >= 3, "at least 3 frames, got %d" % len(steps))
-        check(all(b > a for a, b in zip(steps, steps[1:])), "timesteps increase: %s" % steps)
-        sxx = None
-        for k, (d, ts) in enumerate(zip(sets, steps)):
-            path = os.path.join(out, d.get("file"))
-            sxx = check_frame(path, read_frame(path), ts, k == 0)
-            if FAILS:
-                break
-        if not FAILS:
-            rho, E, v = 1200.0, 1.5e9, 10.0
-            wave = rho * math.sqrt(E / rho) * v
-            check(-3 * wave <= sxx <= -wave / 3,
-                  "last frame's min stress_Pa XX %g not within a factor 3 of -rho c v = %g" %
-                  (sxx, -wave))
-    finally:
-        shutil.rmtree(tmp)
-    for f in FAILS[:20]:
-        print("FAIL:", f)
-    print("gimp frames: %s" % ("ok" if not FAILS else "%d failures" % len(FAILS)))
-    return 1 if FAILS else 0
+    return run_pnc(exe, ["gimp", "run", os.path.join(src, "examples/gimp/bar_impact_3d.json"),
+                         "--quiet", "--no-plot"], "pnc_gimp_vtk_", check_run)
 
 
 if __name__ == "__main__":

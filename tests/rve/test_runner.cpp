@@ -144,6 +144,9 @@ TEST(RveRunner, FailedStagesThrowTheErrorOfTheirKind) {
   EXPECT_EQ(what.rfind("LAMMPS failed while running stage lmp: ERROR", 0), 0u) << what;
   EXPECT_NE(what.find("no_such_command_xyz"), std::string::npos) << what;
   EXPECT_NE(what.find("(log " + (d / "lmp.log").string() + ")"), std::string::npos) << what;
+  EXPECT_EQ(out[0].input_path, (d / "in.lmp").string());
+  EXPECT_NE(what.find("rerunnable with lmp -in: " + (d / "in.lmp").string()), std::string::npos)
+      << what;
 
   std::tie(code, what) = thrown(out[1], "stage input"); // as before this contract
   EXPECT_EQ(code, pnc::exit_code::bad_input);

@@ -193,7 +193,15 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   ckpt.write(run.schedule().nsteps, r.wall_s);
   collect(run, run.schedule().nsteps, r);
   write_couple_summary(run, *region, o, r);
-  if (o.plot) plot_couple(o.out_dir, p.crack, r);
+  if (o.plot) { // announced: no silent seconds after the last step's ETA
+    const auto plot0 = std::chrono::steady_clock::now();
+    if (o.progress) std::cerr << "plotting profile.png, energy.png ..." << std::endl;
+    plot_couple(o.out_dir, p.crack, r);
+    if (o.progress)
+      std::cerr << fmt::format(
+          "plotting done in {:.1f} s\n",
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - plot0).count());
+  }
   return r;
 }
 

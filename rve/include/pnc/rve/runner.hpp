@@ -88,6 +88,7 @@ struct StageOutcome {
   int signal = 0;    ///< signal that killed the child, 0 if none
   std::string error; ///< LAMMPS's ERROR line (+ last command) or the pnc error, if !ok
   std::string log_path;
+  std::string input_path; ///< its in.<name> (stage_input_path) when the child wrote one, else ""
   double seconds = 0;
   /// The pnc error (InputError, SimulationError, ToolError; any other exception as a
   /// std::runtime_error) the stage body threw in the child, rebuilt in the parent; null when
