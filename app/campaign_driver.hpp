@@ -36,8 +36,9 @@ struct SlurmOptions {
   std::string partition, account, time, sbatch_template, job_name;
   bool wait = false;
 };
-/// Adds those options to `cmd`; `defaults` says where an option not given comes from.
-void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& defaults);
+/// Adds those options to `cmd`; `recipe`: an option not given comes from the recipe's "slurm"
+/// section first (pnc characterize).
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe);
 
 /// What the driver of a planned command knows about its run.
 struct PlanDriver {

@@ -269,18 +269,23 @@ int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int(
   }
 }
 
-void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& defaults) {
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe) {
+  const std::string from = recipe ? "the recipe's slurm." : "";
+  const auto dflt = [&](const std::string& key, const std::string& otherwise) {
+    return " (default: " + (recipe ? from + key + ", else " : std::string()) + otherwise + ")";
+  };
   cmd->add_flag("--wait", o.wait,
                 "slurm: wait until the last unit ends, printing every unit's change, then report "
                 "as the local executor does (default: submit and return)");
-  cmd->add_option("--partition", o.partition, "slurm: partition (default: " + defaults + ")");
-  cmd->add_option("--account", o.account, "slurm: account (default: " + defaults + ")");
+  cmd->add_option("--partition", o.partition,
+                  "slurm: partition" + dflt("partition", "the cluster's"));
+  cmd->add_option("--account", o.account, "slurm: account" + dflt("account", "the user's"));
   cmd->add_option("--time", o.time,
-                  "slurm: time limit per unit job, e.g. 2:00:00 (default: " + defaults + ")");
+                  "slurm: time limit per unit job, e.g. 2:00:00" + dflt("time", "the cluster's"));
   cmd->add_option("--sbatch-template", o.sbatch_template,
-                  "slurm: job-script template with {{placeholders}} (default: " + defaults +
-                      ", else the built-in one; docs/cluster.md)");
-  cmd->add_option("--job-name", o.job_name, "slurm: prefix of the job names");
+                  "slurm: job-script template with {{placeholders}}" +
+                      dflt("template", "the built-in one; docs/cluster.md"));
+  cmd->add_option("--job-name", o.job_name, "slurm: prefix of the job names (default pnc-<name>)");
 }
 
 std::string job_prefix_of(const std::string& name) {

@@ -413,9 +413,12 @@ int run_thermo_ti(TiArgs a) {
            "holds a TI with other settings; use a new --out directory (or the same settings)");
     refuse_existing_run(a.out, a.resume, {"ti_spec.json"});
   }
-  const double started = rve::epoch_seconds();
+  if (fs::exists(rve::plan_path(a.out)) && rve::read_plan(a.out).command != kCommand)
+    fail(rve::plan_path(a.out), "--out", a.out,
+         "holds the plan of another command; use a new --out directory");
   const auto [restart, ff] = start_state(a);
   thermo::check_ti_start(a.spec, restart);
+  const double started = rve::epoch_seconds(); // the wall time of the TI, as before the plan
   write_text_atomically(sp, sj);
   const auto states = thermo::ti_states(a.spec);
   std::cerr << fmt::format("pnc thermo ti: {} state(s) x {} lambda point(s) ({} rule), {} + {} "
@@ -503,7 +506,7 @@ void register_thermo_ti(CLI::App* th, Action& action) {
                  "Who runs the (state, lambda) units: local (children of this process, --jobs at "
                  "a time) or slurm (one job array, the analysis after it; docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}));
-  add_slurm_options(ti, ta->slurm, "the cluster's");
+  add_slurm_options(ti, ta->slurm, false);
   ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
   ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
   ti->callback([ta, &action] { action = [ta] { return run_thermo_ti(*ta); }; });
