@@ -314,7 +314,8 @@ std::vector<std::string> deform_commands(const DeformState& st, const double lo[
   if (st.kind == "vol")
     F *= 1 + st.strain; // volumetric F = (1+a) I (docs/theory.md §4.2, D63)
   else if (st.kind == "dev")
-    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity()); // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2)
+    // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2)
+    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity());
   else if (st.kind != "ref")
     fail("<ti>", "state", st.kind, "must be ref, vol or dev");
   std::vector<std::string> out;
@@ -595,29 +596,56 @@ TiResult collect_ti(const TiSpec& spec, const std::string& dir) {
   return r;
 }
 
+void check_ti_start(const TiSpec& spec, const std::string& restart) {
+  spec.validate("<ti>");
+  if (!fs::is_regular_file(restart))
+    fail(restart, "restart", restart, "no such LAMMPS restart file");
+}
+
+std::vector<TiPoint> ti_points(const TiSpec& spec, const std::string& dir) {
+  const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
+  std::vector<TiPoint> out;
+  const auto states = ti_states(spec);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const auto& st = states[k];
+    const auto jobs =
+        node_jobs(q, (fs::path(dir) / st.id).string(), st.id, spec.seed * 1000 + k * 10 + 1);
+    for (std::size_t i = 0; i < jobs.size(); ++i)
+      out.push_back({st, k, i, jobs[i]});
+  }
+  return out;
+}
+
+void run_ti_point(const TiSpec& spec, const TiPoint& point, const std::string& restart,
+                  const std::vector<std::string>& ff, const Progress& progress) {
+  check_ti_start(spec, restart);
+  const LambdaSystem sys = polymer_system(spec, point.state, fs::absolute(restart).string(), ff);
+  run_points(spec.sampling, {{point.job, sys}}, false, 1, progress);
+}
+
+TiResult finish_ti(const TiSpec& spec, const std::string& dir, const std::string& source_json,
+                   double seconds) {
+  TiResult r = collect_ti(spec, dir);
+  r.h5 = (fs::path(dir) / "ti.h5").string();
+  r.seconds = seconds;
+  write_ti_h5(r.h5, r, source_json);
+  return r;
+}
+
 TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vector<std::string>& ff,
                 const std::string& dir, bool resume, const std::string& source_json,
                 const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  spec.validate("<ti>");
-  if (!fs::is_regular_file(restart))
-    fail(restart, "restart", restart, "no such LAMMPS restart file");
-  const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
+  check_ti_start(spec, restart);
   std::vector<std::pair<PointJob, LambdaSystem>> point_jobs;
-  const auto states = ti_states(spec);
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    const auto& st = states[k];
-    const LambdaSystem sys = polymer_system(spec, st, fs::absolute(restart).string(), ff);
-    for (const auto& j :
-         node_jobs(q, (fs::path(dir) / st.id).string(), st.id, spec.seed * 1000 + k * 10 + 1))
-      point_jobs.push_back({j, sys});
+  std::vector<LambdaSystem> systems; // one per state
+  for (const auto& p : ti_points(spec, dir)) {
+    if (p.state_index >= systems.size())
+      systems.push_back(polymer_system(spec, p.state, fs::absolute(restart).string(), ff));
+    point_jobs.push_back({p.job, systems[p.state_index]});
   }
   run_points(spec.sampling, point_jobs, resume, spec.jobs, progress);
-  TiResult r = collect_ti(spec, dir);
-  r.h5 = (fs::path(dir) / "ti.h5").string();
-  r.seconds = seconds_since(t0);
-  write_ti_h5(r.h5, r, source_json);
-  return r;
+  return finish_ti(spec, dir, source_json, seconds_since(t0));
 }
 
 void write_ti_h5(const std::string& path, const TiResult& r, const std::string& source_json) {

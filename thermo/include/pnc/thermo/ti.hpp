@@ -205,10 +205,10 @@ struct StateResult {
   double volume = 0; ///< A^3, of the deformed box
 };
 
-/// Moduli from Delta A(strain) (docs/theory.md §4.4): quadratic fit a + b s + c s^2 (weighted by the
-/// standard errors) per kind; energy density W = Delta A / V0. Volumetric: eps_kk = 3 alpha,
-/// K = d2W/d eps_kk^2 = 2 c / (9 V0); deviatoric: eps_bar:eps_bar = 6 beta^2,
-/// W = mu eps_bar:eps_bar, mu = c / (6 V0). Pa. (D65)
+/// Moduli from Delta A(strain) (docs/theory.md §4.4): quadratic fit a + b s + c s^2 (weighted by
+/// the standard errors) per kind; energy density W = Delta A / V0. Volumetric: eps_kk = 3 alpha, K
+/// = d2W/d eps_kk^2 = 2 c / (9 V0); deviatoric: eps_bar:eps_bar = 6 beta^2, W = mu eps_bar:eps_bar,
+/// mu = c / (6 V0). Pa. (D65)
 struct ResponseFit {
   std::string kind;
   PolyFit fit;        ///< of Delta A (kcal/mol) against the strain parameter
@@ -230,6 +230,26 @@ struct TiResult {
 TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vector<std::string>& ff,
                 const std::string& dir, bool resume, const std::string& source_json,
                 const Progress& progress);
+
+/// The checks run_ti makes before any work: the spec, and that `restart` is a file.
+void check_ti_start(const TiSpec& spec, const std::string& restart);
+
+/// One (state, lambda node) of a TI: the unit of work of `pnc thermo ti`'s plan (decision
+/// D285). Its file is job.h5 = dir/<state id>/lambda_<node>.h5, its seed the one run_ti uses.
+struct TiPoint {
+  DeformState state;
+  std::size_t state_index = 0, node = 0;
+  PointJob job;
+};
+/// Every point of `spec` in `dir`: states in ti_states order, nodes ascending.
+std::vector<TiPoint> ti_points(const TiSpec& spec, const std::string& dir);
+/// Runs one point (always; its file is replaced atomically) in its supervised LAMMPS child;
+/// throws like run_points.
+void run_ti_point(const TiSpec& spec, const TiPoint& point, const std::string& restart,
+                  const std::vector<std::string>& ff, const Progress& progress);
+/// The analysis: collect_ti, then dir/ti.h5 (write_ti_h5); `seconds` is stored as the wall time.
+TiResult finish_ti(const TiSpec& spec, const std::string& dir, const std::string& source_json,
+                   double seconds);
 
 /// Analysis only (all point files must exist).
 TiResult collect_ti(const TiSpec& spec, const std::string& dir);
