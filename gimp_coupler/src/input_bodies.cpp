@@ -31,6 +31,10 @@ template <int D> struct Shape {
 template <int D> Shape<D> read_shape(const Node& n) {
   Shape<D> s;
   const std::string kind = n.str("shape"); // one of the declared shapes (checked_input)
+  // the keys a shape needs (declared without a default: "required by shape ...")
+  for (const char* k : kind == "box" ? std::array<const char*, 2>{"min", "max"}
+                                     : std::array<const char*, 2>{"center", "radius"})
+    if (!n.has(k)) fail(n.src, n.key(k), "<missing>", "required by shape \"" + kind + "\"");
   if (kind == "box") {
     s.lo = n.vec<D>("min");
     s.hi = n.vec<D>("max");

@@ -203,3 +203,29 @@ TEST(GimpInputParameters, ExamplesAreReadByTheDeclarations) {
   }
   EXPECT_GE(read, 5);
 }
+
+// Rules between keys are checked after the declarations are read: a shape needs its keys,
+// c1 comes with c2 and not with (E, nu).
+TEST(GimpInputParameters, RulesBetweenKeysAreCheckedAfterRead) {
+  json j = minimal_input();
+  j["bodies"][0] = {{"material", "poly"}, {"shape", "circle"}, {"center", {0.5, 0.2}}};
+  auto e = error_of(j);
+  EXPECT_EQ(e.field, "bodies[0].radius");
+  EXPECT_EQ(e.rule, "required by shape \"circle\"");
+  j = minimal_input();
+  j["bodies"][0].erase("max");
+  e = error_of(j);
+  EXPECT_EQ(e.field, "bodies[0].max");
+  EXPECT_EQ(e.rule, "required by shape \"box\"");
+  j = minimal_input();
+  j["materials"][0] = {{"name", "poly"}, {"type", "hyperelastic_polymer"}, {"density", 1200},
+                       {"c1", 1e8}};
+  e = error_of(j);
+  EXPECT_EQ(e.field, "materials[0].c2");
+  EXPECT_EQ(e.rule, "give c1 and c2 together");
+  j["materials"][0]["c2"] = 1e7;
+  j["materials"][0]["E"] = 1e9;
+  e = error_of(j);
+  EXPECT_EQ(e.field, "materials[0].E");
+  EXPECT_EQ(e.rule, "give either (c1, c2) or (E, nu)");
+}
