@@ -1,4 +1,5 @@
-// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md).
+// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md); pnc gimp parameters:
+// the declared keys of its input (input_parameters.cpp).
 #include "gimp_report.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
@@ -7,6 +8,7 @@
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 
+#include "pnc/gimp_coupler/input.hpp"
 #include "pnc/gimp_coupler/run.hpp"
 #ifdef PNC_GIMP_HAS_ESCM
 #include "pnc/gimp_coupler/escm_run.hpp"
@@ -219,6 +221,25 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
 } // namespace
 #endif
 
+namespace {
+struct GimpParametersArgs {
+  std::string format = "markdown", dimension = "all";
+};
+
+// `pnc gimp parameters`: the declared input keys as Markdown tables (the generated region of
+// docs/gimp.md), JSON or a commented TOML template of one dimension.
+int run_gimp_parameters(const GimpParametersArgs& a) {
+  const int dim = a.dimension == "all" ? 0 : std::stoi(a.dimension);
+  if (a.format == "toml")
+    std::cout << gimp::input_parameters(dim == 0 ? 2 : dim, false).to_toml();
+  else if (a.format == "json")
+    std::cout << gimp::input_parameters(dim).to_json().dump(2) << "\n";
+  else
+    std::cout << gimp::input_parameters(dim).to_markdown(4);
+  return 0;
+}
+} // namespace
+
 void register_gimp(CLI::App& app, Action& action) {
   auto args = std::make_shared<GimpRunArgs>();
   auto* gimp = app.add_subcommand("gimp", "GIMP material-point solver (uGIMP, explicit; SI units)");
@@ -238,6 +259,19 @@ void register_gimp(CLI::App& app, Action& action) {
   run->add_flag("--quiet", args->quiet, "No progress lines");
   run->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
   run->callback([args, &action] { action = [args] { return run_gimp(*args); }; });
+  auto pa = std::make_shared<GimpParametersArgs>();
+  auto* params = gimp->add_subcommand(
+      "parameters", "Print every key of the run input: type, default, range, unit, meaning");
+  params
+      ->add_option("--format", pa->format,
+                   "markdown (tables, default), json or toml (a commented list of the keys with "
+                   "their defaults; the input itself is JSON)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  params
+      ->add_option("--dimension", pa->dimension,
+                   "the keys of dimension 2 or 3; default all (toml: 2)")
+      ->check(CLI::IsMember({"all", "2", "3"}));
+  params->callback([pa, &action] { action = [pa] { return run_gimp_parameters(*pa); }; });
 #ifdef PNC_GIMP_HAS_ESCM
   register_gimp_couple(gimp, action); // ESCM, docs/escm.md
 #endif

@@ -173,6 +173,8 @@ std::string Parameter::type_name() const {
     return "list of strings";
   case ParamType::table_list:
     return "list of tables";
+  case ParamType::custom:
+    return type_text;
   }
   return "";
 }
@@ -181,6 +183,7 @@ std::string Parameter::range_text() const {
   std::string s;
   switch (type) {
   case ParamType::boolean:
+  case ParamType::custom: // its rule is extra_rule, appended below
     break;
   case ParamType::integer:
     s = integer_range(int_min, int_max);
@@ -233,6 +236,8 @@ std::string Parameter::rule() const {
     return "must be " + array_of(min_size, max_size) + " strings";
   case ParamType::table_list:
     return "must be " + array_of(min_size, max_size) + " tables (JSON objects)";
+  case ParamType::custom:
+    return "must be " + extra_rule;
   case ParamType::real_list: {
     const std::string r = range.text();
     return "must be " + array_of(min_size, max_size) + " finite numbers" +
@@ -286,6 +291,8 @@ void Parameter::validate(const json& v, const std::string& source, const std::st
       if (type == ParamType::string_list ? !v[i].is_string() : !v[i].is_object())
         fail(source, f + "[" + std::to_string(i) + "]", show_json(v[i]),
              type == ParamType::string_list ? "must be a string" : "must be a JSON object");
+    break;
+  case ParamType::custom: // `check` is the whole check
     break;
   }
   if (check) check(v, source, f);
@@ -391,6 +398,18 @@ Parameter& Parameters::strings(const std::string& key, std::vector<std::string>&
   p.max_size = max_size;
   p.store = [&target](const json& v) { target = v.get<std::vector<std::string>>(); };
   p.load = [&target] { return json(target); };
+  return add(std::move(p));
+}
+
+Parameter& Parameters::custom(const std::string& key, std::string type_text, std::string rule,
+                              std::string unit, std::string text, std::string absent_means,
+                              ParamCheck check) {
+  Parameter p =
+      detail::param_entry(key, ParamType::custom, nullptr, std::move(unit), std::move(text));
+  p.type_text = std::move(type_text);
+  p.extra_rule = std::move(rule);
+  p.absent = std::move(absent_means);
+  p.check = std::move(check);
   return add(std::move(p));
 }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <unistd.h>
@@ -138,4 +139,32 @@ TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("materials[0].nu"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.7"), std::string::npos) << r.out;
+}
+
+// `pnc gimp parameters` prints the declared input keys (D292): JSON with every section and
+// entry (the rules derived from the declared ranges and SI units), Markdown tables, and the
+// TOML list of one dimension with its defaults.
+TEST(GimpCli, ParametersPrintsTheDeclarations) {
+  const std::string exe = PNC_EXE;
+  Result r = sh(exe + " gimp parameters --format json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::map<std::string, std::string> rules;
+  for (const auto& s : j.at("sections"))
+    for (const auto& p : s.at("parameters"))
+      rules[p.at("name").get<std::string>()] = p.at("rule").get<std::string>();
+  EXPECT_EQ(rules.at("time.cfl"), "must be a number in (0, 1]");
+  EXPECT_EQ(rules.at("grid.cell_size"), "must be a number > 0 m");
+  EXPECT_EQ(rules.at("materials[].density"), "must be a number > 0 kg/m^3");
+  EXPECT_EQ(rules.at("cracks[].growth.Gc"), "must be a number > 0 J/m^2");
+  EXPECT_EQ(rules.count("loads.tractions[].traction"), 1u);
+  r = sh(exe + " gimp parameters");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("#### `bodies[]` (shape = \"particles\")"), std::string::npos) << r.out;
+  r = sh(exe + " gimp parameters --format toml --dimension 3");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("\ncfl = 0.5\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("exactly 3 elements"), std::string::npos) << r.out;
+  r = sh(exe + " gimp parameters --dimension 4 2>&1");
+  EXPECT_NE(r.code, 0);
 }
