@@ -154,6 +154,59 @@ nlohmann::json spec_json(const thermo::TiSpec& s) {
           {"dhdl_method", s.dhdl_method}};
 }
 
+/// The --json object of `pnc thermo ti`: SI (D238, D280): energies of the simulated box in J
+/// (LAMMPS real kcal/mol x 4184 / N_A), volumes in m^3, moduli in Pa.
+void print_ti_json(const TiArgs& a, const thermo::TiResult& r, const std::vector<std::string>& pngs,
+                   const std::string& report, double worst_fd) {
+  const double J = units::joule_per_kcal_mol;
+  double a0 = std::nan(""), s0 = 0;
+  for (const auto& st : r.states)
+    if (st.state.kind == "ref") {
+      a0 = st.ti.dA.value;
+      s0 = st.ti.dA.se;
+    }
+  nlohmann::json j;
+  j["command"] = "thermo ti";
+  j["out"] = a.out;
+  j["h5"] = r.h5;
+  j["plots"] = pngs;
+  j["report"] = report;
+  j["rule"] = a.spec.rule;
+  j["temperature_K"] = a.spec.sampling.temperature;
+  j["kT_J"] = units::boltzmann * a.spec.sampling.temperature;
+  j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
+  j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
+  nlohmann::json sts = nlohmann::json::array();
+  for (const auto& st : r.states) {
+    nlohmann::json o;
+    o["id"] = st.state.id;
+    o["kind"] = st.state.kind;
+    o["strain"] = st.state.strain;
+    o["volume_m3"] = jnum(st.volume * units::m3_per_angstrom3);
+    o["dA_J"] = jnum(st.ti.dA.value * J);
+    o["dA_stderr_J"] = jnum(st.ti.dA.se * J);
+    o["dA_minus_ref_J"] = jnum((st.ti.dA.value - a0) * J);
+    o["dA_minus_ref_stderr_J"] =
+        jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0) * J);
+    std::vector<double> m, se;
+    for (const auto& p : st.ti.points) {
+      m.push_back(p.dhdl.value * J);
+      se.push_back(p.dhdl.se * J);
+    }
+    o["dhdl_J"] = m;
+    o["dhdl_stderr_J"] = se;
+    sts.push_back(o);
+  }
+  j["states"] = sts;
+  j["fd_check_max_relative_difference"] = worst_fd;
+  nlohmann::json fits = nlohmann::json::object();
+  for (const auto& f : r.fits)
+    fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
+  j["response"] = fits;
+  j["wall_s"] = r.seconds;
+  std::cout << j.dump() << std::endl;
+}
+
 int run_thermo_ti(TiArgs a) {
   a.spec.vol = parse_list(a.vol, "--vol");
   a.spec.dev = parse_list(a.dev, "--dev");
@@ -185,14 +238,7 @@ int run_thermo_ti(TiArgs a) {
       thermo::run_ti(a.spec, restart, ff, a.out, a.resume, sj, print_progress);
 
   // --- report
-  const double kT = units::kB_kcal_mol_K * a.spec.sampling.temperature;
   std::cerr << "\n  state            dA = A(1) - A(0) (kcal/mol)     <dH/dl> at the nodes\n";
-  double a0 = std::nan(""), s0 = 0;
-  for (const auto& st : r.states)
-    if (st.state.kind == "ref") {
-      a0 = st.ti.dA.value;
-      s0 = st.ti.dA.se;
-    }
   double worst_fd = 0;
   for (const auto& st : r.states) {
     std::string nodes;
@@ -211,10 +257,10 @@ int run_thermo_ti(TiArgs a) {
                            worst_fd);
   for (const auto& f : r.fits)
     if (std::isfinite(f.modulus))
-      std::cerr << fmt::format("  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
-                               "GPa (quadratic fit, V0 {:.0f} A^3)\n",
-                               f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9,
-                               f.modulus_se * 1e-9, f.v0);
+      std::cerr << fmt::format(
+          "  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
+          "GPa (quadratic fit, V0 {:.0f} A^3)\n",
+          f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9, f.modulus_se * 1e-9, f.v0);
   std::vector<std::string> pngs;
   ThermoRun rep{command_line(), a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
   if (!a.no_plots) {
@@ -250,47 +296,7 @@ int run_thermo_ti(TiArgs a) {
   const std::string report = write_ti_report(rep, a.spec, r, worst_fd);
   std::cerr << "  report: " << report << "\n";
   std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
-  if (a.json) {
-    nlohmann::json j;
-    j["command"] = "thermo ti";
-    j["out"] = a.out;
-    j["h5"] = r.h5;
-    j["plots"] = pngs;
-    j["report"] = report;
-    j["rule"] = a.spec.rule;
-    j["kT_kcal_mol"] = kT;
-    j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
-    j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
-    nlohmann::json sts = nlohmann::json::array();
-    for (const auto& st : r.states) {
-      nlohmann::json o;
-      o["id"] = st.state.id;
-      o["kind"] = st.state.kind;
-      o["strain"] = st.state.strain;
-      o["volume_A3"] = jnum(st.volume);
-      o["dA_kcal_mol"] = jnum(st.ti.dA.value);
-      o["dA_stderr_kcal_mol"] = jnum(st.ti.dA.se);
-      o["dA_minus_ref_kcal_mol"] = jnum(st.ti.dA.value - a0);
-      o["dA_minus_ref_stderr_kcal_mol"] =
-          jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0));
-      std::vector<double> m, se;
-      for (const auto& p : st.ti.points) {
-        m.push_back(p.dhdl.value);
-        se.push_back(p.dhdl.se);
-      }
-      o["dhdl_kcal_mol"] = m;
-      o["dhdl_stderr_kcal_mol"] = se;
-      sts.push_back(o);
-    }
-    j["states"] = sts;
-    j["fd_check_max_relative_difference"] = worst_fd;
-    nlohmann::json fits;
-    for (const auto& f : r.fits)
-      fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
-    j["response"] = fits;
-    j["seconds"] = r.seconds;
-    std::cout << j.dump() << std::endl;
-  }
+  if (a.json) print_ti_json(a, r, pngs, report, worst_fd);
   return 0;
 }
 
@@ -330,7 +336,8 @@ int run_thermo_persistence(PersistenceArgs a) {
                              "{:.4g} (continuum k_theta l0) kcal/mol A\n",
                              r.expected_ei, r.expected_ei_continuum);
   else
-    std::cerr << "  dissertation (published values, docs/theory.md §4.5): EI(0) = 2.433e-29 N m^2, xi_p = 58.74 A\n";
+    std::cerr << "  dissertation (published values, docs/theory.md §4.5): EI(0) = 2.433e-29 N m^2, "
+                 "xi_p = 58.74 A\n";
   std::vector<std::string> pngs;
   if (!a.no_plots) {
     std::ostringstream c;
@@ -350,27 +357,30 @@ int run_thermo_persistence(PersistenceArgs a) {
   const std::string report = write_persistence_report(rep, a.spec, r);
   std::cerr << "  report: " << report << "\n";
   if (a.json) {
+    // SI (D238, D280): EI in N m^2, lengths in m, anchor speeds in m/s
+    const double mps = units::m_per_angstrom / 1e-15; // (m/s) per (A/fs)
     nlohmann::json j;
     j["command"] = "thermo persistence";
     j["h5"] = r.h5;
     j["plots"] = pngs;
     j["report"] = report;
     j["chain"] = a.spec.chain;
-    j["length_A"] = r.length;
+    j["temperature_K"] = a.spec.temperature;
+    j["length_m"] = r.length * units::m_per_angstrom;
     nlohmann::json rs = nlohmann::json::array();
     for (const auto& rr : r.rates)
-      rs.push_back({{"rate_A_fs", rr.rate},
-                    {"EI_kcal_mol_A", jnum(rr.ei.value)},
-                    {"EI_stderr_kcal_mol_A", jnum(rr.ei.se)},
-                    {"EI_end_ratio_kcal_mol_A", jnum(rr.ei_end)}});
+      rs.push_back({{"rate_m_per_s", rr.rate * mps},
+                    {"EI_N_m2", jnum(rr.ei.value * si)},
+                    {"EI_stderr_N_m2", jnum(rr.ei.se * si)},
+                    {"EI_end_ratio_N_m2", jnum(rr.ei_end * si)}});
     j["rates"] = rs;
-    j["EI0_kcal_mol_A"] = jnum(r.ei0.value);
-    j["EI0_ci95_kcal_mol_A"] = jnum(r.ei0_ci95);
     j["EI0_N_m2"] = jnum(r.ei0.value * si);
-    j["xi_p_A"] = jnum(r.xi_p);
-    j["xi_p_ci95_A"] = jnum(r.xi_p_ci95);
-    j["expected_EI_kcal_mol_A"] = jnum(r.expected_ei);
-    j["expected_EI_continuum_kcal_mol_A"] = jnum(r.expected_ei_continuum);
+    j["EI0_ci95_N_m2"] = jnum(r.ei0_ci95 * si);
+    j["xi_p_m"] = jnum(r.xi_p * units::m_per_angstrom);
+    j["xi_p_ci95_m"] = jnum(r.xi_p_ci95 * units::m_per_angstrom);
+    j["expected_EI_N_m2"] = jnum(r.expected_ei * si);
+    j["expected_EI_continuum_N_m2"] = jnum(r.expected_ei_continuum * si);
+    j["wall_s"] = rep.seconds;
     std::cout << j.dump() << std::endl;
   }
   return 0;
@@ -548,8 +558,9 @@ void register_thermo(CLI::App& app, Action& action) {
   auto pa = std::make_shared<PersistenceArgs>();
   auto* pe = th->add_subcommand(
       "persistence", "Bending stiffness EI and persistence length by steered bending of a chain");
-  pe->add_option("--chain", pa->spec.chain,
-                 "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
+  pe->add_option(
+        "--chain", pa->spec.chain,
+        "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
       ->check(CLI::IsMember({"pp", "harmonic"}));
   pe->add_option("--beads", pa->spec.beads, "Beads (default 4, 3 to 200)")
       ->check(CLI::Range(3, 200));
