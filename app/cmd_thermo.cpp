@@ -395,13 +395,13 @@ struct WorkArgs {
 };
 
 nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, double v0) {
-  return {{"da_J_m3", jnum(w.value[k])},
-          {"da_stderr_indep_J_m3", jnum(w.se_indep[k])},
-          {"da_stderr_bound_J_m3", jnum(w.se_bound[k])},
+  // SI keys (D238, D285): J/m^3 and J of the box; work.h5/work.csv keep kcal/mol beside J
+  return {{"da_J_per_m3", jnum(w.value[k])},
+          {"da_stderr_indep_J_per_m3", jnum(w.se_indep[k])},
+          {"da_stderr_bound_J_per_m3", jnum(w.se_bound[k])},
           {"dA_J", jnum(w.value[k] * v0)},
-          {"dA_kcal_mol", jnum(w.value[k] * v0 * units::kcal_mol_per_joule)},
-          {"dA_stderr_indep_kcal_mol", jnum(w.se_indep[k] * v0 * units::kcal_mol_per_joule)},
-          {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * units::kcal_mol_per_joule)}};
+          {"dA_stderr_indep_J", jnum(w.se_indep[k] * v0)},
+          {"dA_stderr_bound_J", jnum(w.se_bound[k] * v0)}};
 }
 
 /// decision D143: |da| below twice its any-correlation error bound at the largest strain

@@ -126,8 +126,36 @@ def thermo_outputs(pnc, d, failures):
         failures.append(f"thermo persistence: rate_m_per_s {pe['rates'][0]['rate_m_per_s']} != 200")
     if abs(pe["expected_EI_continuum_N_m2"] / (1530 * 4184 / 6.02214076e23 * 1e-10) - 1) > 1e-12:
         failures.append("thermo persistence: expected_EI_continuum_N_m2 is not 1530 kcal/mol A")
-    return [("thermo-ti.schema.json", "thermo ti", ti),
-            ("thermo-persistence.schema.json", "thermo persistence", pe)]
+    out = [("thermo-ti.schema.json", "thermo ti", ti),
+           ("thermo-persistence.schema.json", "thermo persistence", pe)]
+    work = work_output(pnc, d, failures)
+    return out + ([("thermo-work.schema.json", "thermo work", work)] if work else [])
+
+
+def work_output(pnc, d, failures):
+    """`pnc thermo work` on a run directory made here as tests/thermo/test_work.cpp makes one:
+    `pnc synth`'s six cases as cases.h5, recipe.json with the temperature, and the equilibrated
+    box (8000 A^3) in equilibrate/final.h5, written with h5py; None when h5py is missing (not a
+    dependency of pnc). Its numbers are SI (D285)."""
+    try:
+        import h5py
+    except ImportError:
+        print("json_schemas: python3-h5py is missing: thermo work not checked")
+        return None
+    run = pathlib.Path(d, "work_run")
+    (run / "equilibrate").mkdir(parents=True)
+    run_json(pnc, ["synth", "--points", "20", "--out", str(run / "cases.h5")], d)
+    (run / "recipe.json").write_text(json.dumps({"deform": {"temperature": 300}}))
+    with h5py.File(run / "equilibrate" / "final.h5", "w") as f:
+        f["/trace"] = [[300.0, 0, 0, 0, 0.8, 8000.0]] * 2
+    doc = run_json(pnc, ["thermo", "work", "--from", str(run), "--out", "work"], d)
+    if abs(doc["volume_m3"] / 8e-27 - 1) > 1e-12:
+        failures.append(f"thermo work: volume_m3 {doc['volume_m3']} is not 8000 A^3 in m^3")
+    for c in doc["cases"]:
+        t = c["total"]
+        if abs(t["dA_J"] - t["da_J_per_m3"] * doc["volume_m3"]) > 1e-12 * abs(t["dA_J"]):
+            failures.append(f"thermo work: case {c['case']}: dA_J is not V0 da_J_per_m3")
+    return doc
 
 
 def status_output(pnc, d, failures):
