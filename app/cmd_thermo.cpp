@@ -154,59 +154,6 @@ nlohmann::json spec_json(const thermo::TiSpec& s) {
           {"dhdl_method", s.dhdl_method}};
 }
 
-/// The --json object of `pnc thermo ti`: SI (D238, D280): energies of the simulated box in J
-/// (LAMMPS real kcal/mol x 4184 / N_A), volumes in m^3, moduli in Pa.
-void print_ti_json(const TiArgs& a, const thermo::TiResult& r, const std::vector<std::string>& pngs,
-                   const std::string& report, double worst_fd) {
-  const double J = units::joule_per_kcal_mol;
-  double a0 = std::nan(""), s0 = 0;
-  for (const auto& st : r.states)
-    if (st.state.kind == "ref") {
-      a0 = st.ti.dA.value;
-      s0 = st.ti.dA.se;
-    }
-  nlohmann::json j;
-  j["command"] = "thermo ti";
-  j["out"] = a.out;
-  j["h5"] = r.h5;
-  j["plots"] = pngs;
-  j["report"] = report;
-  j["rule"] = a.spec.rule;
-  j["temperature_K"] = a.spec.sampling.temperature;
-  j["kT_J"] = units::boltzmann * a.spec.sampling.temperature;
-  j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
-  j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
-  nlohmann::json sts = nlohmann::json::array();
-  for (const auto& st : r.states) {
-    nlohmann::json o;
-    o["id"] = st.state.id;
-    o["kind"] = st.state.kind;
-    o["strain"] = st.state.strain;
-    o["volume_m3"] = jnum(st.volume * units::m3_per_angstrom3);
-    o["dA_J"] = jnum(st.ti.dA.value * J);
-    o["dA_stderr_J"] = jnum(st.ti.dA.se * J);
-    o["dA_minus_ref_J"] = jnum((st.ti.dA.value - a0) * J);
-    o["dA_minus_ref_stderr_J"] =
-        jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0) * J);
-    std::vector<double> m, se;
-    for (const auto& p : st.ti.points) {
-      m.push_back(p.dhdl.value * J);
-      se.push_back(p.dhdl.se * J);
-    }
-    o["dhdl_J"] = m;
-    o["dhdl_stderr_J"] = se;
-    sts.push_back(o);
-  }
-  j["states"] = sts;
-  j["fd_check_max_relative_difference"] = worst_fd;
-  nlohmann::json fits = nlohmann::json::object();
-  for (const auto& f : r.fits)
-    fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
-  j["response"] = fits;
-  j["wall_s"] = r.seconds;
-  std::cout << j.dump() << std::endl;
-}
-
 int run_thermo_ti(TiArgs a) {
   a.spec.vol = parse_list(a.vol, "--vol");
   a.spec.dev = parse_list(a.dev, "--dev");
@@ -296,7 +243,7 @@ int run_thermo_ti(TiArgs a) {
   const std::string report = write_ti_report(rep, a.spec, r, worst_fd);
   std::cerr << "  report: " << report << "\n";
   std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
-  if (a.json) print_ti_json(a, r, pngs, report, worst_fd);
+  if (a.json) std::cout << ti_json(rep, a.spec, r, report, worst_fd).dump() << std::endl;
   return 0;
 }
 
@@ -356,33 +303,7 @@ int run_thermo_persistence(PersistenceArgs a) {
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string report = write_persistence_report(rep, a.spec, r);
   std::cerr << "  report: " << report << "\n";
-  if (a.json) {
-    // SI (D238, D280): EI in N m^2, lengths in m, anchor speeds in m/s
-    const double mps = units::m_per_angstrom / 1e-15; // (m/s) per (A/fs)
-    nlohmann::json j;
-    j["command"] = "thermo persistence";
-    j["h5"] = r.h5;
-    j["plots"] = pngs;
-    j["report"] = report;
-    j["chain"] = a.spec.chain;
-    j["temperature_K"] = a.spec.temperature;
-    j["length_m"] = r.length * units::m_per_angstrom;
-    nlohmann::json rs = nlohmann::json::array();
-    for (const auto& rr : r.rates)
-      rs.push_back({{"rate_m_per_s", rr.rate * mps},
-                    {"EI_N_m2", jnum(rr.ei.value * si)},
-                    {"EI_stderr_N_m2", jnum(rr.ei.se * si)},
-                    {"EI_end_ratio_N_m2", jnum(rr.ei_end * si)}});
-    j["rates"] = rs;
-    j["EI0_N_m2"] = jnum(r.ei0.value * si);
-    j["EI0_ci95_N_m2"] = jnum(r.ei0_ci95 * si);
-    j["xi_p_m"] = jnum(r.xi_p * units::m_per_angstrom);
-    j["xi_p_ci95_m"] = jnum(r.xi_p_ci95 * units::m_per_angstrom);
-    j["expected_EI_N_m2"] = jnum(r.expected_ei * si);
-    j["expected_EI_continuum_N_m2"] = jnum(r.expected_ei_continuum * si);
-    j["wall_s"] = rep.seconds;
-    std::cout << j.dump() << std::endl;
-  }
+  if (a.json) std::cout << persistence_json(rep, a.spec, r, report).dump() << std::endl;
   return 0;
 }
 
@@ -395,7 +316,7 @@ struct WorkArgs {
 };
 
 nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, double v0) {
-  // SI keys (D238, D285): J/m^3 and J of the box; work.h5/work.csv keep kcal/mol beside J
+  // SI keys (D238, D280): J/m^3 and J of the box; work.h5/work.csv keep kcal/mol beside J
   return {{"da_J_per_m3", jnum(w.value[k])},
           {"da_stderr_indep_J_per_m3", jnum(w.se_indep[k])},
           {"da_stderr_bound_J_per_m3", jnum(w.se_bound[k])},

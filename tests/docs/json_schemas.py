@@ -136,7 +136,7 @@ def work_output(pnc, d, failures):
     """`pnc thermo work` on a run directory made here as tests/thermo/test_work.cpp makes one:
     `pnc synth`'s six cases as cases.h5, recipe.json with the temperature, and the equilibrated
     box (8000 A^3) in equilibrate/final.h5, written with h5py; None when h5py is missing (not a
-    dependency of pnc). Its numbers are SI (D285)."""
+    dependency of pnc). Its numbers are SI (D280)."""
     try:
         import h5py
     except ImportError:

@@ -288,7 +288,7 @@ TEST(ThermoWork, CliTwoRunsJsonH5Csv) {
               1e-6 * C0 * eps * eps);
   const double dA = c.at("total").at("dA_J").get<double>();
   EXPECT_NEAR(dA, (C0 + C1 * 300) * eps * eps / 2 * kV0_A3 * 1e-30, 1e-6 * std::fabs(dA));
-  // the errors of dA are those of da times the box volume (SI only in --json, D285)
+  // the errors of dA are those of da times the box volume (SI only in --json, D280)
   EXPECT_NEAR(c.at("total").at("dA_stderr_bound_J").get<double>(),
               c.at("total").at("da_stderr_bound_J_per_m3").get<double>() * kV0_A3 * 1e-30,
               1e-12 * c.at("total").at("dA_stderr_bound_J").get<double>());
