@@ -2,16 +2,17 @@
 """The --json outputs of pnc match the JSON Schemas shipped in docs/schemas/ (D238).
 
 Runs `pnc synth`, `pnc fit`, `pnc card show`, `pnc material drive`, `pnc card tables`,
-`pnc gimp run` (a 1-s bar impact and a 2-D plate run to its first output) and `pnc status` (a
-plan written here), and in builds with LAMMPS `pnc rve build`, `pnc thermo ti` (a 12-chain melt,
-2 lambda points), `pnc thermo persistence` (a 4-bead harmonic chain) and `pnc gimp couple` (the
-short Case I run, ~10 s) in a fresh temporary
-directory and validates each printed object against its schema (python3-jsonschema, Draft
-2020-12; the schemas forbid keys they do not describe, so a new key must be documented). Also
-checks the unit rule on every schema: each number has a `unit` annotation, and a key whose unit
-is neither `1` (dimensionless, a count) nor `units` (stated by a sibling `units` key) ends with
-the unit spelled as a suffix (`Pa` -> `_Pa`, `J/m^3` -> `_J_per_m3`, `N m^2` -> `_N_m2`). A broken document (a key
-removed, a key added) must be refused, so the check is shown to bite.
+`pnc gimp run` (a 1-s bar impact in 3-D, 5 steps of the 2-D plate) and `pnc status` (a plan
+written here), and in builds with LAMMPS `pnc rve build`, `pnc characterize` (8 chains, short
+stages, one case), `pnc thermo ti` (a 12-chain melt, 2 lambda points), `pnc thermo
+persistence` (a 4-bead harmonic chain), `pnc thermo work` (with python3-h5py) and `pnc gimp
+couple` (the short Case I run) in a fresh temporary directory and validates each printed
+object against its schema (python3-jsonschema, Draft 2020-12; the schemas forbid keys they do
+not describe, so a new key must be documented). Also checks the unit rule on every schema:
+each number has a `unit` annotation, and a key whose unit is neither `1` (dimensionless, a
+count) nor `units` (stated by a sibling `units` key) ends with the unit spelled as a suffix
+(`Pa` -> `_Pa`, `J/m^3` -> `_J_per_m3`, `N m^2` -> `_N_m2`). A broken document (a key removed,
+a key added) must be refused, so the check is shown to bite.
 
 Usage: json_schemas.py --root SOURCE_DIR --pnc PATH_TO_PNC [--with-rve] [--with-thermo]
                        [--with-escm]
@@ -94,6 +95,35 @@ def rve_build_output(pnc, d, failures):
     if max(rb["box_m"]) - min(rb["box_m"]) > 1e-12 * max(rb["box_m"]) or max(rb["box_m"]) > 1e-7:
         failures.append(f"rve build: box_m {rb['box_m']} is not a cube of nanometres in m")
     return rb
+
+
+# The smallest characterization that runs every stage (build, equilibration, phase check, one
+# case, fit): tests/rve/test_characterize_cli.cpp's tiny recipe with shorter stages (~10 s).
+TINY_RECIPE = {
+    "name": "schema", "seed": 3, "build": {"chains": 8},
+    "equilibrate": {"pushoff_steps": 200, "hot_steps": 300, "cool_steps": 200,
+                    "langevin_chunk_steps": 100, "langevin_max_chunks": 2, "npt_steps": 300,
+                    "final_steps": 100},
+    "deform": {"cases": [2], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
+               "hold_steps": 100, "sample_every": 10, "blocks": 4},
+    "phase_check": {"enabled": True, "steps": 1000, "sample_every": 5, "cavitation_steps": 100},
+    "analysis": {"moving_average": 1}}
+
+
+def characterize_output(pnc, d, failures):
+    """`pnc characterize` of TINY_RECIPE (exit 4, a card "not usable", is a complete output);
+    its numbers are SI (D284): a polymer melt near 0.9 g/cm^3 in kg/m^3, pressures in Pa."""
+    pathlib.Path(d, "tiny.json").write_text(json.dumps(TINY_RECIPE))
+    # one rank, one unit at a time: MPI ranks that wait on each other on a busy machine cost
+    # more than they gain on 160 atoms
+    ch = run_json(pnc, ["characterize", "tiny.json", "--out", "char", "--no-plots", "--ranks", "1",
+                        "--equilibrate-ranks", "1", "--jobs", "1"], d)
+    rho = ch["equilibrated"]["density_kg_per_m3"]
+    if not 300 < rho < 1500:
+        failures.append(f"characterize: density_kg_per_m3 {rho} is not a melt's in kg/m^3")
+    if not 1e-10 < ch["equilibrated"]["min_distance_m"] < 1e-9:
+        failures.append("characterize: min_distance_m is not Angstroms in m")
+    return ch
 
 
 def thermo_outputs(pnc, d, failures):
@@ -250,6 +280,8 @@ def main():
                 failures.append(f"{label}: energy/reaction keys do not follow the dimension")
         if a.with_rve:
             outputs.append(("rve-build.schema.json", "rve build", rve_build_output(a.pnc, d, failures)))
+            outputs.append(("characterize.schema.json", "characterize",
+                            characterize_output(a.pnc, d, failures)))
         if a.with_thermo:
             outputs += thermo_outputs(a.pnc, d, failures)
         if a.with_escm:
