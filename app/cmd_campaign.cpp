@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -194,6 +195,23 @@ int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
   return unit_main(dir, p, r, u, true);
 }
 
+/// A unit's detail for `pnc status --json`, its times under SI keys (D238, D283): the state
+/// files keep `seconds`, `seconds_build`, `seconds_equilibrate`; the JSON says `wall_s`,
+/// `build_wall_s`, `equilibrate_wall_s`.
+nlohmann::json status_detail_json(const nlohmann::json& detail) {
+  if (!detail.is_object()) return nlohmann::json::object();
+  static const std::map<std::string, std::string> renamed = {
+      {"seconds", "wall_s"},
+      {"seconds_build", "build_wall_s"},
+      {"seconds_equilibrate", "equilibrate_wall_s"}};
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [k, v] : detail.items()) {
+    const auto it = renamed.find(k);
+    out[it == renamed.end() ? k : it->second] = v;
+  }
+  return out;
+}
+
 int run_status(const std::string& dir, bool json) {
   const rve::Plan p = rve::read_plan(dir);
   bool slurm = false;
@@ -230,6 +248,7 @@ int run_status(const std::string& dir, bool json) {
                          s.job_id.empty() ? "-" : s.job_id,
                          secs > 0 ? fmt::format("{:.1f}", secs) : "-", note);
     nlohmann::json j = rve::status_json(s);
+    j["detail"] = status_detail_json(s.detail);
     j["unit"] = u.id;
     j["kind"] = u.kind;
     j["needs"] = u.needs;

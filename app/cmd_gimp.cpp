@@ -101,18 +101,20 @@ int run_gimp(const GimpRunArgs& a) {
     j["time_s"] = s.time;
     j["wall_s"] = s.wall_seconds;
     j["particle_steps_per_s"] = s.particle_steps_per_second;
-    j["energy_J"] = {{"initial", s.energy.initial},
-                     {"kinetic", s.energy.kinetic},
-                     {"strain", s.energy.strain},
-                     {"external_work", s.energy.external_work},
-                     {"boundary_work", s.energy.boundary_work},
-                     {"damping_work", s.energy.damping_work},
-                     {"balance", s.energy.balance()},
-                     {"max_abs_balance", s.max_abs_balance}};
+    // D281: in 2-D the extensive quantities are per metre of thickness, and the keys say so
+    const bool plane = s.dimension == 2;
+    j[plane ? "energy_J_per_m" : "energy_J"] = {{"initial", s.energy.initial},
+                                                {"kinetic", s.energy.kinetic},
+                                                {"strain", s.energy.strain},
+                                                {"external_work", s.energy.external_work},
+                                                {"boundary_work", s.energy.boundary_work},
+                                                {"damping_work", s.energy.damping_work},
+                                                {"balance", s.energy.balance()},
+                                                {"max_abs_balance", s.max_abs_balance}};
     nlohmann::json r = nlohmann::json::object();
     for (std::size_t i = 0; i < s.reactions.size(); ++i)
       r[s.reaction_names[i]] = s.reactions[i];
-    j["reactions_N"] = r;
+    j[plane ? "reactions_N_per_m" : "reactions_N"] = r;
     j["pvd"] = s.pvd;
     j["frames"] = s.frames;
     j["history"] = s.history_csv;

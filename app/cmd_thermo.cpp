@@ -140,30 +140,7 @@ int run_thermo_persistence(PersistenceArgs a) {
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string report = write_persistence_report(rep, a.spec, r);
   std::cerr << "  report: " << report << "\n";
-  if (a.json) {
-    nlohmann::json j;
-    j["command"] = "thermo persistence";
-    j["h5"] = r.h5;
-    j["plots"] = pngs;
-    j["report"] = report;
-    j["chain"] = a.spec.chain;
-    j["length_A"] = r.length;
-    nlohmann::json rs = nlohmann::json::array();
-    for (const auto& rr : r.rates)
-      rs.push_back({{"rate_A_fs", rr.rate},
-                    {"EI_kcal_mol_A", jnum(rr.ei.value)},
-                    {"EI_stderr_kcal_mol_A", jnum(rr.ei.se)},
-                    {"EI_end_ratio_kcal_mol_A", jnum(rr.ei_end)}});
-    j["rates"] = rs;
-    j["EI0_kcal_mol_A"] = jnum(r.ei0.value);
-    j["EI0_ci95_kcal_mol_A"] = jnum(r.ei0_ci95);
-    j["EI0_N_m2"] = jnum(r.ei0.value * si);
-    j["xi_p_A"] = jnum(r.xi_p);
-    j["xi_p_ci95_A"] = jnum(r.xi_p_ci95);
-    j["expected_EI_kcal_mol_A"] = jnum(r.expected_ei);
-    j["expected_EI_continuum_kcal_mol_A"] = jnum(r.expected_ei_continuum);
-    std::cout << j.dump() << std::endl;
-  }
+  if (a.json) std::cout << persistence_json(rep, a.spec, r, report).dump() << std::endl;
   return 0;
 }
 
@@ -176,13 +153,13 @@ struct WorkArgs {
 };
 
 nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, double v0) {
-  return {{"da_J_m3", jnum(w.value[k])},
-          {"da_stderr_indep_J_m3", jnum(w.se_indep[k])},
-          {"da_stderr_bound_J_m3", jnum(w.se_bound[k])},
+  // SI keys (D238, D280): J/m^3 and J of the box; work.h5/work.csv keep kcal/mol beside J
+  return {{"da_J_per_m3", jnum(w.value[k])},
+          {"da_stderr_indep_J_per_m3", jnum(w.se_indep[k])},
+          {"da_stderr_bound_J_per_m3", jnum(w.se_bound[k])},
           {"dA_J", jnum(w.value[k] * v0)},
-          {"dA_kcal_mol", jnum(w.value[k] * v0 * units::kcal_mol_per_joule)},
-          {"dA_stderr_indep_kcal_mol", jnum(w.se_indep[k] * v0 * units::kcal_mol_per_joule)},
-          {"dA_stderr_bound_kcal_mol", jnum(w.se_bound[k] * v0 * units::kcal_mol_per_joule)}};
+          {"dA_stderr_indep_J", jnum(w.se_indep[k] * v0)},
+          {"dA_stderr_bound_J", jnum(w.se_bound[k] * v0)}};
 }
 
 /// decision D143: |da| below twice its any-correlation error bound at the largest strain

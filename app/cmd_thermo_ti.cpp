@@ -229,14 +229,7 @@ struct TiReportArgs {
 
 /// The report of a finished TI (stderr lines, plots, report.html); returns the --json object.
 nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
-  const double kT = units::kB_kcal_mol_K * a.spec.sampling.temperature;
   std::cerr << "\n  state            dA = A(1) - A(0) (kcal/mol)     <dH/dl> at the nodes\n";
-  double a0 = std::nan(""), s0 = 0;
-  for (const auto& st : r.states)
-    if (st.state.kind == "ref") {
-      a0 = st.ti.dA.value;
-      s0 = st.ti.dA.se;
-    }
   double worst_fd = 0;
   for (const auto& st : r.states) {
     std::string nodes;
@@ -294,47 +287,7 @@ nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
   const std::string report = write_ti_report(rep, a.spec, r, worst_fd);
   std::cerr << "  report: " << report << "\n";
   std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
-  nlohmann::json j;
-  {
-    j["command"] = "thermo ti";
-    j["out"] = a.out;
-    j["h5"] = r.h5;
-    j["plots"] = pngs;
-    j["report"] = report;
-    j["rule"] = a.spec.rule;
-    j["kT_kcal_mol"] = kT;
-    j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
-    j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
-    nlohmann::json sts = nlohmann::json::array();
-    for (const auto& st : r.states) {
-      nlohmann::json o;
-      o["id"] = st.state.id;
-      o["kind"] = st.state.kind;
-      o["strain"] = st.state.strain;
-      o["volume_A3"] = jnum(st.volume);
-      o["dA_kcal_mol"] = jnum(st.ti.dA.value);
-      o["dA_stderr_kcal_mol"] = jnum(st.ti.dA.se);
-      o["dA_minus_ref_kcal_mol"] = jnum(st.ti.dA.value - a0);
-      o["dA_minus_ref_stderr_kcal_mol"] =
-          jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0));
-      std::vector<double> m, se;
-      for (const auto& p : st.ti.points) {
-        m.push_back(p.dhdl.value);
-        se.push_back(p.dhdl.se);
-      }
-      o["dhdl_kcal_mol"] = m;
-      o["dhdl_stderr_kcal_mol"] = se;
-      sts.push_back(o);
-    }
-    j["states"] = sts;
-    j["fd_check_max_relative_difference"] = worst_fd;
-    nlohmann::json fits;
-    for (const auto& f : r.fits)
-      fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
-    j["response"] = fits;
-    j["seconds"] = r.seconds;
-  }
-  return j;
+  return ti_json(rep, a.spec, r, report, worst_fd); // SI keys (D280)
 }
 
 /// Runs one unit of a `thermo ti` plan in this process (PlanUnitRunner).

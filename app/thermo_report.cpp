@@ -231,4 +231,90 @@ std::string write_persistence_report(const ThermoRun& run, const thermo::Persist
   return page.write_report(run.out);
 }
 
+namespace {
+nlohmann::json jnum(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+} // namespace
+
+nlohmann::json ti_json(const ThermoRun& run, const thermo::TiSpec& spec, const thermo::TiResult& r,
+                       const std::string& report, double worst_fd) {
+  const double J = units::joule_per_kcal_mol;
+  double a0 = std::nan(""), s0 = 0;
+  for (const auto& st : r.states)
+    if (st.state.kind == "ref") {
+      a0 = st.ti.dA.value;
+      s0 = st.ti.dA.se;
+    }
+  nlohmann::json j;
+  j["command"] = "thermo ti";
+  j["out"] = run.out;
+  j["h5"] = r.h5;
+  j["plots"] = run.pngs;
+  j["report"] = report;
+  j["rule"] = spec.rule;
+  j["temperature_K"] = spec.sampling.temperature;
+  j["kT_J"] = units::boltzmann * spec.sampling.temperature;
+  j["nodes"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.nodes;
+  j["weights"] = r.states.empty() ? std::vector<double>{} : r.states.front().ti.rule.weights;
+  nlohmann::json sts = nlohmann::json::array();
+  for (const auto& st : r.states) {
+    nlohmann::json o;
+    o["id"] = st.state.id;
+    o["kind"] = st.state.kind;
+    o["strain"] = st.state.strain;
+    o["volume_m3"] = jnum(st.volume * units::m3_per_angstrom3);
+    o["dA_J"] = jnum(st.ti.dA.value * J);
+    o["dA_stderr_J"] = jnum(st.ti.dA.se * J);
+    o["dA_minus_ref_J"] = jnum((st.ti.dA.value - a0) * J);
+    o["dA_minus_ref_stderr_J"] =
+        jnum(st.state.kind == "ref" ? 0.0 : std::hypot(st.ti.dA.se, s0) * J);
+    std::vector<double> m, se;
+    for (const auto& p : st.ti.points) {
+      m.push_back(p.dhdl.value * J);
+      se.push_back(p.dhdl.se * J);
+    }
+    o["dhdl_J"] = m;
+    o["dhdl_stderr_J"] = se;
+    sts.push_back(o);
+  }
+  j["states"] = sts;
+  j["fd_check_max_relative_difference"] = worst_fd;
+  nlohmann::json fits = nlohmann::json::object();
+  for (const auto& f : r.fits)
+    fits[f.kind] = {{"modulus_Pa", jnum(f.modulus)}, {"modulus_stderr_Pa", jnum(f.modulus_se)}};
+  j["response"] = fits;
+  j["wall_s"] = run.seconds;
+  return j;
+}
+
+nlohmann::json persistence_json(const ThermoRun& run, const thermo::PersistenceSpec& spec,
+                                const thermo::PersistenceResult& r, const std::string& report) {
+  const double si = units::j_m_per_kcal_mol_A;      // (N m^2) per (kcal/mol A)
+  const double mps = units::m_per_angstrom / 1e-15; // (m/s) per (A/fs)
+  nlohmann::json j;
+  j["command"] = "thermo persistence";
+  j["h5"] = r.h5;
+  j["plots"] = run.pngs;
+  j["report"] = report;
+  j["chain"] = spec.chain;
+  j["temperature_K"] = spec.temperature;
+  j["length_m"] = r.length * units::m_per_angstrom;
+  nlohmann::json rs = nlohmann::json::array();
+  for (const auto& rr : r.rates)
+    rs.push_back({{"rate_m_per_s", rr.rate * mps},
+                  {"EI_N_m2", jnum(rr.ei.value * si)},
+                  {"EI_stderr_N_m2", jnum(rr.ei.se * si)},
+                  {"EI_end_ratio_N_m2", jnum(rr.ei_end * si)}});
+  j["rates"] = rs;
+  j["EI0_N_m2"] = jnum(r.ei0.value * si);
+  j["EI0_ci95_N_m2"] = jnum(r.ei0_ci95 * si);
+  j["xi_p_m"] = jnum(r.xi_p * units::m_per_angstrom);
+  j["xi_p_ci95_m"] = jnum(r.xi_p_ci95 * units::m_per_angstrom);
+  j["expected_EI_N_m2"] = jnum(r.expected_ei * si);
+  j["expected_EI_continuum_N_m2"] = jnum(r.expected_ei_continuum * si);
+  j["wall_s"] = run.seconds;
+  return j;
+}
+
 } // namespace pnc::app

@@ -9,6 +9,8 @@
 #include "pnc/thermo/persistence.hpp"
 #include "pnc/thermo/ti.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -38,5 +40,16 @@ std::string write_ti_report(const ThermoRun& run, const thermo::TiSpec& spec,
 /// persistence length xi_p = EI/kT. Returns the HTML path.
 std::string write_persistence_report(const ThermoRun& run, const thermo::PersistenceSpec& spec,
                                      const thermo::PersistenceResult& r);
+
+/// The --json object of `pnc thermo ti` (docs/schemas/thermo-ti.schema.json): SI (D238, D280),
+/// free energies of the whole simulated box in J (LAMMPS real kcal/mol x 4184 / N_A), volumes
+/// in m^3, moduli in Pa, the wall time `run.seconds` in s. `report`: the HTML path.
+nlohmann::json ti_json(const ThermoRun& run, const thermo::TiSpec& spec, const thermo::TiResult& r,
+                       const std::string& report, double worst_fd);
+
+/// The --json object of `pnc thermo persistence` (docs/schemas/thermo-persistence.schema.json):
+/// SI (D238, D280), EI in N m^2, lengths in m, anchor speeds in m/s.
+nlohmann::json persistence_json(const ThermoRun& run, const thermo::PersistenceSpec& spec,
+                                const thermo::PersistenceResult& r, const std::string& report);
 
 } // namespace pnc::app

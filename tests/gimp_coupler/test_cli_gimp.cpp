@@ -36,6 +36,7 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   ASSERT_EQ(r.code, 0) << r.out;
   auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["dimension"], 3);
+  EXPECT_FALSE(j.contains("energy_J_per_m")); // 3-D: J and N (D281)
   EXPECT_EQ(j["steps"], 10);
   EXPECT_GT(j["particles"].get<int>(), 1000);
   r = sh(exe + " gimp run " + in + " --out " + (d / "out").string() +
@@ -97,7 +98,10 @@ TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
   // the handbook G of the full load (2.6 kJ/m^2 at a = 10.3 mm, docs/gimp.md) exceeds Gc =
   // 1 kJ/m^2 by far, so the crack must use up its two increments
   EXPECT_EQ(j["crack_increments"], 2);
-  const auto& e = j["energy_J"];
+  // 2-D: energies and reactions per metre of thickness, and the keys say so (D281)
+  EXPECT_FALSE(j.contains("energy_J"));
+  EXPECT_TRUE(j.contains("reactions_N_per_m"));
+  const auto& e = j["energy_J_per_m"];
   const double scale = std::max(
       {std::fabs(e["initial"].get<double>()),
        std::fabs(e["external_work"].get<double>()) + std::fabs(e["boundary_work"].get<double>()),

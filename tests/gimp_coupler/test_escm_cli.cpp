@@ -172,7 +172,7 @@ TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
   nlohmann::json input;
   std::ifstream(in) >> input;
   const double eps = input["short"]["strain"].get<double>();
-  const double h = j["lj_fcc"]["a0_A"].get<double>() * 1e-10;
+  const double h = j["lj_fcc"]["a0_m"].get<double>();
   ASSERT_EQ(j["particle_frames"].size(), 3u);
   EXPECT_EQ(j["gradient"]["increments"].get<long>(), j["steps"].get<long>());
   const auto v = read_vtu(j["particle_frames"].back().get<std::string>());

@@ -67,28 +67,33 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["rates"].size(), 3u);
   EXPECT_TRUE(fs::exists(d / "persistence.h5"));
-  // xi_p = EI0 / kT at 300 K (kB in kcal/mol/K)
-  EXPECT_NEAR(j["xi_p_A"].get<double>(), j["EI0_kcal_mol_A"].get<double>() / (0.0019872067 * 300),
-              1e-6);
-  // 2 K l0 with K = 500 and l0 = 1.53
-  EXPECT_NEAR(j["expected_EI_continuum_kcal_mol_A"].get<double>(), 1530.0, 1e-9);
-  // the run report: the command, EI(0) and xi_p with their 95 % intervals, no figures
+  // --json is SI (D280): xi_p = EI0 / kT at 300 K, with the k_B of LAMMPS real units
+  // (0.0019872067 kcal/mol/K, 1.2e-6 above CODATA's) that xi_p is computed with: round-off only
+  const double si = 4184.0 / 6.02214076e23 * 1e-10;        // N m^2 per kcal/mol A
+  const double kB = 0.0019872067 * 4184.0 / 6.02214076e23; // J/K
+  EXPECT_NEAR(j["xi_p_m"].get<double>() / (j["EI0_N_m2"].get<double>() / (kB * 300)), 1.0, 1e-12);
+  // 2 K l0 with K = 500 and l0 = 1.53 A, in N m^2
+  EXPECT_NEAR(j["expected_EI_continuum_N_m2"].get<double>() / (1530.0 * si), 1.0, 1e-12);
+  // the anchor speeds in m/s: 1 A/fs = 1e5 m/s
+  EXPECT_NEAR(j["rates"][0]["rate_m_per_s"].get<double>(), 0.002 * 1e5, 1e-9);
+  // the run report (in the field's units): the command, EI(0) and xi_p with their 95 %
+  // intervals, no figures
+  const double ei = j["EI0_N_m2"].get<double>() / si, ci = j["EI0_ci95_N_m2"].get<double>() / si;
+  const double xi = j["xi_p_m"].get<double>() * 1e10, xci = j["xi_p_ci95_m"].get<double>() * 1e10;
   EXPECT_EQ(j["report"], (d / "report.html").string());
   std::string html = report_page(d);
   EXPECT_NE(html.find("pnc thermo persistence"), std::string::npos);
-  EXPECT_NE(html.find(pm(j["EI0_kcal_mol_A"], j["EI0_ci95_kcal_mol_A"]) + " kcal/mol Å"),
-            std::string::npos);
-  EXPECT_NE(html.find(pm(j["xi_p_A"], j["xi_p_ci95_A"]) + " Å"), std::string::npos);
+  EXPECT_NE(html.find(pm(ei, ci) + " kcal/mol Å"), std::string::npos);
+  EXPECT_NE(html.find(pm(xi, xci) + " Å"), std::string::npos);
   EXPECT_NE(html.find("Not drawn (--no-plots)."), std::string::npos);
   EXPECT_EQ(html.find("data:image/png"), std::string::npos);
   // D270: the verdict follows the interval (resolved beyond twice, noise within once)
-  const double ei = j["EI0_kcal_mol_A"], ci = j["EI0_ci95_kcal_mol_A"];
   EXPECT_NE(html.find(ei > 2 * ci ? "Resolved:" : ei > ci ? "Weak:" : "Noise:"), std::string::npos);
   const auto t = fs::last_write_time(d / "rate_0.h5");
   const CmdRun r2 = run(args + " --resume");
   ASSERT_EQ(r2.code, 0);
   EXPECT_EQ(fs::last_write_time(d / "rate_0.h5"), t);
-  EXPECT_EQ(nlohmann::json::parse(r2.out)["EI0_kcal_mol_A"], j["EI0_kcal_mol_A"]);
+  EXPECT_EQ(nlohmann::json::parse(r2.out)["EI0_N_m2"], j["EI0_N_m2"]);
   // resumed again with plots asked for, under a Python whose matplotlib import fails (as
   // without python3-matplotlib): exit code 0, and the page says why there is no figure
   fs::create_directories(d / "nompl" / "matplotlib");
@@ -148,8 +153,12 @@ TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
   const std::string html = report_page(out);
   EXPECT_NE(html.find("pnc thermo ti"), std::string::npos);
   ASSERT_EQ(j["states"].size(), 2u);
+  // --json in J of the box (D280), the page in kcal/mol
+  const double kcal_mol = 4184.0 / 6.02214076e23; // J
   for (const auto& st : j["states"])
-    EXPECT_NE(html.find(pm(st["dA_kcal_mol"], st["dA_stderr_kcal_mol"])), std::string::npos)
+    EXPECT_NE(html.find(pm(st["dA_J"].get<double>() / kcal_mol,
+                           st["dA_stderr_J"].get<double>() / kcal_mol)),
+              std::string::npos)
         << st["id"];
   // the two PNGs plot_thermo.py drew, embedded (base64 of the PNG signature is iVBORw0KGgo)
   ASSERT_EQ(j["plots"].size(), 2u) << "python3-matplotlib is a test dependency";
