@@ -39,12 +39,14 @@ int run_card_show(const CardShowArgs& a) {
   std::cerr << fmt::format("      G23 = {:.4g}, G13 = {:.4g}, G12 = {:.4g}\n", d.G23 / G, d.G13 / G,
                            d.G12 / G);
   if (m == Model::pnc)
-    std::cerr << fmt::format("    E2 as printed (the source's determinant-ratio formula, labelled E2 in the "
-                             "published table; it equals E1 by inversion): {:.4g}\n",
-                             d.E2_as_printed / G);
+    std::cerr << fmt::format(
+        "    E2 as printed (the source's determinant-ratio formula, labelled E2 in the "
+        "published table; it equals E1 by inversion): {:.4g}\n",
+        d.E2_as_printed / G);
   else
-    std::cerr << fmt::format("    isotropic formula (E from C22 -> C11, C12; docs/theory.md §1.5): {:.4g}\n",
-                             d.E_isotropic_formula / G);
+    std::cerr << fmt::format(
+        "    isotropic formula (E from C22 -> C11, C12; docs/theory.md §1.5): {:.4g}\n",
+        d.E_isotropic_formula / G);
   std::cerr << "  strength per case (first local maximum of the driven stress along the case "
                "path, strain <= "
             << a.max_strain << "):\n";

@@ -149,7 +149,7 @@ int run_thermo_persistence(PersistenceArgs a) {
 struct WorkArgs {
   std::vector<std::string> from;
   std::string out;
-  bool json = false;
+  bool json = false, no_plots = false;
 };
 
 nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, double v0) {
@@ -162,17 +162,13 @@ nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, doubl
           {"dA_stderr_bound_J", jnum(w.se_bound[k] * v0)}};
 }
 
-/// decision D143: |da| below twice its any-correlation error bound at the largest strain
-bool is_noise(const thermo::WorkIntegral& w) {
-  return w.has_se && !(std::fabs(w.value.back()) > 2 * w.se_bound.back());
-}
-
 int run_thermo_work(const WorkArgs& a) {
   if (a.from.empty() || a.from.size() > 2)
     fail("<command line>", "--from", fmt::format("{} given", a.from.size()),
          "give one run directory, or two at different temperatures");
   const RunDirLock lock(a.out, command_line()); // one process per output directory
   start_run_log(a.out, command_line());         // pnc.log: what this run printed
+  const auto t0 = std::chrono::steady_clock::now();
   const thermo::WorkRun r1 = thermo::read_work_run(a.from[0]);
   std::unique_ptr<thermo::WorkRun> r2;
   if (a.from.size() == 2) r2 = std::make_unique<thermo::WorkRun>(thermo::read_work_run(a.from[1]));
@@ -194,8 +190,8 @@ int run_thermo_work(const WorkArgs& a) {
     if (r.runs == 2)
       line += fmt::format("; entropic {:.4g} +- {:.2g}, energetic {:.4g} +- {:.2g} J/m^3",
                           c.da_s.value[k], c.da_s.se_indep[k], c.da_u.value[k], c.da_u.se_indep[k]);
-    if (is_noise(c.da)) line += "  [NOISE: |da| < 2 x its error bound]";
-    if (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u))
+    if (work_is_noise(c.da)) line += "  [NOISE: |da| < 2 x its error bound]";
+    if (r.runs == 2 && work_is_noise(c.da_s) && work_is_noise(c.da_u))
       line += "  [SPLIT NOISE: entropic and energetic parts < 2 x their error bounds]";
     if (c.softening) line += "  [SOFTENING: yield/damage, the integral is work, not free energy]";
     std::cerr << line << "\n";
@@ -206,16 +202,25 @@ int run_thermo_work(const WorkArgs& a) {
   // exit 4 (outputs written) when no case resolves what was asked: the total, or the split
   bool all_noise = true;
   for (const auto& c : r.cases)
-    all_noise =
-        all_noise && (is_noise(c.da) || (r.runs == 2 && is_noise(c.da_s) && is_noise(c.da_u)));
+    all_noise = all_noise && work_case_is_noise(c, r.runs);
   if (all_noise)
     std::cerr << "  NO RESULT: every case is noise (exit code 4); longer or replicated runs are "
                  "needed\n";
+  ThermoRun rep{command_line(), a.out, h5, 0, !a.no_plots, {}, {}, {}};
+  if (!a.no_plots) run_plot({"work", csv, a.out}, rep);
+  for (const auto& p : rep.pngs)
+    std::cerr << "  plot: " << p << "\n";
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string report = write_work_report(rep, r);
+  std::cerr << "  report: " << report << "\n";
   if (a.json) {
     nlohmann::json j;
     j["command"] = "thermo work";
     j["h5"] = h5;
     j["csv"] = csv;
+    j["plots"] = rep.pngs;
+    j["report"] = report;
+    j["wall_s"] = rep.seconds;
     j["runs"] = r.runs;
     j["temperature_K"] = r.temperature;
     if (r.runs == 2) {
@@ -238,10 +243,10 @@ int run_thermo_work(const WorkArgs& a) {
         o["energetic"] = integral_json(c.da_u, k, r.volume);
       }
       o["softening"] = c.softening;
-      o["noise"] = is_noise(c.da);
+      o["noise"] = work_is_noise(c.da);
       if (r.runs == 2) {
-        o["entropic"]["noise"] = is_noise(c.da_s);
-        o["energetic"]["noise"] = is_noise(c.da_u);
+        o["entropic"]["noise"] = work_is_noise(c.da_s);
+        o["energetic"]["noise"] = work_is_noise(c.da_u);
       }
       cs.push_back(o);
     }
@@ -305,7 +310,9 @@ void register_thermo(CLI::App& app, Action& action) {
                  "temperature) for the split")
       ->required()
       ->take_all();
-  wk->add_option("--out", wa->out, "Output directory (work.h5, work.csv)")->required();
+  wk->add_option("--out", wa->out, "Output directory (work.h5, work.csv, work.png, report.html)")
+      ->required();
+  wk->add_flag("--no-plots", wa->no_plots, "Do not draw work.png");
   wk->add_flag("--json", wa->json, "Print one JSON object with the key numbers on stdout");
   wk->callback([wa, &action] { action = [wa] { return run_thermo_work(*wa); }; });
 }

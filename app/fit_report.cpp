@@ -265,8 +265,8 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
     m.rows.push_back({"E2 (printed formula)", num(d.E2_as_printed / 1e9),
                       "printed formula (labelled E2; equals E1)"});
   else
-    m.rows.push_back(
-        {"E (isotropic formula)", num(d.E_isotropic_formula / 1e9), "isotropic formula (C11, C12)"});
+    m.rows.push_back({"E (isotropic formula)", num(d.E_isotropic_formula / 1e9),
+                      "isotropic formula (C11, C12)"});
   m.rows.push_back({"ν12, ν13, ν23", fmt::format("{:.3g}, {:.3g}, {:.3g}", d.nu12, d.nu13, d.nu23),
                     "inversion (dimensionless)"});
   page.table(m);

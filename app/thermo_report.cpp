@@ -317,4 +317,121 @@ nlohmann::json persistence_json(const ThermoRun& run, const thermo::PersistenceS
   return j;
 }
 
+bool work_is_noise(const thermo::WorkIntegral& w) {
+  return w.has_se && !(std::fabs(w.value.back()) > 2 * w.se_bound.back());
+}
+
+bool work_case_is_noise(const thermo::WorkCase& c, int runs) {
+  return work_is_noise(c.da) || (runs == 2 && work_is_noise(c.da_s) && work_is_noise(c.da_u));
+}
+
+namespace {
+std::string work_text(const thermo::WorkIntegral& w) {
+  const double v = w.value.back();
+  if (!w.has_se) return fmt::format("{:.4g} (no errors in the data)", v);
+  return fmt::format("{:.4g} ± {:.2g} (bound {:.2g})", v, w.se_indep.back(), w.se_bound.back());
+}
+
+} // namespace
+
+std::string write_work_report(const ThermoRun& run, const thermo::WorkResult& r) {
+  html::Page page("pnc thermo work: " + run.out);
+  std::vector<std::pair<Tone, std::string>> reasons;
+  int resolved = 0;
+  for (const auto& c : r.cases) {
+    const bool judged = c.da.has_se;
+    resolved += judged && !work_case_is_noise(c, r.runs) ? 1 : 0;
+    if (!judged)
+      reasons.push_back({Tone::warning, fmt::format("case {}: the data carry no standard "
+                                                    "errors: da = {} J/m³ is not judged",
+                                                    c.id, work_text(c.da))});
+    else if (work_is_noise(c.da))
+      reasons.push_back({Tone::bad, fmt::format("case {}: da = {} J/m³ is within twice its "
+                                                "error bound",
+                                                c.id, work_text(c.da))});
+    else if (work_case_is_noise(c, r.runs))
+      reasons.push_back({Tone::bad, fmt::format("case {}: its entropic and energetic parts are "
+                                                "both within twice their error bounds",
+                                                c.id)});
+    if (c.softening)
+      reasons.push_back({Tone::warning, fmt::format("case {}: the stress softens (yield or "
+                                                    "damage): its integral is work, not a "
+                                                    "free energy",
+                                                    c.id)});
+  }
+  const int n = static_cast<int>(r.cases.size());
+  int noise = 0;
+  for (const auto& c : r.cases)
+    noise += work_case_is_noise(c, r.runs) ? 1 : 0;
+  if (resolved == n)
+    page.verdict(fmt::format("Resolved: every case ({}) exceeds twice its error bound", n),
+                 Tone::good, reasons);
+  else if (noise == n)
+    page.verdict("No result: no case exceeds twice its error bound (exit code 4)", Tone::bad,
+                 reasons);
+  else if (resolved > 0)
+    page.verdict(
+        fmt::format("Partly resolved: {} of {} cases exceed twice their error bound", resolved, n),
+        Tone::warning, reasons);
+  else
+    page.verdict("Not judged: no case is resolved and the data carry no standard errors",
+                 Tone::warning, reasons);
+  add_run(
+      page, run,
+      {{"runs", r.runs == 2 ? fmt::format("2, at T1 = {} K and T2 = {} K (mean {} K)", r.t1, r.t2,
+                                          r.temperature)
+                            : fmt::format("1, at T = {} K", r.temperature)},
+       {"reference volume V0", fmt::format("{:.6g} m³ ({:.0f} Å³)", r.volume, r.volume * 1e30)}});
+  page.section("What to do next");
+  std::vector<std::string> next;
+  if (resolved < n)
+    next.push_back("More replicas or longer holds in `pnc characterize` shrink the stress "
+                   "errors; larger strains grow the signal (quadratically, while elastic).");
+  if (r.runs == 1)
+    next.push_back("A second `pnc characterize` run at another temperature (`--from` twice) "
+                   "splits da into entropic and energetic parts.");
+  next.push_back("The free energy per case is in work.h5 and work.csv (docs/formats.md).");
+  page.list(next);
+  page.section("Key numbers");
+  page.paragraph("At the largest strain of each case: da = ∫ σ : dε (J/m³) ± its standard error "
+                 "for independent points, and its bound for any correlation between the points "
+                 "(decision D143: within twice the bound is noise); ΔA = V0 da.");
+  html::Table t;
+  t.caption = "Free energy of deformation per case (at its largest strain)";
+  t.header = {"case", "largest |ε_ij|", "da (J/m³)", "ΔA (kcal/mol)", "verdict"};
+  if (r.runs == 2) {
+    t.header.insert(t.header.begin() + 4, "entropic −TΔs (J/m³)");
+    t.header.insert(t.header.begin() + 5, "energetic Δu (J/m³)");
+  }
+  t.numeric.assign(t.header.size(), true);
+  t.numeric.front() = false;
+  t.numeric.back() = false;
+  const double kc = r.volume * units::kcal_mol_per_joule;
+  for (const auto& c : r.cases) {
+    const auto k = static_cast<Eigen::Index>(c.da.value.size() - 1);
+    std::vector<std::string> row = {
+        std::to_string(c.id), fmt::format("{:.4g}", c.strain.row(k).cwiseAbs().maxCoeff()),
+        work_text(c.da),
+        c.da.has_se ? pm(c.da.value.back() * kc, c.da.se_indep.back() * kc)
+                    : fmt::format("{:.4g}", c.da.value.back() * kc)};
+    if (r.runs == 2) {
+      row.push_back(work_text(c.da_s));
+      row.push_back(work_text(c.da_u));
+    }
+    row.push_back(std::string(!c.da.has_se                    ? "not judged (no errors)"
+                              : work_case_is_noise(c, r.runs) ? "noise"
+                                                              : "resolved") +
+                  (c.softening ? ", softening" : ""));
+    t.rows.push_back(row);
+  }
+  page.table(t);
+  add_figures(page, run,
+              {{"work.png", "da against the largest strain component per case; error bars 1 "
+                            "standard error, the band ± twice the any-correlation bound."}});
+  ThermoRun with_notes = run;
+  with_notes.notes.insert(with_notes.notes.end(), r.notes.begin(), r.notes.end());
+  add_warnings(page, with_notes);
+  return page.write_report(run.out);
+}
+
 } // namespace pnc::app

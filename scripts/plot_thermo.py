@@ -3,6 +3,7 @@
 
 usage: plot_thermo.py ti DHDL_CSV DA_CSV OUTDIR
        plot_thermo.py persistence RATES_CSV OUTDIR
+       plot_thermo.py work WORK_CSV OUTDIR          (work.csv of `pnc thermo work`, SI)
 Prints "wrote <png>" per figure.
 """
 import csv
@@ -84,10 +85,56 @@ def persistence(rates_csv, out):
     print("wrote " + p)
 
 
+def work(work_csv, out):
+    """da per case against the largest strain component of each point: error bars 1 s.e.
+    (independent points), the band +-2 x the any-correlation bound (below it: noise, D143);
+    with two temperatures a second panel holds the entropic and energetic parts."""
+    rows = read(work_csv)
+    split = rows and "da_entropic_J_per_m3" in rows[0]
+    cases = []
+    for r in rows:
+        if r["case"] not in cases:
+            cases.append(r["case"])
+    fig, axes = plt.subplots(1, 2 if split else 1, figsize=(11 if split else 6.4, 4.4),
+                             squeeze=False)
+    comps = ["e11_1", "e22_1", "e33_1", "g23_1", "g13_1", "g12_1"]
+    for c in cases:
+        rr = [r for r in rows if r["case"] == c]
+        x = [max(abs(float(r[k])) for k in comps) for r in rr]
+        y = [float(r["da_J_per_m3"]) / 1e6 for r in rr]
+        e = [float(r["da_stderr_indep_J_per_m3"]) / 1e6 for r in rr]
+        b = [2 * float(r["da_stderr_bound_J_per_m3"]) / 1e6 for r in rr]
+        line = axes[0][0].errorbar(x, y, yerr=e, marker="o", ms=3, capsize=2, label="case " + c)
+        axes[0][0].fill_between(x, [-v for v in b], b, color=line[0].get_color(), alpha=0.12)
+        if split:
+            for key, ls in (("da_entropic_J_per_m3", "--"), ("da_energetic_J_per_m3", ":")):
+                axes[0][1].plot(x, [float(r[key]) / 1e6 for r in rr], ls, marker=".",
+                                label="case %s, %s" % (c, key.split("_")[1]))
+    a = axes[0][0]
+    a.axhline(0, color="0.5", lw=0.8)
+    a.set_xlabel("largest strain component |e_ij| (1)")
+    a.set_ylabel("free energy density da = integral of sigma de (MJ/m^3)")
+    a.set_title("stress work per case (bars 1 s.e.; band: 2 x error bound)", fontsize=10)
+    a.legend(fontsize=7)
+    if split:
+        b = axes[0][1]
+        b.axhline(0, color="0.5", lw=0.8)
+        b.set_xlabel("largest strain component |e_ij| (1)")
+        b.set_ylabel("da part (MJ/m^3)")
+        b.set_title("entropic (-T ds) and energetic (du) parts", fontsize=10)
+        b.legend(fontsize=7)
+    fig.tight_layout()
+    p = os.path.join(out, "work.png")
+    fig.savefig(p, dpi=120)
+    print("wrote " + p)
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 5 and sys.argv[1] == "ti":
         ti(sys.argv[2], sys.argv[3], sys.argv[4])
     elif len(sys.argv) == 4 and sys.argv[1] == "persistence":
         persistence(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 4 and sys.argv[1] == "work":
+        work(sys.argv[2], sys.argv[3])
     else:
         sys.exit(__doc__)

@@ -83,8 +83,9 @@ Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double
   C(2, 2) = E3 * (1 - nu12 * nu21) * Y;
   C(1, 2) = C(2, 1) = E2 * (nu32 + nu12 * nu31) * Y;
   C(0, 2) = C(2, 0) = E3 * (nu13 + nu12 * nu23) * Y;
-  // The printed C12 formula from engineering constants (and the repair E1 (nu21 + nu31*nu32)) is not the orthotropic
-  // inverse, which requires nu31*nu23 (decision D1b; tested against the compliance matrix).
+  // The printed C12 formula from engineering constants (and the repair E1 (nu21 + nu31*nu32)) is
+  // not the orthotropic inverse, which requires nu31*nu23 (decision D1b; tested against the
+  // compliance matrix).
   C(0, 1) = C(1, 0) = E1 * (nu21 + nu31 * nu23) * Y;
   C(3, 3) = mu23;
   C(4, 4) = mu13;

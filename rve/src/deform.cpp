@@ -169,9 +169,9 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
         f.write_matrix(name, to_row(*m));
         f.set_attr(name, "units", "Pa");
       }
-      f.set_attr(
-          "/stress_virial", "definition",
-          "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003): compute pressure NULL virial");
+      f.set_attr("/stress_virial", "definition",
+                 "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003): compute pressure "
+                 "NULL virial");
       f.set_attr("/stress_total", "definition",
                  "virial + kinetic term (compute pressure thermo_temp)");
       const std::pair<const char*, const PathM*> checks[] = {

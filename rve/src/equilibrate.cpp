@@ -334,7 +334,8 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   if (with_clay)
     stage("clay", [&](Lammps& l) {
       read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
-      // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the clay relaxes in its field
+      // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the
+      // clay relaxes in its field
       l.cmd("velocity pnc_poly set 0.0 0.0 0.0");
       l.cmd("fix pnc_frz pnc_poly setforce 0.0 0.0 0.0");
       l.cmd("run 0");

@@ -92,11 +92,10 @@ std::string describe(const Recipe& r, const CombinedCases& out, std::size_t ncas
   const bool subtract = r.reference == "subtract";
   const int nrep = out.replicas;
   // the words "virial only" / "zero-strain hold" are what readers (and tests) look for
-  std::string def =
-      r.stress == "virial"
-          ? "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003; the dissertation's choice: "
-            "normal constants biased by -rho k_B T, D134)"
-          : "virial + kinetic term (total stress, D134)";
+  std::string def = r.stress == "virial" ? "virial only, no kinetic term (docs/theory.md §3.5, "
+                                           "Zhou 2003; the dissertation's choice: "
+                                           "normal constants biased by -rho k_B T, D134)"
+                                         : "virial + kinetic term (total stress, D134)";
   def += subtract ? fmt::format("; relative to the zero-strain hold (sigma - sigma_0, sigma_0 "
                                 "the mean of the {} x hold zero-strain holds of all {} case(s) "
                                 "of a replica; its error is common to every point, D131)",

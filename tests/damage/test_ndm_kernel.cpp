@@ -1,6 +1,7 @@
 // Tests of the NDM kernel against independent references: closed forms of the damage
-// function, the source's energy functions (sigma = dpsi/de, D1), compliance of engineering constants,
-// finite differences of the tangent, frame indifference, and the dissertation's Table 6.12.
+// function, the source's energy functions (sigma = dpsi/de, D1), compliance of engineering
+// constants, finite differences of the tangent, frame indifference, and the dissertation's
+// Table 6.12.
 #include "pnc/core/error.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/damage/moduli.hpp"
@@ -76,8 +77,8 @@ TEST(DamageFunction, ContinuousAtOnsetAndSaturatesAtOne) {
   EXPECT_EQ(damage_function(1.0), 0.0);
   EXPECT_NEAR(damage_function(lc * (1 + 1e-9)), 0.0, 1e-12); // no jump at onset
   EXPECT_NEAR(damage_function(1e3), 1.0, 1e-12);             // complete separation
-  // The printed prefactor 10.015 = 24/2.396 (|F_max| = 2.396 eps/sigma of the LJ force; docs/theory.md §1.2, D4):
-  // reconstruct it from the kernel: D(x) - 1 = k (2x^-13 - x^-7).
+  // The printed prefactor 10.015 = 24/2.396 (|F_max| = 2.396 eps/sigma of the LJ force;
+  // docs/theory.md §1.2, D4): reconstruct it from the kernel: D(x) - 1 = k (2x^-13 - x^-7).
   const double x = 1.5;
   const double k = (damage_function(x) - 1) / (2 * std::pow(x, -13) - std::pow(x, -7));
   EXPECT_NEAR(k, 10.015, 5e-4);
@@ -571,7 +572,8 @@ TEST(Dissertation, Table612FromTheTabulatedConstants) {
   EXPECT_NEAR(inc, 106.26, 0.005);
   const DerivedModuli dpp = derive_moduli(pp), dpnc = derive_moduli(pnc);
   EXPECT_NEAR(dpp.E_isotropic_formula / 1e9, 0.162, 0.0005);
-  EXPECT_NEAR(dpp.E1 / 1e9, 0.162, 0.0005); // the isotropic formula is exact for the isotropic reading
+  EXPECT_NEAR(dpp.E1 / 1e9, 0.162,
+              0.0005); // the isotropic formula is exact for the isotropic reading
   EXPECT_NEAR(dpnc.E2_as_printed / 1e9, 0.567, 0.0005);
   // Compliance inversion (docs/theory.md §1.5): E1 = 0.567, E2 = 0.600, E3 = 0.294.
   EXPECT_NEAR(dpnc.E1 / 1e9, 0.567, 0.0005);
@@ -646,7 +648,8 @@ TEST(Dissertation, PurePolymerExtensionHasNoStrengthPeakUnderTheRowPairedLabels)
 }
 
 TEST(Dissertation, CriticalStrainOfOnsetFollowsAlpha) {
-  // Damage starts at lambda = alpha * lambda_c (docs/theory.md §1.2, D5): 1.0715 for pnc (alpha = 0.861).
+  // Damage starts at lambda = alpha * lambda_c (docs/theory.md §1.2, D5): 1.0715 for pnc (alpha =
+  // 0.861).
   const NdmParameters p = dissertation_parameters(Model::pnc);
   const double onset = p.alpha() * critical_stretch() - 1;
   NdmState before, after;

@@ -218,8 +218,8 @@ TEST(GimpInputParameters, RulesBetweenKeysAreCheckedAfterRead) {
   EXPECT_EQ(e.field, "bodies[0].max");
   EXPECT_EQ(e.rule, "required by shape \"box\"");
   j = minimal_input();
-  j["materials"][0] = {{"name", "poly"}, {"type", "hyperelastic_polymer"}, {"density", 1200},
-                       {"c1", 1e8}};
+  j["materials"][0] = {
+      {"name", "poly"}, {"type", "hyperelastic_polymer"}, {"density", 1200}, {"c1", 1e8}};
   e = error_of(j);
   EXPECT_EQ(e.field, "materials[0].c2");
   EXPECT_EQ(e.rule, "give c1 and c2 together");

@@ -1,4 +1,5 @@
-// Steered bending of a short chain: EI and persistence length (docs/theory.md §4.5, D66-D68; units real).
+// Steered bending of a short chain: EI and persistence length (docs/theory.md §4.5, D66-D68; units
+// real).
 #include "pnc/thermo/persistence.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -225,7 +226,8 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
     f.write_scalar("/EI_stderr", r.ei.se);
     f.set_attr("/EI", "units", "kcal/mol*A (L^3/48 dF/dd)");
     f.write_scalar("/EI_end_ratio", r.ei_end);
-    f.set_attr("/EI_end_ratio", "units", "kcal/mol*A (F L^3/(48 d), last 10 % means, theory.md §4.5)");
+    f.set_attr("/EI_end_ratio", "units",
+               "kcal/mol*A (F L^3/(48 d), last 10 % means, theory.md §4.5)");
     f.write_scalar("/d_end", r.d_max);
     f.write_scalar("/length", g.length);
     f.write_scalar("/seconds", r.seconds);

@@ -1,7 +1,7 @@
 #pragma once
 // pnc/damage/moduli.hpp: engineering moduli derived from the undamaged stiffness C0 and the
-// NDM strengths per deformation case (docs/theory.md §1.5; the published moduli and strength tables).
-// Units: those of the constants (Pa for a card); strains dimensionless.
+// NDM strengths per deformation case (docs/theory.md §1.5; the published moduli and strength
+// tables). Units: those of the constants (Pa for a card); strains dimensionless.
 #include "pnc/damage/ndm.hpp"
 
 #include <optional>
@@ -16,8 +16,9 @@ struct DerivedModuli {
   /// The source's closed form for E2 as printed: det(C_n) / (C22 C33 - C23^2). It is
   /// E1 by inversion (docs/theory.md §1.5).
   double E2_as_printed;
-  /// The source's isotropic formula (pure polymer, docs/theory.md §1.5): (C22^2 + C12 C22 - 2 C12^2) / (C22 + C12), with
-  /// C22 -> C11 of the card. Meaningful for the pp model; computed for both.
+  /// The source's isotropic formula (pure polymer, docs/theory.md §1.5): (C22^2 + C12 C22 - 2
+  /// C12^2) / (C22 + C12), with C22 -> C11 of the card. Meaningful for the pp model; computed for
+  /// both.
   double E_isotropic_formula;
 };
 DerivedModuli derive_moduli(const NdmParameters& p);

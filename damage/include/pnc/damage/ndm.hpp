@@ -10,7 +10,8 @@
 //
 // Conventions (docs/decisions.md, entries D1-D8):
 //  * Voigt order 1..6 = 11, 22, 33, 23, 13, 12; strain with ENGINEERING shear
-//    (gamma_23 = 2 eps_23 ...), stress plain. {sigma} = ([C0] + [C1(D)]) {eps}  (docs/theory.md §1.1).
+//    (gamma_23 = 2 eps_23 ...), stress plain. {sigma} = ([C0] + [C1(D)]) {eps}  (docs/theory.md
+//    §1.1).
 //  * C0 holds the physical orthotropic stiffnesses C0_ij in that engineering form
 //    (C0_44 = mu_23 ...). The source's c1..c9 constants convert as in decision D1.
 //  * C1 (docs/theory.md §1.1) in engineering form: normal block as printed, shear diagonal
@@ -76,8 +77,8 @@ Matrix6 stiffness_c1_dD(const NdmParameters& p, int k);
 /// Orthotropic [C0] from the source's c1..c9 constants (decision D1: C11 = 2c1, C12 = c4,
 /// C44 = c7 in engineering form).
 Matrix6 c0_from_c_constants(const std::array<double, 9>& c);
-/// Orthotropic [C0] from engineering constants (the orthotropic compliance inverse, D1b). Poisson ratios nu_ij are
-/// "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
+/// Orthotropic [C0] from engineering constants (the orthotropic compliance inverse, D1b). Poisson
+/// ratios nu_ij are "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
 Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13, double nu23,
                             double mu12, double mu13, double mu23);
 

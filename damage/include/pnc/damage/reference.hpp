@@ -7,9 +7,9 @@ namespace pnc::damage {
 
 /// The published constant tables as one parameter set (decision D9) (Pa; alpha dimensionless).
 /// pnc: C0 as used in the source's E2 formula (docs/theory.md §1.5; which published table each
-///      C_ij comes from: D9), C44 (from its table), C55 (case 5 text), A's as labelled (2A1 = -0.99 ->
-///      A1 = -0.495, ...), A26 = 0 (case 5). Case 6 was not fitted in the dissertation:
-///      C66 and A24 are NOT printed and are set to C44 and A22 (decision D9).
+///      C_ij comes from: D9), C44 (from its table), C55 (case 5 text), A's as labelled (2A1 = -0.99
+///      -> A1 = -0.495, ...), A26 = 0 (case 5). Case 6 was not fitted in the dissertation: C66 and
+///      A24 are NOT printed and are set to C44 and A22 (decision D9).
 /// pp : C11 = C22 = 0.559, C12 = 0.447 (Table 6.10), C44 = C66 = 0.109, damage slopes as
 ///      printed per row: diagonal 2 B1 = -0.405 (row "2B2", sigma22), off-diagonal B2 = -0.304
 ///      (row "B1", sigma11), B4 = -0.757 (Table 6.11), alpha = 0.941 (decision D9).

@@ -25,8 +25,10 @@
 //     sum_p f_p = sum_i (-R_i) exactly; docs/theory.md §6.2, D71);
 //  2. MD: IVC atoms get f_p / N_p each (fix external callback) and a zero-temperature
 //     Langevin damping; INT atoms a Langevin thermostat at T (both docs/theory.md §6.2);
-//     SVC atoms move with the grid velocity v* interpolated at each atom (docs/theory.md §6.2, D72);
-//  3. IVC cell centroids are time-averaged over the N substeps (docs/theory.md §6.2); the IVC material
+//     SVC atoms move with the grid velocity v* interpolated at each atom (docs/theory.md §6.2,
+//     D72);
+//  3. IVC cell centroids are time-averaged over the N substeps (docs/theory.md §6.2); the IVC
+//  material
 //     point moves by the change of that average between blocks (D73).
 // Modes (D71): `neumann` (default): the MD region is driven by the IVC forces; pair forces
 // between SVC atoms and the other atoms are excluded so the continuum's stress is not
@@ -91,11 +93,11 @@ struct Config {
 /// One volume cell (an SVC or IVC continuum particle and its atoms).
 struct Cell {
   Zone zone = Zone::none;
-  std::size_t particle = 0;     ///< index into solver.particles (after setup)
-  std::array<int, 2> ij{};      ///< grid cell index
-  std::vector<int> atoms;       ///< LAMMPS atom ids
-  Eigen::Vector2d c0_A;         ///< initial centroid of its atoms, Angstrom (LAMMPS frame)
-  Eigen::Vector2d mean_A;       ///< IVC: time-averaged centroid of the last block (docs/theory.md §6.2)
+  std::size_t particle = 0; ///< index into solver.particles (after setup)
+  std::array<int, 2> ij{};  ///< grid cell index
+  std::vector<int> atoms;   ///< LAMMPS atom ids
+  Eigen::Vector2d c0_A;     ///< initial centroid of its atoms, Angstrom (LAMMPS frame)
+  Eigen::Vector2d mean_A; ///< IVC: time-averaged centroid of the last block (docs/theory.md §6.2)
   Eigen::Vector2d prev_mean_A;  ///< IVC: the block before
   Eigen::Vector2d force_N;      ///< IVC: continuum force on the cell, N per m thickness
   Eigen::Vector2d atom_force;   ///< IVC: force per atom, kcal/mol/A (slab)

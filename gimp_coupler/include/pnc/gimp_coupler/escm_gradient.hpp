@@ -1,7 +1,8 @@
 #pragma once
 // pnc/gimp_coupler/escm_gradient.hpp: displacement gradients of a set of particles (continuum
 // material points and atoms alike) by the source's post-processing method,
-// docs/theory.md §6.3, with decision D79 (docs/decisions.md); docs/escm.md, "Displacement gradient".
+// docs/theory.md §6.3, with decision D79 (docs/decisions.md); docs/escm.md, "Displacement
+// gradient".
 //
 // 2-D, SI: positions and spacing in m; gradients dimensionless. At every increment k -> k+1
 // (positions x^k -> x^{k+1}, increment du_p = x_p^{k+1} - x_p^k):
@@ -10,8 +11,8 @@
 //     particle p (non-zero for the four nodes of the element containing x_p^k);
 //  2. nodal incremental displacement dU_I from the particles with N_pI > 0 (docs/theory.md §6.3):
 //     by default (D79) the weighted least-squares linear fit dU(x) = a + B (x - x_I), weights
-//     N_pI, dU_I = a; it reproduces any affine increment exactly. The source's printed nodal average
-//     (sum N_pI du_p / count) and the shape-function-weighted mean (sum N du / sum N) are
+//     N_pI, dU_I = a; it reproduces any affine increment exactly. The source's printed nodal
+//     average (sum N_pI du_p / count) and the shape-function-weighted mean (sum N du / sum N) are
 //     available for comparison;
 //  3. gradient of the increment at each particle, d(du)/dx = sum_I dU_I (dN_pI/dx)^T with the
 //     derivatives at x_p^k (docs/theory.md §6.3);

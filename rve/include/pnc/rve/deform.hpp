@@ -43,8 +43,10 @@ struct DeformSpec {
   /// final engineering shear gamma of the shear cases 4-6; 0 = strain_max (decision D12m)
   double shear_strain_max = 0;
   /// the final strain of this spec's case: shear_strain_max for cases 4-6 when set
-  double amplitude() const { return case_id >= 4 && shear_strain_max != 0 ? shear_strain_max : strain_max; }
-  int steps = 40;          ///< strain steps
+  double amplitude() const {
+    return case_id >= 4 && shear_strain_max != 0 ? shear_strain_max : strain_max;
+  }
+  int steps = 40; ///< strain steps
   double timestep_fs = 0.5;
   long hold_steps = 10000; ///< MD steps per strain step (5 ps at 0.5 fs)
   int sample_every = 10;   ///< 5 fs at 0.5 fs

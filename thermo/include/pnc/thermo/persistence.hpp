@@ -19,9 +19,9 @@
 // Per rate: EI = L^3/48 * dF/dd, with dF/dd the ratio of the least-squares slopes of F and
 // of d against the anchor position (the constant Langevin drag of a steady pull shifts F
 // but not the slope; regressing F on the noisy d directly would be biased, D66), with a
-// block-averaged standard error; the end-of-pull ratio F L^3/(48 d) as printed in the source (D67) is reported
-// too. EI(rate) is fitted by a straight line (weighted) and extrapolated to zero rate, with
-// a 95 % confidence interval (Student t, n-2 dof); xi_p = EI / (kB T) (docs/theory.md §4.5).
+// block-averaged standard error; the end-of-pull ratio F L^3/(48 d) as printed in the source (D67)
+// is reported too. EI(rate) is fitted by a straight line (weighted) and extrapolated to zero rate,
+// with a 95 % confidence interval (Student t, n-2 dof); xi_p = EI / (kB T) (docs/theory.md §4.5).
 //
 // Chains: "pp" -- the coarse-grained polypropylene of docs/theory.md §3.1 (rve/forcefield.hpp),
 // built as the all-trans planar zigzag in the xz plane; "harmonic" -- a straight chain
