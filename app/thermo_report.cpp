@@ -67,6 +67,14 @@ void add_warnings(html::Page& page, const ThermoRun& run) {
 Tone tone_of(int level) {
   return level == 2 ? Tone::good : level == 1 ? Tone::warning : Tone::bad;
 }
+
+/// Delta A of the reference (zero-strain) state and its standard error, kcal/mol; NaN and 0
+/// when the run has no reference state.
+std::pair<double, double> reference_dA(const thermo::TiResult& r) {
+  for (const auto& st : r.states)
+    if (st.state.kind == "ref") return {st.ti.dA.value, st.ti.dA.se};
+  return {std::nan(""), 0.0};
+}
 } // namespace
 
 int resolution(double value, double se) {
@@ -78,12 +86,7 @@ int resolution(double value, double se) {
 std::string write_ti_report(const ThermoRun& run, const thermo::TiSpec& spec,
                             const thermo::TiResult& r, double worst_fd) {
   html::Page page("pnc thermo ti: " + run.out);
-  double a0 = std::nan(""), s0 = 0;
-  for (const auto& st : r.states)
-    if (st.state.kind == "ref") {
-      a0 = st.ti.dA.value;
-      s0 = st.ti.dA.se;
-    }
+  const auto [a0, s0] = reference_dA(r);
   // the verdict: the free energy of deformation, Delta A(state) - Delta A(ref), against its error
   std::vector<std::pair<Tone, std::string>> reasons;
   int worst = 2, deformed = 0;
@@ -240,12 +243,7 @@ nlohmann::json jnum(double v) {
 nlohmann::json ti_json(const ThermoRun& run, const thermo::TiSpec& spec, const thermo::TiResult& r,
                        const std::string& report, double worst_fd) {
   const double J = units::joule_per_kcal_mol;
-  double a0 = std::nan(""), s0 = 0;
-  for (const auto& st : r.states)
-    if (st.state.kind == "ref") {
-      a0 = st.ti.dA.value;
-      s0 = st.ti.dA.se;
-    }
+  const auto [a0, s0] = reference_dA(r);
   nlohmann::json j;
   j["command"] = "thermo ti";
   j["out"] = run.out;

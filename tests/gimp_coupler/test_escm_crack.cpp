@@ -119,6 +119,13 @@ TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
        at = html.find("src=\"data:image/png;base64,iVBORw0KGgo", at + 1))
     ++images;
   EXPECT_EQ(images, 3u);
+  // and it renders in a real browser: every figure decodes, no console error, not a blank page
+  const fs::path report = j["report"].get<std::string>();
+  const auto b = pnc::test::render_in_chromium(report.string(), report.parent_path().string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, (std::vector<std::string>{"ok", "ok", "ok"}));
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  EXPECT_GT(b.ink, 0.02);
 }
 
 // Short Case III: the short Case II geometry, top edge moved in -x to an engineering shear of
