@@ -110,19 +110,16 @@ def work(work_csv, out):
             for key, ls in (("da_entropic_J_per_m3", "--"), ("da_energetic_J_per_m3", ":")):
                 axes[0][1].plot(x, [float(r[key]) / 1e6 for r in rr], ls, marker=".",
                                 label="case %s, %s" % (c, key.split("_")[1]))
-    a = axes[0][0]
-    a.axhline(0, color="0.5", lw=0.8)
-    a.set_xlabel("largest strain component |e_ij| (1)")
-    a.set_ylabel("free energy density da = integral of sigma de (MJ/m^3)")
-    a.set_title("stress work per case (bars 1 s.e.; band: 2 x error bound)", fontsize=10)
-    a.legend(fontsize=7)
+    panels = [(axes[0][0], "free energy density da = integral of sigma de (MJ/m^3)",
+               "stress work per case (bars 1 s.e.; band: 2 x error bound)")]
     if split:
-        b = axes[0][1]
-        b.axhline(0, color="0.5", lw=0.8)
-        b.set_xlabel("largest strain component |e_ij| (1)")
-        b.set_ylabel("da part (MJ/m^3)")
-        b.set_title("entropic (-T ds) and energetic (du) parts", fontsize=10)
-        b.legend(fontsize=7)
+        panels.append((axes[0][1], "da part (MJ/m^3)", "entropic (-T ds) and energetic (du) parts"))
+    for a, ylabel, title in panels:
+        a.axhline(0, color="0.5", lw=0.8)
+        a.set_xlabel("largest strain component |e_ij| (1)")
+        a.set_ylabel(ylabel)
+        a.set_title(title, fontsize=10)
+        a.legend(fontsize=7)
     fig.tight_layout()
     p = os.path.join(out, "work.png")
     fig.savefig(p, dpi=120)
