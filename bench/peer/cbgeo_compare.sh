@@ -8,7 +8,8 @@
 # OUTDIR     keeps CB-Geo's build (OUTDIR/cbgeo-build, reused by later runs), the run folders,
 #            times.txt and summary.txt (default: a mktemp -d folder, removed at the end)
 # Env: PNC (pnc executable, default <repo>/build/app/pnc), REPS (interleaved pairs, default 5),
-#      JOBS (CB-Geo build jobs, default 2; the build runs under nice -n 10).
+#      JOBS (CB-Geo build jobs, default 2; the build runs under nice -n 10), CBGEO_BUILD (build
+#      folder of CB-Geo, default OUTDIR/cbgeo-build; an existing one is reused).
 #
 # Without a source tree, or when CB-Geo does not configure or build, the script prints
 # "skipped: ..." (naming the missing dependency when CMake names one) and exits 0.
@@ -55,7 +56,7 @@ else
 fi
 
 # --- CB-Geo build: serial (no MPI, hence no KaHIP), no VTK/Partio/MKL, no unit tests ---
-bdir=$OUT/cbgeo-build
+bdir=${CBGEO_BUILD:-$OUT/cbgeo-build}
 mkdir -p "$bdir"
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)

@@ -119,6 +119,7 @@ def measure(points):
         "uy_top_m": statistics.mean(p["uy"] for p in top),
         "y_bottom_m": statistics.mean(p["y"] for p in bot),
         "syy_bottom_Pa": statistics.mean(p["syy"] for p in bot),
+        "vrms_m_per_s": math.sqrt(statistics.mean(p["v"] ** 2 for p in points)),
     }
 
 
@@ -137,9 +138,11 @@ def pnc_result(out):
     if not frames:
         sys.exit(f"peer_tool: no frames in {out}/frames")
     text = open(frames[-1]).read()
-    x, u, s = (vtu_array(text, n) for n in ("Points", "displacement_m", "stress_Pa"))
+    x, u, v, s = (vtu_array(text, n)
+                  for n in ("Points", "displacement_m", "velocity_m_per_s", "stress_Pa"))
     # Points are the current positions: y0 = y - u_y.
-    pts = [{"y": xi[1] - ui[1], "uy": ui[1], "syy": si[1]} for xi, ui, si in zip(x, u, s)]
+    pts = [{"y": xi[1] - ui[1], "uy": ui[1], "v": math.hypot(vi[0], vi[1]), "syy": si[1]}
+           for xi, ui, vi, si in zip(x, u, v, s)]
     print(json.dumps(measure(pts)))
 
 
@@ -150,15 +153,18 @@ def cbgeo_result(run):
     last = max(files, key=lambda f: int(re.findall(r"(\d+)\.h5$", f)[0]))
     dump = subprocess.run(["h5dump", "-d", "/table", "-y", "-w", "0", last], check=True,
                           capture_output=True, text=True).stdout
-    names = re.findall(r'H5T_\w+\s+"(\w+)";', dump)
-    data = dump[dump.index("DATA {") + len("DATA {"):]
+    head, data = dump.split("DATASPACE", 1)
+    names = re.findall(r'H5T_\w+\s+"(\w+)";', head)
+    data = data[data.index("DATA {") + len("DATA {"):]
+    data = data.split("ATTRIBUTE", 1)[0]  # the table's attributes follow its data
     recs = re.findall(r"\{([^{}]*)\}", data)
     pts = []
     for r in recs:
         vals = [v.strip() for v in r.split(",")]
         d = dict(zip(names, vals))
         y = float(d["coord_y"]) - float(d["displacement_y"])
-        pts.append({"y": y, "uy": float(d["displacement_y"]), "syy": float(d["stress_yy"])})
+        v = math.hypot(float(d["velocity_x"]), float(d["velocity_y"]))
+        pts.append({"y": y, "uy": float(d["displacement_y"]), "v": v, "syy": float(d["stress_yy"])})
     if not pts:
         sys.exit(f"peer_tool: {last}: no particle records")
     res = measure(pts)
@@ -187,6 +193,10 @@ def check(pnc_json, a_json, b_json):
         if abs(ratio - 1) > 0.01:
             print(f"  pnc and CB-Geo differ by more than 1 % in {key}")
             ok = False
+    # Scale: the peak speed of the undamped response, u_static(H) * omega_1 (first mode).
+    vpeak = rg * H * H / (2 * E) * math.pi / (2 * H) * math.sqrt(E / pr["rho"])
+    print(f"rms particle speed at the end (m/s): pnc {a['vrms_m_per_s']:.3g}, "
+          f"CB-Geo {b['vrms_m_per_s']:.3g} (undamped peak about {vpeak:.3g})")
     print("agreement within 1 %: " + ("yes" if ok else "NO"))
     return 0 if ok else 1
 
