@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Helper of bench/peer/cbgeo_compare.sh (standard library only; h5dump for CB-Geo's HDF5).
 
-  peer_tool.py cbgeo-input PNC_JSON DIR   write CB-Geo mpm's input for the same problem
+  peer_tool.py cbgeo-input PNC_JSON DIR ELEMENT   CB-Geo mpm's input for the same problem
+                                          (ELEMENT linear: ED2Q4; gimp: ED2Q16G)
   peer_tool.py pnc-result OUT_DIR         tip displacement and base stress of a pnc run
   peer_tool.py cbgeo-result RUN_DIR       the same from CB-Geo's last particles*.h5
   peer_tool.py check PNC_JSON PNC.json CBGEO.json   compare both with the static solution
@@ -50,38 +51,56 @@ def particle_positions(pr):
             for j in range(ny) for i in range(nx)]
 
 
-def cbgeo_input(pnc_json, out):
+def cbgeo_input(pnc_json, out, element="linear"):
     pr = load_problem(pnc_json)
     h = pr["h"]
-    # Mesh: linear quadrilaterals over the body plus two rows of cells above it; base nodes at
-    # y = lo[1] held in y (the fixed base of pnc's "base" boundary).
-    nx = round((pr["hi"][0] - pr["lo"][0]) / h)
-    ny = round((pr["hi"][1] - pr["lo"][1]) / h) + 2
     os.makedirs(out, exist_ok=True)
+    if element == "linear":
+        # Linear quadrilaterals (ED2Q4) over the body plus two rows of cells above it; the
+        # base nodes at y = lo[1] are held in y (the fixed base of pnc's "base" boundary).
+        x0, y0 = pr["lo"]
+        nx = round((pr["hi"][0] - pr["lo"][0]) / h)
+        ny = round((pr["hi"][1] - pr["lo"][1]) / h) + 2
+        cells = [(i, j) for j in range(ny) for i in range(nx)]
+    elif element == "gimp":
+        # CB-Geo's GIMP element (ED2Q16G): pnc's grid as is; a cell lists its 4 corners and the
+        # 12 nodes around them, so only cells with a full ring of nodes are made.
+        with open(pnc_json) as f:
+            grid = json.load(f)["grid"]
+        x0, y0 = grid.get("origin", [0.0, 0.0])
+        nx, ny = grid["cells"]
+        cells = [(i, j) for j in range(1, ny - 1) for i in range(1, nx - 1)]
+    else:
+        sys.exit(f"peer_tool: element {element}: expected linear or gimp")
     node = lambda i, j: j * (nx + 1) + i
+    ring = [(0, 0), (1, 0), (1, 1), (0, 1), (-1, -1), (0, -1), (1, -1), (2, -1), (2, 0), (2, 1),
+            (2, 2), (1, 2), (0, 2), (-1, 2), (-1, 1), (-1, 0)]  # ED2Q16G's local node order
+    corners = ring[:4] if element == "linear" else ring
     with open(os.path.join(out, "mesh.txt"), "x") as f:
-        f.write(f"{(nx + 1) * (ny + 1)}\t{nx * ny}\n")
+        f.write(f"{(nx + 1) * (ny + 1)}\t{len(cells)}\n")
         for j in range(ny + 1):
             for i in range(nx + 1):
-                f.write(f"{pr['lo'][0] + i * h:.12g}\t{pr['lo'][1] + j * h:.12g}\n")
-        for j in range(ny):
-            for i in range(nx):
-                f.write(f"{node(i, j)}\t{node(i + 1, j)}\t{node(i + 1, j + 1)}\t{node(i, j + 1)}\n")
+                f.write(f"{x0 + i * h:.12g}\t{y0 + j * h:.12g}\n")
+        for i, j in cells:
+            f.write("\t".join(str(node(i + a, j + b)) for a, b in corners) + "\n")
+    with open(os.path.join(out, "velocity-constraints.txt"), "x") as f:
+        for j in range(ny + 1):  # every node at or below the base, held in y
+            if y0 + j * h <= pr["lo"][1] + 1e-9 * h:
+                for i in range(nx + 1):
+                    f.write(f"{node(i, j)}\t1\t0\n")
     pts = particle_positions(pr)
     with open(os.path.join(out, "particles.txt"), "x") as f:
         f.write(f"{len(pts)}\n")
         for x, y in pts:
             f.write(f"{x:.12g}\t{y:.12g}\n")
-    with open(os.path.join(out, "velocity-constraints.txt"), "x") as f:
-        for i in range(nx + 1):
-            f.write(f"{node(i, 0)}\t1\t0\n")
     # Cundall's local damping (force-proportional) is CB-Geo's only damping; its factor 0.8
     # (about 25 % of critical) brings the column to rest within the same number of steps.
     cfg = {
         "title": "pnc peer comparison: elastic column under gravity (SI units)",
         "mesh": {
             "mesh": "mesh.txt", "io_type": "Ascii2D", "isoparametric": False,
-            "check_duplicates": True, "node_type": "N2D", "cell_type": "ED2Q4",
+            "check_duplicates": True, "node_type": "N2D",
+            "cell_type": "ED2Q4" if element == "linear" else "ED2Q16G",
             "boundary_conditions": {"velocity_constraints": [{"file": "velocity-constraints.txt"}]},
         },
         "particles": [{"generator": {
@@ -99,7 +118,7 @@ def cbgeo_input(pnc_json, out):
     }
     with open(os.path.join(out, "mpm.json"), "x") as f:
         json.dump(cfg, f, indent=2)
-    print(f"{len(pts)} particles, {nx} x {ny} cells, {pr['steps']} steps of {pr['dt']} s")
+    print(f"{len(pts)} particles, {len(cells)} {element} cells, {pr['steps']} steps of {pr['dt']} s")
 
 
 def rows(points, key, top):
@@ -202,37 +221,41 @@ def check(pnc_json, a_json, b_json):
 
 
 def summary(times_txt, particles, steps):
-    """times.txt rows: rep code wall_s cpu_s load1 (code = pnc | cbgeo)."""
+    """times.txt rows: rep code wall_s cpu_s load1 (code = pnc | cbgeo-<element>)."""
     runs = {}
     for line in open(times_txt):
         if line.startswith("#") or not line.strip():
             continue
         rep, code, wall, cpu, load = line.split()
         runs[(int(rep), code)] = (float(wall), float(cpu), float(load))
-    reps = sorted({k[0] for k in runs if (k[0], "pnc") in runs and (k[0], "cbgeo") in runs})
+    codes = ["pnc"] + sorted({k[1] for k in runs if k[1] != "pnc"})
+    reps = sorted({k[0] for k in runs if all((k[0], c) in runs for c in codes)})
     ps = float(particles) * float(steps)
 
     def stat(xs, f):
         return f"{f(statistics.median(xs))} ({f(min(xs))}–{f(max(xs))})"
 
-    us = lambda x: f"{x * 1e9:.1f} ns"
-    print(f"{len(reps)} interleaved pairs, {int(float(particles))} particles x {steps} steps; "
-          "median (min–max); whole process (input, set-up, two output frames included)")
-    print("| code | wall / particle-step | CPU / particle-step |")
-    print("|---|---:|---:|")
-    for code, label in (("pnc", "pnc gimp run (uGIMP)"), ("cbgeo", "CB-Geo mpm (USF, linear)")):
-        print(f"| {label} | {stat([runs[(r, code)][0] / ps for r in reps], us)} "
-              f"| {stat([runs[(r, code)][1] / ps for r in reps], us)} |")
-    rw = [runs[(r, "cbgeo")][0] / runs[(r, "pnc")][0] for r in reps]
-    rc = [runs[(r, "cbgeo")][1] / runs[(r, "pnc")][1] for r in reps]
-    f3 = lambda x: f"{x:.2f}"
-    print(f"ratio CB-Geo / pnc: wall {stat(rw, f3)}, CPU {stat(rc, f3)}")
+    ns = lambda x: f"{x * 1e9:.0f} ns"
+    f2 = lambda x: f"{x:.2f}"
+    labels = {"pnc": "pnc gimp run (uGIMP)", "cbgeo-gimp": "CB-Geo mpm (USF, GIMP ED2Q16G)",
+              "cbgeo-linear": "CB-Geo mpm (USF, linear ED2Q4)"}
+    print(f"{len(reps)} interleaved rounds, {int(float(particles))} particles x {steps} steps; "
+          "median (min–max); whole process (input, set-up, two output files included)")
+    print("| code | wall / particle-step | CPU / particle-step | wall / pnc | CPU / pnc |")
+    print("|---|---:|---:|---:|---:|")
+    for c in codes:
+        w = [runs[(r, c)][0] / ps for r in reps]
+        u = [runs[(r, c)][1] / ps for r in reps]
+        rw = [runs[(r, c)][0] / runs[(r, "pnc")][0] for r in reps]
+        ru = [runs[(r, c)][1] / runs[(r, "pnc")][1] for r in reps]
+        print(f"| {labels.get(c, c)} | {stat(w, ns)} | {stat(u, ns)} | {stat(rw, f2)} "
+              f"| {stat(ru, f2)} |")
     loads = [v[2] for v in runs.values()]
     print(f"load average (1 min) during the runs: {min(loads):.1f}–{max(loads):.1f}")
 
 
 def main(argv):
-    cmds = {"cbgeo-input": (cbgeo_input, 2), "pnc-result": (pnc_result, 1),
+    cmds = {"cbgeo-input": (cbgeo_input, 3), "pnc-result": (pnc_result, 1),
             "cbgeo-result": (cbgeo_result, 1), "check": (check, 3), "summary": (summary, 3)}
     if len(argv) < 2 or argv[1] not in cmds or len(argv) - 2 != cmds[argv[1]][1]:
         sys.exit(__doc__)
