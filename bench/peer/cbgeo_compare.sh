@@ -116,6 +116,7 @@ codes="pnc"
 for e in $ELEMENTS; do codes="$codes cbgeo-$e"; done
 for rep in $(seq 1 "$REPS"); do
   order=$codes
+  # shellcheck disable=SC2086 # codes: validated words, split on purpose
   [ $((rep % 2)) -eq 0 ] && order=$(printf '%s\n' $codes | tac | tr '\n' ' ') # A B C, C B A, ...
   for code in $order; do run "$code" "$rep"; done
 done
