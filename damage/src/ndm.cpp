@@ -333,6 +333,10 @@ void detail::stretch_values(Model m, const Voigt& v, std::array<double, 3>& lamb
   lambda = compute_stretch(m, v).lambda;
 }
 
+double detail::largest_principal_stretch(const Voigt& v) {
+  return largest_stretch(v);
+}
+
 ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
   const Stretch s = compute_stretch(m, v);
   ModeStretch out;

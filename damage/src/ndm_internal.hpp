@@ -57,4 +57,8 @@ inline void uncapped_stretch(double ekk, double t, double& lambda, double& dlamb
 /// cubic where a cap binds; for pp the largest principal stretch), without derivatives.
 void stretch_values(Model m, const Voigt& v, std::array<double, 3>& lambda);
 
+/// lambda_max of D6 as integrate() forms it where a cap binds: the square root of the largest
+/// eigenvalue of C = F^T F (closed-form cubic; one square root for block-diagonal C).
+double largest_principal_stretch(const Voigt& v);
+
 } // namespace pnc::damage::detail
