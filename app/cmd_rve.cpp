@@ -1,7 +1,7 @@
-// pnc rve build | pnc recipe show | pnc characterize: the RVE builder, recipes and the
-// MD -> fit pipeline (docs/rve.md, docs/theory.md section 3). Units inside rve/: LAMMPS real;
-// cases.h5 and cards in Pa.
-#include "characterize_report.hpp"
+// pnc rve build | pnc recipe show | pnc recipe parameters | pnc characterize: the RVE builder,
+// recipes (presets and the declared keys) and the MD -> fit pipeline (docs/rve.md, docs/theory.md
+// section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
+#include "characterize.hpp"
 #include "checks.hpp"
 #include "figures.hpp"
 #include "registrars.hpp"
@@ -145,192 +145,21 @@ int run_recipe_show(const RecipeShowArgs& a) {
   return 0;
 }
 
-struct CharacterizeArgs {
-  std::string recipe, out;
-  bool resume = false, json = false, no_plots = false;
-  int jobs = 0, ranks = 0, equilibrate_ranks = 0;
+struct RecipeParametersArgs {
+  std::string format = "markdown", model;
 };
 
-/// MPI ranks per LAMMPS stage and cases at a time. Started as `mpirun -np K pnc ...`, rank 0
-/// is the supervisor and runs every stage on K ranks (a fresh mpirun per stage, so a LAMMPS
-/// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
-/// Returns false on those follower ranks.
-bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
-  const rve::LauncherInfo li = rve::launcher_from_environment();
-  if (li.rank > 0) return false;
-  ranks = cli_ranks > 0 ? cli_ranks : li.size;
-  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);
-  if (li.size > 1)
-    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
-                             "rank(s), {} case(s) at a time\n",
-                             li.size, ranks, jobs);
-  const unsigned cores = std::thread::hardware_concurrency();
-  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
-    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
-                             jobs, ranks * jobs, cores);
-  return true;
-}
-
-std::string preset_list() {
-  std::string s;
-  for (const auto& n : rve::preset_names())
-    s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
-rve::Recipe load_recipe(const std::string& arg) {
-  for (const auto& n : rve::preset_names())
-    if (arg == n) return rve::parse_recipe(rve::preset_json(n), "preset " + n);
-  if (!fs::is_regular_file(arg))
-    fail(arg, "RECIPE", arg,
-         "is neither a recipe file (.json, .toml) nor a preset name (" + preset_list() + ")");
-  return rve::read_recipe(arg);
-}
-
-int run_characterize(const CharacterizeArgs& a) {
-  using namespace pnc::damage;
-  const auto t0 = std::chrono::steady_clock::now();
-  const rve::Recipe r = load_recipe(a.recipe);
-  int ranks = 1, jobs = 1;
-  if (!plan_parallelism(a.ranks, a.jobs, r.jobs, ranks, jobs)) return 0;
-  // The equilibration is one stage: give it all the cores the cases will share (ranks x
-  // jobs, at most the machine's cores) unless told otherwise.
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  const int eq_ranks = a.equilibrate_ranks > 0
-                           ? a.equilibrate_ranks
-                           : std::max(ranks, cores > 0 ? std::min(ranks * jobs, cores) : ranks);
-  // one process per run directory for the whole command (MD, fit, report); SIGINT/SIGTERM stop
-  // the stages and leave the checkpoints for --resume (run_control.hpp, core/run_dir.hpp)
-  const RunDirLock lock(a.out, command_line());
-  const StopSignals signals;
-  const rve::MdOutcome md = rve::run_md(r, a.out, a.resume, jobs, ranks, eq_ranks);
-
-  // --- fit
-  std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
-  FitOptions o;
-  // the bead-spring glass (model kg) is a pure polymer: the pure-polymer NDM (decision D138)
-  // and the glass with a platelet (kg_platelet) a nanocomposite: the nanocomposite NDM (D175)
-  o.model = parse_model(r.model == "kg"            ? std::string("pp")
-                        : r.model == "kg_platelet" ? std::string("pnc")
-                                                   : r.model,
-                        md.recipe_path + ": model");
-  // recipe fit_alpha = true always fits alpha; otherwise automatic (D12b). The MD pipeline
-  // writes SI stresses itself, so an implausible stiffness is a verdict, not a unit mistake.
-  o.alpha_mode = r.fit_alpha    ? AlphaMode::fit
-                 : r.hold_alpha ? AlphaMode::hold
-                                : AlphaMode::automatic;
-  if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
-  o.strain_max = r.fit_strain_max;                        // recipe fit.strain_max (D12h)
-  o.stretch_max = r.fit_stretch_max;                      // recipe fit.stretch_max (D12m)
-  o.check_units = false;
-  // decision D128: a material that relaxes within a hold does not define its shear and damage
-  // constants; only the normal (bulk-like) block of C0 stays fitted
-  if (md.phase.done && !md.phase.solid)
-    for (const auto& n : constant_names(o.model))
-      if (!(n.size() == 3 && n[0] == 'C' && n[1] <= '3' && n[2] <= '3'))
-        o.undefined.push_back(
-            {n, fmt::format("the phase check finds that the RVE relaxes within a hold (G_hold = "
-                            "{:.3g} +- {:.2g} GPa; phase/phase.h5), so shear and damage "
-                            "responses are not carried over a strain hold",
-                            md.phase.G_hold_Pa * 1e-9, md.phase.G_hold_se_Pa * 1e-9)});
-  o.validate();
-  const StressStrainData data = read_stress_strain(md.cases_h5);
-  const FitReport rep = fit_ndm(data, o);
-  // decision D130: with >= 2 replicas every replica is fitted on its own as well
-  const rve::ReplicaFits replica_fits = rve::fit_replicas(md.statistics, o);
-  Card card = card_from_fit(rep, data, "none");
-  // decision D130: the joint fit treats the points of the replica-mean curves as independent,
-  // but a replica's deviations are correlated along its curves; the card's standard error of a
-  // constant is the larger of the joint fit's and the between-replica one (t x sd/sqrt(N) of
-  // the replicas' own fits), so that no reported error is smaller than the scatter between
-  // independent RVEs says
-  FitReport honest = rep;
-  if (replica_fits.replicas >= 2) {
-    int raised = 0;
-    for (std::size_t j = 0; j < card.std_error.size() && j < replica_fits.se.size(); ++j) {
-      if (!card.fitted[j] || !std::isfinite(replica_fits.se[j])) continue;
-      const double between = replica_fits.coverage_factor * replica_fits.se[j];
-      if (!(between <= card.std_error[j])) {
-        card.std_error[j] = between;
-        ++raised;
-      }
-    }
-    honest.std_error = card.std_error;
-    card.fit.error_model += fmt::format(
-        "; per constant the larger of that and the between-replica standard error of {} "
-        "separate replica fits (Student t factor {:.3g}; D130): {} constant(s) raised",
-        replica_fits.replicas, replica_fits.coverage_factor, raised);
-  }
-  // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
-  // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
-  const rve::ReplicaTrend trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
-  if (trend.applicable) {
-    static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
-    VerdictLimits limits;
-    limits.independent_residuals = false;
-    card.verdict = judge_fit(honest, limits);
-    if (trend.p_family < limits.p_misfit) {
-      const auto worst = std::min_element(
-          trend.curves.begin(), trend.curves.end(),
-          [](const rve::TrendCurve& x, const rve::TrendCurve& y) { return x.p < y.p; });
-      card.verdict.warn(fmt::format(
-          "the model misses a trend common to the {} replicas (case {} sigma{}: Legendre "
-          "coefficients of the residuals against their between-replica errors, p = {:.2g}, "
-          "Bonferroni over {} curves; D12k)",
-          trend.replicas, worst->case_id, kVoigt[worst->component % 6], trend.p_family,
-          trend.curves.size()));
-    }
-  }
-  // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
-  // points in the linear range)
-  MdCardGates gates;
-  gates.replicas = md.statistics.replicas;
-  gates.deterministic = r.deform.temperature == 0;
-  judge_md_card(honest, data, gates, card.verdict);
-  const std::string card_path = (fs::path(a.out) / "card.h5").string();
-  const std::string command =
-      fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out, a.resume ? " --resume" : "");
-  write_card(card_path, card, command);
-  // every figure of the run in one plotting process, after the card is written (a plotting
-  // failure is a warning: the run and its report are complete without figures)
-  CharacterizeRun run{r,
-                      md,
-                      data,
-                      rep,
-                      card,
-                      replica_fits,
-                      trend,
-                      o.model,
-                      a.out,
-                      command,
-                      read_clay_info(r, md),
-                      0.0,
-                      !a.no_plots,
-                      {}};
-  if (!a.no_plots) {
-    const std::string plots = (fs::path(a.out) / "plots").string();
-    make_output_directory(plots, "--out");
-    run.plots = draw_figures(characterize_figures(r, md, data, card, plots),
-                             (fs::path(plots) / "figures.json").string(), "pnc characterize");
-  }
-  const double total_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  run.seconds = total_s;
-  const std::string report_path = write_characterize_report(run);
-  const std::string html_path = (fs::path(a.out) / "report.html").string();
-
-  print_characterize_summary(run, card_path, report_path, html_path);
-  if (a.json)
-    std::cout << characterize_json(run, card_path, report_path, html_path).dump() << std::endl;
-  if (card.verdict.level == VerdictLevel::not_usable) {
-    std::cerr << "pnc: error: the card is NOT USABLE (reasons above); it was written, marked, "
-                 "and the plugin refuses it unless the host allows unusable cards\n";
-    return kExitNotUsable;
-  }
-  if (!rep.converged) {
-    std::cerr << "pnc: error: the fit did not converge (" << rep.termination << "): " << rep.message
-              << "; the card was written but check it before use\n";
-    return pnc::exit_code::not_converged;
+// `pnc recipe parameters`: the declared recipe keys (recipe_parameters.cpp) as Markdown tables
+// (the generated region of docs/rve.md), JSON or a commented TOML template of one model.
+int run_recipe_parameters(const RecipeParametersArgs& a) {
+  const std::string variant = a.model == "all" ? "" : a.model;
+  if (a.format == "toml") {
+    const std::string m = variant.empty() ? "pp" : variant;
+    std::cout << rve::recipe_parameters(m).to_toml();
+  } else if (a.format == "json") {
+    std::cout << rve::recipe_parameters(variant).to_json().dump(2) << "\n";
+  } else {
+    std::cout << rve::recipe_parameters(variant).to_markdown(3);
   }
   return 0;
 }
@@ -388,6 +217,20 @@ void register_rve(CLI::App& app, Action& action) {
   show->add_flag("--expanded", rs->expanded, "Print every field with its value");
   show->add_flag("--toml", rs->toml, "Print TOML instead of JSON (pnc characterize reads both)");
   show->callback([rs, &action] { action = [rs] { return run_recipe_show(*rs); }; });
+  auto rp = std::make_shared<RecipeParametersArgs>();
+  auto* params = recipe->add_subcommand(
+      "parameters", "Print every recipe key: type, default, range, unit, meaning");
+  params
+      ->add_option("--format", rp->format,
+                   "markdown (tables, default), json or toml (a "
+                   "commented template with the defaults)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  params
+      ->add_option("--model", rp->model,
+                   "the keys of one model (pp, pnc, kg, kg_platelet) or of a recipe with your "
+                   "own system (system); default all (toml: pp)")
+      ->check(CLI::IsMember({"all", "pp", "pnc", "kg", "kg_platelet", "system"}));
+  params->callback([rp, &action] { action = [rp] { return run_recipe_parameters(*rp); }; });
 
   auto ca = std::make_shared<CharacterizeArgs>();
   auto* ch = app.add_subcommand(
@@ -397,19 +240,41 @@ void register_rve(CLI::App& app, Action& action) {
                  "Recipe file (.json or .toml) or preset name (" + preset_list() + ")")
       ->required();
   ch->add_option("--out", ca->out, "Output directory")->required();
-  ch->add_flag("--resume", ca->resume, "Continue a stopped run without recomputing finished steps");
+  ch->add_flag("--resume", ca->resume,
+               "Continue a stopped run: only the units that are not done run (or are submitted) "
+               "again, from their checkpoints");
   ch->add_option("--ranks", ca->ranks,
                  "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
       ->check(CLI::Range(1, 256));
-  ch->add_option("--jobs", ca->jobs, "Cases run at the same time (default: the recipe's run.jobs)")
+  ch->add_option("--jobs", ca->jobs,
+                 "local: units (equilibrations, cases) run at the same time (default: the "
+                 "recipe's run.jobs)")
       ->check(CLI::Range(1, 64));
   ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
                  "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
-                 "machine's cores)")
+                 "machine's cores, shared by the equilibrations that run at once)")
       ->check(CLI::Range(1, 256));
+  ch->add_option("--executor", ca->executor,
+                 "Who runs the units: local (children of this process, --jobs at a time) or "
+                 "slurm (sbatch job arrays with dependencies; docs/cluster.md)")
+      ->check(CLI::IsMember({"local", "slurm"}));
+  ch->add_flag("--wait", ca->wait,
+               "slurm: wait until the fit ends, printing every unit's change, then report as "
+               "the local executor does (default: submit and return)");
+  ch->add_option("--partition", ca->partition,
+                 "slurm: partition (default: recipe slurm.partition)");
+  ch->add_option("--account", ca->account, "slurm: account (default: recipe slurm.account)");
+  ch->add_option("--time", ca->time,
+                 "slurm: time limit per unit job, e.g. 2:00:00 (default: recipe slurm.time)");
+  ch->add_option("--sbatch-template", ca->sbatch_template,
+                 "slurm: job-script template with {{placeholders}} (default: recipe "
+                 "slurm.template, else the built-in one)");
+  ch->add_option("--job-name", ca->job_name,
+                 "slurm: prefix of the job names (default pnc-<recipe name>)");
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });
+  register_campaign(app, action); // pnc run-unit, pnc status
 }
 
 } // namespace pnc::app

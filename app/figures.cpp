@@ -88,8 +88,8 @@ PlotOutcome draw_figures(const std::vector<Figure>& figures, const std::string& 
   (void)require_shipped(ShippedDir::scripts, "plot_figures.py", "PNC_SCRIPTS_DIR");
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    out.pngs = run_plot_script("plot_figures.py", {jobs_json});
-    if (out.pngs.size() != figures.size())
+    out.pngs = run_plot_script("plot_figures.py", {jobs_json}, &out.warning);
+    if (out.warning.empty() && out.pngs.size() != figures.size())
       out.warning =
           fmt::format("the plot script drew {} of {} figures", out.pngs.size(), figures.size());
   } catch (const InputError& e) {

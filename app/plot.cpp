@@ -22,19 +22,23 @@ namespace pnc::app {
 namespace fs = std::filesystem;
 
 namespace {
-/// One line on stderr: the results are written, only the figure is missing.
-void plot_warning(const std::string& what) {
+/// One line on stderr (or in `*sink`): the results are written, only the figure is missing.
+void plot_warning(const std::string& what, std::string* sink) {
   std::string line = what;
   for (char& c : line)
     if (c == '\n' || c == '\r') c = ' ';
   while (!line.empty() && line.back() == ' ')
     line.pop_back();
-  std::cerr << "pnc: warning: no plot: " << clip(line, 600) << "\n";
+  if (sink)
+    *sink = clip(line, 600);
+  else
+    std::cerr << "pnc: warning: no plot: " << clip(line, 600) << "\n";
 }
 } // namespace
 
 std::vector<std::string> run_plot_script(const std::string& script_name,
-                                         const std::vector<std::string>& args) {
+                                         const std::vector<std::string>& args,
+                                         std::string* warning) {
   const char* env_py = std::getenv("PNC_PYTHON");
   const std::string py = env_py && *env_py ? env_py : PNC_PYTHON;
   // share/pnc/scripts relative to the executable, or $PNC_SCRIPTS_DIR (D151)
@@ -44,7 +48,7 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
   argv.insert(argv.end(), args.begin(), args.end());
   const SubprocessResult r = run_subprocess(argv);
   if (!r.started) {
-    plot_warning(py + ": cannot start the Python interpreter for plotting: " + r.error);
+    plot_warning(py + ": cannot start the Python interpreter for plotting: " + r.error, warning);
     return {};
   }
   const std::string& out = r.output;
@@ -52,7 +56,8 @@ std::vector<std::string> run_plot_script(const std::string& script_name,
     const std::string how = r.signal ? "killed by signal " + std::to_string(r.signal)
                                      : "exit status " + std::to_string(r.exit_code);
     plot_warning(script + ": plotting failed (" + how + "; needs python3-matplotlib)" +
-                 (out.empty() ? std::string() : ": " + out));
+                     (out.empty() ? std::string() : ": " + out),
+                 warning);
     return {};
   }
   std::vector<std::string> pngs;

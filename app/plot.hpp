@@ -13,7 +13,10 @@ namespace pnc::app {
 /// python3-matplotlib), one line "pnc: warning: ..." naming the interpreter or script and
 /// carrying its output goes to stderr and no path is returned (docs/errors.md). A script
 /// missing from the installation is a pnc::InputError naming where it was looked for.
+/// With `warning` given, that line's text is stored there instead of printed (the caller
+/// prints it once with its own context and puts it in its report).
 std::vector<std::string> run_plot_script(const std::string& script,
-                                         const std::vector<std::string>& args);
+                                         const std::vector<std::string>& args,
+                                         std::string* warning = nullptr);
 
 } // namespace pnc::app

@@ -116,14 +116,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     pt.err = err2;
     pt.err_len = sizeof err2;
     const int st2 = pnc_material_integrate2(m, &pt);
+    // integrate (v1) with a tangent computes the consistent one; integrate2 asked for less
+    // (none, elastic, secant) may succeed where that tangent overflows: only a v2 call that asks
+    // at least what v1 asked must agree with v1 on success
+    const bool asks_as_much =
+        !with_tangent || pt.tangent_request == PNC_MATERIAL_TANGENT_CONSISTENT;
     if (st2 == PNC_MATERIAL_OK) {
-      if (st != PNC_MATERIAL_OK) bug("integrate2 OK where integrate failed", err);
-      if (std::memcmp(stress, stress2, sizeof stress) != 0 ||
-          std::memcmp(state1, state2, sizeof(double) * static_cast<std::size_t>(ns)) != 0)
+      if (st != PNC_MATERIAL_OK) {
+        if (asks_as_much) bug("integrate2 OK where integrate failed", err);
+      } else if (std::memcmp(stress, stress2, sizeof stress) != 0 ||
+                 std::memcmp(state1, state2, sizeof(double) * static_cast<std::size_t>(ns)) != 0) {
         bug("integrate2 and integrate differ", err2);
-      if (with_tangent && pt.tangent_request == PNC_MATERIAL_TANGENT_CONSISTENT &&
-          std::memcmp(tangent, tangent2, sizeof tangent) != 0)
+      } else if (with_tangent && pt.tangent_request == PNC_MATERIAL_TANGENT_CONSISTENT &&
+                 std::memcmp(tangent, tangent2, sizeof tangent) != 0) {
         bug("the consistent tangents of integrate2 and integrate differ", err2);
+      }
       if (pt.tangent_request != PNC_MATERIAL_TANGENT_NONE && !all_finite(tangent2, 36))
         bug("integrate2 OK with a non-finite tangent", err2);
       if (!std::isfinite(pt.stored_energy) || !std::isfinite(pt.dissipated_energy))

@@ -15,6 +15,7 @@ PNC_PACKAGES=(
   python3 python3-matplotlib python3-numpy
   gfortran make dpkg-dev file # tests/install: Fortran UMAT host, C host, cpack .deb (shlibdeps)
   chromium # tests only: report.html rendered in a real headless browser (Report.*, rve tests)
+  slurm-wlm munge # tests/rve/slurm: a one-node Slurm cluster for the Slurm executor's tests
 )
 
 pnc_install_missing() {

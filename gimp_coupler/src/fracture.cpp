@@ -1,5 +1,6 @@
 // Energy release rates and growth of cracks (fracture.hpp; 3-D: D42, D43). SI units.
 #include "pnc/gimp_coupler/fracture.hpp"
+#include "pnc/core/error.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -250,8 +251,9 @@ int grow_cracks(Solver<3>& s, const std::vector<FrontResult>& fronts) {
     moved.corners[(r.edge + 1) % m] += step;
     const std::string why = check_planar_crack(moved);
     if (!why.empty())
-      throw std::runtime_error("gimp: crack '" + c.name + "': growth of front edge " +
-                               std::to_string(r.edge) + " leaves no valid polygon: " + why);
+      pnc::fail_simulation(
+          "gimp: crack '" + c.name + "'", -1, std::numeric_limits<double>::quiet_NaN(), "",
+          "growth of front edge " + std::to_string(r.edge) + " leaves no valid polygon: " + why);
     c.corners = moved.corners;
     c.normal = moved.normal;
     // Still a front? Decided again by the automatic rule (material within h ahead of the

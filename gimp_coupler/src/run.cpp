@@ -49,41 +49,79 @@ std::string plot_energy(const std::string& csv, const std::string& png, const st
   return "";
 }
 
-template <int D> RunSummary run_dim(const RunOptions& o) {
-  const auto wall0 = Clock::now();
-  Solver<D> s;
-  RunConfig rc = load_input<D>(o.input, s);
-  if (o.threads > 0) s.threads = rc.threads = o.threads;
-  make_output_directory(o.out_dir);
-  make_output_directory((fs::path(o.out_dir) / "frames").string());
-  const std::string ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
-  const std::string pvd = (fs::path(o.out_dir) / "particles.pvd").string();
-  const std::string hist_csv = (fs::path(o.out_dir) / "history.csv").string();
+/// One `pnc gimp run` of dimension D: the solver from the input, its history, frames and
+/// checkpoints (output.hpp), the step loop, summary.json and the plots.
+template <int D> struct GimpRun {
+  explicit GimpRun(const RunOptions& opt);
+  RunSummary run();
 
+  /// Resumes from the checkpoint or starts at t = 0 (the history columns).
+  void start();
+  /// 3-D (D42): the straight fronts of `initial` (the flags of t = 0) or of now.
+  void find_fronts(const std::vector<int>& initial);
+  /// One history row at the current step (step dt).
+  void record(double row_dt);
+  void record_tips(std::vector<double>& row) const;   ///< 2-D: J, G_I, G_II, length, tip
+  void record_fronts(std::vector<double>& row) const; ///< 3-D: J, G_I, G_II, depth, length
+  /// One VTU frame and the .pvd.
+  void frame();
+  /// The steps until the end, max_steps, stop_after_steps or a stop request.
+  void loop();
+  /// D40 (2-D) / D43 (3-D): J and growth every fracture_every steps.
+  void grow();
+  bool stop_requested() const { return o.stop != nullptr && o.stop->requested(); }
+  /// The numbers of a finished run and the plots.
+  void fill_summary();
+  void write_summary_json() const;
+  nlohmann::json cracks_json() const; ///< the "cracks" block of summary.json
+
+  const RunOptions& o;
+  const Clock::time_point wall0 = Clock::now();
+  Solver<D> s;
+  RunConfig rc;
+  std::string ckpt, pvd, hist_csv;
   CheckpointExtra x;
-  x.input_hash = file_fnv1a64(o.input);
   // Crack tips at the start ((crack, end), "<crack>_start|end"): fixed history columns.
   std::vector<std::pair<std::pair<std::size_t, int>, std::string>> tip_ids;
   // 3-D (D42): the straight fronts at the start ((crack, edge), "<crack>_front<edge>"): fixed
   // history columns. With growth (D43) a front may stop being one; the flags of t = 0 are
   // kept in the checkpoint (as the 2-D tips of t = 0, in CheckpointExtra::initial_tips).
   std::vector<std::pair<std::pair<std::size_t, std::size_t>, std::string>> front_ids;
-  [[maybe_unused]] auto find_fronts = [&](const std::vector<int>& initial) {
-    std::size_t n = 0;
-    for (const auto& c : s.cracks)
-      n += c.front.size();
-    const bool use_initial = initial.size() == n;
-    std::size_t i = 0;
-    for (std::size_t c = 0; c < s.cracks.size(); ++c)
-      for (std::size_t e = 0; e < s.cracks[c].front.size(); ++e, ++i)
-        if (use_initial ? initial[i] == 1 : s.cracks[c].front[e] == 1)
-          front_ids.push_back({{c, e}, s.cracks[c].name + "_front" + std::to_string(e)});
-  };
-  [[maybe_unused]] bool any_growth = false;
+  bool any_growth = false;
+  RunSummary sum;
+  long step0 = 0;
+  double t_begin = 0.0, dt = 0.0, eps_t = 0.0;
+  Clock::time_point run0;
+  bool last_framed = true;
+};
+
+template <int D> GimpRun<D>::GimpRun(const RunOptions& opt) : o(opt) {
+  rc = load_input<D>(o.input, s);
+  if (o.threads > 0) s.threads = rc.threads = o.threads;
+  make_output_directory(o.out_dir);
+  make_output_directory((fs::path(o.out_dir) / "frames").string());
+  ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
+  pvd = (fs::path(o.out_dir) / "particles.pvd").string();
+  hist_csv = (fs::path(o.out_dir) / "history.csv").string();
+  x.input_hash = file_fnv1a64(o.input);
   for (const auto& c : s.cracks)
     any_growth = any_growth || c.growth.Gc > 0.0;
-  RunSummary sum;
   sum.dimension = D;
+}
+
+template <int D> void GimpRun<D>::find_fronts(const std::vector<int>& initial) {
+  std::size_t n = 0;
+  for (const auto& c : s.cracks)
+    n += c.front.size();
+  const bool use_initial = initial.size() == n;
+  std::size_t i = 0;
+  for (std::size_t c = 0; c < s.cracks.size(); ++c)
+    for (std::size_t e = 0; e < s.cracks[c].front.size(); ++e, ++i)
+      if (use_initial ? initial[i] == 1 : s.cracks[c].front[e] == 1)
+        front_ids.push_back({{c, e}, s.cracks[c].name + "_front" + std::to_string(e)});
+}
+
+template <int D> void GimpRun<D>::start() {
   if (o.resume && fs::exists(ckpt)) {
     s.initialize(true);
     read_checkpoint<D>(ckpt, s, x);
@@ -131,83 +169,84 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
         for (const char* q : {"J_", "GI_", "GII_", "length_", "frontlength_"})
           x.history.columns.push_back(q + t.second);
   }
-  auto record = [&](double dt) {
-    std::vector<double> row = {static_cast<double>(s.steps),
-                               s.time,
-                               dt,
-                               s.energy.kinetic,
-                               s.energy.strain,
-                               s.energy.external_work,
-                               s.energy.boundary_work,
-                               s.energy.balance()};
-    for (const auto& bc : s.bcs)
-      for (int a = 0; a < D; ++a)
-        row.push_back(bc.reaction[a]);
-    row.push_back(s.energy.damping_work);
-    if constexpr (D == 2) {
-      const auto tips = tip_ids.empty() ? std::vector<TipResult>{} : crack_tips(s);
-      for (const auto& t : tip_ids) {
-        const TipResult* r = nullptr;
-        for (const auto& q : tips)
-          if (q.crack == t.first.first && q.end == t.first.second) r = &q;
-        const double nan = std::nan("");
-        if (r) {
-          row.insert(row.end(), {r->J, r->GI, r->GII, r->length, r->tip[0], r->tip[1]});
-        } else { // the tip has left the material (crack through)
-          const Crack& c = s.cracks[t.first.first];
-          const Eigen::Vector2d q = t.first.second == 0 ? c.points.front() : c.points.back();
-          double L = 0.0;
-          for (std::size_t k = 0; k + 1 < c.points.size(); ++k)
-            L += (c.points[k + 1] - c.points[k]).norm();
-          row.insert(row.end(), {nan, nan, nan, L, q[0], q[1]});
-        }
-      }
-    }
-    if constexpr (D == 3) {
-      const auto fronts = front_ids.empty() ? std::vector<FrontResult>{} : crack_fronts(s);
-      for (const auto& t : front_ids) {
-        const FrontResult* r = nullptr;
-        for (const auto& q : fronts)
-          if (q.crack == t.first.first && q.edge == t.first.second) r = &q;
-        if (r) {
-          row.insert(row.end(), {r->J, r->GI, r->GII, r->depth, r->length});
-        } else { // the front has left the material (crack through, D43): NaN, the length
-          const Crack& c = s.cracks[t.first.first];
-          const std::size_t m = c.corners.size(), e = t.first.second;
-          const Eigen::Vector3d mid = 0.5 * (c.corners[e] + c.corners[(e + 1) % m]);
-          const Eigen::Vector3d e1 = edge_outward(c, e);
-          double depth = 0.0;
-          for (const auto& q : c.corners)
-            depth = std::max(depth, (mid - q).dot(e1));
-          const double nan = std::nan("");
-          row.insert(row.end(), {nan, nan, nan, depth, nan});
-        }
-      }
-    }
-    x.history.rows.push_back(row);
-  };
-  auto frame = [&]() {
-    const std::string name = fmt::format("frames/particles_{:06d}.vtu", x.frame_files.size());
-    write_vtu<D>((fs::path(o.out_dir) / name).string(), s, rc.vtu_binary, rc.material_names);
-    x.frame_files.push_back(name);
-    x.frame_times.push_back(s.time);
-    write_pvd(pvd, x.frame_files, x.frame_times);
-  };
-  if (!sum.resumed) {
-    record(0.0);
-    frame();
-    x.next_output_time = rc.output_interval > 0 ? rc.output_interval : rc.t_end;
-    write_checkpoint<D>(ckpt, s, x);
-  }
+}
 
-  const long step0 = s.steps;
-  const double t_begin = s.time;
+template <int D> void GimpRun<D>::record(double row_dt) {
+  std::vector<double> row = {static_cast<double>(s.steps),
+                             s.time,
+                             row_dt,
+                             s.energy.kinetic,
+                             s.energy.strain,
+                             s.energy.external_work,
+                             s.energy.boundary_work,
+                             s.energy.balance()};
+  for (const auto& bc : s.bcs)
+    for (int a = 0; a < D; ++a)
+      row.push_back(bc.reaction[a]);
+  row.push_back(s.energy.damping_work);
+  if constexpr (D == 2) record_tips(row);
+  if constexpr (D == 3) record_fronts(row);
+  x.history.rows.push_back(row);
+}
+
+template <int D> void GimpRun<D>::record_tips(std::vector<double>& row) const {
+  const auto tips = tip_ids.empty() ? std::vector<TipResult>{} : crack_tips(s);
+  for (const auto& t : tip_ids) {
+    const TipResult* r = nullptr;
+    for (const auto& q : tips)
+      if (q.crack == t.first.first && q.end == t.first.second) r = &q;
+    const double nan = std::nan("");
+    if (r) {
+      row.insert(row.end(), {r->J, r->GI, r->GII, r->length, r->tip[0], r->tip[1]});
+    } else { // the tip has left the material (crack through)
+      const Crack& c = s.cracks[t.first.first];
+      const Eigen::Vector2d q = t.first.second == 0 ? c.points.front() : c.points.back();
+      double L = 0.0;
+      for (std::size_t k = 0; k + 1 < c.points.size(); ++k)
+        L += (c.points[k + 1] - c.points[k]).norm();
+      row.insert(row.end(), {nan, nan, nan, L, q[0], q[1]});
+    }
+  }
+}
+
+template <int D> void GimpRun<D>::record_fronts(std::vector<double>& row) const {
+  const auto fronts = front_ids.empty() ? std::vector<FrontResult>{} : crack_fronts(s);
+  for (const auto& t : front_ids) {
+    const FrontResult* r = nullptr;
+    for (const auto& q : fronts)
+      if (q.crack == t.first.first && q.edge == t.first.second) r = &q;
+    if (r) {
+      row.insert(row.end(), {r->J, r->GI, r->GII, r->depth, r->length});
+    } else { // the front has left the material (crack through, D43): NaN, the length
+      const Crack& c = s.cracks[t.first.first];
+      const std::size_t m = c.corners.size(), e = t.first.second;
+      const Eigen::Vector3d mid = 0.5 * (c.corners[e] + c.corners[(e + 1) % m]);
+      const Eigen::Vector3d e1 = edge_outward(c, e);
+      double depth = 0.0;
+      for (const auto& q : c.corners)
+        depth = std::max(depth, (mid - q).dot(e1));
+      const double nan = std::nan("");
+      row.insert(row.end(), {nan, nan, nan, depth, nan});
+    }
+  }
+}
+
+template <int D> void GimpRun<D>::frame() {
+  const std::string name = fmt::format("frames/particles_{:06d}.vtu", x.frame_files.size());
+  write_vtu<D>((fs::path(o.out_dir) / name).string(), s, rc.vtu_binary, rc.material_names);
+  x.frame_files.push_back(name);
+  x.frame_times.push_back(s.time);
+  write_pvd(pvd, x.frame_files, x.frame_times);
+}
+
+template <int D> void GimpRun<D>::loop() {
+  step0 = s.steps;
+  t_begin = s.time;
   auto last_report = Clock::now();
-  const auto run0 = Clock::now();
-  double dt = 0.0;
-  const double eps_t = 1e-12 * rc.t_end;
-  bool last_framed = true;
-  auto stop_requested = [&] { return o.stop != nullptr && o.stop->requested(); };
+  run0 = Clock::now();
+  dt = 0.0;
+  eps_t = 1e-12 * rc.t_end;
+  last_framed = true;
   while (s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps) &&
          (o.stop_after_steps == 0 || s.steps < o.stop_after_steps) && !stop_requested()) {
     dt = rc.dt > 0 ? rc.dt : s.stable_dt();
@@ -215,30 +254,7 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     if (x.next_output_time > s.time + eps_t) dt = std::min(dt, x.next_output_time - s.time);
     s.step(dt);
     last_framed = false;
-    if constexpr (D == 2) { // D40: J and growth every fracture_every steps
-      if (!tip_ids.empty() && s.steps % rc.fracture_every == 0) {
-        const auto tips = crack_tips(s);
-        const int g = grow_cracks(s, tips);
-        sum.crack_increments += g;
-        if (g > 0 && o.progress)
-          for (const auto& c : s.cracks)
-            std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
-                                     "increments, tip at ({:.6g}, {:.6g}) m\n",
-                                     s.steps, s.time, c.name, c.increments, c.points.back()[0],
-                                     c.points.back()[1]);
-      }
-    }
-    if constexpr (D == 3) { // D43: growth of the straight fronts every fracture_every steps
-      if (any_growth && !front_ids.empty() && s.steps % rc.fracture_every == 0) {
-        const int g = grow_cracks(s, crack_fronts(s));
-        sum.crack_increments += g;
-        if (g > 0 && o.progress)
-          for (const auto& c : s.cracks)
-            std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
-                                     "increments\n",
-                                     s.steps, s.time, c.name, c.increments);
-      }
-    }
+    grow();
     if (s.steps % rc.history_every == 0) record(dt);
     if (s.time >= x.next_output_time - eps_t) {
       if (s.steps % rc.history_every != 0) record(dt);
@@ -261,6 +277,44 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                                s.steps, s.time, 100 * s.time / rc.t_end, dt, el, eta);
     }
   }
+}
+
+template <int D> void GimpRun<D>::grow() {
+  if constexpr (D == 2) { // D40: J and growth every fracture_every steps
+    if (!tip_ids.empty() && s.steps % rc.fracture_every == 0) {
+      const auto tips = crack_tips(s);
+      const int g = grow_cracks(s, tips);
+      sum.crack_increments += g;
+      if (g > 0 && o.progress)
+        for (const auto& c : s.cracks)
+          std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
+                                   "increments, tip at ({:.6g}, {:.6g}) m\n",
+                                   s.steps, s.time, c.name, c.increments, c.points.back()[0],
+                                   c.points.back()[1]);
+    }
+  }
+  if constexpr (D == 3) { // D43: growth of the straight fronts every fracture_every steps
+    if (any_growth && !front_ids.empty() && s.steps % rc.fracture_every == 0) {
+      const int g = grow_cracks(s, crack_fronts(s));
+      sum.crack_increments += g;
+      if (g > 0 && o.progress)
+        for (const auto& c : s.cracks)
+          std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s: crack '{}' has {} "
+                                   "increments\n",
+                                   s.steps, s.time, c.name, c.increments);
+    }
+  }
+}
+
+template <int D> RunSummary GimpRun<D>::run() {
+  start();
+  if (!sum.resumed) {
+    record(0.0);
+    frame();
+    x.next_output_time = rc.output_interval > 0 ? rc.output_interval : rc.t_end;
+    write_checkpoint<D>(ckpt, s, x);
+  }
+  loop();
   // Stopped by --max-steps or a stop request before the end: leave frames and history as an
   // uninterrupted run would have them (the checkpoint carries the rest); --resume continues.
   const bool unfinished =
@@ -285,7 +339,12 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     sum.time = s.time;
     return sum;
   }
+  fill_summary();
+  write_summary_json();
+  return sum;
+}
 
+template <int D> void GimpRun<D>::fill_summary() {
   const double run_s = std::chrono::duration<double>(Clock::now() - run0).count();
   sum.particles = s.particles.size();
   sum.steps = s.steps;
@@ -320,7 +379,9 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
     }
   }
   sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+}
 
+template <int D> void GimpRun<D>::write_summary_json() const {
   nlohmann::json j;
   j["software"] = version_string();
   j["input"] = o.input;
@@ -337,8 +398,13 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
                    {"max_abs_balance", sum.max_abs_balance}};
   j["frames"] = sum.frames;
   j["energy_J"]["damping_work"] = s.energy.damping_work;
+  j["cracks"] = cracks_json();
+  write_text_atomically((fs::path(o.out_dir) / "summary.json").string(), j.dump(2) + "\n");
+}
+
+template <int D> nlohmann::json GimpRun<D>::cracks_json() const {
+  nlohmann::json cj = nlohmann::json::array();
   if constexpr (D == 2) {
-    nlohmann::json cj = nlohmann::json::array();
     const auto tips = crack_tips(s);
     for (std::size_t c = 0; c < s.cracks.size(); ++c) {
       nlohmann::json one;
@@ -359,10 +425,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
       one["tips"] = tj;
       cj.push_back(one);
     }
-    j["cracks"] = cj;
   }
   if constexpr (D == 3) { // D42
-    nlohmann::json cj = nlohmann::json::array();
     const auto fronts = crack_fronts(s);
     for (std::size_t c = 0; c < s.cracks.size(); ++c) {
       nlohmann::json one;
@@ -384,10 +448,8 @@ template <int D> RunSummary run_dim(const RunOptions& o) {
       one["fronts"] = fj;
       cj.push_back(one);
     }
-    j["cracks"] = cj;
   }
-  write_text_atomically((fs::path(o.out_dir) / "summary.json").string(), j.dump(2) + "\n");
-  return sum;
+  return cj;
 }
 
 } // namespace
@@ -396,7 +458,7 @@ RunSummary run(const RunOptions& o) {
   if (o.out_dir.empty()) fail("<command line>", "--out", "", "an output folder is required");
   refuse_existing_run(o.out_dir, o.resume, {"checkpoint.h5", "history.csv", "summary.json"});
   const int d = input_dimension(o.input);
-  return d == 2 ? run_dim<2>(o) : run_dim<3>(o);
+  return d == 2 ? GimpRun<2>(o).run() : GimpRun<3>(o).run();
 }
 
 } // namespace pnc::gimp

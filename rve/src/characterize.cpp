@@ -8,9 +8,12 @@
 #include "pnc/damage/data.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/runner.hpp"
+#include "pnc/rve/stage_stop.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -56,8 +59,8 @@ std::vector<std::string> model_forcefield_commands(const Recipe& r) {
 
 /// Build and equilibration of one replica in `rdir` (its own seeds: replica_build_seed).
 void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
-                     const std::string& recipe_text, int eq_ranks, MdOutcome& o,
-                     ReplicaOutcome& ro) {
+                     const std::string& recipe_text, int eq_ranks, double& seconds_build,
+                     double& seconds_equilibrate, ReplicaOutcome& ro) {
   // --- build
   auto t0 = std::chrono::steady_clock::now();
   make_output_directory(rdir);
@@ -129,7 +132,7 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
-  o.seconds_build += seconds_since(t0);
+  seconds_build += seconds_since(t0);
 
   pnc::throw_if_stopped("after the build");
   // --- equilibrate
@@ -149,147 +152,299 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                                                      resume, recipe_text, eq_ranks, &r.platelet)
                                  : equilibrate(ro.data_file, r.ff, r.equilibrate, edir, resume,
                                                recipe_text, r.model == "pnc", eq_ranks);
-  o.seconds_equilibrate += seconds_since(t0);
+  seconds_equilibrate += seconds_since(t0);
 }
 
 } // namespace
 
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks,
-                 int equilibrate_ranks) {
-  MdOutcome o;
-  o.dir = dir;
+namespace {
+
+/// The recipe of replica `rep`: its own build and equilibration seed (decision D130).
+Recipe replica_recipe(const Recipe& r, int rep) {
+  Recipe rr = r;
+  rr.seed = replica_build_seed(r.seed, rep);
+  rr.build.seed = rr.seed;
+  rr.equilibrate.seed = rr.seed;
+  return rr;
+}
+
+std::string case_name(int nrep, int rep, int id) {
+  return nrep > 1 ? fmt::format("replica {} case {}", rep, id) : fmt::format("case {}", id);
+}
+
+/// "replica_<r>/..." -> r; "case_<n>" in the last part -> n (unit ids of characterize_plan).
+int number_after(const std::string& id, const std::string& prefix, const std::string& source) {
+  const auto at = id.find(prefix);
+  if (at == std::string::npos) fail(source, "unit", id, "is not a unit of pnc characterize");
+  std::size_t k = at + prefix.size(), end = k;
+  while (end < id.size() && std::isdigit(static_cast<unsigned char>(id[end])))
+    ++end;
+  if (end == k || end - k > 4) fail(source, "unit", id, "is not a unit of pnc characterize");
+  return std::stoi(id.substr(k, end - k));
+}
+
+std::string equilibrate_dir(const std::string& dir, int nrep, int rep) {
+  return (fs::path(replica_dir(dir, nrep, rep)) / "equilibrate").string();
+}
+
+DeformSpec case_spec(const Recipe& r, const std::string& recipe_text, const std::string& start,
+                     int rep, int id) {
+  DeformSpec d = r.deform;
+  d.case_id = id;
+  d.seed = replica_case_seed(r.seed, rep, id);
+  d.start_state = start;
+  d.force_field = model_forcefield_commands(r);
+  d.recipe_json = recipe_text;
+  if (r.system.enabled) { // the user's force field, re-issued after every read_restart
+    d.force_field = r.system.forcefield;
+    d.atom_style = r.system.atom_style;
+  }
+  return d;
+}
+
+PhaseCheckInput phase_input(const Recipe& r, const std::string& recipe_text,
+                            const std::string& start, const std::string& equilibrate_dir1) {
+  PhaseCheckInput pin;
+  pin.start_state = start;
+  pin.force_field = model_forcefield_commands(r);
+  pin.probe_A = r.model == "kg" || r.model == "kg_platelet" ? r.kg.sigma : r.ff.sigma;
+  if (r.system.enabled) { // the user's force field; no bead size for the void measure
+    pin.force_field = r.system.forcefield;
+    pin.atom_style = r.system.atom_style;
+    pin.probe_A = 0;
+  }
+  pin.temperature = r.deform.temperature;
+  pin.damp_fs = r.deform.damp_fs;
+  pin.timestep_fs = r.deform.timestep_fs;
+  pin.hold_steps = r.deform.hold_steps;
+  pin.hold_sample_every = r.deform.sample_every;
+  pin.seed = replica_build_seed(r.seed, 1) * 100 + 50;
+  pin.recipe_json = recipe_text;
+  pin.equilibrate_dir = equilibrate_dir1;
+  if (!r.system.enabled && r.equilibrate.ensemble == "npt") // equilibrate.cpp's NPT chunks
+    pin.npt_chunk_fs =
+        static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) / 10 * 10)) *
+        r.equilibrate.timestep_fs;
+  return pin;
+}
+
+nlohmann::json run_case_unit(const Recipe& r, const std::string& dir, const std::string& recipe,
+                             int nrep, int rep, int id, int ranks) {
+  const std::string name = case_name(nrep, rep, id);
+  const std::string start = read_equilibrated(equilibrate_dir(dir, nrep, rep)).restart;
+  const DeformSpec d = case_spec(r, recipe, start, rep, id);
+  const std::string cdir = case_dir(dir, nrep, rep, id);
+  if (fs::exists(fs::path(cdir) / "checkpoint.h5")) {
+    const CaseResult c = read_case(cdir);
+    if (c.rows_done >= d.steps + 1) {
+      std::cerr << fmt::format("pnc characterize [{}] done (resumed)\n", name);
+      return {{"resumed", true}};
+    }
+    std::cerr << fmt::format("pnc characterize [{}] resuming after step {}/{}\n", name,
+                             c.rows_done - 1, d.steps);
+  }
+  std::cerr << fmt::format("pnc characterize [{}] {} MPI rank(s); LAMMPS log {}/lammps.log\n", name,
+                           ranks, cdir);
+  const StageOutcome o = run_stage(case_stage(d, cdir, ranks), case_body(d, cdir, true));
+  pnc::throw_if_stopped(fmt::format("{} stopped; its checkpoint is kept", name));
+  if (!o.ok) {
+    std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", name, o.error,
+                             o.log_path);
+    throw_stage_failure(o, "stage " + name); // ToolError with LAMMPS's message: exit code 7
+  }
+  std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", name, o.seconds);
+  return {{"resumed", false}};
+}
+
+} // namespace
+
+Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
+                       const nlohmann::json& parameters) {
+  Plan p;
+  p.command = "characterize";
+  p.parameters = parameters;
+  p.parameters["ranks"] = ranks;
+  p.parameters["equilibrate_ranks"] = equilibrate_ranks;
+  const int nrep = std::max(1, r.replicas);
+  const auto rel = [&](int rep, const std::string& what) {
+    const fs::path rd = nrep > 1 ? fs::path(fmt::format("replica_{}", rep)) : fs::path();
+    return (rd / what).string();
+  };
+  Unit fit{"fit", "fit", "fit", {}, true, 1, {"recipe.json"}, {}};
+  for (int rep = 1; rep <= nrep; ++rep) {
+    Unit u{fmt::format("replica_{}/equilibrate", rep),
+           "equilibrate",
+           "equilibrate",
+           {},
+           false,
+           equilibrate_ranks,
+           {"recipe.json"},
+           {rel(rep, "build"), rel(rep, "equilibrate")}};
+    if (r.system.enabled) u.inputs.push_back(r.system.input_file);
+    fit.needs.push_back(u.id);
+    p.units.push_back(u);
+  }
+  if (r.phase_check.enabled) {
+    p.units.push_back({"phase_check",
+                       "phase_check",
+                       "phase_check",
+                       {"replica_1/equilibrate"},
+                       false,
+                       equilibrate_ranks,
+                       {rel(1, "equilibrate/final.restart")},
+                       {"phase"}});
+    fit.needs.push_back("phase_check");
+  }
+  for (int rep = 1; rep <= nrep; ++rep)
+    for (int id : r.cases) {
+      Unit u{fmt::format("replica_{}/case_{}", rep, id),
+             "case",
+             fmt::format("cases_replica_{}", rep),
+             {fmt::format("replica_{}/equilibrate", rep)},
+             false,
+             ranks,
+             {rel(rep, "equilibrate/final.restart")},
+             {rel(rep, fmt::format("cases/case_{}", id))}};
+      fit.needs.push_back(u.id);
+      p.units.push_back(u);
+    }
+  fit.outputs = {"cases.h5", "card.h5", "report.md", "summary.json", "plots"};
+  p.units.push_back(fit);
+  check_plan(p, "<characterize plan>");
+  return p;
+}
+
+void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume) {
   make_output_directory(dir);
   if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
   const std::string recipe_text = expanded_json(r).dump(2);
-  o.recipe_path = (fs::path(dir) / "recipe.json").string();
-  if (fs::exists(o.recipe_path)) {
-    std::ifstream f(o.recipe_path);
+  const std::string recipe_path = (fs::path(dir) / "recipe.json").string();
+  if (fs::exists(recipe_path)) {
+    std::ifstream f(recipe_path);
     std::stringstream ss;
     ss << f.rdbuf();
     if (ss.str() != recipe_text + "\n") {
       if (resume)
-        fail(o.recipe_path, "", "",
+        fail(recipe_path, "", "",
              "--resume with a recipe different from the one this directory was made with; "
              "use a new --out directory");
       if (!fs::is_empty(fs::path(dir)))
         fail(dir, "--out", dir,
              "holds a run of another recipe; use a new --out directory or delete it");
     } else {
-      refuse_existing_run(dir, resume, {"cases", "cases.h5", "replica_1"});
+      refuse_existing_run(dir, resume, {"cases", "cases.h5", "replica_1", "plan.json"});
     }
   }
-  write_text_atomically(o.recipe_path, recipe_text + "\n");
+  write_text_atomically(recipe_path, recipe_text + "\n");
+}
 
-  const int eq_ranks = equilibrate_ranks > 0 ? equilibrate_ranks : ranks;
+Recipe read_run_recipe(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "recipe.json").string();
+  if (!fs::is_regular_file(path))
+    fail(path, "", "", "no recipe.json: is this the --out folder of pnc characterize?");
+  return read_recipe(path);
+}
+
+nlohmann::json run_md_unit(const Recipe& r, const std::string& dir, const Unit& u) {
+  const std::string recipe_text = expanded_json(r).dump(2);
   const int nrep = std::max(1, r.replicas);
-  // decision D130: every replica its own build seed and its own equilibration
-  for (int rep = 1; rep <= nrep; ++rep) {
-    Recipe rr = r;
-    rr.seed = replica_build_seed(r.seed, rep);
-    rr.build.seed = rr.seed;
-    rr.equilibrate.seed = rr.seed;
+  const std::string source = plan_path(dir);
+  if (u.kind == "equilibrate") {
+    const int rep = number_after(u.id, "replica_", source);
+    if (rep < 1 || rep > nrep) fail(source, "unit", u.id, "no such replica in the recipe");
     if (nrep > 1) std::cerr << fmt::format("pnc characterize [replica {}/{}]\n", rep, nrep);
     ReplicaOutcome ro;
     ro.dir = replica_dir(dir, nrep, rep);
-    prepare_replica(rr, ro.dir, resume, recipe_text, eq_ranks, o, ro);
-    o.replicas.push_back(ro);
-    pnc::throw_if_stopped("after the equilibration");
+    double sb = 0, se = 0;
+    prepare_replica(replica_recipe(r, rep), ro.dir, true, recipe_text, u.ranks, sb, se, ro);
+    return {{"seconds_build", sb}, {"seconds_equilibrate", se}};
+  }
+  if (u.kind == "phase_check") {
+    if (!r.phase_check.enabled) fail(source, "unit", u.id, "the recipe has no phase check");
+    std::cerr << "pnc characterize [phase check] G(t), bulk modulus, cavitation at "
+              << r.deform.temperature << " K\n";
+    const std::string edir = equilibrate_dir(dir, nrep, 1);
+    const PhaseCheckInput pin = phase_input(r, recipe_text, read_equilibrated(edir).restart, edir);
+    run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), true, u.ranks);
+    return nlohmann::json::object();
+  }
+  if (u.kind == "case") {
+    const int rep = number_after(u.id, "replica_", source);
+    const int id = number_after(u.id, "case_", source);
+    if (rep < 1 || rep > nrep || std::find(r.cases.begin(), r.cases.end(), id) == r.cases.end())
+      fail(source, "unit", u.id, "no such replica or case in the recipe");
+    return run_case_unit(r, dir, recipe_text, nrep, rep, id, u.ranks);
+  }
+  fail(source, "unit", u.id, "is not an MD unit (equilibrate, phase_check, case)");
+}
+
+MdOutcome collect_md(const Recipe& r, const std::string& dir, const Plan& p) {
+  // the fit waits for what it needs: every unit it needs must be done, else say which are not
+  const Unit& fit = p.unit("fit");
+  std::string missing;
+  int nmissing = 0;
+  MdOutcome o;
+  o.started_s = epoch_seconds();
+  double cases_first = 0, cases_last = 0;
+  for (const auto& id : fit.needs) {
+    const UnitStatus s = read_status(dir, id);
+    if (s.state == UnitState::done) {
+      const Unit& u = p.unit(id);
+      if (s.started_s > 0) o.started_s = std::min(o.started_s, s.started_s);
+      if (u.kind == "equilibrate") {
+        o.seconds_build += s.detail.value("seconds_build", 0.0);
+        o.seconds_equilibrate += s.detail.value("seconds_equilibrate", 0.0);
+      } else if (u.kind == "phase_check") {
+        o.seconds_phase += s.detail.value("seconds", 0.0);
+      } else if (u.kind == "case" && s.started_s > 0) {
+        cases_first = cases_first > 0 ? std::min(cases_first, s.started_s) : s.started_s;
+        cases_last = std::max(cases_last, s.ended_s);
+      }
+      continue;
+    }
+    ++nmissing;
+    if (nmissing <= 8) {
+      missing += fmt::format("{}{} ({}", missing.empty() ? "" : "; ", id, state_name(s.state));
+      if (!s.job_id.empty()) missing += ", job " + s.job_id;
+      if (!s.message.empty()) missing += ": " + s.message;
+      missing += ")";
+    }
+  }
+  if (nmissing > 0)
+    fail(dir, "units", std::to_string(nmissing),
+         fmt::format("the fit needs every unit done; missing: {}{}; finished work is kept: "
+                     "rerun with --resume (pnc status {} shows every unit)",
+                     missing, nmissing > 8 ? fmt::format(" and {} more", nmissing - 8) : "", dir));
+  o.seconds_cases = cases_last > cases_first ? cases_last - cases_first : 0.0;
+  o.dir = dir;
+  o.recipe_path = (fs::path(dir) / "recipe.json").string();
+  const std::string recipe_text = expanded_json(r).dump(2);
+  const int nrep = std::max(1, r.replicas);
+  {
+    // every stage is done: this only reads the records (as a resume does), without its
+    // "done (resumed)" lines
+    struct Quiet {
+      std::ostringstream sink;
+      std::streambuf* old = std::cerr.rdbuf(sink.rdbuf());
+      ~Quiet() { std::cerr.rdbuf(old); }
+    } quiet;
+    for (int rep = 1; rep <= nrep; ++rep) {
+      ReplicaOutcome ro;
+      ro.dir = replica_dir(dir, nrep, rep);
+      double sb = 0, se = 0;
+      prepare_replica(replica_recipe(r, rep), ro.dir, true, recipe_text, 1, sb, se, ro);
+      o.replicas.push_back(ro);
+    }
   }
   o.data_file = o.replicas[0].data_file;
   o.build_record = o.replicas[0].build_record;
   o.equilibrated = o.replicas[0].equilibrated;
-
-  // --- phase check (phase_check.hpp): solid on the hold time scale? On replica 1 (the
-  // replicas share the recipe: one structure answers the question for the protocol).
-  if (r.phase_check.enabled) {
-    const auto tp = std::chrono::steady_clock::now();
-    std::cerr << "pnc characterize [phase check] G(t), bulk modulus, cavitation at "
-              << r.deform.temperature << " K\n";
-    PhaseCheckInput pin;
-    pin.start_state = o.equilibrated.restart;
-    pin.force_field = model_forcefield_commands(r);
-    pin.probe_A = r.model == "kg" || r.model == "kg_platelet" ? r.kg.sigma : r.ff.sigma;
-    if (r.system.enabled) { // the user's force field; no bead size for the void measure
-      pin.force_field = r.system.forcefield;
-      pin.atom_style = r.system.atom_style;
-      pin.probe_A = 0;
-    }
-    pin.temperature = r.deform.temperature;
-    pin.damp_fs = r.deform.damp_fs;
-    pin.timestep_fs = r.deform.timestep_fs;
-    pin.hold_steps = r.deform.hold_steps;
-    pin.hold_sample_every = r.deform.sample_every;
-    pin.seed = replica_build_seed(r.seed, 1) * 100 + 50;
-    pin.recipe_json = recipe_text;
-    pin.equilibrate_dir = (fs::path(o.replicas[0].dir) / "equilibrate").string();
-    if (!r.system.enabled && r.equilibrate.ensemble == "npt") // equilibrate.cpp's NPT chunks
-      pin.npt_chunk_fs =
-          static_cast<double>(std::max<long>(10, (r.equilibrate.npt_steps / 10) / 10 * 10)) *
-          r.equilibrate.timestep_fs;
-    o.phase =
-        run_phase_check(r.phase_check, pin, (fs::path(dir) / "phase").string(), resume, eq_ranks);
-    o.seconds_phase = seconds_since(tp);
-  }
-
-  // --- cases
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::pair<StageSpec, StageBody>> stages;
-  std::vector<std::string> run_ids;
-  for (int rep = 1; rep <= nrep; ++rep)
-    for (int id : r.cases) {
-      DeformSpec d = r.deform;
-      d.case_id = id;
-      d.seed = replica_case_seed(r.seed, rep, id);
-      d.start_state = o.replicas[rep - 1].equilibrated.restart;
-      d.force_field = model_forcefield_commands(r);
-      d.recipe_json = recipe_text;
-      if (r.system.enabled) { // the user's force field, re-issued after every read_restart
-        d.force_field = r.system.forcefield;
-        d.atom_style = r.system.atom_style;
-      }
-      const std::string cdir = case_dir(dir, nrep, rep, id);
-      const std::string name =
-          nrep > 1 ? fmt::format("replica {} case {}", rep, id) : fmt::format("case {}", id);
-      if (resume && fs::exists(fs::path(cdir) / "checkpoint.h5")) {
-        const CaseResult c = read_case(cdir);
-        if (c.rows_done >= d.steps + 1) {
-          std::cerr << fmt::format("pnc characterize [{}] done (resumed)\n", name);
-          continue;
-        }
-        std::cerr << fmt::format("pnc characterize [{}] resuming after step {}/{}\n", name,
-                                 c.rows_done - 1, d.steps);
-      }
-      stages.push_back({case_stage(d, cdir, ranks), case_body(d, cdir, resume)});
-      run_ids.push_back(name);
-    }
-  if (!stages.empty())
-    std::cerr << fmt::format("pnc characterize [cases] {} case(s), {} at a time, {} MPI rank(s) "
-                             "each; LAMMPS logs in {}/{}cases/case_<n>/lammps.log\n",
-                             stages.size(), std::max(1, jobs), ranks, dir,
-                             nrep > 1 ? "replica_<r>/" : "");
-
-  const auto outcomes = run_stages(stages, jobs);
-  pnc::throw_if_stopped("the running cases stopped; their checkpoints are kept");
-  std::size_t first_failed = outcomes.size();
-  for (std::size_t i = 0; i < outcomes.size(); ++i) {
-    if (outcomes[i].ok) {
-      std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", run_ids[i],
-                               outcomes[i].seconds);
-    } else {
-      std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", run_ids[i],
-                               outcomes[i].error, outcomes[i].log_path);
-      if (first_failed == outcomes.size()) first_failed = i;
-    }
-  }
-  if (first_failed < outcomes.size()) // the first failure, as the error of its kind
-    throw_stage_failure(outcomes[first_failed], "case " + run_ids[first_failed],
-                        "; finished steps are kept: rerun with --resume");
+  if (r.phase_check.enabled) o.phase = read_phase_check((fs::path(dir) / "phase").string());
   std::vector<std::vector<CaseResult>> results(static_cast<std::size_t>(nrep));
   for (int rep = 1; rep <= nrep; ++rep)
     for (int id : r.cases)
       results[rep - 1].push_back(read_case(case_dir(dir, nrep, rep, id)));
   o.cases = results[0];
-  o.seconds_cases = seconds_since(t0);
   o.cases_h5 = (fs::path(dir) / "cases.h5").string();
   o.statistics = write_replica_cases_h5(o.cases_h5, r, results);
   o.statistics_markdown = statistics_markdown(o.statistics);

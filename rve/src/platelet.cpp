@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 
 namespace pnc::rve {
 
@@ -41,47 +40,6 @@ void PlateletSpec::validate(const std::string& source) const {
   range("bond_K_reduced", bond_K_reduced, 10.0, 2000.0, false, "eps/sigma^2");
   range("min_distance_sigma", min_distance_sigma, 0.8, 1.5, false,
         "sigma; polymer bead to platelet bead at the build");
-}
-
-PlateletSpec parse_platelet(const nlohmann::json& j, const std::string& source) {
-  PlateletSpec p;
-  if (!j.is_object()) fail(source, "platelet", show_json(j), "must be a JSON object");
-  static const std::set<std::string> known = {
-      "beads_side",     "layers",         "spacing_sigma",     "epsilon_wp_reduced",
-      "sigma_wp_sigma", "bond_K_reduced", "min_distance_sigma"};
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key()))
-      fail(source, "platelet." + it.key(), show_json(it.value()),
-           "unknown key; allowed: beads_side, bond_K_reduced, epsilon_wp_reduced, layers, "
-           "min_distance_sigma, sigma_wp_sigma, spacing_sigma");
-  if (j.contains("beads_side"))
-    p.beads_side = get_integer_as<int>(j.at("beads_side"), source, "platelet.beads_side", 2, 60);
-  if (j.contains("layers"))
-    p.layers = get_integer_as<int>(j.at("layers"), source, "platelet.layers", 2, 4);
-  auto num = [&](const char* key, double& out) {
-    if (!j.contains(key)) return;
-    const auto& v = j.at(key);
-    if (!v.is_number())
-      fail(source, std::string("platelet.") + key, show_json(v), "must be a number");
-    out = v.get<double>();
-  };
-  num("spacing_sigma", p.spacing_sigma);
-  num("epsilon_wp_reduced", p.epsilon_wp_reduced);
-  num("sigma_wp_sigma", p.sigma_wp_sigma);
-  num("bond_K_reduced", p.bond_K_reduced);
-  num("min_distance_sigma", p.min_distance_sigma);
-  p.validate(source);
-  return p;
-}
-
-nlohmann::json platelet_json(const PlateletSpec& p) {
-  return {{"beads_side", p.beads_side},
-          {"layers", p.layers},
-          {"spacing_sigma", p.spacing_sigma},
-          {"epsilon_wp_reduced", p.epsilon_wp_reduced},
-          {"sigma_wp_sigma", p.sigma_wp_sigma},
-          {"bond_K_reduced", p.bond_K_reduced},
-          {"min_distance_sigma", p.min_distance_sigma}};
 }
 
 double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,

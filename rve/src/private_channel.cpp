@@ -115,6 +115,22 @@ bool is_same_or_descendant(pid_t pid, pid_t ancestor) {
   return false;
 }
 
+bool in_our_slurm_job(pid_t pid) {
+  const char* ours = std::getenv("SLURM_JOB_ID");
+  if (!ours || !*ours) return false;
+  std::ifstream f("/proc/" + std::to_string(pid) + "/environ"); // owner-readable only
+  std::string env((std::istreambuf_iterator<char>(f)), {});
+  const std::string want = std::string("SLURM_JOB_ID=") + ours;
+  std::size_t at = 0;
+  while (at < env.size()) {
+    const auto end = env.find('\0', at);
+    if (env.compare(at, (end == std::string::npos ? env.size() : end) - at, want) == 0) return true;
+    if (end == std::string::npos) break;
+    at = end + 1;
+  }
+  return false;
+}
+
 PrivateListener::PrivateListener() : token_(random_token()) {
   std::string templ = base_directory() + "/pnc-lmp-XXXXXX";
   if (!mkdtemp(templ.data())) // mkdtemp creates the directory with mode 0700
@@ -171,9 +187,11 @@ int PrivateListener::accept_one(pid_t ancestor, int timeout_ms, int token_timeou
   if (getsockopt(c, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0)
     return refuse(std::string("SO_PEERCRED failed: ") + strerror(errno));
   if (cred.uid != geteuid()) return refuse("peer uid " + std::to_string(cred.uid) + " is not ours");
-  if (!is_same_or_descendant(cred.pid, ancestor))
+  if (ancestor > 0 && !is_same_or_descendant(cred.pid, ancestor))
     return refuse("peer pid " + std::to_string(cred.pid) + " does not descend from pid " +
                   std::to_string(ancestor));
+  if (ancestor <= 0 && !in_our_slurm_job(cred.pid)) // srun's tasks descend from slurmstepd
+    return refuse("peer pid " + std::to_string(cred.pid) + " is not a task of our Slurm job");
   char got[kTokenChars];
   if (!read_with_deadline(c, got, sizeof got, token_timeout_ms))
     return refuse("peer pid " + std::to_string(cred.pid) + " sent no token");

@@ -256,6 +256,19 @@ std::string server_executable() {
   return r.path;
 }
 
+/// The launcher of a K-rank stage: `mpirun -np K --bind-to none`, or inside a Slurm job of
+/// the Slurm executor (PNC_STAGE_LAUNCHER=srun, decision D244) `srun --ntasks=K --mpi=<plugin>`
+/// (PNC_SRUN_MPI, default pmix), a job step on the job's own allocation.
+std::vector<std::string> stage_launcher(int ranks) {
+  const char* l = std::getenv("PNC_STAGE_LAUNCHER");
+  if (l && std::string(l) == "srun") {
+    const char* m = std::getenv("PNC_SRUN_MPI");
+    return {"srun", "--ntasks=" + std::to_string(ranks),
+            std::string("--mpi=") + (m && *m ? m : "pmix"), "--overlap"};
+  }
+  return {"mpirun", "-np", std::to_string(ranks), "--bind-to", "none"};
+}
+
 /// Starts `mpirun -np K pnc_lammps_server SOCKET <lammps args>` with a clean MPI environment
 /// (so that it also works when pnc itself was started by mpirun) and the channel's token in
 /// the environment (private_channel.hpp), and waits until rank 0 connects and passes the
@@ -267,8 +280,8 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   PrivateListener channel; // throws naming the directory when it cannot be made
   const std::string exe = server_executable();
   const std::string out = spec.log_path + ".mpirun";
-  std::vector<std::string> args = {"mpirun", "-np", std::to_string(spec.ranks), "--bind-to",
-                                   "none",   exe,   channel.socket_path()};
+  std::vector<std::string> args = stage_launcher(spec.ranks); // mpirun, or srun in a Slurm job
+  args.insert(args.end(), {exe, channel.socket_path()});
   args.insert(args.end(), lammps_args.begin(), lammps_args.end());
   std::fflush(nullptr);
   mpirun_pid = fork();
@@ -304,8 +317,8 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
     for (auto& s : args)
       argv.push_back(s.data());
     argv.push_back(nullptr);
-    execvp("mpirun", argv.data());
-    std::fprintf(stderr, "pnc: cannot run mpirun: %s\n", std::strerror(errno));
+    execvp(argv[0], argv.data());
+    std::fprintf(stderr, "pnc: cannot run %s: %s\n", argv[0], std::strerror(errno));
     _exit(127);
   }
   const char* t = std::getenv("PNC_LAMMPS_CONNECT_TIMEOUT");
@@ -313,7 +326,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   const double t0 =
       std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   for (;;) { // accept, refusing impostors, until the real rank 0 connects or mpirun ends
-    const int fd = channel.accept_one(mpirun_pid, 200);
+    const int fd = channel.accept_one(args[0] == "srun" ? -1 : mpirun_pid, 200);
     if (fd >= 0) return fd; // `channel` removes the socket and its directory on return
     int status = 0;
     if (waitpid(mpirun_pid, &status, WNOHANG) == mpirun_pid) {

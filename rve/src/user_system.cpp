@@ -26,91 +26,25 @@ namespace {
 constexpr std::int64_t kMaxSteps = 2000000000;
 constexpr std::size_t kMaxLines = 2000, kMaxLineChars = 400;
 
-/// Strict object reader: every key read is remembered, the rest are errors.
-class Obj {
-public:
-  Obj(const json& j, std::string path, const std::string& source)
-      : j_(j), path_(std::move(path)), src_(source) {
-    if (!j_.is_object()) fail(src_, path_, show_json(j_), "must be an object (a table in TOML)");
-  }
-  std::string f(const std::string& k) const { return path_ + "." + k; }
-  bool has(const std::string& k) const { return j_.contains(k); }
-  const json* at(const std::string& k) {
-    seen_.insert(k);
-    return j_.contains(k) ? &j_.at(k) : nullptr;
-  }
-  void str(const std::string& k, std::string& out) {
-    if (const json* v = at(k)) {
-      if (!v->is_string()) fail(src_, f(k), show_json(*v), "must be a string");
-      out = v->get<std::string>();
-    }
-  }
-  void num(const std::string& k, double& out) {
-    if (const json* v = at(k)) {
-      if (!v->is_number() || !std::isfinite(v->get<double>()))
-        fail(src_, f(k), show_json(*v), "must be a finite number");
-      out = v->get<double>();
-    }
-  }
-  void integer(const std::string& k, long& out, std::int64_t lo, std::int64_t hi) {
-    if (const json* v = at(k)) out = get_integer_as<long>(*v, src_, f(k), lo, hi);
-  }
-  void done() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it)
-      if (!seen_.count(it.key())) {
-        std::string allowed;
-        for (const auto& k : seen_)
-          allowed += (allowed.empty() ? "" : ", ") + k;
-        fail(src_, f(it.key()), show_json(it.value()), "unknown key; allowed: " + allowed);
-      }
-  }
+const std::vector<Choice> kStageKinds = {
+    {"minimize", "conjugate-gradient minimisation at the fixed box"},
+    {"langevin", "NVE + Langevin"},
+    {"npt", "Nose-Hoover, iso; then the box is set to the mean volume of the second half"}};
 
-private:
-  const json& j_;
-  std::string path_;
-  const std::string& src_;
-  std::set<std::string> seen_;
-};
-
-void check_positive(const std::string& src, const std::string& field, double v,
-                    const std::string& unit) {
-  if (!(v > 0)) fail(src, field, fmt::format("{}", v), "must be > 0 " + unit);
-}
-
+// One stage: "kind" first (it selects the keys), then the keys of that kind (declare_user_stage).
 UserStage parse_stage(const json& j, const std::string& path, const std::string& src) {
-  Obj o(j, path, src);
+  if (!j.is_object()) fail(src, path, show_json(j), "must be an object (a table in TOML)");
   UserStage s;
-  o.str("kind", s.kind);
-  if (s.kind != "minimize" && s.kind != "langevin" && s.kind != "npt")
-    fail(src, o.f("kind"), s.kind.empty() ? "<missing>" : s.kind,
-         "must be \"minimize\", \"langevin\" or \"npt\"");
-  if (s.kind == "minimize") {
-    o.num("ftol", s.ftol);
-    o.integer("max_iterations", s.max_iterations, 1, 100000000);
-    check_positive(src, o.f("ftol"), s.ftol, "kcal/mol/A");
-  } else {
-    o.num("temperature", s.temperature);
-    o.num("temperature_end", s.temperature_end);
-    o.integer("steps", s.steps, 100, kMaxSteps);
-    o.num("timestep_fs", s.timestep_fs);
-    o.num("damp_fs", s.damp_fs);
-    if (!o.has("temperature")) fail(src, o.f("temperature"), "<missing>", "is required (K)");
-    if (!o.has("steps")) fail(src, o.f("steps"), "<missing>", "is required (>= 100)");
-    check_positive(src, o.f("temperature"), s.temperature, "K");
-    if (o.has("temperature_end"))
-      check_positive(src, o.f("temperature_end"), s.temperature_end, "K");
-    if (!(s.timestep_fs > 0 && s.timestep_fs <= 20))
-      fail(src, o.f("timestep_fs"), fmt::format("{}", s.timestep_fs), "must be in (0, 20] fs");
-    check_positive(src, o.f("damp_fs"), s.damp_fs, "fs");
-    if (s.kind == "npt") {
-      o.num("pressure_atm", s.pressure_atm);
-      o.num("pdamp_fs", s.pdamp_fs);
-      if (std::fabs(s.pressure_atm) > 1e5)
-        fail(src, o.f("pressure_atm"), fmt::format("{}", s.pressure_atm), "must be |p| <= 1e5 atm");
-      check_positive(src, o.f("pdamp_fs"), s.pdamp_fs, "fs");
-    }
+  {
+    Parameters k("stage kind");
+    k.string("kind", s.kind, kStageKinds, "what the stage does").require();
+    if (!j.contains("kind"))
+      fail(src, path + ".kind", "<missing>", "is required: " + k.at("kind").rule());
+    k.at("kind").validate(j.at("kind"), src, path + ".kind");
   }
-  o.done();
+  Parameters p("stage");
+  declare_user_stage(p, s, j.at("kind").get<std::string>());
+  p.read(j, src, path);
   return s;
 }
 
@@ -157,31 +91,93 @@ void check_forcefield_line(const std::string& source, const std::string& field,
       fail(source, field, clip(line), "Python styles are not allowed in force-field lines");
 }
 
-UserSystem parse_user_system(const json& sys, const json* eq, const std::string& source) {
-  UserSystem u;
+void declare_user_stage(Parameters& p, UserStage& s, const std::string& kind) {
+  p.string("kind", s.kind, kStageKinds, "what the stage does").require();
+  if (kind == "minimize") {
+    p.real("ftol", s.ftol, RealRange::above(0), "kcal/mol/A",
+           "force tolerance (2-norm of the force vector)");
+    p.integer("max_iterations", s.max_iterations, 1, 100000000, "", "iterations at most");
+    return;
+  }
+  p.real("temperature", s.temperature, RealRange::above(0), "K", "thermostat temperature")
+      .require();
+  p.real("temperature_end", s.temperature_end, RealRange::above(0), "K",
+         "temperature at the end of the stage, ramped from temperature")
+      .no_default("= temperature");
+  p.integer("steps", s.steps, 100, kMaxSteps, "", "MD steps").require();
+  p.real("timestep_fs", s.timestep_fs, RealRange::open_closed(0, 20), "fs", "MD time step");
+  p.real("damp_fs", s.damp_fs, RealRange::above(0), "fs", "thermostat damping time");
+  if (kind != "npt") return;
+  p.real("pressure_atm", s.pressure_atm, RealRange::closed(-1e5, 1e5), "atm", "pressure (iso)");
+  p.real("pdamp_fs", s.pdamp_fs, RealRange::above(0), "fs", "barostat damping time");
+}
+
+void declare_user_system(Parameters& p, UserSystem& u, const std::string& applies,
+                         bool stage_tables) {
+  p.section("system",
+            "your own LAMMPS data (or restart) file and force field instead of the builder "
+            "(D121-D124)",
+            applies);
+  p.string("data_file", u.given.data_file, {},
+           "LAMMPS data file, relative to the recipe file's directory (or absolute)")
+      .no_default("give restart_file instead (exactly one of the two)");
+  p.string("restart_file", u.given.restart_file, {}, "LAMMPS restart file, instead of data_file")
+      .no_default("give data_file instead");
+  p.string("atom_style", u.atom_style,
+           {{"atomic", ""},
+            {"charge", ""},
+            {"bond", ""},
+            {"angle", ""},
+            {"molecular", ""},
+            {"full", ""}},
+           "LAMMPS atom style of the file");
+  p.string("units", u.given.units,
+           {{"real", "A, fs, kcal/mol, g/mol, atm, K: the whole rve/ pipeline, its timesteps, "
+                     "pressures and the conversion to Pa, is in real units; convert the data "
+                     "file and force field"}},
+           "LAMMPS units of the file and the force field")
+      .require();
+  p.strings("forcefield", u.forcefield, 1, kMaxLines,
+            "LAMMPS commands, re-issued after every read_data/read_restart of every stage and "
+            "case")
+      .require()
+      .also(fmt::format("each at most {} characters and an allowed command (D122)", kMaxLineChars),
+            [](const json& v, const std::string& source, const std::string& field) {
+              for (std::size_t i = 0; i < v.size(); ++i)
+                check_forcefield_line(source, fmt::format("{}[{}]", field, i),
+                                      v[i].get<std::string>());
+            });
+  p.string("fnv1a64", u.given.fnv1a64, {},
+           "FNV-1a 64 hash of the file's bytes (16 hex digits); the expanded recipe carries it")
+      .no_default("not checked");
+  p.section("equilibrate", "your own equilibration: stages run in order (D123)", applies);
+  Parameter st;
+  st.path = "stages";
+  st.type = ParamType::table_list;
+  st.default_value = json::array();
+  st.max_size = 100;
+  st.text = "the stages, each a table with \"kind\" and the keys of that kind";
+  st.check = [&u](const json& v, const std::string& source, const std::string& field) {
+    u.stages.clear();
+    for (std::size_t i = 0; i < v.size(); ++i)
+      u.stages.push_back(parse_stage(v[i], fmt::format("{}[{}]", field, i), source));
+  };
+  p.add(std::move(st));
+  if (!stage_tables) return;
+  static UserStage docs_stage; // only its defaults are read: the tables print them
+  for (const auto& k : kStageKinds) {
+    p.section("equilibrate.stages[]", k.meaning, "kind = \"" + k.value + "\"");
+    declare_user_stage(p, docs_stage, k.value);
+  }
+}
+
+void finish_user_system(UserSystem& u, const std::string& source) {
   u.enabled = true;
-  Obj o(sys, "system", source);
-  std::string data, restart, units, hash;
-  o.str("data_file", data);
-  o.str("restart_file", restart);
-  o.str("atom_style", u.atom_style);
-  o.str("units", units);
-  o.str("fnv1a64", hash);
+  const std::string& data = u.given.data_file;
+  const std::string& restart = u.given.restart_file;
   if (data.empty() == restart.empty())
     fail(source, "system.data_file", data.empty() ? "<missing>" : data,
          "give exactly one of system.data_file (LAMMPS data file) and system.restart_file");
-  if (!o.has("units"))
-    fail(source, "system.units", "<missing>",
-         "is required and must be \"real\" (the pipeline works in LAMMPS real units)");
-  if (units != "real")
-    fail(source, "system.units", units,
-         "must be \"real\": the whole rve/ pipeline (timesteps in fs, pressures in atm, the "
-         "conversion to Pa) is in LAMMPS real units; convert the data file and force field");
-  static const std::vector<std::string> styles = {"atomic", "charge",    "bond",
-                                                  "angle",  "molecular", "full"};
-  if (std::find(styles.begin(), styles.end(), u.atom_style) == styles.end())
-    fail(source, "system.atom_style", u.atom_style,
-         "must be one of atomic, charge, bond, angle, molecular, full");
   u.is_restart = !restart.empty();
   u.given_path = u.is_restart ? restart : data;
   const char* key = u.is_restart ? "system.restart_file" : "system.data_file";
@@ -195,34 +191,21 @@ UserSystem parse_user_system(const json& sys, const json* eq, const std::string&
                      p.string()));
   u.input_file = fs::absolute(p).lexically_normal().string();
   u.fnv1a64 = file_fnv1a64(u.input_file);
+  const std::string& hash = u.given.fnv1a64;
   if (!hash.empty() && hash != u.fnv1a64)
     fail(source, "system.fnv1a64", hash,
          fmt::format("the file {} has FNV-1a 64 hash {}: it changed since the recipe was written",
                      u.input_file, u.fnv1a64));
-  const json* ff = o.at("forcefield");
-  if (!ff || !ff->is_array() || ff->empty() || ff->size() > kMaxLines)
-    fail(source, "system.forcefield", ff ? show_json(*ff) : "<missing>",
-         fmt::format("must be a non-empty array of at most {} LAMMPS commands (strings)",
-                     kMaxLines));
-  for (std::size_t i = 0; i < ff->size(); ++i) {
-    const std::string field = fmt::format("system.forcefield[{}]", i);
-    if (!(*ff)[i].is_string()) fail(source, field, show_json((*ff)[i]), "must be a string");
-    const std::string line = (*ff)[i].get<std::string>();
-    check_forcefield_line(source, field, line);
-    u.forcefield.push_back(line);
-  }
-  o.done();
-  if (eq) {
-    Obj e(*eq, "equilibrate", source);
-    if (const json* st = e.at("stages")) {
-      if (!st->is_array() || st->size() > 100)
-        fail(source, "equilibrate.stages", show_json(*st),
-             "must be an array of at most 100 stages");
-      for (std::size_t i = 0; i < st->size(); ++i)
-        u.stages.push_back(parse_stage((*st)[i], fmt::format("equilibrate.stages[{}]", i), source));
-    }
-    e.done();
-  }
+}
+
+UserSystem parse_user_system(const json& sys, const json* eq, const std::string& source) {
+  UserSystem u;
+  Parameters p("system");
+  declare_user_system(p, u);
+  json in = {{"system", sys}};
+  if (eq) in["equilibrate"] = *eq;
+  p.read(in, source);
+  finish_user_system(u, source);
   return u;
 }
 

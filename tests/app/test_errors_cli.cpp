@@ -212,7 +212,14 @@ TEST_F(PncErrors, PlotThatCannotBeDrawnIsAWarning) {
   const PncRun r = run({"fit", "--data", "d.csv", "--model", "pp", "--out", "c.h5", "--json"},
                        {"PNC_PYTHON=/bin/false"});
   EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(has(r.err, "pnc: warning: no plot: ")) << r.err;
+  // the figure pipeline's one line (app/figures.cpp), naming the script that failed
+  EXPECT_TRUE(has(r.err, "pnc fit: warning: figures not drawn: ")) << r.err;
+  EXPECT_TRUE(has(r.err, "plot_figures.py: plotting failed")) << r.err;
+  std::size_t warnings = 0;
+  for (std::size_t at = r.err.find("warning"); at != std::string::npos;
+       at = r.err.find("warning", at + 1))
+    ++warnings;
+  EXPECT_EQ(warnings, 1u) << r.err;
   EXPECT_FALSE(has(r.err, "pnc: error")) << r.err;
   EXPECT_TRUE(fs::exists(p("c.h5")));
   EXPECT_EQ(nlohmann::json::parse(r.out)["plots"].size(), 0u);

@@ -33,10 +33,10 @@ TEST(Locate, ExecutableDirIsThisTestsDirectory) {
 TEST(Locate, FindsTheBuildTreesStagedScriptsWithTheInstallLayout) {
   ::unsetenv("PNC_TEST_LOCATE_DIR");
   const pnc::Located r =
-      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_fit.py", "PNC_TEST_LOCATE_DIR");
+      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_figures.py", "PNC_TEST_LOCATE_DIR");
   ASSERT_FALSE(r.path.empty()) << r.looked_in();
-  EXPECT_EQ(fs::canonical(r.path),
-            fs::canonical(fs::path(PNC_BINARY_DIR) / "share" / "pnc" / "scripts" / "plot_fit.py"));
+  EXPECT_EQ(fs::canonical(r.path), fs::canonical(fs::path(PNC_BINARY_DIR) / "share" / "pnc" /
+                                                 "scripts" / "plot_figures.py"));
   EXPECT_EQ(pnc::shipped_relative_dir(pnc::ShippedDir::scripts), "share/pnc/scripts");
 }
 
@@ -49,23 +49,24 @@ TEST(Locate, AnEnvironmentOverrideIsTheOnlyPlaceLookedAt) {
   EXPECT_EQ(r.path, (d / "mine.py").string());
   // a script that exists in the build tree is not found when the override lacks it
   const pnc::Located miss =
-      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_fit.py", "PNC_TEST_LOCATE_DIR");
+      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_figures.py", "PNC_TEST_LOCATE_DIR");
   EXPECT_TRUE(miss.path.empty());
   ASSERT_EQ(miss.tried.size(), 1u);
-  EXPECT_EQ(miss.tried[0], (d / "plot_fit.py").string());
+  EXPECT_EQ(miss.tried[0], (d / "plot_figures.py").string());
   try {
-    pnc::require_shipped(pnc::ShippedDir::scripts, "plot_fit.py", "PNC_TEST_LOCATE_DIR");
+    pnc::require_shipped(pnc::ShippedDir::scripts, "plot_figures.py", "PNC_TEST_LOCATE_DIR");
     ADD_FAILURE() << "no error";
   } catch (const pnc::InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("$PNC_TEST_LOCATE_DIR"), std::string::npos) << m;
     EXPECT_NE(m.find(d.string()), std::string::npos) << m;
-    EXPECT_NE(m.find("has no plot_fit.py"), std::string::npos) << m;
+    EXPECT_NE(m.find("has no plot_figures.py"), std::string::npos) << m;
   }
   // set but empty counts as unset
   ::setenv("PNC_TEST_LOCATE_DIR", "", 1);
-  EXPECT_FALSE(pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_fit.py", "PNC_TEST_LOCATE_DIR")
-                   .path.empty());
+  EXPECT_FALSE(
+      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_figures.py", "PNC_TEST_LOCATE_DIR")
+          .path.empty());
   ::unsetenv("PNC_TEST_LOCATE_DIR");
   fs::remove_all(d);
 }

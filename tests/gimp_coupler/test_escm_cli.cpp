@@ -105,6 +105,26 @@ TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
   EXPECT_NE(r.out.find("[0.5, 10]"), std::string::npos) << r.out;
 }
 
+// The MD region kinds come from a registry keyed by md.type (docs/escm.md "Code layout",
+// D201): an unknown kind is an input error at md.type that names the value and lists the kinds
+// this build registered (the LJ crystal always; the polymer when rve/ is built).
+TEST(EscmCli, UnknownMdRegionKindListsTheKnownOnes) {
+  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_kind";
+  fs::create_directories(d);
+  {
+    std::ofstream f(d / "kind.json");
+    f << R"({"md": {"type": "nanotube"}})";
+  }
+  const Result r = sh(std::string(PNC_EXE) + " gimp couple " + (d / "kind.json").string() +
+                      " --out " + (d / "out").string() + " 2>&1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("field 'md.type'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("nanotube"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"lj\""), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(d / "out" / "lammps.log")) << "refused before LAMMPS starts";
+  fs::remove_all(d);
+}
+
 // Validation (3) of the displacement gradients (eqs. 6.3-6.7, D79) in the short Case I run
 // (24 x 14 cells, block 10 x 10 at cell 7, strain 0.2 %): the mean du/dX over the ordinary
 // continuum particles at least 2 cells away from the atom block (x < 5 h or x > 19 h, read

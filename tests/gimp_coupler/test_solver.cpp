@@ -2,6 +2,7 @@
 // damage law inside GIMP against the kernel driven directly.
 #include "pnc/gimp_coupler/solver.hpp"
 
+#include "pnc/core/error.hpp"
 #include "pnc/damage/ndm.hpp"
 #include "pnc/damage/reference.hpp"
 #include "pnc/fe_material/material.hpp"
@@ -11,6 +12,9 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
 
 using namespace pnc::gimp;
 
@@ -456,4 +460,50 @@ TEST(GimpCrack, CrackFacesInContactDoNotInterpenetrate) {
       right = std::min(right, cracked.particles.x[p][0] - lx);
   }
   EXPECT_GE(right - left, -1e-12);
+}
+
+// A body carried off the grid by a prescribed rigid velocity, and a body compressed to
+// det F < 0 in one step: each ends the run with a SimulationError (exit code 6) naming the
+// particle, the step and the time in seconds, not an internal error.
+TEST(GimpSolver, FailuresOfThePhysicsAreSimulationErrors) {
+  auto make = [](const Eigen::Matrix2d& L, const Eigen::Vector2d& v0) {
+    auto s = std::make_unique<Solver<2>>();
+    s->grid.h = 0.1;
+    s->grid.n = {12, 12};
+    s->materials.push_back(std::make_shared<HyperelasticPolymer>(1000, 1.8e8, 1.5e7));
+    fill_box<2>(*s, Eigen::Vector2d(0.3, 0.3), Eigen::Vector2d(0.5, 0.5), 2, 0);
+    const Eigen::Vector2d c(0.4, 0.4);
+    prescribe_field<2>(*s,
+                       [&](const Eigen::Vector2d& X) { return Eigen::Vector2d(v0 + L * (X - c)); });
+    s->initialize();
+    return s;
+  };
+  auto failure = [](Solver<2>& s, int max_steps) -> std::pair<int, std::string> {
+    try {
+      for (int k = 0; k < max_steps; ++k)
+        s.step(1e-3);
+    } catch (const std::exception& e) {
+      return {pnc::exit_code_of(e), e.what()};
+    }
+    return {0, "no failure"};
+  };
+  // 10 m/s to +x: the body's right edge (x = 0.5 m) reaches the last cell (x = 1.1 m) after
+  // 0.06 s = 60 steps; the run must stop there, well before 200 steps
+  auto drift = make(Eigen::Matrix2d::Zero(), Eigen::Vector2d(10.0, 0.0));
+  const auto [code, what] = failure(*drift, 200);
+  EXPECT_EQ(code, pnc::exit_code::simulation_failed) << what;
+  EXPECT_NE(what.find("gimp: particle "), std::string::npos) << what;
+  EXPECT_NE(what.find("left the background grid"), std::string::npos) << what;
+  EXPECT_NE(what.find(" s: "), std::string::npos) << what; // the time with its unit
+  EXPECT_LE(drift->steps, 60);
+  EXPECT_GE(drift->steps, 40); // not before the stencil can reach the edge (>= 0.4 m moved)
+  // x-velocity gradient -1500 1/s and dt = 1e-3 s: I + dt L has -0.5 on the diagonal, so the
+  // first step gives det F = -0.5, which no hyperelastic law accepts
+  Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
+  L(0, 0) = -1500.0;
+  auto crush = make(L, Eigen::Vector2d::Zero());
+  const auto [code2, what2] = failure(*crush, 1);
+  EXPECT_EQ(code2, pnc::exit_code::simulation_failed) << what2;
+  EXPECT_NE(what2.find("step 0"), std::string::npos) << what2;
+  EXPECT_NE(what2.find("det F"), std::string::npos) << what2;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // pnc/core/params.hpp: checked reading of input files and values (JSON; TOML is converted to
-// JSON by its reader, so one set of checks serves both).
+// JSON by parse_toml, so one set of checks serves both). Inputs declared key by key:
+// parameters.hpp.
 //
 //  - Nesting is capped (kMaxNesting levels of arrays / objects / tables) before a parser runs:
 //    deep input would otherwise exhaust the stack in a recursive parser or printer.
@@ -43,14 +44,25 @@ void check_nesting(std::string_view text, const std::string& source, Syntax synt
 /// not fit a double such as 1e400) becomes an InputError naming `source`.
 nlohmann::json parse_json(std::string_view text, const std::string& source);
 
+/// Parses TOML text into JSON (tables become objects): the text must be UTF-8 and nest at most
+/// kMaxNesting levels (both checked before the parser runs); dates and times are refused naming
+/// their key; every parser failure becomes an InputError naming `source` ("not valid TOML").
+nlohmann::json parse_toml(std::string_view text, const std::string& source);
+
+/// A JSON object printed as TOML: the keys of each table, then its subtables as [a.b] tables.
+std::string to_toml(const nlohmann::json& object);
+/// The TOML spelling of a JSON scalar or array (floats always with a point or an exponent, so
+/// that they read back as floats); std::logic_error for null and objects.
+std::string toml_value(const nlohmann::json& v);
+
 /// Reads a whole file as text; InputError "cannot open ..." naming the path.
 std::string read_text_file(const std::string& path, const std::string& what = "the input file");
 
 /// An integer in [min, max] from a JSON value. Refuses non-numbers, non-integers (2.5, 3.0,
 /// 1e3), values outside the range and values beyond 64 bits, with the message
 /// "source: field 'key': value 'v': must be an integer in [min, max]".
-std::int64_t get_integer(const nlohmann::json& v, const std::string& source,
-                         const std::string& key, std::int64_t min, std::int64_t max);
+std::int64_t get_integer(const nlohmann::json& v, const std::string& source, const std::string& key,
+                         std::int64_t min, std::int64_t max);
 
 /// get_integer() converted to T; the range must fit T (checked at compile time when constant).
 template <class T>

@@ -172,7 +172,7 @@ struct Energies {
   }
 };
 
-class ThreadPool; // solver.cpp: persistent worker threads with blocking hand-over
+class ThreadPool; // solver_pool.hpp: persistent worker threads with blocking hand-over
 
 template <int D> class Solver {
 public:
@@ -235,8 +235,16 @@ private:
     std::vector<double> m;
     std::vector<Vec> p, fi, fe;
   };
+  // The parts of step() (solver_step.cpp): P2G, the nodal velocities v^t and v* (1), the
+  // stress update with the internal forces (2, 3), v^t+dt with the damping work (4), the
+  // reactions and their work, G2P with the energies (5).
   void external_forces(double t);
   void scatter();
+  void grid_velocities(double dt);
+  void update_stress(double dt);
+  double advance_grid(double dt);
+  double reactions(double dt, double t);
+  void g2p(double dt);
   void reduce(bool first);
   void constrain(std::vector<Vec>& vel, double t, bool with_mass) const;
   void apply_fields(std::size_t p, Stencil<D>& st) const;

@@ -1,6 +1,7 @@
 #pragma once
 // pnc/rve/characterize.hpp: the MD half of `pnc characterize`: build -> equilibrate ->
-// deformation cases (in parallel child processes) -> cases.h5 (SI) for the fit.
+// deformation cases -> cases.h5 (SI) for the fit, as units of a plan (campaign.hpp) that an
+// executor runs (executor.hpp: local children or Slurm jobs).
 //
 // Units: LAMMPS `real` inside; cases.h5 in Pa (tension positive).
 //
@@ -10,11 +11,13 @@
 //   equilibrate/<stage>.{log,h5,restart}
 //   phase/phase.{h5,log}             phase check (phase_check.hpp), when the recipe enables it
 //   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
+//   plan.json, state/<unit>.json     the plan of units and their states (campaign.hpp)
 //   cases.h5                         strain/stress (+ standard errors) per case, the stress
 //                                    chosen by the recipe, never smoothed (replicas.hpp)
 // With "run": {"replicas": N >= 2} (decision D130) build/, equilibrate/ and cases/ are in
 // replica_<r>/ (r = 1..N), each replica with its own build seed and equilibration; recipe.json
 // and cases.h5 stay at the top.
+#include "pnc/rve/campaign.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replicas.hpp"
@@ -39,18 +42,39 @@ struct MdOutcome {
   CombinedCases statistics;        ///< what went into cases.h5 (replicas.hpp)
   std::string statistics_markdown; ///< a "## Statistics" section for report.md
   double seconds_build = 0, seconds_equilibrate = 0, seconds_phase = 0, seconds_cases = 0;
+  double started_s = 0; ///< UTC epoch seconds when the first unit of the run started
 };
 
-/// Runs the MD pipeline. With `resume`, finished parts are reused and cases continue from
-/// their checkpoints; the recipe must equal the one stored in `dir`. Failed cases are all
-/// run to their end (or failure) before the first failure is thrown as the error of its kind
-/// (throw_stage_failure, runner.hpp: pnc::ToolError with LAMMPS's message); finished cases and
-/// checkpoints stay on disk. `jobs` cases run at a time, each LAMMPS stage on `ranks` MPI ranks
-/// (StageSpec::ranks): jobs x ranks cores in all. The equilibration stages, which run one at a
-/// time, use `equilibrate_ranks` (0: `ranks`); different rank counts agree to round-off, not
-/// bitwise.
-MdOutcome run_md(const Recipe& r, const std::string& dir, bool resume, int jobs, int ranks = 1,
-                 int equilibrate_ranks = 0);
+/// The MD pipeline of `pnc characterize` as a plan of units (campaign.hpp, decisions
+/// D240-D243):
+///   replica_<r>/equilibrate   build + equilibration of replica r (ranks: equilibrate_ranks)
+///   phase_check               the phase check on replica 1, needs replica_1/equilibrate
+///   replica_<r>/case_<n>      deformation case n of replica r, needs replica_<r>/equilibrate
+///   fit                       cases.h5 -> fit -> card, report (join: needs every unit above)
+/// Unit ids are the same for one replica (its files then sit in the run folder itself).
+/// `parameters` is stored in plan.json as is (ranks, the command's options for the fit).
+Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
+                       const nlohmann::json& parameters);
+
+/// Checks the run folder against the recipe and writes recipe.json (the expanded recipe):
+/// without `resume` a folder holding another run is refused; with `resume` the recipe (and a
+/// user system's input, D121) must equal the stored one.
+void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume);
+/// The recipe a run folder was made with (DIR/recipe.json).
+Recipe read_run_recipe(const std::string& dir);
+
+/// Runs one MD unit (equilibrate, phase_check or case) of the plan in this process, its LAMMPS
+/// stages in supervised children; continues from what is on disk (finished stages are reused,
+/// a case continues from its checkpoint). Returns the unit's detail for its state file
+/// (seconds). Throws (throw_stage_failure) ToolError with LAMMPS's message and log,
+/// InputError, SimulationError, or Interrupted.
+nlohmann::json run_md_unit(const Recipe& r, const std::string& dir, const Unit& u);
+
+/// The fit's input: every unit `fit` needs must be done (else InputError listing the missing
+/// units with their states); reads replicas, phase check and cases from disk and writes
+/// cases.h5. Seconds come from the units' state files (build and equilibration summed over the
+/// replicas, cases as the wall-time span of the case units).
+MdOutcome collect_md(const Recipe& r, const std::string& dir, const Plan& p);
 
 /// cases.h5 from the case checkpoints of one replica (write_replica_cases_h5 with N = 1).
 void write_cases_h5(const std::string& path, const Recipe& r, const std::vector<CaseResult>& cases);

@@ -45,12 +45,6 @@ struct PlateletSpec {
   void validate(const std::string& source) const;
 };
 
-/// Parses the recipe's "platelet" object (unknown keys, wrong types and integer ranges are
-/// errors naming `source`, the field, the value and the rule), then validate().
-PlateletSpec parse_platelet(const nlohmann::json& j, const std::string& source);
-/// Every field by name (the recipe's expanded form).
-nlohmann::json platelet_json(const PlateletSpec& p);
-
 /// The cubic box edge (A) of the composite: (polymer beads + platelet beads) x bead_mass at
 /// spec.density (decision D172: every bead, polymer or platelet, counts at the build density).
 double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,

@@ -8,7 +8,8 @@
 //    abstract-namespace name exists, so nothing shows up in /proc/net/unix for others to
 //    take over, and another user cannot even reach the socket (EACCES on the directory);
 //  - the listener (pnc) accepts a peer only if SO_PEERCRED says it runs as our uid and its
-//    pid is the mpirun we forked or a descendant of it (ppid chain in /proc/<pid>/stat), and
+//    pid is the mpirun we forked or a descendant of it (ppid chain in /proc/<pid>/stat; for a
+//    stage launched by srun inside a Slurm job: a process of the same job), and
 //    only if it first sends the random token (32 bytes from getrandom, 64 hex digits) that
 //    pnc passed to mpirun in the environment (PNC_LAMMPS_TOKEN; /proc/<pid>/environ is
 //    readable by the owner only, unlike argv). A refused peer is closed and the listener keeps
@@ -37,6 +38,12 @@ std::string random_token();
 /// /proc/<pid>/stat; false when a process on the chain is gone).
 bool is_same_or_descendant(pid_t pid, pid_t ancestor);
 
+/// True when process `pid` belongs to the Slurm job this process runs in: its environment
+/// (/proc/<pid>/environ, readable by the owner only) has our $SLURM_JOB_ID. The check that
+/// replaces descent from the launcher for `srun` stages, whose tasks are started by
+/// slurmstepd (decision D244). False outside a Slurm job.
+bool in_our_slurm_job(pid_t pid);
+
 /// The listening side: a private directory with one socket in it, and the expected token.
 class PrivateListener {
 public:
@@ -52,7 +59,8 @@ public:
   const std::string& token() const { return token_; }
 
   /// Waits up to `timeout_ms` for one connection and checks it: same uid, pid is `ancestor`
-  /// or a descendant of it, and the token arrives within `token_timeout_ms`. Returns the
+  /// or a descendant of it (`ancestor` <= 0: a task of our Slurm job, in_our_slurm_job), and
+  /// the token arrives within `token_timeout_ms`. Returns the
   /// connected socket (close-on-exec) when the peer passes, else -1 (nothing came, or the
   /// peer was refused and closed: see refused()).
   int accept_one(pid_t ancestor, int timeout_ms, int token_timeout_ms = 2000);

@@ -4,33 +4,15 @@
 // Units: LAMMPS `real` for everything the recipe feeds to LAMMPS (A, fs, kcal/mol, atm, K;
 // densities g/cm^3); the cases.h5 the pipeline hands to the fit is in SI (Pa).
 //
-// A recipe is a JSON object (or a TOML document with the same tables) with the sections below;
-// every key is optional (defaults: the values of the structs), unknown keys are errors. Errors name
-// the file, the field (dotted path), the value and the rule.
-//   { "name": "demo", "seed": 1, "model": "pp",
-//     "build":       { "chains", "beads_per_chain", "density", "min_distance" },
-//     "clay":        { "cells_a" | "aspect_ratio", "cells_b", "min_distance", "gap_x" }
-//                    (model "pnc" only; clay.hpp; cases default to 1..6)
-//     "forcefield":  { "sigma", "epsilon", "cutoff_sigma" },          (A, kcal/mol)
-//                    model "kg": { "sigma", "epsilon", "bead_mass", "fene_K_reduced",
-//                    "fene_R0_sigma", "cutoff_sigma", "bond_length_sigma" } (A, kcal/mol,
-//                    g/mol, eps/sigma^2, sigma, sigma, sigma); bead_spring.hpp; the same for
-//                    model "kg_platelet"
-//     "platelet":    { "beads_side", "layers", "spacing_sigma", "epsilon_wp_reduced",
-//                      "sigma_wp_sigma", "bond_K_reduced", "min_distance_sigma" }
-//                    (model "kg_platelet" only; platelet.hpp; cases default to 1..6)
-//     "equilibrate": { EquilibrateSpec fields by name },
-//     "deform":      { "cases", "strain_max", "steps", "timestep_fs", "hold_steps",
-//                      "sample_every", "blocks", "reference_holds", "temperature",
-//                      "damp_fs" },
-//     "analysis":    { "stress": "total" | "virial", "moving_average": odd >= 1 (display
-//                      only, never fitted: D133), "reference": "subtract" | "none" },
-//     "phase_check": { "enabled", "steps", "sample_every", "blocks", "shear_strain",
-//                      "bulk_strain", "cavitation_strain", "cavitation_steps" } (phase_check.hpp)
-//     "fit":         { "fit_alpha": bool, "hold_alpha": bool, "alpha": value in [0.5, 1.5],
-//                      "strain_max": fit range, dimensionless, 0 = every row (D12h) },
-//     "run":         { "jobs": N, "replicas": 1..64 (independent structures, D130) },
-//     "system":      { user_system.hpp: your own LAMMPS data file and force field } }
+// A recipe is a JSON object (or a TOML document with the same tables): the top-level keys
+// "name", "seed", "model" and the sections "build", "clay" (model pnc), "forcefield" (one set
+// of keys for models pp and pnc, another for kg and kg_platelet), "platelet" (model
+// kg_platelet), "equilibrate", "deform", "phase_check", "analysis", "fit", "run", "slurm"
+// (slurm.hpp), or, instead of the builder, "system" (user_system.hpp). Every key is declared
+// once, with its type, default (the values of the structs below), range, unit and text, in
+// recipe_parameters.cpp (declare_recipe); `pnc recipe parameters` prints them (JSON, a TOML
+// template, the Markdown tables of docs/rve.md). Every key is optional; unknown keys are
+// errors. Errors name the file, the field (dotted path), the value and the rule.
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/clay.hpp"
@@ -38,7 +20,10 @@
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/phase_check.hpp"
 #include "pnc/rve/platelet.hpp"
+#include "pnc/rve/slurm.hpp"
 #include "pnc/rve/user_system.hpp"
+
+#include "pnc/core/parameters.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -92,6 +77,9 @@ struct Recipe {
   UserSystem system;
   /// independent replicas: own build seed, own equilibration, every case (decision D130)
   int replicas = 1;
+  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D245); in
+  /// the expanded recipe only when given
+  SlurmSpec slurm;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 
@@ -103,8 +91,18 @@ inline constexpr std::size_t kMaxTextChars = 64;
 void check_free_text(const std::string& source, const std::string& field, const std::string& value,
                      std::size_t max_chars = kMaxTextChars);
 
-/// Parses and validates (the name with check_free_text). `source` names the file in errors.
+/// Parses and validates: the declared reads (declare_recipe, for the recipe's model or "system"),
+/// then the rules between keys (exclusive keys, model-dependent sections, phase_check.steps >=
+/// 2 x deform.hold_steps, the box against the cutoffs, ...). `source` names the file in errors.
 Recipe parse_recipe(const nlohmann::json& j, const std::string& source);
+/// Declares the recipe's keys in `p`, bound to `r` (defaults: r's values now). `variant`: "pp",
+/// "pnc", "kg", "kg_platelet" (that model's sections), "system" (a recipe with your own
+/// system: declare_user_system), or "" (every section of every variant and the keys of each
+/// kind of user stage, for the documentation: printable, not readable).
+void declare_recipe(Parameters& p, Recipe& r, const std::string& variant);
+/// declare_recipe() bound to a recipe of defaults that the result keeps alive (for printing:
+/// `pnc recipe parameters`). For "pnc" and "kg_platelet" deform.cases defaults to 1..6.
+Parameters recipe_parameters(const std::string& variant = "");
 /// Model kg_platelet's rules that need the whole recipe (implemented in platelet.cpp): the
 /// box of check_kg_platelet_box (D172); the platelet's frequency bound times equilibrate.
 /// timestep_fs and deform.timestep_fs <= 1 (D173). Throws InputError naming source and field.
@@ -118,7 +116,10 @@ nlohmann::json preset_json(const std::string& name);
 std::vector<std::string> preset_names();
 /// A recipe (JSON form, e.g. preset_json) written as TOML; read_recipe reads it back.
 std::string recipe_toml(const nlohmann::json& recipe);
-/// The recipe fully expanded (every field with its value), for records and `recipe show`.
+/// The recipe fully expanded (every declared key with its value; fit.alpha, fit.hold_alpha,
+/// fit.strain_max, fit.stretch_max, deform.shear_strain_max and clay.aspect_ratio only when set,
+/// the slurm section only when given), for records and `recipe show`: the declarations'
+/// values() (declare_recipe) plus the user's system with its resolved file and hash.
 nlohmann::json expanded_json(const Recipe& r);
 
 } // namespace pnc::rve

@@ -23,6 +23,8 @@
 // Force-field commands are an allow-list (kAllowedForceFieldCommands; decision D122): nothing
 // that runs dynamics, writes or includes files, calls the shell or Python, or substitutes
 // variables.
+#include "pnc/core/parameters.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -46,6 +48,11 @@ struct UserStage {
 };
 
 struct UserSystem {
+  /// The keys of "system" as written in the recipe (declare_user_system binds them); the fields
+  /// below are what finish_user_system makes of them.
+  struct Given {
+    std::string data_file, restart_file, units, fnv1a64;
+  } given;
   bool enabled = false;    ///< the recipe has a "system" section
   std::string input_file;  ///< absolute path of the data or restart file
   bool is_restart = false; ///< input_file is a LAMMPS restart file (else a data file)
@@ -59,6 +66,18 @@ struct UserSystem {
 /// The first words a force-field line may start with.
 const std::vector<std::string>& allowed_forcefield_commands();
 
+/// Declares the keys of "system" and of the user's "equilibrate" (its "stages", each read with
+/// declare_user_stage) in `p`, bound to `u` (decisions D121, D231). `applies` labels the two
+/// sections in printed tables; with `stage_tables` the keys of each stage kind are declared too,
+/// as sections "equilibrate.stages[]" (for the documentation only).
+void declare_user_system(Parameters& p, UserSystem& u, const std::string& applies = "",
+                         bool stage_tables = false);
+/// Declares the keys of one stage of `kind` ("minimize", "langevin", "npt") in the open section
+/// of `p`, bound to `s`.
+void declare_user_stage(Parameters& p, UserStage& s, const std::string& kind);
+/// After the declared reads: exactly one of data_file and restart_file, the file resolved
+/// against the recipe's directory and hashed (and compared with a given fnv1a64); sets enabled.
+void finish_user_system(UserSystem& u, const std::string& source);
 /// Parses "system" (`sys`) and, when given, "equilibrate" (`eq`, may be null) of a recipe.
 /// `source` is the recipe file: relative paths are resolved against its directory. Throws
 /// pnc::InputError naming source, the dotted field, the value and the rule.

@@ -1,5 +1,6 @@
 // Displacement gradients by eqs. 6.3-6.7 (pnc/gimp_coupler/escm_gradient.hpp, D79).
 #include "pnc/gimp_coupler/escm_gradient.hpp"
+#include "pnc/core/error.hpp"
 
 #include <Eigen/Dense>
 
@@ -54,8 +55,9 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
   long i0 = 0, i1 = 0, j0 = 0, j1 = 0;
   for (std::size_t p = 0; p < n; ++p) {
     if (!x_[p].allFinite() || !x_new[p].allFinite())
-      throw std::runtime_error("GradientTracker::update: non-finite position of particle " +
-                               std::to_string(p));
+      pnc::fail_simulation("escm: particle " + std::to_string(p), -1,
+                           std::numeric_limits<double>::quiet_NaN(), "",
+                           "non-finite position in the deformation-gradient update");
     const Eigen::Vector2d s = (x_[p] - origin_) / h_;
     el[p] = {static_cast<long>(std::floor(s[0])), static_cast<long>(std::floor(s[1]))};
     xi[p] =

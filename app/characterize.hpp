@@ -1,0 +1,45 @@
+#pragma once
+// `pnc characterize`, `pnc run-unit`, `pnc status`: the MD -> fit pipeline as a plan of units
+// run locally or through Slurm (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp;
+// docs/rve.md, docs/cluster.md, decisions D240-D246).
+#include "pnc/rve/characterize.hpp"
+#include "pnc/rve/recipe.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace pnc::app {
+
+struct CharacterizeArgs {
+  std::string recipe, out;
+  bool resume = false, json = false, no_plots = false;
+  int jobs = 0, ranks = 0, equilibrate_ranks = 0;
+  std::string executor = "local"; ///< "local" or "slurm"
+  bool wait = false;              ///< slurm: wait for the fit unit and report as local does
+  std::string partition, account, time, sbatch_template, job_name; ///< slurm overrides
+};
+int run_characterize(const CharacterizeArgs& a);
+
+/// Options `pnc characterize` and `pnc run-unit` hand to the fit unit (plan parameters).
+struct FitUnitArgs {
+  std::string recipe, out; ///< the recipe argument as given, the run folder
+  bool no_plots = false;
+};
+/// The fit unit: fit of cases.h5 -> card.h5, plots, report.md and summary.json (what
+/// `pnc characterize --json` prints). Returns 0, 3 (fit not converged) or 4 (card not usable).
+int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitArgs& a);
+std::string summary_path(const std::string& dir); ///< DIR/summary.json
+
+/// Registers `pnc run-unit` and `pnc status` (app/cmd_campaign.cpp).
+using Action = std::function<int()>;
+void register_campaign(CLI::App& app, Action& action);
+
+std::string preset_list();
+rve::Recipe load_recipe(const std::string& arg);
+
+} // namespace pnc::app

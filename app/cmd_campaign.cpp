@@ -1,0 +1,383 @@
+// pnc characterize (the driver: plan, local or Slurm executor), pnc run-unit DIR UNIT, pnc status
+// DIR (app/characterize.hpp; docs/rve.md, docs/cluster.md, decisions D240-D246).
+#include "characterize.hpp"
+#include "registrars.hpp"
+#include "run_control.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/core/error_record.hpp"
+#include "pnc/core/run_dir.hpp"
+#include "pnc/core/stop.hpp"
+#include "pnc/rve/campaign.hpp"
+#include "pnc/rve/executor.hpp"
+#include "pnc/rve/lammps_server.hpp"
+#include "pnc/rve/slurm.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+namespace pnc::app {
+
+namespace fs = std::filesystem;
+
+std::string preset_list() {
+  std::string s;
+  for (const auto& n : rve::preset_names())
+    s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+rve::Recipe load_recipe(const std::string& arg) {
+  for (const auto& n : rve::preset_names())
+    if (arg == n) return rve::parse_recipe(rve::preset_json(n), "preset " + n);
+  if (!fs::is_regular_file(arg))
+    fail(arg, "RECIPE", arg,
+         "is neither a recipe file (.json, .toml) nor a preset name (" + preset_list() + ")");
+  return rve::read_recipe(arg);
+}
+
+namespace {
+
+/// MPI ranks per LAMMPS stage and units at a time. Started as `mpirun -np K pnc ...`, rank 0
+/// is the supervisor and runs every stage on K ranks (a fresh mpirun per stage, so a LAMMPS
+/// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
+/// Returns false on those follower ranks.
+bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
+  const rve::LauncherInfo li = rve::launcher_from_environment();
+  if (li.rank > 0) return false;
+  ranks = cli_ranks > 0 ? cli_ranks : li.size;
+  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);
+  if (li.size > 1)
+    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
+                             "rank(s), {} unit(s) at a time\n",
+                             li.size, ranks, jobs);
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
+    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
+                             jobs, ranks * jobs, cores);
+  return true;
+}
+
+/// Runs unit `u` in this process and records its state; returns the exit code (0; the fit's
+/// 3 or 4; 1 bad input or a failed unit; 2 internal error; 128 + N stopped by signal N).
+/// Errors are printed when `print_errors` (a Slurm job's output); a local child leaves that to
+/// the executor, which reads the state file.
+int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, const rve::Unit& u,
+              bool print_errors) {
+  try {
+    if (u.kind == "fit") {
+      int code = 0;
+      rve::run_unit_recorded(dir, u, [&] {
+        const rve::MdOutcome md = rve::collect_md(r, dir, p);
+        FitUnitArgs fa{p.parameters.value("recipe", std::string(dir)), dir,
+                       p.parameters.value("no_plots", false)};
+        code = run_fit_unit(r, md, fa);
+        return nlohmann::json{{"exit_code", code}, {"summary", summary_path(dir)}};
+      });
+      return code;
+    }
+    rve::run_unit_recorded(dir, u, [&] { return rve::run_md_unit(r, dir, u); });
+    return 0;
+  } catch (const pnc::Interrupted& e) {
+    if (print_errors)
+      std::cerr << "pnc: unit " << u.id << " stopped by " << signal_name(e.signal()) << ": "
+                << e.detail() << "; it is pending again\n";
+    return 128 + (e.signal() > 0 ? e.signal() : 2);
+  } catch (const pnc::InputError& e) {
+    if (print_errors) std::cerr << "pnc: error: unit " << u.id << ": " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    if (print_errors) std::cerr << "pnc: internal error: unit " << u.id << ": " << e.what() << "\n";
+    return 2;
+  }
+}
+
+/// After the executor: the fit's result (its summary and exit code), or the failures.
+int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
+             const std::vector<std::string>& not_run) {
+  const rve::UnitStatus fit = rve::read_status(a.out, "fit");
+  if (fit.state != rve::UnitState::done) {
+    // a unit stopped by LAMMPS (or by a simulation failure): the driver ends with that error
+    // and its exit code (7 or 6, docs/errors.md), the other failures counted on the line before
+    for (const auto& u : p.units) {
+      const rve::UnitStatus s = rve::read_status(a.out, u.id);
+      const auto e = s.detail.find("error");
+      if (s.state != rve::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
+      const int code = e->value("exit_code", 0);
+      if (code != pnc::exit_code::tool_failed && code != pnc::exit_code::simulation_failed)
+        continue;
+      std::cerr << fmt::format(
+          "pnc characterize: {} unit(s) failed{}; finished units are kept: "
+          "rerun with --resume (pnc status {} shows every unit)\n",
+          failed.size(), not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), a.out);
+      pnc::rethrow_error_record(*e);
+    }
+    std::string first = failed.empty() ? "the fit did not run" : failed.front();
+    for (const auto& f : failed)
+      if (f.rfind("fit:", 0) != 0) {
+        first = f;
+        break;
+      }
+    fail(a.out, "units", std::to_string(failed.size() + not_run.size()),
+         fmt::format("{} unit(s) failed{}: {}; finished units are kept: rerun with --resume "
+                     "(pnc status {} shows every unit)",
+                     failed.size(),
+                     not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), first,
+                     a.out));
+  }
+  if (a.json) {
+    std::ifstream f(summary_path(a.out));
+    std::stringstream ss;
+    ss << f.rdbuf();
+    std::cout << ss.str() << std::flush;
+  }
+  return fit.detail.value("exit_code", 0);
+}
+
+std::string job_prefix(const CharacterizeArgs& a, const rve::Recipe& r) {
+  if (!a.job_name.empty()) return a.job_name;
+  std::string s = "pnc-";
+  for (char c : r.name)
+    s += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_';
+  return s.substr(0, 40);
+}
+
+/// Polls the unit states until the fit ended, printing every change; a stop request ends the
+/// wait (the jobs keep running).
+void wait_for_slurm(const CharacterizeArgs& a, const rve::Plan& p, std::vector<std::string>& failed,
+                    int poll_s) {
+  std::map<std::string, std::string> shown;
+  for (;;) {
+    std::map<std::string, std::string> q;
+    bool have_queue = true;
+    try {
+      q = rve::slurm_queue();
+    } catch (const pnc::InputError& e) {
+      have_queue = false;
+      std::cerr << "pnc: warning: " << e.what() << "\n";
+    }
+    failed.clear();
+    rve::UnitStatus fit;
+    for (const auto& u : p.units) {
+      const rve::UnitStatus s = rve::effective_status(a.out, u.id, have_queue ? &q : nullptr);
+      std::string line = rve::state_name(s.state);
+      if (!s.job_id.empty()) line += " (job " + s.job_id + ")";
+      if (s.state == rve::UnitState::failed) {
+        line += ": " + s.message + (s.log_path.empty() ? "" : " (log " + s.log_path + ")");
+        failed.push_back(u.id + ": " + s.message + " (job " + s.job_id + ")");
+      }
+      if (shown[u.id] != line) {
+        std::cerr << "pnc: unit " << u.id << ": " << line << "\n";
+        shown[u.id] = line;
+      }
+      if (u.id == "fit") fit = s;
+    }
+    if (fit.state == rve::UnitState::done || fit.state == rve::UnitState::failed) return;
+    if (fit.state == rve::UnitState::pending)
+      fail(a.out, "fit", "", "the fit unit has no job: rerun with --resume to submit it");
+    for (int k = 0; k < poll_s * 10; ++k) {
+      pnc::throw_if_stopped(
+          fmt::format("stopped waiting; the Slurm jobs keep running (pnc status {})", a.out));
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+}
+
+int run_slurm(const CharacterizeArgs& a, const rve::Recipe& r, const rve::Plan& p) {
+  rve::SlurmSpec spec = r.slurm;
+  if (!a.partition.empty()) spec.partition = a.partition;
+  if (!a.account.empty()) spec.account = a.account;
+  if (!a.time.empty()) spec.time = a.time;
+  if (!a.sbatch_template.empty()) spec.template_path = a.sbatch_template;
+  spec.validate("<command line>");
+  const std::string exe = fs::canonical("/proc/self/exe").string();
+  const rve::SlurmSubmission sub = rve::submit_slurm(a.out, p, spec, exe, job_prefix(a, r));
+  std::map<std::string, std::vector<std::string>> by_job;
+  for (const auto& [unit, job] : sub.job_of_unit)
+    by_job[job.substr(0, job.find('_'))].push_back(unit);
+  for (const auto& j : sub.jobs)
+    std::cerr << fmt::format("pnc characterize: job {}: {}\n", j, fmt::join(by_job[j], ", "));
+  if (!sub.kept.empty())
+    std::cerr << fmt::format("pnc characterize: still queued or running: {}\n",
+                             fmt::join(sub.kept, ", "));
+  if (sub.jobs.empty() && sub.kept.empty()) std::cerr << "pnc characterize: every unit is done\n";
+  if (!a.wait && !(sub.jobs.empty() && sub.kept.empty())) {
+    std::cerr << fmt::format("pnc characterize: submitted {} job(s); follow with: pnc status {}\n",
+                             sub.jobs.size(), a.out);
+    if (a.json)
+      std::cout << nlohmann::json{{"command", "characterize"},
+                                  {"executor", "slurm"},
+                                  {"out", a.out},
+                                  {"jobs", sub.jobs},
+                                  {"units", sub.job_of_unit}}
+                       .dump()
+                << std::endl;
+    return 0;
+  }
+  std::vector<std::string> failed;
+  const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
+  wait_for_slurm(a, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
+  return conclude(a, p, failed, {});
+}
+
+int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
+  const rve::Plan p = rve::read_plan(dir);
+  std::string id = ids.size() == 1 ? ids[0] : "";
+  if (ids.size() > 1) { // a job array: task i runs the i-th unit
+    const char* t = std::getenv("SLURM_ARRAY_TASK_ID");
+    const long k = t && *t ? std::strtol(t, nullptr, 10) : -1;
+    if (k < 0 || k >= static_cast<long>(ids.size()))
+      fail("<command line>", "UNIT", fmt::format("{} units", ids.size()),
+           "several units need $SLURM_ARRAY_TASK_ID = 0..n-1 to pick one (a Slurm job array)");
+    id = ids[static_cast<std::size_t>(k)];
+  }
+  rve::check_unit_id(id, "<command line>");
+  const rve::Unit& u = p.unit(id);
+  if (rve::read_status(dir, id).state == rve::UnitState::done) { // e.g. a resubmitted job
+    std::cerr << fmt::format("pnc run-unit {} {}: already done, nothing to do\n", dir, id);
+    return 0;
+  }
+  const rve::Recipe r = rve::read_run_recipe(dir);
+  const StopSignals signals; // scancel's SIGTERM: stop at the next checkpoint, pending again
+  std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, rve::host_name(),
+                           ::getpid());
+  return unit_main(dir, p, r, u, true);
+}
+
+int run_status(const std::string& dir, bool json) {
+  const rve::Plan p = rve::read_plan(dir);
+  bool slurm = false;
+  for (const auto& u : p.units)
+    slurm = slurm || !rve::read_status(dir, u.id).job_id.empty();
+  std::map<std::string, std::string> q;
+  bool have_queue = false;
+  if (slurm) try {
+      q = rve::slurm_queue();
+      have_queue = true;
+    } catch (const pnc::InputError& e) {
+      std::cerr << "pnc: warning: " << e.what() << "; states as recorded\n";
+    }
+  nlohmann::json units = nlohmann::json::array();
+  std::map<std::string, int> count;
+  std::string table = fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", "unit", "state", "job",
+                                  "seconds", "queue / message / log");
+  const std::string me = rve::host_name();
+  for (const auto& u : p.units) {
+    rve::UnitStatus s = rve::effective_status(dir, u.id, have_queue ? &q : nullptr);
+    // a local unit that is "running" in a process that is gone ended without a report
+    if (s.state == rve::UnitState::running && s.job_id.empty() && s.host == me && s.pid > 0 &&
+        ::kill(static_cast<pid_t>(s.pid), 0) != 0 && errno == ESRCH) {
+      s.state = rve::UnitState::failed;
+      s.message = fmt::format("process {} ended without a report", s.pid);
+    }
+    ++count[rve::state_name(s.state)];
+    const double secs = s.detail.value("seconds", 0.0);
+    std::string note = s.message;
+    if (have_queue && q.count(s.job_id)) note = q[s.job_id] + (note.empty() ? "" : "; " + note);
+    if (!s.log_path.empty() && s.state != rve::UnitState::done)
+      note += (note.empty() ? "log " : " (log ") + s.log_path + (note.empty() ? "" : ")");
+    table += fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", u.id, rve::state_name(s.state),
+                         s.job_id.empty() ? "-" : s.job_id,
+                         secs > 0 ? fmt::format("{:.1f}", secs) : "-", note);
+    nlohmann::json j = rve::status_json(s);
+    j["unit"] = u.id;
+    j["kind"] = u.kind;
+    j["needs"] = u.needs;
+    if (have_queue && q.count(s.job_id)) j["queue"] = q[s.job_id];
+    units.push_back(j);
+  }
+  std::string sum;
+  for (const char* k : {"done", "running", "queued", "pending", "failed"})
+    if (count[k]) sum += fmt::format("{}{} {}", sum.empty() ? "" : ", ", count[k], k);
+  std::cerr << table << fmt::format("pnc status {}: {} unit(s): {}\n", dir, p.units.size(), sum);
+  if (json)
+    std::cout << nlohmann::json{{"command", "status"}, {"dir", dir}, {"units", units}}.dump()
+              << std::endl;
+  return count["failed"] > 0 ? 1 : 0;
+}
+
+} // namespace
+
+int run_characterize(const CharacterizeArgs& a) {
+  const rve::Recipe r = load_recipe(a.recipe);
+  if (a.executor != "local" && a.executor != "slurm")
+    fail("<command line>", "--executor", a.executor, "must be local or slurm");
+  int ranks = 1, jobs = 1;
+  if (!plan_parallelism(a.ranks, a.jobs, r.jobs, ranks, jobs)) return 0;
+  const int nrep = std::max(1, r.replicas);
+  int eq_ranks = a.equilibrate_ranks;
+  if (a.executor == "slurm") { // ranks per unit: CLI, else the recipe's slurm section, else 1
+    if (a.ranks == 0 && r.slurm.ranks > 0) ranks = r.slurm.ranks;
+    if (eq_ranks == 0) eq_ranks = r.slurm.equilibrate_ranks > 0 ? r.slurm.equilibrate_ranks : ranks;
+  } else if (eq_ranks == 0) {
+    // decision D241: min(jobs, replicas) equilibrations run at once and share the cores the
+    // cases will share (ranks x jobs, at most the machine's); one replica gets them all
+    const int cores = static_cast<int>(std::thread::hardware_concurrency());
+    const int budget = cores > 0 ? std::min(ranks * jobs, cores) : ranks;
+    eq_ranks = std::max(ranks, budget / std::max(1, std::min(jobs, nrep)));
+  }
+  // one driver per run folder (core/run_dir.hpp); SIGINT/SIGTERM stop the units at their next
+  // checkpoint and leave them pending for --resume (run_control.hpp)
+  const RunDirLock lock(a.out, command_line());
+  const StopSignals signals;
+  rve::prepare_run_folder(r, a.out, a.resume);
+  // the fit runs again on every --resume: it takes seconds, reads only what the MD units left
+  // on disk, and follows this command's options (--no-plots) rather than the first run's
+  if (a.resume) rve::clear_status(a.out, "fit");
+  const nlohmann::json params = {
+      {"recipe", a.recipe}, {"no_plots", a.no_plots}, {"executor", a.executor}, {"jobs", jobs}};
+  const rve::Plan p = rve::characterize_plan(r, ranks, eq_ranks, params);
+  rve::write_plan(a.out, p);
+  if (a.executor == "slurm") return run_slurm(a, r, p);
+  std::cerr << fmt::format("pnc characterize: {} unit(s), {} at a time; cases on {} MPI rank(s), "
+                           "equilibrations on {}; states in {}/state, pnc status {} shows them\n",
+                           p.units.size(), jobs, ranks, eq_ranks, a.out, a.out);
+  const rve::LocalRun lr = rve::run_local(
+      a.out, p, jobs, [&](const rve::Unit& u) { return unit_main(a.out, p, r, u, false); });
+  return conclude(a, p, lr.failed, lr.not_run);
+}
+
+void register_campaign(CLI::App& app, Action& action) {
+  struct UnitArgs {
+    std::string dir;
+    std::vector<std::string> units;
+  };
+  auto ua = std::make_shared<UnitArgs>();
+  auto* ru = app.add_subcommand(
+      "run-unit", "Run one unit of a run folder's plan (what a Slurm job of pnc executes; "
+                  "docs/cluster.md)");
+  ru->add_option("dir", ua->dir, "Run folder (the --out of pnc characterize)")->required();
+  ru->add_option("unit", ua->units,
+                 "Unit id, e.g. replica_2/case_4 (several: a job array, task "
+                 "$SLURM_ARRAY_TASK_ID picks one)")
+      ->required();
+  ru->callback([ua, &action] { action = [ua] { return run_unit_cli(ua->dir, ua->units); }; });
+
+  struct StatusArgs {
+    std::string dir;
+    bool json = false;
+  };
+  auto sa = std::make_shared<StatusArgs>();
+  auto* st = app.add_subcommand(
+      "status", "Each unit of a run folder: pending, queued, running, done or failed (with its "
+                "message, log and Slurm job id); exit code 1 when a unit failed");
+  st->add_option("dir", sa->dir, "Run folder (the --out of pnc characterize)")->required();
+  st->add_flag("--json", sa->json, "Print one JSON object on stdout");
+  st->callback([sa, &action] { action = [sa] { return run_status(sa->dir, sa->json); }; });
+}
+
+} // namespace pnc::app

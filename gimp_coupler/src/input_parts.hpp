@@ -1,0 +1,125 @@
+#pragma once
+// The parts of the JSON input of `pnc gimp run` (input.hpp, docs/gimp.md), one reader per
+// section; private to the solver library. Every error is a pnc::InputError naming the file,
+// the key path, the value and the rule. SI units (m, kg, s, Pa).
+#include "pnc/gimp_coupler/input.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+
+namespace pnc::gimp::input_detail {
+
+using json = nlohmann::json;
+
+inline std::string show(const json& v) {
+  return show_json(v);
+}
+
+/// Access to one JSON object with the key path and the source for errors.
+struct Node {
+  const json& j;
+  std::string path; // "bodies[0]" ("" at the top)
+  const std::string& src;
+
+  std::string key(const std::string& k) const { return path.empty() ? k : path + "." + k; }
+  [[noreturn]] void bad(const std::string& k, const json& v, const std::string& rule) const {
+    fail(src, key(k), show(v), rule);
+  }
+  bool has(const std::string& k) const { return j.contains(k) && !j.at(k).is_null(); }
+  const json& at(const std::string& k) const {
+    if (!has(k)) fail(src, key(k), "<missing>", "required key");
+    return j.at(k);
+  }
+  Node child(const std::string& k) const {
+    const json& c = at(k);
+    if (!c.is_object()) bad(k, c, "must be a JSON object");
+    return Node{c, key(k), src};
+  }
+  void allow(std::initializer_list<const char*> keys) const {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      bool ok = false;
+      std::string list;
+      for (const char* k : keys) {
+        ok = ok || it.key() == k;
+        list += (list.empty() ? "" : ", ") + std::string(k);
+      }
+      if (!ok) fail(src, key(it.key()), show(it.value()), "unknown key (allowed: " + list + ")");
+    }
+  }
+  double num(const std::string& k) const {
+    const json& v = at(k);
+    if (!v.is_number() || !std::isfinite(v.get<double>())) bad(k, v, "must be a finite number");
+    return v.get<double>();
+  }
+  double num(const std::string& k, double def) const { return has(k) ? num(k) : def; }
+  double positive(const std::string& k) const {
+    const double x = num(k);
+    if (!(x > 0)) bad(k, j.at(k), "must be > 0");
+    return x;
+  }
+  long integer(const std::string& k, long def, long lo, long hi) const {
+    return has(k) ? get_integer_as<long>(j.at(k), src, key(k), lo, hi) : def;
+  }
+  std::string str(const std::string& k) const {
+    const json& v = at(k);
+    if (!v.is_string()) bad(k, v, "must be a string");
+    return v.get<std::string>();
+  }
+  template <int D> Eigen::Matrix<double, D, 1> vec(const std::string& k) const {
+    const json& v = at(k);
+    if (!v.is_array() || v.size() != static_cast<std::size_t>(D))
+      bad(k, v, "must be an array of " + std::to_string(D) + " numbers");
+    Eigen::Matrix<double, D, 1> r;
+    for (int a = 0; a < D; ++a) {
+      const json& e = v[static_cast<std::size_t>(a)];
+      if (!e.is_number() || !std::isfinite(e.get<double>()))
+        bad(k, v, "must be an array of " + std::to_string(D) + " finite numbers");
+      r[a] = e.get<double>();
+    }
+    return r;
+  }
+  Ramp ramp(const std::string& k) const {
+    if (!has(k)) return Ramp{0.0, 0.0};
+    const json& v = j.at(k);
+    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() ||
+        v[0].get<double>() < 0 || v[1].get<double>() < v[0].get<double>())
+      bad(k, v, "must be [t_start, t_end] in s with 0 <= t_start <= t_end");
+    return Ramp{v[0].get<double>(), v[1].get<double>()};
+  }
+  template <int D> int axis(const std::string& k, const json& v) const {
+    static const char* names[] = {"x", "y", "z"};
+    if (v.is_string())
+      for (int a = 0; a < D; ++a)
+        if (v.get<std::string>() == names[a]) return a;
+    bad(k, v, D == 2 ? "must be \"x\" or \"y\"" : "must be \"x\", \"y\" or \"z\"");
+  }
+};
+
+/// A relative path `p` resolved against the input's folder `base`.
+std::filesystem::path resolve(const std::string& base, const std::string& p);
+
+/// grid: origin, cells, cell_size.
+template <int D> void read_grid(const Node& top, Solver<D>& s);
+/// materials[]: the laws (materials.hpp); their names into rc.material_names.
+template <int D>
+void read_materials(const Node& top, const std::string& base_dir, RunConfig& rc, Solver<D>& s);
+/// bodies[] -> particles on a regular sub-grid of ppc^D points per cell, or from a CSV file;
+/// every particle's support must lie inside the grid.
+template <int D>
+void read_bodies(const Node& top, int ppc, const std::string& base_dir, const RunConfig& rc,
+                 Solver<D>& s);
+/// boundaries[]: velocity BCs on the grid nodes in a box.
+template <int D> void read_boundaries(const Node& top, Solver<D>& s);
+/// cracks[]: 2-D polylines, 3-D planar polygons (D42), their growth (D40, D43).
+template <int D> void read_cracks(const Node& top, Solver<D>& s);
+/// loads: gravity and surface tractions (D44).
+template <int D> void read_loads(const Node& top, Solver<D>& s);
+
+} // namespace pnc::gimp::input_detail

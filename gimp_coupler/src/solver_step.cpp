@@ -1,0 +1,354 @@
+// The grid transfers of one explicit uGIMP step (solver.hpp, Solver::step): P2G, nodal
+// velocities, stress update with the internal forces, the nodal update with its damping work,
+// the reactions, G2P. SI units.
+#include "pnc/core/error.hpp"
+#include "pnc/gimp_coupler/solver.hpp"
+
+#include "solver_pool.hpp"
+
+#include <algorithm>
+#include <array>
+#include <exception>
+#include <stdexcept>
+
+namespace pnc::gimp {
+
+using detail::block;
+using detail::par;
+
+// P2G of m, p, f^int (sigma^t, V^t), f^ext at x^t. (The f^int,* scatter happens in the stress
+// update of step().)
+template <int D> void Solver<D>::scatter() {
+  auto& P = particles;
+  const int T = threads;
+  par(pool_.get(), [&](int t) {
+    double* m = T > 1 ? buf_[t].m.data() : gm_.data();
+    Vec* pp = T > 1 ? buf_[t].p.data() : gp_.data();
+    Vec* fi = T > 1 ? buf_[t].fi.data() : gfi_.data();
+    Vec* fe = T > 1 ? buf_[t].fe.data() : gfe_.data();
+    const std::size_t nn = gm_.size();
+    std::fill(m, m + nn, 0.0);
+    std::fill(pp, pp + nn, Vec::Zero());
+    std::fill(fi, fi + nn, Vec::Zero());
+    if (has_fext_ || T > 1) std::fill(fe, fe + nn, Vec::Zero());
+    const auto [b, e] = block(t, T, P.size());
+    Stencil<D> st;
+    for (std::size_t p = b; p < e; ++p) {
+      AxisWeights<D>& aw = wcache_[p];
+      if (!compute_axis_weights(grid, P.x[p], P.l[p], aw)) left_grid(p);
+      assemble_stencil(grid, aw, st);
+      if (nfields_ > 1 && !near_crack(P.x[p])) {
+        fmask_[p] = 0;
+      } else if (nfields_ > 1) {
+        std::uint32_t mask = 0;
+        for (int k = 0; k < Stencil<D>::size; ++k)
+          if (st.S[k] > 0.0 && crosses(P.x[p], grid.position(st.node[k]))) mask |= 1u << k;
+        fmask_[p] = mask;
+        apply_fields(p, st);
+      }
+      // Scalar loops: Eigen temporaries of small fixed-size products spilled to the stack and
+      // caused store-forwarding stalls in this hot loop.
+      double sV[D][D], mv[D];
+      for (int a = 0; a < D; ++a) {
+        mv[a] = P.m[p] * P.v[p][a];
+        for (int c = 0; c < D; ++c)
+          sV[a][c] = P.sigma[p](a, c) * P.V[p];
+      }
+      const double mp = P.m[p];
+      for (int k = 0; k < Stencil<D>::size; ++k) {
+        const std::int64_t i = st.node[k];
+        const double S = st.S[k];
+        const Vec& dS = st.dS[k];
+        m[i] += S * mp;
+        for (int a = 0; a < D; ++a) {
+          double f = 0.0;
+          for (int c = 0; c < D; ++c)
+            f += sV[a][c] * dS[c];
+          pp[i][a] += S * mv[a];
+          fi[i][a] -= f;
+        }
+      }
+      if (has_fext_)
+        for (int k = 0; k < Stencil<D>::size; ++k)
+          fe[st.node[k]] += st.S[k] * P.fext[p];
+    }
+  });
+  reduce(true);
+  if (nfields_ > 1) { // nodal displacements per field for the contact gap test (serial)
+    std::fill(gu_.begin(), gu_.end(), Vec::Zero());
+    Stencil<D> st;
+    for (std::size_t p = 0; p < P.size(); ++p) {
+      if (!near_crack(P.x[p])) continue; // only nodes near the crack are tested for contact
+      assemble_stencil(grid, wcache_[p], st);
+      apply_fields(p, st);
+      const Vec mu = P.m[p] * (P.x[p] - P.x0[p]);
+      for (int k = 0; k < Stencil<D>::size; ++k)
+        gu_[st.node[k]] += st.S[k] * mu;
+    }
+  }
+}
+
+template <int D> void Solver<D>::reduce(bool first) {
+  const int T = threads;
+  if (T <= 1) return;
+  par(pool_.get(), [&](int t) {
+    const auto [b, e] = block(t, T, gm_.size());
+    for (std::size_t i = b; i < e; ++i) {
+      Vec fi = buf_[0].fi[i];
+      for (int s = 1; s < T; ++s)
+        fi += buf_[s].fi[i];
+      gfi_[i] = fi;
+      if (first) {
+        double m = buf_[0].m[i];
+        Vec pp = buf_[0].p[i], fe = buf_[0].fe[i];
+        for (int s = 1; s < T; ++s) {
+          m += buf_[s].m[i];
+          pp += buf_[s].p[i];
+          fe += buf_[s].fe[i];
+        }
+        gm_[i] = m;
+        gp_[i] = pp;
+        gfe_[i] = fe;
+      }
+    }
+  });
+}
+
+template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool) const {
+  for (const auto& bc : bcs) {
+    const double f = bc.ramp(t);
+    for (std::int64_t i0 : bc.nodes)
+      for (int fld = 0; fld < nfields_; ++fld) {
+        const auto i = static_cast<std::size_t>(i0) + static_cast<std::size_t>(fld) * nnodes_;
+        for (int a = 0; a < D; ++a)
+          if (bc.mask[a]) vel[i][a] = bc.velocity[a] * f;
+      }
+  }
+  for (std::size_t k = 0; k < prescribed_nodes.size(); ++k) // coupling hook (ESCM)
+    for (int fld = 0; fld < nfields_; ++fld)
+      vel[static_cast<std::size_t>(prescribed_nodes[k]) + static_cast<std::size_t>(fld) * nnodes_] =
+          prescribed_velocity[k];
+}
+
+// Step 1: nodal velocities v^t (kept in gp_) and v*.
+template <int D> void Solver<D>::grid_velocities(double dt) {
+  const std::size_t nn = gm_.size();
+  const int T = threads;
+  par(pool_.get(), [&](int th) {
+    const auto [b, e] = block(th, T, nn);
+    for (std::size_t i = b; i < e; ++i) {
+      active_[i] = gm_[i] > mass_floor_;
+      if (active_[i]) {
+        gp_[i] /= gm_[i];
+        gfi0_[i] = gfi_[i];
+        gvs_[i] =
+            gp_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) - (0.5 * dt * damping) * gp_[i];
+      } else {
+        gp_[i].setZero();
+        gvs_[i].setZero();
+        gfi0_[i].setZero();
+      }
+    }
+  });
+}
+
+// Steps 2 and 3: F, stress (weights at x^t), and f^int,* = -sum sigma* grad S V^t in the same
+// pass.
+template <int D> void Solver<D>::update_stress(double dt) {
+  auto& P = particles;
+  const std::size_t n = P.size();
+  const std::size_t nn = gm_.size();
+  const int T = threads;
+  par(pool_.get(), [&](int th) {
+    const auto [b, e] = block(th, T, n);
+    Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
+    std::fill(fi, fi + nn, Vec::Zero());
+    Stencil<D> st;
+    const int stride = P.state_stride;
+    std::vector<double> s1(static_cast<std::size_t>(std::max(stride, 1)));
+    for (std::size_t p = b; p < e; ++p) {
+      assemble_stencil(grid, wcache_[p], st); // weights at x^t from the P2G pass
+      if (nfields_ > 1) apply_fields(p, st);
+      // grad v* = sum v*_i (x) grad S_ip, with scalar accumulators (an Eigen outer-product
+      // temporary here caused store-forwarding stalls that cost half of the 3-D step).
+      double g[D][D] = {};
+      for (int k = 0; k < Stencil<D>::size; ++k) {
+        const Vec& vi = gvs_[st.node[k]];
+        const Vec& dS = st.dS[k];
+        for (int a = 0; a < D; ++a)
+          for (int c = 0; c < D; ++c)
+            g[a][c] += vi[a] * dS[c];
+      }
+      Mat grad;
+      for (int a = 0; a < D; ++a)
+        for (int c = 0; c < D; ++c)
+          grad(a, c) = g[a][c];
+      const Mat Fnew = (Mat::Identity() + dt * grad) * P.F[p];
+      const Material& mt = *materials[static_cast<std::size_t>(P.mat[p])];
+      double* s = P.state.data() + p * static_cast<std::size_t>(stride);
+      try {
+        mt.update(to3<D>(P.F[p]), to3<D>(Fnew), s, s1.data(), P.sigma[p], P.W[p]);
+      } catch (const pnc::InputError&) {
+        throw; // a material that refuses its configuration: the user's input
+      } catch (const std::exception& ex) {
+        // the law cannot take this deformation (det F <= 0, a plugin's failed point): the
+        // simulation failed at this particle, exit code 6
+        pnc::fail_simulation("gimp: particle " + std::to_string(p), steps, time, "s", ex.what());
+      }
+      std::copy(s1.begin(), s1.begin() + stride, s);
+      double sV[D][D]; // V^t
+      for (int a = 0; a < D; ++a)
+        for (int c = 0; c < D; ++c)
+          sV[a][c] = P.sigma[p](a, c) * P.V[p];
+      for (int k = 0; k < Stencil<D>::size; ++k) {
+        const Vec& dS = st.dS[k];
+        Vec& f = fi[st.node[k]];
+        for (int a = 0; a < D; ++a) {
+          double q = 0.0;
+          for (int c = 0; c < D; ++c)
+            q += sV[a][c] * dS[c];
+          f[a] -= q;
+        }
+      }
+      P.F[p] = Fnew;
+      P.V[p] = P.V0[p] * Fnew.determinant();
+    }
+  });
+}
+
+// Step 4: v^t+dt at the nodes; returns the work of the damping forces (D41).
+template <int D> double Solver<D>::advance_grid(double dt) {
+  const std::size_t nn = gm_.size();
+  const int T = threads;
+  par(pool_.get(), [&](int th) {
+    const auto [b, e] = block(th, T, nn);
+    for (std::size_t i = b; i < e; ++i)
+      gvn_[i] = active_[i] ? Vec(gvs_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) -
+                                 (0.5 * dt * damping) * gvs_[i])
+                           : Vec::Zero();
+  });
+  // D41: work of the damping forces -alpha m v on the free components, v^t, v* and v^t+dt
+  // weighted as in the two half steps (the trapezoidal rule over the step).
+  double wdamp = 0.0;
+  if (damping > 0.0) {
+    auto dw = [&](std::size_t i) {
+      double w = 0.0;
+      const unsigned char bm = bcmask_[i % nnodes_];
+      for (int a = 0; a < D; ++a)
+        if (!(bm & (1u << a)))
+          w -= 0.5 * dt * damping * gm_[i] *
+               (0.5 * (gp_[i][a] + gvs_[i][a]) * gp_[i][a] +
+                0.5 * (gvs_[i][a] + gvn_[i][a]) * gvs_[i][a]);
+      return w;
+    };
+    for (std::size_t i = 0; i < nn; ++i)
+      if (active_[i]) wdamp += dw(i);
+    for (std::int64_t i0 : prescribed_nodes) // fully prescribed by a coupling: not damped
+      for (int fld = 0; fld < nfields_; ++fld) {
+        const std::size_t i =
+            static_cast<std::size_t>(i0) + static_cast<std::size_t>(fld) * nnodes_;
+        if (active_[i]) wdamp -= dw(i);
+      }
+  }
+  return wdamp;
+}
+
+// Reactions of the BCs and of the prescribed nodes (coupling hook, ESCM); returns the work of
+// the BC reactions over the step.
+template <int D> double Solver<D>::reactions(double dt, double t) {
+  double wbc = 0.0;
+  for (auto& bc : bcs) {
+    bc.reaction.setZero();
+    const double f = bc.ramp(t + 0.5 * dt);
+    for (std::size_t q = 0; q < bc.nodes.size() * static_cast<std::size_t>(nfields_); ++q) {
+      const std::size_t i =
+          static_cast<std::size_t>(bc.nodes[q % bc.nodes.size()]) + (q / bc.nodes.size()) * nnodes_;
+      if (!active_[i]) continue;
+      const Vec fmean = 0.5 * (gfi0_[i] + gfi_[i]) + gfe_[i];
+      const Vec R = gm_[i] * (gvn_[i] - gp_[i]) / dt - fmean;
+      for (int a = 0; a < D; ++a)
+        if (bc.mask[a]) {
+          bc.reaction[a] += R[a];
+          wbc += dt * R[a] * bc.velocity[a] * f;
+        }
+    }
+  }
+
+  // Reactions of the prescribed nodes (coupling hook, ESCM).
+  prescribed_reaction.assign(prescribed_nodes.size(), Vec::Zero());
+  for (std::size_t k = 0; k < prescribed_nodes.size(); ++k)
+    for (int fld = 0; fld < nfields_; ++fld) {
+      const std::size_t i =
+          static_cast<std::size_t>(prescribed_nodes[k]) + static_cast<std::size_t>(fld) * nnodes_;
+      if (!active_[i]) continue;
+      const Vec R = gm_[i] * (gvn_[i] - gp_[i]) / dt - (0.5 * (gfi0_[i] + gfi_[i]) + gfe_[i]);
+      prescribed_reaction[k] += R;
+      prescribed_work += dt * R.dot(prescribed_velocity[k]);
+    }
+  return wbc;
+}
+
+// Step 5: G2P: positions with v*, velocities with the nodal change (FLIP), energies.
+template <int D> void Solver<D>::g2p(double dt) {
+  auto& P = particles;
+  const std::size_t n = P.size();
+  const int T = threads;
+  std::vector<std::array<double, 3>> part(static_cast<std::size_t>(T), {0.0, 0.0, 0.0});
+  par(pool_.get(), [&](int th) {
+    const auto [b, e] = block(th, T, n);
+    Stencil<D> st;
+    double wext = 0.0, ke = 0.0, se = 0.0;
+    for (std::size_t p = b; p < e; ++p) {
+      assemble_stencil(grid, wcache_[p], st);
+      if (nfields_ > 1) apply_fields(p, st);
+      double ddx[D] = {}, ddv[D] = {};
+      for (int k = 0; k < Stencil<D>::size; ++k) {
+        const std::int64_t i = st.node[k];
+        const double S = st.S[k];
+        for (int a = 0; a < D; ++a) {
+          ddx[a] += S * gvs_[i][a];
+          ddv[a] += S * (gvn_[i][a] - gp_[i][a]);
+        }
+      }
+      Vec dx, dv;
+      for (int a = 0; a < D; ++a) {
+        dx[a] = dt * ddx[a];
+        dv[a] = ddv[a];
+      }
+      wext += P.fext[p].dot(dx);
+      P.x[p] += dx;
+      P.v[p] += dv;
+      ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+      se += P.V0[p] * P.W[p];
+    }
+    part[static_cast<std::size_t>(th)] = {wext, ke, se};
+  });
+  double wext = 0.0, ke = 0.0, se = 0.0;
+  for (const auto& q : part) {
+    wext += q[0];
+    ke += q[1];
+    se += q[2];
+  }
+  energy.external_work += wext;
+  energy.kinetic = ke;
+  energy.strain = se;
+}
+
+template void Solver<2>::scatter();
+template void Solver<3>::scatter();
+template void Solver<2>::reduce(bool);
+template void Solver<3>::reduce(bool);
+template void Solver<2>::constrain(std::vector<Vec>&, double, bool) const;
+template void Solver<3>::constrain(std::vector<Vec>&, double, bool) const;
+template void Solver<2>::grid_velocities(double);
+template void Solver<3>::grid_velocities(double);
+template void Solver<2>::update_stress(double);
+template void Solver<3>::update_stress(double);
+template double Solver<2>::advance_grid(double);
+template double Solver<3>::advance_grid(double);
+template double Solver<2>::reactions(double, double);
+template double Solver<3>::reactions(double, double);
+template void Solver<2>::g2p(double);
+template void Solver<3>::g2p(double);
+
+} // namespace pnc::gimp

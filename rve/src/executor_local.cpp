@@ -1,0 +1,141 @@
+// The local executor: units as child processes, at most `jobs` at a time (executor.hpp, D241).
+#include "pnc/rve/executor.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/core/stop.hpp"
+
+#include <fmt/format.h>
+
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <set>
+
+namespace pnc::rve {
+
+namespace {
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+pid_t start_unit(const Unit& u, const UnitMain& unit_main) {
+  std::fflush(nullptr); // no duplicated stdio buffers in the child
+  const pid_t pid = fork();
+  if (pid < 0) fail("<executor>", u.id, "", "fork() failed");
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL); // a unit never outlives the command that runs it
+    int code = 2;
+    try {
+      code = unit_main(u);
+    } catch (...) {
+      code = 2;
+    }
+    std::fflush(nullptr);
+    _exit(code);
+  }
+  return pid;
+}
+
+} // namespace
+
+LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMain& unit_main) {
+  LocalRun out;
+  const double t0 = now();
+  if (jobs < 1) jobs = 1;
+  enum class S { todo, running, done, failed, skipped };
+  std::map<std::string, S> st;
+  for (const auto& u : p.units)
+    st[u.id] = read_status(dir, u.id).state == UnitState::done ? S::done : S::todo;
+  std::map<pid_t, std::pair<const Unit*, double>> running;
+  pnc::StopToken& stop = pnc::process_stop();
+  for (;;) {
+    // start what is ready, in plan order (equilibrations first, then the phase check, ...)
+    bool progress = true;
+    while (progress) {
+      progress = false;
+      for (const auto& u : p.units) {
+        if (st[u.id] != S::todo) continue;
+        bool ready = true, blocked = false;
+        std::string why;
+        for (const auto& n : u.needs) {
+          const S s = st[n];
+          if (s == S::todo || s == S::running) ready = false;
+          if (!u.join && (s == S::failed || s == S::skipped)) {
+            blocked = true;
+            why = n;
+          }
+        }
+        if (blocked) { // a need failed: this unit cannot run; its dependents neither
+          st[u.id] = S::skipped;
+          out.not_run.push_back(fmt::format("{} (needs {}, which did not finish)", u.id, why));
+          progress = true;
+          continue;
+        }
+        if (!ready || static_cast<int>(running.size()) >= jobs || stop.requested()) continue;
+        running[start_unit(u, unit_main)] = {&u, now()};
+        st[u.id] = S::running;
+        out.ran.push_back(u.id);
+        progress = true;
+      }
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == ECHILD) break;
+      continue;
+    }
+    auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const Unit& u = *it->second.first;
+    const double secs = now() - it->second.second;
+    running.erase(it);
+    UnitStatus s = read_status(dir, u.id);
+    const bool exited = WIFEXITED(status);
+    if (s.state == UnitState::done) {
+      st[u.id] = S::done;
+      std::cerr << fmt::format("pnc: unit {} done ({:.1f} s)\n", u.id, secs);
+      continue;
+    }
+    if (stop.requested()) { // stopped: pending again, continued by --resume
+      st[u.id] = S::skipped;
+      if (s.state == UnitState::running) {
+        s.state = UnitState::pending;
+        s.message = "stopped";
+        s.pid = 0;
+        write_status(dir, u.id, s);
+      }
+      continue;
+    }
+    if (s.state != UnitState::failed) { // it ended without recording why: say how it ended
+      s.state = UnitState::failed;
+      s.message = exited
+                      ? fmt::format("the unit's process exited with status {} before "
+                                    "recording its state",
+                                    WEXITSTATUS(status))
+                      : fmt::format("the unit's process was killed by signal {}", WTERMSIG(status));
+      s.pid = 0;
+      s.ended_s = epoch_seconds();
+      write_status(dir, u.id, s);
+    }
+    st[u.id] = S::failed;
+    const std::string line = fmt::format("{}: {}{}", u.id, s.message,
+                                         s.log_path.empty() ? "" : " (log " + s.log_path + ")");
+    out.failed.push_back(line);
+    std::cerr << "pnc: unit " << line << " -- FAILED; the other units keep going\n";
+  }
+  out.seconds = now() - t0;
+  pnc::throw_if_stopped("the running units stopped at their last checkpoint; finished units "
+                        "are kept");
+  return out;
+}
+
+} // namespace pnc::rve

@@ -1,0 +1,264 @@
+// `pnc characterize --executor slurm` on a real one-node Slurm cluster on localhost (the ctest
+// fixture tests/rve/slurm/start_cluster.sh; docs/cluster.md, decisions D243-D245):
+//  1. the same tiny recipe (2 replicas, 2 cases, phase check) run locally and through Slurm
+//     gives bitwise equal cases.h5 datasets and the same card (constants, errors, verdict):
+//     the units run the same code on the same inputs with the same seeds and rank counts;
+//  2. a case unit cancelled with scancel while it runs is reported (its job id, why), the other
+//     units keep going, the fit says which unit is missing, and --resume submits only what is
+//     not done and finishes the campaign.
+// Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
+#include "pnc/core/hdf5_io.hpp"
+#include "pnc/rve/campaign.hpp"
+
+#include "common/run_command.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+using pnc::test::run_command;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+/// Points SLURM_CONF at the fixture's cluster; "" when it runs, else why not.
+std::string use_cluster() {
+  std::ifstream h(PNC_SLURM_HANDLE);
+  std::string dir;
+  if (!std::getline(h, dir) || !fs::exists(fs::path(dir) / "slurm.conf"))
+    return std::string("the test cluster is not running (no ") + PNC_SLURM_HANDLE +
+           "): see the output of the ctest rve.slurm.start_cluster (tests/rve/slurm/"
+           "start_cluster.sh), which needs the Debian packages slurm-wlm and munge";
+  setenv("SLURM_CONF", (fs::path(dir) / "slurm.conf").c_str(), 1);
+  setenv("PNC_SLURM_POLL_SECONDS", "1", 1);
+  const auto r = run_command("sinfo -h -o %T 2>&1");
+  const bool up = r.out.find("idle") != std::string::npos ||
+                  r.out.find("mix") != std::string::npos ||
+                  r.out.find("alloc") != std::string::npos;
+  if (r.code != 0 || !up)
+    return "the test cluster does not answer (sinfo: " + r.out + "); logs in " + dir + "/log";
+  return "";
+}
+
+// 160 beads, two replicas, cases 2 and 6 of 3 strain steps, a short phase check: seconds each
+const char* tiny = R"({
+  "name": "tiny-slurm", "seed": 7,
+  "build": { "chains": 8 },
+  "equilibrate": { "pushoff_steps": 500, "hot_steps": 500, "cool_steps": 500,
+                   "langevin_chunk_steps": 200, "langevin_max_chunks": 2,
+                   "npt_steps": 500, "final_steps": 200 },
+  "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
+              "hold_steps": 200, "sample_every": 10, "blocks": 4, "reference_holds": 1 },
+  "phase_check": { "enabled": true, "steps": 1000, "sample_every": 5, "cavitation_steps": 200 },
+  "analysis": { "moving_average": 1 },
+  "run": { "jobs": 2, "replicas": 2 }
+})";
+
+/// Bitwise equality, NaN equal to NaN (a missing error is NaN in both or in neither).
+bool same_bits(const pnc::h5::RowMatrix& a, const pnc::h5::RowMatrix& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    const double x = a.data()[i], y = b.data()[i];
+    if (!(x == y || (std::isnan(x) && std::isnan(y)))) return false;
+  }
+  return true;
+}
+
+nlohmann::json status_json(const std::string& dir) {
+  const auto r = run_command(std::string(PNC_EXE) + " status " + dir + " --json 2>/dev/null");
+  return nlohmann::json::parse(r.out, nullptr, false);
+}
+
+nlohmann::json unit_of(const nlohmann::json& st, const std::string& id) {
+  for (const auto& u : st["units"])
+    if (u["unit"] == id) return u;
+  return {};
+}
+
+/// Polls until `pred(status)` holds or `seconds` pass.
+bool wait_until(const std::string& dir, double seconds,
+                const std::function<bool(const nlohmann::json&)>& pred) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < seconds) {
+    const auto st = status_json(dir);
+    if (st.is_object() && pred(st)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  return false;
+}
+
+} // namespace
+
+TEST(RveSlurm, SameCasesAndCardAsALocalRun) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_same";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::ofstream(d / "tiny.json") << tiny;
+  const std::string base = std::string(PNC_EXE) + " characterize " + (d / "tiny.json").string() +
+                           " --no-plots --json --equilibrate-ranks 1 --ranks 1";
+  const auto local = run_command(base + " --out " + (d / "local").string() + " --jobs 2 2>" +
+                                 (d / "local.err").string());
+  ASSERT_TRUE(local.code == 0 || local.code == 3 || local.code == 4)
+      << local.code << slurp(d / "local.err");
+  const std::string sdir = (d / "slurm").string();
+  const auto sl = run_command(base + " --out " + sdir + " --executor slurm --wait 2>" +
+                              (d / "slurm.err").string());
+  ASSERT_EQ(sl.code, local.code) << slurp(d / "slurm.err");
+
+  // cases.h5: every dataset the fit reads, and every replica's raw curves, bit for bit
+  pnc::h5::File a((d / "local" / "cases.h5").string(), pnc::h5::File::Mode::read);
+  pnc::h5::File b((fs::path(sdir) / "cases.h5").string(), pnc::h5::File::Mode::read);
+  int compared = 0;
+  for (const int c : {2, 6}) {
+    const std::string g = "/case_" + std::to_string(c);
+    for (const char* n : {"/strain", "/stress", "/stress_stderr", "/reference_stderr"}) {
+      EXPECT_TRUE(same_bits(a.read_matrix(g + n), b.read_matrix(g + n))) << g << n;
+      ++compared;
+    }
+    for (const char* rep : {"/replicas/replica_1", "/replicas/replica_2"})
+      for (const char* n : {"/raw_strain", "/raw_stress_total", "/raw_stress_virial",
+                            "/raw_stress_total_stderr", "/stress", "/stress_stderr"}) {
+        EXPECT_TRUE(same_bits(a.read_matrix(rep + g + n), b.read_matrix(rep + g + n)))
+            << rep << g << n;
+        ++compared;
+      }
+  }
+  EXPECT_EQ(compared, 32);
+  // the card: constants with their errors and status, the verdict (JSON doubles round-trip)
+  const auto jl = nlohmann::json::parse(local.out);
+  const auto js = nlohmann::json::parse(sl.out);
+  EXPECT_EQ(jl["constants"], js["constants"]);
+  EXPECT_EQ(jl["verdict"], js["verdict"]);
+  EXPECT_EQ(jl["statistics"], js["statistics"]);
+  EXPECT_EQ(jl["phase_check"], js["phase_check"]);
+  EXPECT_TRUE(fs::exists(fs::path(sdir) / "card.h5"));
+
+  // every unit ran as a Slurm job: the equilibrations as one array, each case array after its
+  // replica's equilibration, the fit last; pnc status shows them done with their job ids
+  const auto st = status_json(sdir);
+  ASSERT_TRUE(st.is_object());
+  ASSERT_EQ(st["units"].size(), 8u);
+  for (const auto& u : st["units"]) {
+    EXPECT_EQ(u["state"], "done") << u.dump();
+    EXPECT_FALSE(u["job_id"].get<std::string>().empty()) << u.dump();
+  }
+  const std::string e1 = unit_of(st, "replica_1/equilibrate")["job_id"];
+  const std::string e2 = unit_of(st, "replica_2/equilibrate")["job_id"];
+  EXPECT_EQ(e1.substr(0, e1.find('_')), e2.substr(0, e2.find('_'))) << e1 << " " << e2;
+  EXPECT_NE(e1, e2);
+  for (const char* c : {"replica_1/case_2", "replica_1/case_6"})
+    EXPECT_GE(unit_of(st, c)["started_s"].get<double>(),
+              unit_of(st, "replica_1/equilibrate")["ended_s"].get<double>())
+        << c;
+  for (const auto& u : st["units"]) {
+    if (u["unit"] == "fit") continue;
+    EXPECT_GE(unit_of(st, "fit")["started_s"].get<double>(), u["ended_s"].get<double>())
+        << u["unit"];
+  }
+  fs::remove_all(d);
+}
+
+TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_cancel";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  auto recipe = nlohmann::json::parse(tiny);
+  recipe["name"] = "tiny-cancel";
+  recipe["run"]["replicas"] = 1;
+  recipe["phase_check"]["enabled"] = false;
+  recipe["deform"]["steps"] = 12; // case 2 runs long enough to be cancelled while it runs
+  recipe["deform"]["hold_steps"] = 400;
+  std::ofstream(d / "r.json") << recipe.dump();
+  // a site template of the user's: its placeholders get the group's values, "$@" the command
+  std::ofstream(d / "site.sbatch") << "#!/bin/bash\n#SBATCH --comment={{kind}}\n"
+                                      "echo \"site template: {{kind}} unit(s) on {{ranks}} "
+                                      "rank(s), job {{job_name}}\"\nexec \"$@\"\n";
+  const std::string out = (d / "out").string();
+  const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
+                          " --no-plots --out " + out + " --executor slurm --sbatch-template " +
+                          (d / "site.sbatch").string() + " --job-name cancel-test";
+  // submit and return
+  const auto sub = run_command(cmd + " --json 2>" + (d / "sub.err").string());
+  ASSERT_EQ(sub.code, 0) << slurp(d / "sub.err");
+  const auto js = nlohmann::json::parse(sub.out);
+  EXPECT_EQ(js["executor"], "slurm");
+  EXPECT_EQ(js["units"].size(), 4u);
+
+  // cancel case 2's job while it runs
+  std::string job;
+  ASSERT_TRUE(wait_until(out, 240, [&](const nlohmann::json& st) {
+    const auto u = unit_of(st, "replica_1/case_2");
+    if (u["state"] != "running") return false;
+    job = u["job_id"];
+    return true;
+  })) << status_json(out).dump();
+  ASSERT_EQ(run_command("scancel " + job).code, 0);
+  // the fit (afterany) runs once the others ended, and fails naming what is missing
+  ASSERT_TRUE(wait_until(out, 240, [](const nlohmann::json& st) {
+    const auto f = unit_of(st, "fit");
+    return f["state"] == "failed" || f["state"] == "done";
+  })) << status_json(out).dump();
+  const auto st = status_json(out);
+  const auto c2 = unit_of(st, "replica_1/case_2");
+  EXPECT_NE(c2["state"], "done") << c2.dump();
+  EXPECT_EQ(c2["job_id"], job);
+  const std::string msg = c2["message"];
+  EXPECT_TRUE(msg.find("signal 15") != std::string::npos ||
+              msg.find("job " + job) != std::string::npos)
+      << msg;
+  EXPECT_EQ(unit_of(st, "replica_1/case_6")["state"], "done"); // the others keep going
+  const auto fit = unit_of(st, "fit");
+  EXPECT_EQ(fit["state"], "failed");
+  EXPECT_NE(fit["message"].get<std::string>().find("replica_1/case_2"), std::string::npos)
+      << fit.dump();
+  const auto status = run_command(std::string(PNC_EXE) + " status " + out + " 2>&1");
+  EXPECT_EQ(status.code, 1); // a unit failed
+  EXPECT_NE(status.out.find(job), std::string::npos) << status.out;
+  const std::string eq_job = unit_of(st, "replica_1/equilibrate")["job_id"];
+  const std::string c6_job = unit_of(st, "replica_1/case_6")["job_id"];
+
+  // --resume: only case 2 and the fit are submitted again; the campaign finishes
+  const auto again = run_command(cmd + " --resume --wait 2>" + (d / "resume.err").string());
+  EXPECT_TRUE(again.code == 0 || again.code == 3 || again.code == 4)
+      << again.code << slurp(d / "resume.err");
+  const auto st2 = status_json(out);
+  for (const auto& u : st2["units"])
+    EXPECT_EQ(u["state"], "done") << u.dump();
+  EXPECT_EQ(unit_of(st2, "replica_1/equilibrate")["job_id"], eq_job);
+  EXPECT_EQ(unit_of(st2, "replica_1/case_6")["job_id"], c6_job);
+  EXPECT_NE(unit_of(st2, "replica_1/case_2")["job_id"], job);
+  EXPECT_TRUE(fs::exists(fs::path(out) / "cases.h5"));
+  EXPECT_TRUE(fs::exists(fs::path(out) / "card.h5"));
+  // every job ran the user's template, rendered per group
+  EXPECT_NE(slurp(fs::path(out) / "slurm" / "fit.sbatch").find("#SBATCH --comment=fit"),
+            std::string::npos);
+  int rendered = 0;
+  for (const auto& f : fs::directory_iterator(fs::path(out) / "slurm"))
+    if (f.path().extension() == ".out") {
+      const std::string text = slurp(f.path());
+      const bool c = text.find("site template: case unit(s) on 1 rank(s), job "
+                               "cancel-test-cases_replica_1") != std::string::npos;
+      const bool e = text.find("site template: equilibrate unit(s) on 1 rank(s), job "
+                               "cancel-test-equilibrate") != std::string::npos;
+      const bool fi = text.find("site template: fit unit(s)") != std::string::npos;
+      EXPECT_TRUE(c || e || fi) << f.path() << ": " << text.substr(0, 300);
+      ++rendered;
+    }
+  EXPECT_GE(rendered, 5); // equilibrate, cases (2 + the resubmitted one), fit twice
+  fs::remove_all(d);
+}
