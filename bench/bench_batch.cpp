@@ -48,8 +48,8 @@ struct Scenario {
   bool plane; // e33 = g23 = g13 = 0 (a 2-D plane-strain point)
 };
 const Scenario kScenarios[] = {
-    {"pnc_3d", Model::pnc, false, false},     {"pnc_3d_rotated", Model::pnc, true, false},
-    {"pnc_plane", Model::pnc, false, true},   {"pnc_plane_rotated_x3", Model::pnc, true, true},
+    {"pnc_3d", Model::pnc, false, false},   {"pnc_3d_rotated", Model::pnc, true, false},
+    {"pnc_plane", Model::pnc, false, true}, {"pnc_plane_rotated_x3", Model::pnc, true, true},
     {"pp_3d", Model::pp, false, false},
 };
 
@@ -71,7 +71,7 @@ struct Data {
   std::vector<double> e0, de, s0, s1, sig, K, stored, diss; // SoA
   std::vector<int> status;
   std::vector<double> a_e0, a_de, a_s0, a_s1, a_sig, a_K; // AoS
-  std::size_t elastic = 0, damaging = 0, unloading = 0;    // as generated
+  std::size_t elastic = 0, damaging = 0, unloading = 0;   // as generated
 };
 
 pnc_material* make_material(const Scenario& s) {
@@ -82,9 +82,9 @@ pnc_material* make_material(const Scenario& s) {
     for (int c = 0; c < 3; ++c)
       R9[3 * r + c] = R(r, c);
   char err[512];
-  pnc_material* m = pnc_material_create_from_constants(pnc::damage::model_name(s.model),
-                                                       p.k.data(), static_cast<int>(p.size()), R9,
-                                                       err, sizeof err);
+  pnc_material* m =
+      pnc_material_create_from_constants(pnc::damage::model_name(s.model), p.k.data(),
+                                         static_cast<int>(p.size()), R9, err, sizeof err);
   if (!m) {
     std::fprintf(stderr, "bench_batch: %s\n", err);
     std::exit(1);
@@ -93,8 +93,8 @@ pnc_material* make_material(const Scenario& s) {
 }
 
 // integrate2 of one point (AoS arrays); exits on failure (the bench inputs are all valid).
-void single(const pnc_material* m, const double* e0, const double* de, const double* s0,
-            double* s1, double* sig, double* K, int request) {
+void single(const pnc_material* m, const double* e0, const double* de, const double* s0, double* s1,
+            double* sig, double* K, int request) {
   pnc_material_point pt;
   pnc_material_point_init(&pt);
   pt.tangent_request = request;
@@ -272,8 +272,8 @@ void bench_scenario(const Scenario& s, const Options& o, int request) {
       CALLGRIND_TOGGLE_COLLECT;
       variant(v);
       CALLGRIND_TOGGLE_COLLECT;
-      const std::string tag = std::string(s.name) + "/" + what + "/" + names[v] + "/" +
-                              std::to_string(d.n);
+      const std::string tag =
+          std::string(s.name) + "/" + what + "/" + names[v] + "/" + std::to_string(d.n);
       CALLGRIND_DUMP_STATS_AT(tag.c_str());
     }
     pnc_material_destroy(m);
@@ -319,8 +319,8 @@ void bench_scenario(const Scenario& s, const Options& o, int request) {
   const auto paths = pnc::damage::integrate_batch(pnc::damage::prepare(p), v);
   std::printf("%-22s %-14s n=%zu (generated %zu elastic / %zu damaging / %zu unloading; batch "
               "paths %zu elastic / %zu unloading / %zu kernel)\n",
-              s.name, what, d.n, d.elastic, d.damaging, d.unloading, paths.elastic,
-              paths.unloading, paths.kernel);
+              s.name, what, d.n, d.elastic, d.damaging, d.unloading, paths.elastic, paths.unloading,
+              paths.kernel);
   for (int k = 0; k < 3; ++k) {
     const Stat st = stat_of(ns[k]);
     std::printf("  %-10s %8.1f ns/eval [%6.1f, %6.1f]  %7.2f M eval/s\n", names[k], st.median,

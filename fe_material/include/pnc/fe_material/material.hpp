@@ -388,6 +388,9 @@ public:
   }
   // ---- ABI 1.2: the batched entry (pnc_material_point_soa; docs/plugin.md "ABI 1.2").
 
+  /// Whether the plugin has the batched entry (ABI 1.2 or newer).
+  bool has_batch() const noexcept { return api().integrate_batch != nullptr; }
+
   /// n points in one call, no exceptions: the caller fills *batch (pnc_material_point_soa_init,
   /// ld, the blocks, tangent_request) and gets the status, per-point status and message there.
   int try_integrate_batch(std::size_t n, pnc_material_point_soa* batch) const noexcept {
