@@ -2,6 +2,8 @@
 // `pnc characterize`, `pnc run-unit`, `pnc status`: the MD -> fit pipeline as a plan of units
 // run locally or through Slurm (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp;
 // docs/rve.md, docs/cluster.md, decisions D240-D246).
+#include "campaign_driver.hpp"
+
 #include "pnc/rve/characterize.hpp"
 #include "pnc/rve/recipe.hpp"
 
@@ -20,8 +22,7 @@ struct CharacterizeArgs {
   bool resume = false, json = false, no_plots = false;
   int jobs = 0, ranks = 0, equilibrate_ranks = 0;
   std::string executor = "local"; ///< "local" or "slurm"
-  bool wait = false;              ///< slurm: wait for the fit unit and report as local does
-  std::string partition, account, time, sbatch_template, job_name; ///< slurm overrides
+  SlurmOptions slurm;             ///< slurm: overrides of the recipe's section, --wait
 };
 int run_characterize(const CharacterizeArgs& a);
 

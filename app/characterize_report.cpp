@@ -4,6 +4,7 @@
 #include "report.hpp"
 
 #include "pnc/core/html_page.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/damage/moduli.hpp"
 #include "pnc/damage/reference.hpp"
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 namespace pnc::app {
 
@@ -94,7 +96,7 @@ std::string details_markdown(const CharacterizeRun& c) {
         r.kg.stress_unit_pa() * 1e-6);
   else
     rep_md += fmt::format("{} chains x {} beads ({} beads, 21 g/mol), built at {} g/cm3, seed {}; "
-                          "force field of section 6.1 (decision D13 units).\n\n",
+                          "force field of docs/theory.md §3.1 (decision D13 units).\n\n",
                           r.build.chains, r.build.beads_per_chain,
                           r.build.chains * r.build.beads_per_chain, r.build.density, r.seed);
   if (r.model == "kg_platelet") // what the builder wrote (platelet.json), decision D170
@@ -152,10 +154,11 @@ std::string details_markdown(const CharacterizeRun& c) {
             code_block(fit_tables(card.fit, c.model));
   rep_md +=
       fmt::format("\n## Derived moduli\n\n| quantity | this run | dissertation |\n|---|---|---|\n"
-                  "| E (eq. 6.47, pure polymer) | {:.3f} GPa | 0.162 GPa (Table 6.12) |\n"
+                  "| E (isotropic formula, pure polymer; docs/theory.md §1.5) | {:.3f} GPa | 0.162 "
+                  "GPa (published table) |\n"
                   "| E by inversion of C0 (E1) | {:.3f} GPa | -- |\n| nu12 | {:.3f} | -- |\n"
                   "| G12 | {:.3f} GPa | 0.109 GPa (C44, Table 6.11) |\n\n",
-                  dm.E_eq647 * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
+                  dm.E_isotropic_formula * 1e-9, dm.E1 * 1e-9, dm.nu12, dm.G12 * 1e-9);
   rep_md += fmt::format("Solver: {} after {} iterations; {}\n\n", rep.termination, rep.iterations,
                         rep.converged ? "converged" : "NOT converged");
   rep_md += fmt::format(
@@ -320,6 +323,31 @@ std::string write_characterize_report(const CharacterizeRun& c) {
   return md_path;
 }
 
+namespace {
+/// The clay block of the JSON (build/clay.json, which stays in A and g/mol) in SI (D284).
+nlohmann::json clay_si_json(const nlohmann::json& clay) {
+  static const std::map<std::string, std::pair<std::string, double>> si = {
+      {"clay_mass_g_mol", {"clay_mass_kg_per_mol", 1e-3}},
+      {"polymer_mass_g_mol", {"polymer_mass_kg_per_mol", 1e-3}},
+      {"platelet_length_A", {"platelet_length_m", units::m_per_angstrom}},
+      {"platelet_width_A", {"platelet_width_m", units::m_per_angstrom}},
+      {"platelet_thickness_A", {"platelet_thickness_m", units::m_per_angstrom}},
+      {"clay_bounding_volume_A3", {"clay_bounding_volume_m3", units::m3_per_angstrom3}},
+      {"box_volume_A3", {"box_volume_m3", units::m3_per_angstrom3}},
+      {"min_polymer_clay_distance_A", {"min_polymer_clay_distance_m", units::m_per_angstrom}}};
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [k, v] : clay.items()) {
+    const auto it = si.find(k);
+    if (it == si.end())
+      out[k] = v;
+    else
+      out[it->second.first] =
+          v.is_number() ? nlohmann::json(v.get<double>() * it->second.second) : v;
+  }
+  return out;
+}
+} // namespace
+
 nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& card_path,
                                  const std::string& report_path, const std::string& html_path) {
   const auto& r = c.recipe;
@@ -337,27 +365,30 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["report_html"] = html_path;
   if (!c.plots.warning.empty()) j["plot_warning"] = c.plots.warning;
   j["plots"] = c.plots.pngs;
+  // SI keys (D238, D284); the text output, the report and the files keep g/cm^3, atm and A
   j["equilibrated"] = {
       {"ensemble", r.system.enabled ? std::string("user stages") : r.equilibrate.ensemble},
-      {"density_g_cm3", e.density},
-      {"pressure_atm", e.pressure_total},
-      {"pressure_stderr_atm", e.pressure_total_se},
-      {"pressure_virial_atm", e.pressure_virial},
+      {"density_kg_per_m3", e.density * 1000.0},
+      {"pressure_Pa", e.pressure_total * units::pa_per_atm},
+      {"pressure_stderr_Pa", e.pressure_total_se * units::pa_per_atm},
+      {"pressure_virial_Pa", e.pressure_virial * units::pa_per_atm},
       {"temperature_K", e.temperature},
       {"void_fraction", e.void_fraction},
-      {"min_distance_A", e.min_distance}};
-  if (c.clay_info.is_object()) j["clay"] = c.clay_info;
+      {"min_distance_m", e.min_distance * units::m_per_angstrom}};
+  if (c.clay_info.is_object()) j["clay"] = clay_si_json(c.clay_info);
   if (md.phase.done) j["phase_check"] = rve::phase_json(md.phase);
   j["constants"] = constants_json(card);
   j["fit"] = fit_json(card.fit);
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
-  j["moduli"] = {{"E_eq647_Pa", num(dm.E_eq647)}, {"E1_Pa", num(dm.E1)}, {"G12_Pa", num(dm.G12)}};
-  j["seconds"] = {{"build", md.seconds_build},
-                  {"equilibrate", md.seconds_equilibrate},
-                  {"phase_check", md.seconds_phase},
-                  {"cases", md.seconds_cases},
-                  {"total", c.seconds}};
+  j["moduli"] = {{"E_isotropic_formula_Pa", num(dm.E_isotropic_formula)},
+                 {"E1_Pa", num(dm.E1)},
+                 {"G12_Pa", num(dm.G12)}};
+  j["wall_s"] = {{"build", md.seconds_build},
+                 {"equilibrate", md.seconds_equilibrate},
+                 {"phase_check", md.seconds_phase},
+                 {"cases", md.seconds_cases},
+                 {"total", c.seconds}};
   return j;
 }
 
@@ -369,8 +400,9 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
   const damage::DerivedModuli dm = damage::derive_moduli(card.params);
   std::cerr << constants_table(card) << fit_tables(card.fit, c.model) << verdict_text(card.verdict);
   std::cerr << fmt::format("pnc characterize: equilibrated density {:.4f} g/cm3, P {:.0f} atm, "
-                           "void fraction {:.4f}; E (eq. 6.47) {:.3f} GPa\n",
-                           e.density, e.pressure_total, e.void_fraction, dm.E_eq647 * 1e-9);
+                           "void fraction {:.4f}; E (isotropic formula) {:.3f} GPa\n",
+                           e.density, e.pressure_total, e.void_fraction,
+                           dm.E_isotropic_formula * 1e-9);
   if (md.phase.done)
     std::cerr << "pnc characterize: phase check: " << md.phase.phase
               << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")

@@ -1,5 +1,7 @@
 // pnc characterize (the driver: plan, local or Slurm executor), pnc run-unit DIR UNIT, pnc status
-// DIR (app/characterize.hpp; docs/rve.md, docs/cluster.md, decisions D240-D246).
+// DIR, and the driver pieces every planned command shares (app/characterize.hpp,
+// app/campaign_driver.hpp; docs/rve.md, docs/cluster.md, decisions D240-D246, D285-D289).
+#include "campaign_driver.hpp"
 #include "characterize.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
@@ -7,6 +9,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/error_record.hpp"
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
@@ -26,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -72,13 +76,17 @@ bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, 
   return true;
 }
 
-/// Runs unit `u` in this process and records its state; returns the exit code (0; the fit's
-/// 3 or 4; 1 bad input or a failed unit; 2 internal error; 128 + N stopped by signal N).
-/// Errors are printed when `print_errors` (a Slurm job's output); a local child leaves that to
-/// the executor, which reads the state file.
+/// The planned commands other than characterize (register_plan_command).
+std::map<std::string, PlanUnitRunner>& plan_commands() {
+  static std::map<std::string, PlanUnitRunner> m;
+  return m;
+}
+
+/// Runs unit `u` of a characterization in this process and records its state; returns the
+/// exit code (0; the fit's 3 or 4; else as guarded_unit).
 int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, const rve::Unit& u,
               bool print_errors) {
-  try {
+  return guarded_unit(u, print_errors, [&] {
     if (u.kind == "fit") {
       int code = 0;
       rve::run_unit_recorded(dir, u, [&] {
@@ -92,53 +100,14 @@ int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, 
     }
     rve::run_unit_recorded(dir, u, [&] { return rve::run_md_unit(r, dir, u); });
     return 0;
-  } catch (const pnc::Interrupted& e) {
-    if (print_errors)
-      std::cerr << "pnc: unit " << u.id << " stopped by " << signal_name(e.signal()) << ": "
-                << e.detail() << "; it is pending again\n";
-    return 128 + (e.signal() > 0 ? e.signal() : 2);
-  } catch (const pnc::InputError& e) {
-    if (print_errors) std::cerr << "pnc: error: unit " << u.id << ": " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    if (print_errors) std::cerr << "pnc: internal error: unit " << u.id << ": " << e.what() << "\n";
-    return 2;
-  }
+  });
 }
 
 /// After the executor: the fit's result (its summary and exit code), or the failures.
 int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
              const std::vector<std::string>& not_run) {
+  throw_unless_final_done({"characterize", a.out, "fit", a.json}, p, failed, not_run);
   const rve::UnitStatus fit = rve::read_status(a.out, "fit");
-  if (fit.state != rve::UnitState::done) {
-    // a unit stopped by LAMMPS (or by a simulation failure): the driver ends with that error
-    // and its exit code (7 or 6, docs/errors.md), the other failures counted on the line before
-    for (const auto& u : p.units) {
-      const rve::UnitStatus s = rve::read_status(a.out, u.id);
-      const auto e = s.detail.find("error");
-      if (s.state != rve::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
-      const int code = e->value("exit_code", 0);
-      if (code != pnc::exit_code::tool_failed && code != pnc::exit_code::simulation_failed)
-        continue;
-      std::cerr << fmt::format(
-          "pnc characterize: {} unit(s) failed{}; finished units are kept: "
-          "rerun with --resume (pnc status {} shows every unit)\n",
-          failed.size(), not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), a.out);
-      pnc::rethrow_error_record(*e);
-    }
-    std::string first = failed.empty() ? "the fit did not run" : failed.front();
-    for (const auto& f : failed)
-      if (f.rfind("fit:", 0) != 0) {
-        first = f;
-        break;
-      }
-    fail(a.out, "units", std::to_string(failed.size() + not_run.size()),
-         fmt::format("{} unit(s) failed{}: {}; finished units are kept: rerun with --resume "
-                     "(pnc status {} shows every unit)",
-                     failed.size(),
-                     not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), first,
-                     a.out));
-  }
   if (a.json) {
     std::ifstream f(summary_path(a.out));
     std::stringstream ss;
@@ -148,17 +117,9 @@ int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<st
   return fit.detail.value("exit_code", 0);
 }
 
-std::string job_prefix(const CharacterizeArgs& a, const rve::Recipe& r) {
-  if (!a.job_name.empty()) return a.job_name;
-  std::string s = "pnc-";
-  for (char c : r.name)
-    s += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_';
-  return s.substr(0, 40);
-}
-
-/// Polls the unit states until the fit ended, printing every change; a stop request ends the
-/// wait (the jobs keep running).
-void wait_for_slurm(const CharacterizeArgs& a, const rve::Plan& p, std::vector<std::string>& failed,
+/// Polls the unit states until the final unit ended, printing every change; a stop request
+/// ends the wait (the jobs keep running).
+void wait_for_slurm(const PlanDriver& d, const rve::Plan& p, std::vector<std::string>& failed,
                     int poll_s) {
   std::map<std::string, std::string> shown;
   for (;;) {
@@ -171,9 +132,9 @@ void wait_for_slurm(const CharacterizeArgs& a, const rve::Plan& p, std::vector<s
       std::cerr << "pnc: warning: " << e.what() << "\n";
     }
     failed.clear();
-    rve::UnitStatus fit;
+    rve::UnitStatus last;
     for (const auto& u : p.units) {
-      const rve::UnitStatus s = rve::effective_status(a.out, u.id, have_queue ? &q : nullptr);
+      const rve::UnitStatus s = rve::effective_status(d.dir, u.id, have_queue ? &q : nullptr);
       std::string line = rve::state_name(s.state);
       if (!s.job_id.empty()) line += " (job " + s.job_id + ")";
       if (s.state == rve::UnitState::failed) {
@@ -184,54 +145,24 @@ void wait_for_slurm(const CharacterizeArgs& a, const rve::Plan& p, std::vector<s
         std::cerr << "pnc: unit " << u.id << ": " << line << "\n";
         shown[u.id] = line;
       }
-      if (u.id == "fit") fit = s;
+      if (u.id == d.final_unit) last = s;
     }
-    if (fit.state == rve::UnitState::done || fit.state == rve::UnitState::failed) return;
-    if (fit.state == rve::UnitState::pending)
-      fail(a.out, "fit", "", "the fit unit has no job: rerun with --resume to submit it");
+    if (last.state == rve::UnitState::done || last.state == rve::UnitState::failed) return;
+    if (last.state == rve::UnitState::pending)
+      fail(d.dir, d.final_unit, "",
+           "the " + d.final_unit + " unit has no job: rerun with --resume to submit it");
     for (int k = 0; k < poll_s * 10; ++k) {
       pnc::throw_if_stopped(
-          fmt::format("stopped waiting; the Slurm jobs keep running (pnc status {})", a.out));
+          fmt::format("stopped waiting; the Slurm jobs keep running (pnc status {})", d.dir));
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   }
 }
 
 int run_slurm(const CharacterizeArgs& a, const rve::Recipe& r, const rve::Plan& p) {
-  rve::SlurmSpec spec = r.slurm;
-  if (!a.partition.empty()) spec.partition = a.partition;
-  if (!a.account.empty()) spec.account = a.account;
-  if (!a.time.empty()) spec.time = a.time;
-  if (!a.sbatch_template.empty()) spec.template_path = a.sbatch_template;
-  spec.validate("<command line>");
-  const std::string exe = fs::canonical("/proc/self/exe").string();
-  const rve::SlurmSubmission sub = rve::submit_slurm(a.out, p, spec, exe, job_prefix(a, r));
-  std::map<std::string, std::vector<std::string>> by_job;
-  for (const auto& [unit, job] : sub.job_of_unit)
-    by_job[job.substr(0, job.find('_'))].push_back(unit);
-  for (const auto& j : sub.jobs)
-    std::cerr << fmt::format("pnc characterize: job {}: {}\n", j, fmt::join(by_job[j], ", "));
-  if (!sub.kept.empty())
-    std::cerr << fmt::format("pnc characterize: still queued or running: {}\n",
-                             fmt::join(sub.kept, ", "));
-  if (sub.jobs.empty() && sub.kept.empty()) std::cerr << "pnc characterize: every unit is done\n";
-  if (!a.wait && !(sub.jobs.empty() && sub.kept.empty())) {
-    std::cerr << fmt::format("pnc characterize: submitted {} job(s); follow with: pnc status {}\n",
-                             sub.jobs.size(), a.out);
-    if (a.json)
-      std::cout << nlohmann::json{{"command", "characterize"},
-                                  {"executor", "slurm"},
-                                  {"out", a.out},
-                                  {"jobs", sub.jobs},
-                                  {"units", sub.job_of_unit}}
-                       .dump()
-                << std::endl;
-    return 0;
-  }
-  std::vector<std::string> failed;
-  const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
-  wait_for_slurm(a, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
-  return conclude(a, p, failed, {});
+  return run_plan_slurm(
+      {"characterize", a.out, "fit", a.json}, p, r.slurm, a.slurm, job_prefix_of(r.name),
+      [&](const std::vector<std::string>& failed) { return conclude(a, p, failed, {}); });
 }
 
 int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
@@ -251,11 +182,34 @@ int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
     std::cerr << fmt::format("pnc run-unit {} {}: already done, nothing to do\n", dir, id);
     return 0;
   }
-  const rve::Recipe r = rve::read_run_recipe(dir);
+  const auto other = plan_commands().find(p.command);
+  if (p.command != "characterize" && other == plan_commands().end())
+    fail(rve::plan_path(dir), "command", p.command,
+         "is not a command whose units this pnc runs (characterize, thermo ti)");
   const StopSignals signals; // scancel's SIGTERM: stop at the next checkpoint, pending again
+  start_run_log(dir, command_line()); // the unit's lines join the run folder's pnc.log
   std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, rve::host_name(),
                            ::getpid());
+  if (p.command != "characterize") return other->second(dir, p, u, true);
+  const rve::Recipe r = rve::read_run_recipe(dir);
   return unit_main(dir, p, r, u, true);
+}
+
+/// A unit's detail for `pnc status --json`, its times under SI keys (D238, D283): the state
+/// files keep `seconds`, `seconds_build`, `seconds_equilibrate`; the JSON says `wall_s`,
+/// `build_wall_s`, `equilibrate_wall_s`.
+nlohmann::json status_detail_json(const nlohmann::json& detail) {
+  if (!detail.is_object()) return nlohmann::json::object();
+  static const std::map<std::string, std::string> renamed = {
+      {"seconds", "wall_s"},
+      {"seconds_build", "build_wall_s"},
+      {"seconds_equilibrate", "equilibrate_wall_s"}};
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [k, v] : detail.items()) {
+    const auto it = renamed.find(k);
+    out[it == renamed.end() ? k : it->second] = v;
+  }
+  return out;
 }
 
 int run_status(const std::string& dir, bool json) {
@@ -294,6 +248,7 @@ int run_status(const std::string& dir, bool json) {
                          s.job_id.empty() ? "-" : s.job_id,
                          secs > 0 ? fmt::format("{:.1f}", secs) : "-", note);
     nlohmann::json j = rve::status_json(s);
+    j["detail"] = status_detail_json(s.detail);
     j["unit"] = u.id;
     j["kind"] = u.kind;
     j["needs"] = u.needs;
@@ -311,6 +266,127 @@ int run_status(const std::string& dir, bool json) {
 }
 
 } // namespace
+
+void register_plan_command(const std::string& command, PlanUnitRunner runner) {
+  plan_commands()[command] = std::move(runner);
+}
+
+int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const pnc::Interrupted& e) {
+    if (print_errors)
+      std::cerr << "pnc: unit " << u.id << " stopped by " << signal_name(e.signal()) << ": "
+                << e.detail() << "; it is pending again\n";
+    return 128 + (e.signal() > 0 ? e.signal() : 2);
+  } catch (const pnc::InputError& e) {
+    if (print_errors) std::cerr << "pnc: error: unit " << u.id << ": " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    if (print_errors) std::cerr << "pnc: internal error: unit " << u.id << ": " << e.what() << "\n";
+    return 2;
+  }
+}
+
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe) {
+  const std::string from = recipe ? "the recipe's slurm." : "";
+  const auto dflt = [&](const std::string& key, const std::string& otherwise) {
+    return " (default: " + (recipe ? from + key + ", else " : std::string()) + otherwise + ")";
+  };
+  cmd->add_flag("--wait", o.wait,
+                "slurm: wait until the last unit ends, printing every unit's change, then report "
+                "as the local executor does (default: submit and return)");
+  cmd->add_option("--partition", o.partition,
+                  "slurm: partition" + dflt("partition", "the cluster's"));
+  cmd->add_option("--account", o.account, "slurm: account" + dflt("account", "the user's"));
+  cmd->add_option("--time", o.time,
+                  "slurm: time limit per unit job, e.g. 2:00:00" + dflt("time", "the cluster's"));
+  cmd->add_option("--sbatch-template", o.sbatch_template,
+                  "slurm: job-script template with {{placeholders}}" +
+                      dflt("template", "the built-in one; docs/cluster.md"));
+  cmd->add_option("--job-name", o.job_name, "slurm: prefix of the job names (default pnc-<name>)");
+}
+
+std::string job_prefix_of(const std::string& name) {
+  std::string s = "pnc-";
+  for (char c : name)
+    s += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_';
+  return s.substr(0, 40);
+}
+
+void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
+                             const std::vector<std::string>& failed,
+                             const std::vector<std::string>& not_run) {
+  if (rve::read_status(d.dir, d.final_unit).state == rve::UnitState::done) return;
+  // a unit stopped by LAMMPS (or by a simulation failure): the driver ends with that error
+  // and its exit code (7 or 6, docs/errors.md), the other failures counted on the line before
+  for (const auto& u : p.units) {
+    const rve::UnitStatus s = rve::read_status(d.dir, u.id);
+    const auto e = s.detail.find("error");
+    if (s.state != rve::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
+    const int code = e->value("exit_code", 0);
+    if (code != pnc::exit_code::tool_failed && code != pnc::exit_code::simulation_failed) continue;
+    std::cerr << fmt::format("pnc {}: {} unit(s) failed{}; finished units are kept: "
+                             "rerun with --resume (pnc status {} shows every unit)\n",
+                             d.command, failed.size(),
+                             not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()),
+                             d.dir);
+    pnc::rethrow_error_record(*e);
+  }
+  std::string first =
+      failed.empty() ? fmt::format("the {} did not run", d.final_unit) : failed.front();
+  for (const auto& f : failed)
+    if (f.rfind(d.final_unit + ":", 0) != 0) {
+      first = f;
+      break;
+    }
+  fail(d.dir, "units", std::to_string(failed.size() + not_run.size()),
+       fmt::format("{} unit(s) failed{}: {}; finished units are kept: rerun with --resume "
+                   "(pnc status {} shows every unit)",
+                   failed.size(),
+                   not_run.empty() ? "" : fmt::format(", {} not run", not_run.size()), first,
+                   d.dir));
+}
+
+int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
+                   const SlurmOptions& o, const std::string& default_prefix,
+                   const std::function<int(const std::vector<std::string>&)>& conclude) {
+  if (!o.partition.empty()) spec.partition = o.partition;
+  if (!o.account.empty()) spec.account = o.account;
+  if (!o.time.empty()) spec.time = o.time;
+  if (!o.sbatch_template.empty()) spec.template_path = o.sbatch_template;
+  spec.validate("<command line>");
+  const std::string exe = fs::canonical("/proc/self/exe").string();
+  const std::string prefix = o.job_name.empty() ? default_prefix : o.job_name;
+  const rve::SlurmSubmission sub = rve::submit_slurm(d.dir, p, spec, exe, prefix);
+  std::map<std::string, std::vector<std::string>> by_job;
+  for (const auto& [unit, job] : sub.job_of_unit)
+    by_job[job.substr(0, job.find('_'))].push_back(unit);
+  for (const auto& j : sub.jobs)
+    std::cerr << fmt::format("pnc {}: job {}: {}\n", d.command, j, fmt::join(by_job[j], ", "));
+  if (!sub.kept.empty())
+    std::cerr << fmt::format("pnc {}: still queued or running: {}\n", d.command,
+                             fmt::join(sub.kept, ", "));
+  if (sub.jobs.empty() && sub.kept.empty())
+    std::cerr << fmt::format("pnc {}: every unit is done\n", d.command);
+  if (!o.wait && !(sub.jobs.empty() && sub.kept.empty())) {
+    std::cerr << fmt::format("pnc {}: submitted {} job(s); follow with: pnc status {}\n", d.command,
+                             sub.jobs.size(), d.dir);
+    if (d.json)
+      std::cout << nlohmann::json{{"command", d.command},
+                                  {"executor", "slurm"},
+                                  {"out", d.dir},
+                                  {"jobs", sub.jobs},
+                                  {"units", sub.job_of_unit}}
+                       .dump()
+                << std::endl;
+    return 0;
+  }
+  std::vector<std::string> failed;
+  const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
+  wait_for_slurm(d, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
+  return conclude(failed);
+}
 
 int run_characterize(const CharacterizeArgs& a) {
   const rve::Recipe r = load_recipe(a.recipe);
@@ -333,6 +409,7 @@ int run_characterize(const CharacterizeArgs& a) {
   // one driver per run folder (core/run_dir.hpp); SIGINT/SIGTERM stop the units at their next
   // checkpoint and leave them pending for --resume (run_control.hpp)
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   rve::prepare_run_folder(r, a.out, a.resume);
   // the fit runs again on every --resume: it takes seconds, reads only what the MD units left
@@ -360,7 +437,8 @@ void register_campaign(CLI::App& app, Action& action) {
   auto* ru = app.add_subcommand(
       "run-unit", "Run one unit of a run folder's plan (what a Slurm job of pnc executes; "
                   "docs/cluster.md)");
-  ru->add_option("dir", ua->dir, "Run folder (the --out of pnc characterize)")->required();
+  ru->add_option("dir", ua->dir, "Run folder (the --out of pnc characterize or pnc thermo ti)")
+      ->required();
   ru->add_option("unit", ua->units,
                  "Unit id, e.g. replica_2/case_4 (several: a job array, task "
                  "$SLURM_ARRAY_TASK_ID picks one)")
@@ -375,7 +453,8 @@ void register_campaign(CLI::App& app, Action& action) {
   auto* st = app.add_subcommand(
       "status", "Each unit of a run folder: pending, queued, running, done or failed (with its "
                 "message, log and Slurm job id); exit code 1 when a unit failed");
-  st->add_option("dir", sa->dir, "Run folder (the --out of pnc characterize)")->required();
+  st->add_option("dir", sa->dir, "Run folder (the --out of pnc characterize or pnc thermo ti)")
+      ->required();
   st->add_flag("--json", sa->json, "Print one JSON object on stdout");
   st->callback([sa, &action] { action = [sa] { return run_status(sa->dir, sa->json); }; });
 }

@@ -39,12 +39,14 @@ int run_card_show(const CardShowArgs& a) {
   std::cerr << fmt::format("      G23 = {:.4g}, G13 = {:.4g}, G12 = {:.4g}\n", d.G23 / G, d.G13 / G,
                            d.G12 / G);
   if (m == Model::pnc)
-    std::cerr << fmt::format("    eq. 6.46 as printed (labelled E2 in Table 6.12; it equals E1 by "
-                             "inversion): {:.4g}\n",
-                             d.E2_eq646_printed / G);
+    std::cerr << fmt::format(
+        "    E2 as printed (the source's determinant-ratio formula, labelled E2 in the "
+        "published table; it equals E1 by inversion): {:.4g}\n",
+        d.E2_as_printed / G);
   else
-    std::cerr << fmt::format("    eq. 6.47 (isotropic E from C22 -> C11, C12): {:.4g}\n",
-                             d.E_eq647 / G);
+    std::cerr << fmt::format(
+        "    isotropic formula (E from C22 -> C11, C12; docs/theory.md §1.5): {:.4g}\n",
+        d.E_isotropic_formula / G);
   std::cerr << "  strength per case (first local maximum of the driven stress along the case "
                "path, strain <= "
             << a.max_strain << "):\n";
@@ -62,7 +64,7 @@ int run_card_show(const CardShowArgs& a) {
     strengths.push_back(
         {{"case", id},
          {"component", kComp[s.component]},
-         {"peak_pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
+         {"peak_Pa", s.peak ? nlohmann::json(*s.peak) : nlohmann::json()},
          {"strain_at_peak", s.peak ? nlohmann::json(s.strain_at_peak) : nlohmann::json()},
          {"max_strain_searched", s.max_strain_searched}});
   }
@@ -91,11 +93,12 @@ int run_card_show(const CardShowArgs& a) {
                    {"G23", d.G23},
                    {"G13", d.G13},
                    {"G12", d.G12},
-                   {"E2_eq646_printed", d.E2_eq646_printed},
-                   {"E_eq647", d.E_eq647},
+                   {"E2_as_printed", d.E2_as_printed},
+                   {"E_isotropic_formula", d.E_isotropic_formula},
                    {"units", "Pa"},
-                   {"note", "E1..E3 by compliance inversion; E2_eq646_printed is eq. 6.46 as "
-                            "printed (equals E1); E_eq647 is the isotropic formula 6.47"}};
+                   {"note", "E1..E3 by compliance inversion; E2_as_printed is the source's "
+                            "determinant-ratio formula for E2 as printed (equals E1); "
+                            "E_isotropic_formula is the source's isotropic-polymer formula"}};
     j["strengths"] = strengths;
     if (c.fit.present) j["fit"] = fit_json(c.fit);
     std::cout << j.dump() << std::endl;

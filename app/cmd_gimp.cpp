@@ -1,10 +1,14 @@
-// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md).
+// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md); pnc gimp parameters:
+// the declared keys of its input (input_parameters.cpp).
+#include "gimp_report.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
 
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 
+#include "pnc/gimp_coupler/input.hpp"
 #include "pnc/gimp_coupler/run.hpp"
 #ifdef PNC_GIMP_HAS_ESCM
 #include "pnc/gimp_coupler/escm_run.hpp"
@@ -14,6 +18,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -39,6 +44,7 @@ int run_gimp(const GimpRunArgs& a) {
   o.stop_after_steps = a.max_steps;
   o.stop = &pnc::process_stop();
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   const gimp::RunSummary s = gimp::run(o);
   if (s.stopped)
@@ -71,6 +77,15 @@ int run_gimp(const GimpRunArgs& a) {
   if (!s.plot_png.empty()) std::cerr << "  plot: " << s.plot_png << "\n";
   if (!s.plot_G_png.empty()) std::cerr << "  G plot: " << s.plot_G_png << "\n";
   if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
+  nlohmann::json summary;
+  std::ifstream(std::filesystem::path(a.out) / "summary.json") >> summary;
+  const double rel = gimp_relative_energy_error(s);
+  if (rel > kEnergyErrorThreshold)
+    std::cerr << fmt::format("  warning: relative energy error {:.3g} % is above {:.3g} % (D271)\n",
+                             100 * rel, 100 * kEnergyErrorThreshold);
+  const std::string report =
+      write_gimp_run_report({command_line(), a.input, a.out, !a.no_plot}, s, summary);
+  std::cerr << "  report: " << report << "\n";
 
   if (a.json) {
     nlohmann::json j;
@@ -86,18 +101,20 @@ int run_gimp(const GimpRunArgs& a) {
     j["time_s"] = s.time;
     j["wall_s"] = s.wall_seconds;
     j["particle_steps_per_s"] = s.particle_steps_per_second;
-    j["energy_J"] = {{"initial", s.energy.initial},
-                     {"kinetic", s.energy.kinetic},
-                     {"strain", s.energy.strain},
-                     {"external_work", s.energy.external_work},
-                     {"boundary_work", s.energy.boundary_work},
-                     {"damping_work", s.energy.damping_work},
-                     {"balance", s.energy.balance()},
-                     {"max_abs_balance", s.max_abs_balance}};
+    // D281: in 2-D the extensive quantities are per metre of thickness, and the keys say so
+    const bool plane = s.dimension == 2;
+    j[plane ? "energy_J_per_m" : "energy_J"] = {{"initial", s.energy.initial},
+                                                {"kinetic", s.energy.kinetic},
+                                                {"strain", s.energy.strain},
+                                                {"external_work", s.energy.external_work},
+                                                {"boundary_work", s.energy.boundary_work},
+                                                {"damping_work", s.energy.damping_work},
+                                                {"balance", s.energy.balance()},
+                                                {"max_abs_balance", s.max_abs_balance}};
     nlohmann::json r = nlohmann::json::object();
     for (std::size_t i = 0; i < s.reactions.size(); ++i)
       r[s.reaction_names[i]] = s.reactions[i];
-    j["reactions_N"] = r;
+    j[plane ? "reactions_N_per_m" : "reactions_N"] = r;
     j["pvd"] = s.pvd;
     j["frames"] = s.frames;
     j["history"] = s.history_csv;
@@ -105,6 +122,8 @@ int run_gimp(const GimpRunArgs& a) {
     j["plot"] = s.plot_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_png);
     j["plot_G"] = s.plot_G_png.empty() ? nlohmann::json() : nlohmann::json(s.plot_G_png);
     j["crack_increments"] = s.crack_increments;
+    j["relative_energy_error"] = rel;
+    j["report"] = report;
     std::cout << j.dump() << std::endl;
   }
   return 0;
@@ -132,6 +151,7 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   o.stop_after_steps = a.max_steps;
   o.stop = &pnc::process_stop();
   const RunDirLock lock(a.out, command_line());
+  start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
   const gimp::escm::CoupleSummary s = gimp::escm::run_couple(o);
   if (!s.interrupted.empty()) { // checkpoint written; continue with --resume
@@ -159,15 +179,24 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
   std::cerr << "  energy log: " << s.energy_csv << "\n  profile: " << s.profile_csv
             << "\n  summary: " << s.summary_json << "\n";
   if (!s.plot_warning.empty()) std::cerr << "  warning: " << s.plot_warning << "\n";
+  std::ifstream f(s.summary_json);
+  nlohmann::json j = nlohmann::json::parse(f);
+  const double rel = couple_relative_energy_error(s);
+  if (rel > kCoupleEnergyErrorThreshold)
+    std::cerr << fmt::format("  warning: relative energy error {:.3g} % is above {:.3g} % (D271)\n",
+                             100 * rel, 100 * kCoupleEnergyErrorThreshold);
+  const std::string report =
+      write_gimp_couple_report({command_line(), a.input, a.out, !a.no_plot}, s, j, a.short_mode);
+  std::cerr << "  report: " << report << "\n";
   if (a.json) {
-    std::ifstream f(s.summary_json);
-    nlohmann::json j = nlohmann::json::parse(f);
     j["command"] = "gimp couple";
     j["out"] = a.out;
     j["energy_csv"] = s.energy_csv;
     j["profile_csv"] = s.profile_csv;
     j["frames"] = s.frames;
     j["plots"] = s.plots;
+    j["relative_energy_error"] = rel;
+    j["report"] = report;
     std::cout << j.dump() << std::endl;
   }
   return 0;
@@ -194,6 +223,25 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
 } // namespace
 #endif
 
+namespace {
+struct GimpParametersArgs {
+  std::string format = "markdown", dimension = "all";
+};
+
+// `pnc gimp parameters`: the declared input keys as Markdown tables (the generated region of
+// docs/gimp.md), JSON or a commented TOML template of one dimension.
+int run_gimp_parameters(const GimpParametersArgs& a) {
+  const int dim = a.dimension == "all" ? 0 : std::stoi(a.dimension);
+  if (a.format == "toml")
+    std::cout << gimp::input_parameters(dim == 0 ? 2 : dim, false).to_toml();
+  else if (a.format == "json")
+    std::cout << gimp::input_parameters(dim).to_json().dump(2) << "\n";
+  else
+    std::cout << gimp::input_parameters(dim).to_markdown(4);
+  return 0;
+}
+} // namespace
+
 void register_gimp(CLI::App& app, Action& action) {
   auto args = std::make_shared<GimpRunArgs>();
   auto* gimp = app.add_subcommand("gimp", "GIMP material-point solver (uGIMP, explicit; SI units)");
@@ -213,6 +261,19 @@ void register_gimp(CLI::App& app, Action& action) {
   run->add_flag("--quiet", args->quiet, "No progress lines");
   run->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
   run->callback([args, &action] { action = [args] { return run_gimp(*args); }; });
+  auto pa = std::make_shared<GimpParametersArgs>();
+  auto* params = gimp->add_subcommand(
+      "parameters", "Print every key of the run input: type, default, range, unit, meaning");
+  params
+      ->add_option("--format", pa->format,
+                   "markdown (tables, default), json or toml (a commented list of the keys with "
+                   "their defaults; the input itself is JSON)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  params
+      ->add_option("--dimension", pa->dimension,
+                   "the keys of dimension 2 or 3; default all (toml: 2)")
+      ->check(CLI::IsMember({"all", "2", "3"}));
+  params->callback([pa, &action] { action = [pa] { return run_gimp_parameters(*pa); }; });
 #ifdef PNC_GIMP_HAS_ESCM
   register_gimp_couple(gimp, action); // ESCM, docs/escm.md
 #endif

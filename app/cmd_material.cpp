@@ -98,12 +98,12 @@ int run_drive(const DriveArgs& a) {
     if (!r.converged) j["failure"] = r.failure;
     j["newton"] = {{"mixed_control", r.mixed},
                    {"max_iterations", r.max_newton_iterations},
-                   {"residual_tolerance_pa", r.residual_tolerance}};
+                   {"residual_tolerance_Pa", r.residual_tolerance}};
     j["final"] = {{"strain", last.strain},
-                  {"stress_pa", last.stress},
-                  {"work_j_per_m3", last.work},
-                  {"stored_j_per_m3", last.stored},
-                  {"dissipated_j_per_m3", last.dissipated}};
+                  {"stress_Pa", last.stress},
+                  {"work_J_per_m3", last.work},
+                  {"stored_J_per_m3", last.stored},
+                  {"dissipated_J_per_m3", last.dissipated}};
     if (!a.reference.empty()) {
       j["reference"] = {{"file", a.reference}, {"outside_tolerance", bad.size()}};
     }

@@ -64,8 +64,9 @@ int run_rve_build(const BuildArgs& a) {
                                    : "coarse-grained polypropylene RVE");
   write_build_record(rec, s, a.spec, ff, "{}");
   const std::string ffin = (fs::path(a.out) / "forcefield.lmp").string();
-  std::string cmds = "# force field of section 6.1 (+ Tables 6.2-6.5 for the clay), units real "
-                     "(decisions D13, D14, D23)\n";
+  std::string cmds =
+      "# force field of docs/theory.md sections 3.1 (+ 3.2 for the clay), units real "
+      "(decisions D13, D14, D23)\n";
   for (const auto& c :
        a.with_clay ? rve::composite_forcefield_commands(ff) : rve::polymer_forcefield_commands(ff))
     cmds += c + "\n";
@@ -88,9 +89,11 @@ int run_rve_build(const BuildArgs& a) {
     j["data"] = data;
     j["record"] = rec;
     j["atoms"] = s.x.size();
-    j["density_g_cm3"] = s.density();
-    j["box_A"] = {L[0], L[1], L[2]};
-    j["min_nonbonded_distance_A"] = dmin;
+    // SI as every --json (D238); the data file and build.h5 stay in LAMMPS real units (Å)
+    constexpr double m_per_A = 1e-10, kg_m3_per_g_cm3 = 1e3;
+    j["density_kg_per_m3"] = s.density() * kg_m3_per_g_cm3;
+    j["box_m"] = {L[0] * m_per_A, L[1] * m_per_A, L[2] * m_per_A};
+    j["min_nonbonded_distance_m"] = dmin * m_per_A;
     if (a.with_clay)
       j["clay"] = {{"cells_a", a.clay.cells_a},
                    {"cells_b", a.clay.cells_b},
@@ -258,19 +261,7 @@ void register_rve(CLI::App& app, Action& action) {
                  "Who runs the units: local (children of this process, --jobs at a time) or "
                  "slurm (sbatch job arrays with dependencies; docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}));
-  ch->add_flag("--wait", ca->wait,
-               "slurm: wait until the fit ends, printing every unit's change, then report as "
-               "the local executor does (default: submit and return)");
-  ch->add_option("--partition", ca->partition,
-                 "slurm: partition (default: recipe slurm.partition)");
-  ch->add_option("--account", ca->account, "slurm: account (default: recipe slurm.account)");
-  ch->add_option("--time", ca->time,
-                 "slurm: time limit per unit job, e.g. 2:00:00 (default: recipe slurm.time)");
-  ch->add_option("--sbatch-template", ca->sbatch_template,
-                 "slurm: job-script template with {{placeholders}} (default: recipe "
-                 "slurm.template, else the built-in one)");
-  ch->add_option("--job-name", ca->job_name,
-                 "slurm: prefix of the job names (default pnc-<recipe name>)");
+  add_slurm_options(ch, ca->slurm, true);
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });

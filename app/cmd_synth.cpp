@@ -58,7 +58,7 @@ int run_synth(const SynthArgs& a) {
     for (const auto& c : d.cases)
       ids.push_back(c.id);
     j["cases"] = ids;
-    j["noise_sd_pa"] = o.noise_sd;
+    j["noise_sd_Pa"] = o.noise_sd;
     j["seed"] = a.seed;
     std::cout << j.dump() << std::endl;
   }

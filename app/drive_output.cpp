@@ -104,6 +104,7 @@ void write_drive_output(const std::string& out, const DriveResult& r, const Driv
   AtomicOutput tmp(out);
   {
     h5::File f(tmp.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     const auto n = static_cast<Eigen::Index>(r.rows.size());
     const auto ns = static_cast<Eigen::Index>(r.state_names.size());
     h5::RowMatrix strain(n, 6), stress(n, 6), state(n, ns), tangent(n, 36), energy(n, 3);

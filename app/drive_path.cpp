@@ -8,7 +8,6 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <toml.hpp>
 
 #include <Eigen/Dense>
 
@@ -16,7 +15,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <set>
-#include <sstream>
 
 namespace pnc::app {
 
@@ -39,51 +37,14 @@ long long sum_steps(const std::vector<DriveSegment>& s) {
   return n;
 }
 
-json toml_to_json(const toml::value& v, const std::string& key, const std::string& source) {
-  switch (v.type()) {
-  case toml::value_t::boolean:
-    return v.as_boolean();
-  case toml::value_t::integer:
-    return static_cast<std::int64_t>(v.as_integer());
-  case toml::value_t::floating:
-    return v.as_floating();
-  case toml::value_t::string:
-    return v.as_string().str;
-  case toml::value_t::array: {
-    json a = json::array();
-    std::size_t i = 0;
-    for (const auto& e : v.as_array())
-      a.push_back(toml_to_json(e, fmt::format("{}[{}]", key, ++i), source));
-    return a;
-  }
-  case toml::value_t::table: {
-    json o = json::object();
-    for (const auto& [k, e] : v.as_table())
-      o[k] = toml_to_json(e, key.empty() ? k : key + "." + k, source);
-    return o;
-  }
-  default:
-    fail(source, key, clip(toml::format(v)), "dates and times are not path values");
-  }
-}
-
 json read_toml(const std::string& path, const std::string& text) {
-  // ASCII only: component names and numbers need nothing else, and toml11 3.7 mishandles
-  // some invalid UTF-8 (see rve/src/recipe.cpp)
+  // ASCII only: component names and numbers need nothing else
   for (std::size_t i = 0; i < text.size(); ++i)
     if (static_cast<unsigned char>(text[i]) >= 0x80)
       fail(path, "",
            fmt::format("byte 0x{:02x} at offset {}", static_cast<unsigned char>(text[i]), i),
            "a path file is plain ASCII text");
-  check_nesting(text, path, Syntax::toml);
-  toml::value t;
-  try {
-    std::istringstream in(text);
-    t = toml::parse(in, path);
-  } catch (const std::exception& e) {
-    fail(path, "", "", "not valid TOML: " + clip(e.what(), 400));
-  }
-  return toml_to_json(t, "", path);
+  return parse_toml(text, path); // the TOML-to-JSON conversion all pnc inputs share
 }
 
 // CSV: a header `steps,<components...>`; one row per segment, every named component set.

@@ -254,7 +254,7 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
   const DerivedModuli d = derive_moduli(c.params);
   html::Table m;
   m.caption = "Derived moduli of C0, both readings: compliance inversion (the orthotropic "
-              "moduli) and the printed formula (docs/theory.md section 1.5)";
+              "moduli) and the printed formula (docs/theory.md §1.5)";
   m.header = {"modulus", "GPa", "reading"};
   m.numeric = {false, true, false};
   m.side_by_side = true;
@@ -262,11 +262,11 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
             {"E3", num(d.E3 / 1e9), "inversion"},   {"G23", num(d.G23 / 1e9), "inversion"},
             {"G13", num(d.G13 / 1e9), "inversion"}, {"G12", num(d.G12 / 1e9), "inversion"}};
   if (c.params.model == Model::pnc)
-    m.rows.push_back({"E2 (printed formula)", num(d.E2_eq646_printed / 1e9),
+    m.rows.push_back({"E2 (printed formula)", num(d.E2_as_printed / 1e9),
                       "printed formula (labelled E2; equals E1)"});
   else
-    m.rows.push_back(
-        {"E (isotropic formula)", num(d.E_eq647 / 1e9), "isotropic formula (C11, C12)"});
+    m.rows.push_back({"E (isotropic formula)", num(d.E_isotropic_formula / 1e9),
+                      "isotropic formula (C11, C12)"});
   m.rows.push_back({"ν12, ν13, ν23", fmt::format("{:.3g}, {:.3g}, {:.3g}", d.nu12, d.nu13, d.nu23),
                     "inversion (dimensionless)"});
   page.table(m);

@@ -17,6 +17,7 @@
 #include "run_control.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
 
@@ -49,7 +50,8 @@ int main(int argc, char** argv) {
                   "Stress-strain data: CSV (case,e11..g12,s11..s12; stress in MPa) or cases.h5")
       ->required();
   fit->add_option("--model", fa.model,
-                  "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-6 with an extension case)")
+                  "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-6 "
+                  "with an extension case)")
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();
   fit->add_flag("--fit-alpha", fa.fit_alpha,
@@ -160,26 +162,31 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return report_parse_error(app, e, argc, argv);
   }
-  try {
-    if (*fit) return run_fit(fa);
-    if (*show) return run_card_show(cs);
-    if (*tables) return run_card_tables(ct);
-    if (*cexport) return run_card_export(ce);
-    if (*synth) return run_synth(sa);
-    if (action) return action();
-  } catch (const pnc::Interrupted& e) {
-    std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
-              << "; continue with: " << resume_command() << std::endl;
-    return pnc::exit_code::stopped_by_signal(e.signal());
-  } catch (const pnc::Error& e) { // InputError 1, SimulationError 6, ToolError 7 (with its log)
-    std::cerr << "pnc: error: " << e.what() << "\n";
-    return e.exit_code();
-  } catch (const std::exception& e) {
-    std::cerr << "pnc: error: " << kInternalError << ": " << e.what() << "\n";
-    return pnc::exit_code::internal_error;
-  } catch (...) { // not even a std::exception (e.g. H5::Exception): a bug all the same
-    std::cerr << "pnc: error: " << kInternalError << ": an exception of unknown type\n";
-    return pnc::exit_code::internal_error;
-  }
-  return 0;
+  const auto run = [&]() -> int {
+    try {
+      if (*fit) return run_fit(fa);
+      if (*show) return run_card_show(cs);
+      if (*tables) return run_card_tables(ct);
+      if (*cexport) return run_card_export(ce);
+      if (*synth) return run_synth(sa);
+      if (action) return action();
+    } catch (const pnc::Interrupted& e) {
+      std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
+                << "; continue with: " << resume_command() << std::endl;
+      return pnc::exit_code::stopped_by_signal(e.signal());
+    } catch (const pnc::Error& e) { // InputError 1, SimulationError 6, ToolError 7 (with its log)
+      std::cerr << "pnc: error: " << e.what() << "\n";
+      return e.exit_code();
+    } catch (const std::exception& e) {
+      std::cerr << "pnc: error: " << kInternalError << ": " << e.what() << "\n";
+      return pnc::exit_code::internal_error;
+    } catch (...) { // not even a std::exception (e.g. H5::Exception): a bug all the same
+      std::cerr << "pnc: error: " << kInternalError << ": an exception of unknown type\n";
+      return pnc::exit_code::internal_error;
+    }
+    return 0;
+  };
+  const int code = run();
+  pnc::finish_run_log(code); // the run folder's pnc.log ends with the exit code (run_log.hpp)
+  return code;
 }

@@ -106,7 +106,7 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["iterations"] = f.iterations;
   j["initial_cost"] = num(f.initial_cost);
   j["final_cost"] = num(f.final_cost);
-  j["seconds"] = num(f.seconds);
+  j["solve_time_s"] = num(f.seconds); // wall time of the Ceres solve
   j["residuals"] = f.residuals;
   j["free_parameters"] = f.free_parameters;
   j["warnings"] = f.warnings;
@@ -123,7 +123,7 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
     j["r2"].push_back({{"case", c.case_id},
                        {"component", kComp[c.component]},
                        {"r2", num(c.r2)},
-                       {"rms_pa", num(c.rms)},
+                       {"rms_Pa", num(c.rms)},
                        {"chi2", num(c.chi2)},
                        {"runs", c.runs},
                        {"runs_expected", num(c.runs_expected)},

@@ -16,6 +16,7 @@ nlohmann::json constants_json(const damage::Card& c);
 /// Fit quality (R^2 per case/component) and the per-case regression next to the printed
 /// tables of the dissertation.
 std::string fit_tables(const damage::FitRecord& f, damage::Model m);
+/// Keys follow the JSON unit rule (D238; docs/schemas/common.schema.json "fit").
 nlohmann::json fit_json(const damage::FitRecord& f);
 /// The card's verdict and its reasons, one per line, for stderr and as JSON.
 std::string verdict_text(const damage::Verdict& v);

@@ -1,6 +1,7 @@
 #include "run_control.hpp"
 
 #include "pnc/core/stop.hpp"
+#include "pnc/core/version.hpp"
 
 #include <unistd.h>
 
@@ -29,7 +30,8 @@ std::string shell_word(const std::string& w) {
 
 volatile std::sig_atomic_t g_main_pid = 0;
 pnc::StopToken* g_token = nullptr;
-struct sigaction g_old_int {}, g_old_term {};
+struct sigaction g_old_int {
+}, g_old_term{};
 
 extern "C" void on_stop_signal(int sig) {
   if (static_cast<pid_t>(g_main_pid) != ::getpid()) { // a forked child: die as by default
@@ -54,6 +56,7 @@ void set_command_line(int argc, char** argv) {
     g_has_resume = g_has_resume || (i > 0 && w == "--resume");
     g_command_line += (i ? " " : "") + shell_word(w);
   }
+  pnc::set_invocation(g_command_line); // the provenance of every file written (hdf5_io.hpp)
 }
 
 const std::string& command_line() {

@@ -56,7 +56,8 @@ endforeach()
 
 # --- documentation, examples, licence (README's relative links keep working there)
 install(FILES README.md LICENSE CITATION.cff DESTINATION ${PNC_INSTALL_DOCDIR})
-install(DIRECTORY docs/ DESTINATION ${PNC_INSTALL_DOCDIR}/docs FILES_MATCHING PATTERN "*.md")
+install(DIRECTORY docs/ DESTINATION ${PNC_INSTALL_DOCDIR}/docs FILES_MATCHING PATTERN "*.md"
+                                                                   PATTERN "*.schema.json")
 install(DIRECTORY examples/ DESTINATION ${PNC_INSTALL_DOCDIR}/examples)
 
 # --- the Debian package (D156): `cpack` in the build directory

@@ -12,7 +12,9 @@ PNC_PACKAGES=(
   liblammps-dev lammps libdeal.ii-dev
   libgtest-dev googletest libbenchmark-dev
   clang llvm # scripts/sanitize.sh: ASan/UBSan build and libFuzzer targets (fuzz/)
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-vtk9 # python3-vtk9: tests read VTU/PVD with VTK (Vtu.*)
+  python3-jsonschema # tests only: --json outputs checked against docs/schemas/ (docs.json_schemas)
+  python3-h5py       # tests only: docs.json_schemas writes a box file for `pnc thermo work`
   gfortran make dpkg-dev file # tests/install: Fortran UMAT host, C host, cpack .deb (shlibdeps)
   chromium # tests only: report.html rendered in a real headless browser (Report.*, rve tests)
   slurm-wlm munge # tests/rve/slurm: a one-node Slurm cluster for the Slurm executor's tests

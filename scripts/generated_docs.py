@@ -11,13 +11,14 @@ and ends with the line
 
 Everything between the two lines is the output of the pnc command named on the first one
 (run without a shell, its words taken from the marker line; only `pnc recipe parameters ...`
-is run). The recipe key tables of docs/rve.md are such a region: the keys are declared once
-in rve/src/recipe_parameters.cpp, and the tables follow.
+and `pnc gimp parameters ...` are run). The recipe key tables of docs/rve.md and the input key
+tables of docs/gimp.md are such regions: the keys are declared once (in
+rve/src/recipe_parameters.cpp, gimp_coupler/src/input_parameters.cpp), and the tables follow.
 
     python3 scripts/generated_docs.py --pnc build/app/pnc            # rewrite the regions
     python3 scripts/generated_docs.py --pnc build/app/pnc --check    # exit 1 if one is stale
 
-The ctest docs.recipe_parameters runs the check (decision D232). Python 3 standard library only.
+The ctest docs.recipe_parameters runs the check (decisions D232, D292). Python 3 standard library only.
 """
 
 import argparse
@@ -29,7 +30,7 @@ import sys
 
 BEGIN = re.compile(r"^<!-- begin generated: pnc ((?:[a-z0-9_-]+ ?)+) -->$")
 END = "<!-- end generated -->"
-ALLOWED = [["recipe", "parameters"]]
+ALLOWED = [["recipe", "parameters"], ["gimp", "parameters"]]
 
 
 def render(pnc, words):

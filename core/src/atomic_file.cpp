@@ -2,9 +2,9 @@
 #include "pnc/core/atomic_file.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/fd_io.hpp"
 
 #include <fcntl.h>
-#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -42,25 +42,6 @@ const char* kind_of(mode_t m) {
   if (S_ISFIFO(m)) return "a fifo";
   if (S_ISSOCK(m)) return "a socket";
   return "not a regular file";
-}
-
-std::string random_hex(std::size_t bytes) {
-  unsigned char b[32];
-  if (bytes > sizeof b) bytes = sizeof b;
-  std::size_t got = 0;
-  while (got < bytes) {
-    const ssize_t n = getrandom(b + got, bytes - got, 0);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("<getrandom>", "", "", "no random bytes: " + errno_text(errno));
-    got += static_cast<std::size_t>(n);
-  }
-  static const char* hex = "0123456789abcdef";
-  std::string s;
-  for (std::size_t i = 0; i < bytes; ++i) {
-    s += hex[b[i] >> 4];
-    s += hex[b[i] & 15];
-  }
-  return s;
 }
 
 void fsync_path(const std::string& path, int flags) {

@@ -1,6 +1,7 @@
 #include "pnc/core/hdf5_io.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/version.hpp"
 
 #include <H5Cpp.h>
 
@@ -152,6 +153,30 @@ void File::set_attr(const std::string& object, const std::string& name, double v
   a.write(H5::PredType::NATIVE_DOUBLE, &value);
 }
 
+void File::write_integer(const std::string& dataset, std::int64_t value) {
+  ensure_parents(impl_->file, dataset);
+  H5::DataSet ds =
+      impl_->file.createDataSet(dataset, H5::PredType::STD_I64LE, H5::DataSpace(H5S_SCALAR));
+  ds.write(&value, H5::PredType::NATIVE_INT64);
+}
+
+void File::write_integers(const std::string& dataset, const std::vector<std::int64_t>& v) {
+  ensure_parents(impl_->file, dataset);
+  hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+  H5::DataSet ds =
+      impl_->file.createDataSet(dataset, H5::PredType::STD_I64LE, H5::DataSpace(1, dims));
+  if (!v.empty()) ds.write(v.data(), H5::PredType::NATIVE_INT64);
+}
+
+void File::set_attr_integer(const std::string& object, const std::string& name,
+                            std::int64_t value) {
+  ObjectHolder h;
+  H5::H5Object* o = open_object(impl_->file, object, h);
+  if (o->attrExists(name)) o->removeAttr(name);
+  H5::Attribute a = o->createAttribute(name, H5::PredType::STD_I64LE, H5::DataSpace(H5S_SCALAR));
+  a.write(H5::PredType::NATIVE_INT64, &value);
+}
+
 bool File::exists(const std::string& object) const {
   return guarded(impl_->path, object, "cannot look up the object (corrupt file?)", [&] {
     auto parts = split_path(object);
@@ -181,6 +206,27 @@ double File::read_scalar(const std::string& dataset) const {
     return v;
   } catch (const H5::Exception& e) {
     fail(impl_->path, dataset, "", "cannot read as a number: " + e.getDetailMsg());
+  }
+}
+
+bool File::is_integer(const std::string& dataset) const {
+  if (!exists(dataset)) return false;
+  return guarded(impl_->path, dataset, "cannot open the dataset",
+                 [&] { return impl_->file.openDataSet(dataset).getTypeClass() == H5T_INTEGER; });
+}
+
+std::int64_t File::read_integer(const std::string& dataset) const {
+  if (!exists(dataset)) missing(impl_->path, dataset);
+  if (!is_integer(dataset)) fail(impl_->path, dataset, "", "expected an integer dataset");
+  try {
+    H5::DataSet ds = impl_->file.openDataSet(dataset);
+    if (ds.getSpace().getSimpleExtentNpoints() != 1)
+      fail(impl_->path, dataset, "", "expected a scalar dataset");
+    std::int64_t v = 0;
+    ds.read(&v, H5::PredType::NATIVE_INT64);
+    return v;
+  } catch (const H5::Exception& e) {
+    fail(impl_->path, dataset, "", "cannot read as an integer: " + e.getDetailMsg());
   }
 }
 
@@ -281,6 +327,16 @@ std::vector<std::string> File::children(const std::string& group) const {
       out.push_back(g.getObjnameByIdx(i));
     return out;
   });
+}
+
+void write_provenance(File& f, const std::string& command) {
+  const std::string cmd = !command.empty()        ? command
+                          : !invocation().empty() ? invocation()
+                                                  : "(not run from the pnc command)";
+  f.set_attr("/", "software", version_string());
+  f.write_string("/provenance/software", version_string());
+  f.set_attr("/provenance", "created", utc_timestamp());
+  f.set_attr("/provenance", "command", cmd);
 }
 
 } // namespace pnc::h5

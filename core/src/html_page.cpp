@@ -377,6 +377,10 @@ Page& Page::list(const std::vector<std::string>& items, Tone tone) {
   blocks_.push_back(std::move(b));
   return *this;
 }
+Page& Page::warnings(const std::vector<std::string>& items) {
+  section("Warnings");
+  return items.empty() ? paragraph("None.") : list(items, Tone::warning);
+}
 Page& Page::verdict(const std::string& level, Tone tone,
                     const std::vector<std::pair<Tone, std::string>>& reasons) {
   blocks_.push_back({Kind::verdict, tone, level, "", "", {}, reasons});
@@ -498,6 +502,12 @@ std::string Page::markdown() const {
 void Page::write(const std::string& html_path, const std::string& md_path) const {
   write_text_atomically(html_path, html());
   if (!md_path.empty()) write_text_atomically(md_path, markdown());
+}
+
+std::string Page::write_report(const std::string& dir) const {
+  const std::string html_path = (std::filesystem::path(dir) / "report.html").string();
+  write(html_path, (std::filesystem::path(dir) / "report.md").string());
+  return html_path;
 }
 
 } // namespace pnc::html

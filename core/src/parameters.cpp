@@ -86,6 +86,17 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 } // namespace
 
 namespace detail {
+Parameter param_entry(const std::string& key, ParamType type, json default_value, std::string unit,
+                      std::string text) {
+  Parameter p;
+  p.path = key;
+  p.type = type;
+  p.default_value = std::move(default_value);
+  p.unit = std::move(unit);
+  p.text = std::move(text);
+  return p;
+}
+
 std::int64_t param_integer(const json& v) {
   return v.is_number_unsigned() ? static_cast<std::int64_t>(v.get<std::uint64_t>())
                                 : v.get<std::int64_t>();
@@ -162,6 +173,8 @@ std::string Parameter::type_name() const {
     return "list of strings";
   case ParamType::table_list:
     return "list of tables";
+  case ParamType::custom:
+    return type_text;
   }
   return "";
 }
@@ -170,6 +183,7 @@ std::string Parameter::range_text() const {
   std::string s;
   switch (type) {
   case ParamType::boolean:
+  case ParamType::custom: // its rule is extra_rule, appended below
     break;
   case ParamType::integer:
     s = integer_range(int_min, int_max);
@@ -222,6 +236,8 @@ std::string Parameter::rule() const {
     return "must be " + array_of(min_size, max_size) + " strings";
   case ParamType::table_list:
     return "must be " + array_of(min_size, max_size) + " tables (JSON objects)";
+  case ParamType::custom:
+    return "must be " + extra_rule;
   case ParamType::real_list: {
     const std::string r = range.text();
     return "must be " + array_of(min_size, max_size) + " finite numbers" +
@@ -275,6 +291,8 @@ void Parameter::validate(const json& v, const std::string& source, const std::st
       if (type == ParamType::string_list ? !v[i].is_string() : !v[i].is_object())
         fail(source, f + "[" + std::to_string(i) + "]", show_json(v[i]),
              type == ParamType::string_list ? "must be a string" : "must be a JSON object");
+    break;
+  case ParamType::custom: // `check` is the whole check
     break;
   }
   if (check) check(v, source, f);
@@ -336,11 +354,7 @@ Parameter& Parameters::add(Parameter p) {
 }
 
 Parameter& Parameters::boolean(const std::string& key, bool& target, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::boolean;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::boolean, target, "", std::move(text));
   p.store = [&target](const json& v) { target = v.get<bool>(); };
   p.load = [&target] { return json(target); };
   return add(std::move(p));
@@ -348,12 +362,7 @@ Parameter& Parameters::boolean(const std::string& key, bool& target, std::string
 
 Parameter& Parameters::real(const std::string& key, double& target, RealRange range,
                             std::string unit, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::real;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::real, target, std::move(unit), std::move(text));
   p.range = range;
   p.store = [&target](const json& v) { target = v.get<double>(); };
   p.load = [&target] { return json(target); };
@@ -362,11 +371,7 @@ Parameter& Parameters::real(const std::string& key, double& target, RealRange ra
 
 Parameter& Parameters::string(const std::string& key, std::string& target,
                               std::vector<Choice> choices, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::string;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::string, target, "", std::move(text));
   p.choices = std::move(choices);
   p.store = [&target](const json& v) { target = v.get<std::string>(); };
   p.load = [&target] { return json(target); };
@@ -376,12 +381,8 @@ Parameter& Parameters::string(const std::string& key, std::string& target,
 Parameter& Parameters::reals(const std::string& key, std::vector<double>& target, RealRange range,
                              std::size_t min_size, std::size_t max_size, std::string unit,
                              std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::real_list;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  Parameter p =
+      detail::param_entry(key, ParamType::real_list, target, std::move(unit), std::move(text));
   p.range = range;
   p.min_size = min_size;
   p.max_size = max_size;
@@ -392,15 +393,23 @@ Parameter& Parameters::reals(const std::string& key, std::vector<double>& target
 
 Parameter& Parameters::strings(const std::string& key, std::vector<std::string>& target,
                                std::size_t min_size, std::size_t max_size, std::string text) {
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::string_list;
-  p.default_value = target;
-  p.text = std::move(text);
+  Parameter p = detail::param_entry(key, ParamType::string_list, target, "", std::move(text));
   p.min_size = min_size;
   p.max_size = max_size;
   p.store = [&target](const json& v) { target = v.get<std::vector<std::string>>(); };
   p.load = [&target] { return json(target); };
+  return add(std::move(p));
+}
+
+Parameter& Parameters::custom(const std::string& key, std::string type_text, std::string rule,
+                              std::string unit, std::string text, std::string absent_means,
+                              ParamCheck check) {
+  Parameter p =
+      detail::param_entry(key, ParamType::custom, nullptr, std::move(unit), std::move(text));
+  p.type_text = std::move(type_text);
+  p.extra_rule = std::move(rule);
+  p.absent = std::move(absent_means);
+  p.check = std::move(check);
   return add(std::move(p));
 }
 

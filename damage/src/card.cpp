@@ -102,7 +102,7 @@ void write_card(const std::string& path, Card card, const std::string& command) 
     const auto& names = constant_names(card.params.model);
     f.write_string("/model/law", "NDM (Nair 2010)");
     f.set_attr("/model", "variant", model_name(card.params.model));
-    f.set_attr("/model", "card_version", static_cast<double>(kCardVersion));
+    f.set_attr("/model", "card_version", kCardVersion);
     f.set_attr("/model", "decisions", "docs/decisions.md D1-D12");
     f.set_attr("/model", "voigt",
                "11,22,33,23,13,12; engineering shear strain; sigma = (C0 + C1(D)) eps");
@@ -172,10 +172,7 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr("/fit/regression", "columns", "case, component, a (Pa), b (Pa), R^2");
       f.write_string("/fit/regression_labels", labels.str());
     }
-    f.set_attr("/", "software", version_string());
-    f.write_string("/provenance/software", version_string());
-    f.set_attr("/provenance", "created", utc_timestamp());
-    f.set_attr("/provenance", "command", command);
+    h5::write_provenance(f, command);
   }
   out.commit();
 }

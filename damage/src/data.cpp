@@ -206,17 +206,21 @@ void write_stress_strain_h5(const std::string& path, const StressStrainData& d) 
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "stress_definition", d.stress_definition);
     f.set_attr("/", "format", "pnc cases v1: /case_<n>/{strain,stress,stress_stderr}");
     for (const auto& c : d.cases) {
       const std::string g = "/case_" + std::to_string(c.id);
       f.write_matrix(g + "/strain", c.strain);
       f.set_attr(g + "/strain", "units", "1 (engineering shear)");
+      f.set_attr(g + "/strain", "columns", kStrainColumns);
       f.write_matrix(g + "/stress", c.stress);
       f.set_attr(g + "/stress", "units", "Pa");
+      f.set_attr(g + "/stress", "columns", kStressColumns);
       if (c.stress_stderr.rows() == c.stress.rows()) {
         f.write_matrix(g + "/stress_stderr", c.stress_stderr);
         f.set_attr(g + "/stress_stderr", "units", "Pa");
+        f.set_attr(g + "/stress_stderr", "columns", kStressColumns);
       }
     }
   }

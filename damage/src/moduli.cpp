@@ -21,9 +21,9 @@ DerivedModuli derive_moduli(const NdmParameters& p) {
   d.G23 = C(3, 3);
   d.G13 = C(4, 4);
   d.G12 = C(5, 5);
-  d.E2_eq646_printed = Cn.determinant() / (Cn(1, 1) * Cn(2, 2) - Cn(1, 2) * Cn(1, 2));
+  d.E2_as_printed = Cn.determinant() / (Cn(1, 1) * Cn(2, 2) - Cn(1, 2) * Cn(1, 2));
   const double c22 = Cn(0, 0), c12 = Cn(0, 1);
-  d.E_eq647 = (c22 * c22 + c12 * c22 - 2 * c12 * c12) / (c22 + c12);
+  d.E_isotropic_formula = (c22 * c22 + c12 * c22 - 2 * c12 * c12) / (c22 + c12);
   return d;
 }
 

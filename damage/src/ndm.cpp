@@ -46,8 +46,8 @@ enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
 } // namespace
 
 namespace {
-// The one place where the layout of [C0] + [C1(D)] is written (eqs. 5.37, 5.58-5.66 in the
-// engineering form of decisions D1-D3); stiffness_c0/c1/c1_dD below are views of it. Without
+// The one place where the layout of [C0] + [C1(D)] is written (docs/theory.md §1.1,
+// in the engineering form of decisions D1-D3); stiffness_c0/c1/c1_dD below are views of it. Without
 // C0 (with_c0 false) and a unit D it gives d C1 / d D_m exactly (C1 is linear in D).
 void assemble_stiffness(const NdmParameters& p, const std::array<double, 3>& D, Matrix6& C,
                         bool with_c0 = true) {

@@ -65,8 +65,8 @@ Matrix6 c0_from_c_constants(const std::array<double, 9>& c) {
   C(0, 1) = C(1, 0) = c[3];
   C(0, 2) = C(2, 0) = c[4];
   C(1, 2) = C(2, 1) = c[5];
-  // eq. 5.37 puts 2 c7 on the diagonal for the TENSORIAL shear strain; on engineering shear
-  // (gamma = 2 eps) the same energy c7 eps4^2 gives C44 = c7 (eq. 5.38: c7 = C0_44).
+  // The source's c-constant stiffness puts 2 c7 on the diagonal for the TENSORIAL shear strain;
+  // on engineering shear (gamma = 2 eps) the same energy c7 eps4^2 gives C44 = c7 = C0_44 (D1).
   C(3, 3) = c[6];
   C(4, 4) = c[7];
   C(5, 5) = c[8];
@@ -83,8 +83,9 @@ Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double
   C(2, 2) = E3 * (1 - nu12 * nu21) * Y;
   C(1, 2) = C(2, 1) = E2 * (nu32 + nu12 * nu31) * Y;
   C(0, 2) = C(2, 0) = E3 * (nu13 + nu12 * nu23) * Y;
-  // Printed eq. 5.44 (and the repair E1 (nu21 + nu31*nu32)) is not the orthotropic
-  // inverse, which requires nu31*nu23 (decision D1b; tested against the compliance matrix).
+  // The printed C12 formula from engineering constants (and the repair E1 (nu21 + nu31*nu32)) is
+  // not the orthotropic inverse, which requires nu31*nu23 (decision D1b; tested against the
+  // compliance matrix).
   C(0, 1) = C(1, 0) = E1 * (nu21 + nu31 * nu23) * Y;
   C(3, 3) = mu23;
   C(4, 4) = mu13;

@@ -1,6 +1,6 @@
-// escm_tension: Case I analogue of dissertation section 6.1 (simple tension with the MD
-// region at the centre), with an LJ FCC crystal as the MD region and the continuum calibrated
-// to it (docs/escm.md; the polymer MD region of the dissertation is not done).
+// escm_tension: Case I analogue of the source's ESCM cases (docs/escm.md; simple tension with the
+// MD region at the centre), with an LJ FCC crystal as the MD region and the continuum calibrated to
+// it (docs/escm.md; the polymer MD region of the dissertation is not done).
 //
 //   escm_tension OUTDIR [--short]
 //

@@ -6,7 +6,7 @@
 
 (the plugin defaults to $PNC_MATERIAL_PLUGIN). It reads the card's constants through the
 C ABI metadata (pnc_material_constant_name / pnc_material_constant), builds the undamaged
-stiffness C0 from them (docs/theory.md eq. 1.1: normal block C11..C23, shear diagonal
+stiffness C0 from them (docs/theory.md §1.1: normal block C11..C23, shear diagonal
 C44 C55 C66; the pp model reads it isotropically), checks that an elastic increment gives
 sigma = C0 eps and that the tangent is C0, then loads the point into damage. Units SI:
 strain dimensionless with engineering shear, stress Pa; Voigt order 11,22,33,23,13,12.
@@ -53,7 +53,7 @@ def ptr(a):
 
 
 def c0_from_constants(model, k):
-    """The undamaged stiffness of docs/theory.md eq. 1.1 (engineering Voigt)."""
+    """The undamaged stiffness of docs/theory.md §1.1 (engineering Voigt)."""
     C0 = np.zeros((6, 6))
     if model == "pnc":
         C0[0, 0], C0[1, 1], C0[2, 2] = k["C11"], k["C22"], k["C33"]

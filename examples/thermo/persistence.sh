@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Steered bending (section 6.2.1). First the chain whose stiffness is known by construction
-# (angle harmonic, theta0 = 180 deg, K = 500 kcal/mol/rad^2: EI = 1721 kcal/mol*A for eq. 6.9
+# Steered bending (docs/theory.md §4.5). First the chain whose stiffness is known by construction
+# (angle harmonic, theta0 = 180 deg, K = 500 kcal/mol/rad^2: EI = 1721 kcal/mol*A for the printed ratio F L^3/(48 d), D67,
 # on 4 beads, 1530 in the continuum limit), then the dissertation's protocol on the
 # coarse-grained PP chain (4 beads, spring 10 kcal/mol/A^2, rates 0.01-0.1 A/fs).
 set -euo pipefail

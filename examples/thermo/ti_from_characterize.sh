@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The dissertation's TI sweep (eqs. 6.10-6.22, Table 6.1) on the equilibrated RVE of a
+# The dissertation's TI sweep (docs/theory.md §4.1-4.4; its published parameter table) on the equilibrated RVE of a
 # `pnc characterize` run (pure polymer).
 set -euo pipefail
 PNC=${PNC:-build/app/pnc}

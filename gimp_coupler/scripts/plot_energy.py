@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Energy balance of a pnc gimp run: plot_energy.py HISTORY.csv OUT.png [TITLE].
+"""Energy balance of a pnc gimp run: plot_energy.py HISTORY.csv OUT.png [TITLE] [--per-thickness].
 
-Reads history.csv (time in s, energies in J) and draws kinetic, strain, external work,
+Reads history.csv (time in s, energies in J; J per metre of thickness in 2-D, where
+--per-thickness labels the axis J/m) and draws kinetic, strain, external work,
 boundary work, damping work (if present) and the energy error
 KE + SE - E0 - W_ext - W_bc - W_damp against time. Needs matplotlib
 (/usr/bin/python3 on the project machine).
@@ -16,16 +17,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit("usage: plot_energy.py HISTORY.csv OUT.png [TITLE]")
+    per_thickness = "--per-thickness" in sys.argv[1:]
+    args = [a for a in sys.argv[1:] if a != "--per-thickness"]
+    if len(args) < 2:
+        sys.exit("usage: plot_energy.py HISTORY.csv OUT.png [TITLE] [--per-thickness]")
     rows = []
-    with open(sys.argv[1]) as f:
+    with open(args[0]) as f:
         lines = [ln for ln in f if not ln.startswith("#")]
     reader = csv.DictReader(lines)
     for r in reader:
         rows.append({k: float(v) for k, v in r.items()})
     if not rows:
-        sys.exit("no rows in " + sys.argv[1])
+        sys.exit("no rows in " + args[0])
     t = [r["time"] for r in rows]
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for key, label in [("kinetic", "kinetic"), ("strain", "strain energy"),
@@ -37,12 +40,12 @@ def main():
         ax.plot(t, [r[key] for r in rows], label=label, lw=1.5 if key != "balance" else 2.0,
                 ls="-" if key != "balance" else "--")
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("energy (J)")
-    ax.set_title(sys.argv[3] if len(sys.argv) > 3 else "energy balance")
+    ax.set_ylabel("energy per unit thickness (J/m)" if per_thickness else "energy (J)")
+    ax.set_title(args[2] if len(args) > 2 else "energy balance")
     ax.grid(True, alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=120)
+    fig.savefig(args[1], dpi=120)
 
 
 if __name__ == "__main__":

@@ -30,22 +30,22 @@ template <int D> struct Shape {
 
 template <int D> Shape<D> read_shape(const Node& n) {
   Shape<D> s;
-  const std::string kind = n.str("shape");
+  const std::string kind = n.str("shape"); // one of the declared shapes (checked_input)
+  // the keys a shape needs (declared without a default: "required by shape ...")
+  for (const char* k : kind == "box" ? std::array<const char*, 2>{"min", "max"}
+                                     : std::array<const char*, 2>{"center", "radius"})
+    if (!n.has(k)) fail(n.src, n.key(k), "<missing>", "required by shape \"" + kind + "\"");
   if (kind == "box") {
     s.lo = n.vec<D>("min");
     s.hi = n.vec<D>("max");
     for (int a = 0; a < D; ++a)
       if (!(s.hi[a] > s.lo[a])) n.bad("max", n.at("max"), "must exceed min on every axis");
-  } else if (kind == (D == 2 ? "circle" : "sphere")) {
+  } else { // circle (2-D), sphere (3-D)
     s.ball = true;
     s.c = n.vec<D>("center");
-    s.r = n.positive("radius");
+    s.r = n.num("radius");
     s.lo = s.c.array() - s.r;
     s.hi = s.c.array() + s.r;
-  } else {
-    n.bad("shape", n.at("shape"),
-          D == 2 ? "must be \"box\", \"circle\" or \"particles\""
-                 : "must be \"box\", \"sphere\" or \"particles\"");
   }
   return s;
 }
@@ -64,8 +64,7 @@ void read_bodies(const Node& top, int ppc, const std::string& base_dir, const Ru
                  Solver<D>& s) {
   using Vec = Eigen::Matrix<double, D, 1>;
   const std::string& source = top.src;
-  const json& bodies = top.at("bodies");
-  if (!bodies.is_array() || bodies.empty()) top.bad("bodies", bodies, "must be a non-empty array");
+  const json& bodies = top.at("bodies"); // each checked against its shape's keys
   const double d = s.grid.h / ppc;
   const Vec half = Vec::Constant(0.5 * d);
   const double vol = std::pow(d, D); // 2-D: area x 1 m
@@ -75,13 +74,11 @@ void read_bodies(const Node& top, int ppc, const std::string& base_dir, const Ru
   std::set<long long> taken;
   for (std::size_t k = 0; k < bodies.size(); ++k) {
     const Node b{bodies[k], "bodies[" + std::to_string(k) + "]", source};
-    if (!b.j.is_object()) fail(source, b.path, show(b.j), "must be a JSON object");
     const int mi = material_index(b, rc);
     const double rho = s.materials[static_cast<std::size_t>(mi)]->density();
     const Vec vel = b.has("velocity") ? b.vec<D>("velocity") : Vec::Zero();
     const std::size_t before = s.particles.size();
-    if (b.has("shape") && b.str("shape") == "particles") {
-      b.allow({"material", "shape", "file", "velocity"});
+    if (b.str("shape") == "particles") {
       const fs::path file = resolve(base_dir, b.str("file"));
       if (!fs::exists(file)) b.bad("file", b.at("file"), "file not found: " + file.string());
       const CsvTable t = read_csv(file.string());
@@ -112,19 +109,12 @@ void read_bodies(const Node& top, int ppc, const std::string& base_dir, const Ru
         s.particles.add(x, Vec::Constant(l), rho * V, V, mi, v);
       }
     } else {
-      b.allow({"material", "shape", "min", "max", "center", "radius", "velocity", "holes"});
       const Shape<D> sh = read_shape<D>(b);
       std::vector<Shape<D>> holes;
-      if (b.has("holes")) {
-        const json& hs = b.at("holes");
-        if (!hs.is_array()) b.bad("holes", hs, "must be an array of shapes");
-        for (std::size_t h = 0; h < hs.size(); ++h) {
-          const Node hn{hs[h], b.key("holes[" + std::to_string(h) + "]"), source};
-          if (!hn.j.is_object()) fail(source, hn.path, show(hn.j), "must be a JSON object");
-          hn.allow({"shape", "min", "max", "center", "radius"});
-          holes.push_back(read_shape<D>(hn));
-        }
-      }
+      const json& hs = b.at("holes");
+      for (std::size_t h = 0; h < hs.size(); ++h)
+        holes.push_back(
+            read_shape<D>(Node{hs[h], b.key("holes[" + std::to_string(h) + "]"), source}));
       std::array<long, D> k0{}, k1{};
       // Clamped in floating point before the conversion: a body far outside the grid gives
       // quotients beyond the range of long (converting those is undefined behaviour).

@@ -11,7 +11,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <initializer_list>
 #include <string>
 
 namespace pnc::gimp::input_detail {
@@ -41,17 +40,6 @@ struct Node {
     const json& c = at(k);
     if (!c.is_object()) bad(k, c, "must be a JSON object");
     return Node{c, key(k), src};
-  }
-  void allow(std::initializer_list<const char*> keys) const {
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      bool ok = false;
-      std::string list;
-      for (const char* k : keys) {
-        ok = ok || it.key() == k;
-        list += (list.empty() ? "" : ", ") + std::string(k);
-      }
-      if (!ok) fail(src, key(it.key()), show(it.value()), "unknown key (allowed: " + list + ")");
-    }
   }
   double num(const std::string& k) const {
     const json& v = at(k);
@@ -101,6 +89,11 @@ struct Node {
     bad(k, v, D == 2 ? "must be \"x\" or \"y\"" : "must be \"x\", \"y\" or \"z\"");
   }
 };
+
+/// The input checked against the declarations (input_parameters.cpp): no unknown key, every
+/// value of its type and in its range, every default filled in (in the tables too); then the
+/// readers below check the rules between keys and build the solver.
+json checked_input(const json& doc, const std::string& source, int dimension);
 
 /// A relative path `p` resolved against the input's folder `base`.
 std::filesystem::path resolve(const std::string& base, const std::string& p);

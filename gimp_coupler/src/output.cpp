@@ -5,7 +5,9 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/core/vtu.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <iomanip>
@@ -39,59 +41,6 @@ std::string base64(const unsigned char* data, std::size_t n) {
 
 namespace {
 
-/// One DataArray: name, number of components, values (double) or ints.
-class VtuWriter {
-public:
-  explicit VtuWriter(bool binary) : binary_(binary) { s_ << std::setprecision(10); }
-  void array(const std::string& name, int ncomp, const std::vector<double>& v) {
-    s_ << "<DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"" << ncomp
-       << "\" format=\"" << (binary_ ? "binary" : "ascii") << "\">\n";
-    if (binary_) {
-      encode(v.data(), v.size() * sizeof(double));
-    } else {
-      for (std::size_t i = 0; i < v.size(); ++i)
-        s_ << v[i] << ((i + 1) % 9 ? ' ' : '\n');
-    }
-    s_ << "\n</DataArray>\n";
-  }
-  void iarray(const std::string& name, const std::vector<std::int32_t>& v,
-              const char* type = "Int32") {
-    s_ << "<DataArray type=\"" << type << "\" Name=\"" << name << "\" format=\""
-       << (binary_ ? "binary" : "ascii") << "\">\n";
-    if (binary_) {
-      encode(v.data(), v.size() * sizeof(std::int32_t));
-    } else {
-      for (std::size_t i = 0; i < v.size(); ++i)
-        s_ << v[i] << ((i + 1) % 20 ? ' ' : '\n');
-    }
-    s_ << "\n</DataArray>\n";
-  }
-  void uarray(const std::string& name, const std::vector<std::uint8_t>& v) {
-    s_ << "<DataArray type=\"UInt8\" Name=\"" << name << "\" format=\""
-       << (binary_ ? "binary" : "ascii") << "\">\n";
-    if (binary_) {
-      encode(v.data(), v.size());
-    } else {
-      for (std::size_t i = 0; i < v.size(); ++i)
-        s_ << int(v[i]) << ((i + 1) % 20 ? ' ' : '\n');
-    }
-    s_ << "\n</DataArray>\n";
-  }
-  std::ostringstream& os() { return s_; }
-
-private:
-  void encode(const void* p, std::size_t nbytes) {
-    // VTK "binary" inline format: base64 of a UInt32 byte count followed by the data.
-    std::vector<unsigned char> buf(4 + nbytes);
-    const auto nb = static_cast<std::uint32_t>(nbytes);
-    std::memcpy(buf.data(), &nb, 4);
-    if (nbytes) std::memcpy(buf.data() + 4, p, nbytes);
-    s_ << base64(buf.data(), buf.size());
-  }
-  bool binary_;
-  std::ostringstream s_;
-};
-
 std::string join(const std::vector<std::string>& v) {
   std::string s;
   for (std::size_t i = 0; i < v.size(); ++i)
@@ -120,100 +69,72 @@ void write_vtu(const std::string& path, const Solver<D>& s, bool binary,
                const std::vector<std::string>& material_names) {
   const auto& P = s.particles;
   const std::size_t n = P.size();
-  VtuWriter w(binary);
-  auto& o = w.os();
-  o << "<?xml version=\"1.0\"?>\n<!-- pnc gimp particles; SI units; " << version_string()
-    << "; materials:";
+  vtu::Frame f;
+  f.comment = "pnc gimp particles; SI units; " + version_string() + "; materials:";
   for (std::size_t i = 0; i < material_names.size(); ++i)
-    o << ' ' << i << '=' << material_names[i];
-  o << " -->\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
-       "header_type=\"UInt32\">\n<UnstructuredGrid>\n<FieldData>\n";
-  w.array("TIME", 1, {s.time});
-  o << "</FieldData>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n";
-  auto vec3 = [&](auto get) {
-    std::vector<double> v(3 * n, 0.0);
-    for (std::size_t p = 0; p < n; ++p) {
-      const auto x = get(p);
-      for (int a = 0; a < D; ++a)
-        v[3 * p + a] = x[a];
+    f.comment += ' ' + std::to_string(i) + '=' + material_names[i];
+  f.field = {{"time_s", "s", s.time}};
+  f.points.resize(n, {0.0, 0.0, 0.0});
+  vtu::PointArray u{"displacement_m", "m", 3, std::vector<double>(3 * n, 0.0), {}};
+  vtu::PointArray v{"velocity_m_per_s", "m/s", 3, std::vector<double>(3 * n, 0.0), {}};
+  vtu::PointArray sig{"stress_Pa", "Pa", 6, {}, {}};
+  vtu::PointArray eps{"strain_1", "1", 6, {}, {}};
+  sig.values.reserve(6 * n);
+  eps.values.reserve(6 * n);
+  vtu::PointArray rho{"density_kg_per_m3", "kg/m^3", 1, {}, {}};
+  vtu::PointArray V{"volume_m3", "m^3", 1, {}, {}};
+  vtu::PointArray m{"mass_kg", "kg", 1, {}, {}};
+  vtu::PointArray W{"strain_energy_density_J_per_m3", "J/m^3", 1, {}, {}};
+  vtu::PointArray mat{"material_index", "index", 1, {}, {}};
+  for (std::size_t p = 0; p < n; ++p) {
+    for (int a = 0; a < D; ++a) {
+      f.points[p][static_cast<std::size_t>(a)] = P.x[p][a];
+      u.values[3 * p + static_cast<std::size_t>(a)] = P.x[p][a] - P.x0[p][a];
+      v.values[3 * p + static_cast<std::size_t>(a)] = P.v[p][a];
     }
-    return v;
-  };
-  o << "<Points>\n";
-  w.array("Points", 3, vec3([&](std::size_t p) { return P.x[p]; }));
-  o << "</Points>\n<Cells>\n";
-  {
-    std::vector<std::int32_t> conn(n), off(n);
-    std::vector<std::uint8_t> types(n, 1); // VTK_VERTEX
-    for (std::size_t p = 0; p < n; ++p) {
-      conn[p] = static_cast<std::int32_t>(p);
-      off[p] = static_cast<std::int32_t>(p + 1);
-    }
-    w.iarray("connectivity", conn);
-    w.iarray("offsets", off);
-    w.uarray("types", types);
+    const Mat3 F = to3<D>(P.F[p]);
+    const Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
+    double sr[9], er[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        sr[3 * i + j] = P.sigma[p](i, j);
+        er[3 * i + j] = E(i, j);
+      }
+    const auto s6 = vtu::symmetric6(sr), e6 = vtu::symmetric6(er);
+    sig.values.insert(sig.values.end(), s6.begin(), s6.end());
+    eps.values.insert(eps.values.end(), e6.begin(), e6.end());
+    rho.values.push_back(P.m[p] / P.V[p]);
+    V.values.push_back(P.V[p]);
+    m.values.push_back(P.m[p]);
+    W.values.push_back(P.W[p]);
+    mat.labels.push_back(P.mat[p]);
   }
-  o << "</Cells>\n<PointData Vectors=\"velocity\" Tensors=\"stress\">\n";
-  w.array("displacement", 3,
-          vec3([&](std::size_t p) -> typename Solver<D>::Vec { return P.x[p] - P.x0[p]; }));
-  w.array("velocity", 3, vec3([&](std::size_t p) { return P.v[p]; }));
-  {
-    std::vector<double> sig(9 * n), eps(9 * n);
-    for (std::size_t p = 0; p < n; ++p) {
-      const Mat3 F = to3<D>(P.F[p]);
-      const Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          sig[9 * p + 3 * i + j] = P.sigma[p](i, j);
-          eps[9 * p + 3 * i + j] = E(i, j);
-        }
-    }
-    w.array("stress", 9, sig);
-    w.array("strain", 9, eps);
-  }
-  {
-    std::vector<double> rho(n), V(n), m(n), W(n);
-    std::vector<std::int32_t> mat(n);
-    for (std::size_t p = 0; p < n; ++p) {
-      rho[p] = P.m[p] / P.V[p];
-      V[p] = P.V[p];
-      m[p] = P.m[p];
-      W[p] = P.W[p];
-      mat[p] = P.mat[p];
-    }
-    w.array("density", 1, rho);
-    w.array("volume", 1, V);
-    w.array("mass", 1, m);
-    w.array("strain_energy_density", 1, W);
-    w.iarray("material", mat);
-  }
-  // State variables, by name over all materials.
+  f.arrays = {std::move(u), std::move(v), std::move(sig), std::move(eps), std::move(rho),
+              std::move(V), std::move(m), std::move(W),   std::move(mat)};
+  // State variables, by name over all materials (the damage laws' kappa and D: stretch and
+  // damage, dimensionless); 0 for particles of other laws.
   std::vector<std::string> names;
   for (const auto& mt : s.materials)
     for (const auto& nm : mt->state_names())
       if (std::find(names.begin(), names.end(), nm) == names.end()) names.push_back(nm);
   for (const auto& nm : names) {
-    std::vector<double> v(n, 0.0);
+    vtu::PointArray a{nm + "_1", "1", 1, std::vector<double>(n, 0.0), {}};
     for (std::size_t p = 0; p < n; ++p) {
       const auto sn = s.materials[static_cast<std::size_t>(P.mat[p])]->state_names();
       for (std::size_t k = 0; k < sn.size(); ++k)
-        if (sn[k] == nm) v[p] = P.state[p * static_cast<std::size_t>(P.state_stride) + k];
+        if (sn[k] == nm) a.values[p] = P.state[p * static_cast<std::size_t>(P.state_stride) + k];
     }
-    w.array(nm, 1, v);
+    f.arrays.push_back(std::move(a));
   }
-  o << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  write_text_atomically(path, o.str());
+  vtu::write_vtu(path, f, {binary ? vtu::Encoding::base64 : vtu::Encoding::ascii, 10});
 }
 
 void write_pvd(const std::string& path, const std::vector<std::string>& files,
                const std::vector<double>& times) {
-  std::ostringstream o;
-  o << std::setprecision(12);
-  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  std::vector<vtu::PvdEntry> e;
   for (std::size_t i = 0; i < files.size(); ++i)
-    o << "  <DataSet timestep=\"" << times[i] << "\" part=\"0\" file=\"" << files[i] << "\"/>\n";
-  o << "</Collection>\n</VTKFile>\n";
-  write_text_atomically(path, o.str());
+    e.push_back({files[i], times[i]}); // the physical time increases strictly (one step or more)
+  vtu::write_pvd(path, e);
 }
 
 void History::write_csv(const std::string& path) const {
@@ -234,15 +155,15 @@ void write_checkpoint(const std::string& path, const Solver<D>& s, const Checkpo
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     const auto& P = s.particles;
     const auto n = static_cast<Eigen::Index>(P.size());
     f.write_string("/format", "pnc gimp checkpoint 1");
-    f.write_string("/software", version_string());
     f.write_string("/input_hash", x.input_hash);
     f.write_scalar("/dimension", D);
     f.write_scalar("/time", s.time);
     f.set_attr("/time", "units", "s");
-    f.write_scalar("/steps", static_cast<double>(s.steps));
+    f.write_scalar("/steps", s.steps);
     f.write_scalar("/energy/initial", s.energy.initial);
     f.write_scalar("/energy/kinetic", s.energy.kinetic);
     f.write_scalar("/energy/strain", s.energy.strain);

@@ -32,8 +32,11 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 /// Draws energy.png from history.csv; returns a warning ("" on success).
+/// `extra`: further arguments of the script (plot_G.py: --gc, --stop; plot_energy.py:
+/// --per-thickness).
 std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title,
-                        const char* script_name = "plot_energy.py") {
+                        const char* script_name = "plot_energy.py",
+                        const std::vector<std::string>& extra = {}) {
   const char* env_py = std::getenv("PNC_PYTHON");
   const std::string py = env_py && *env_py ? env_py : PNC_GIMP_PYTHON;
   // share/pnc/scripts relative to the executable, or $PNC_GIMP_SCRIPTS_DIR (D151)
@@ -43,7 +46,9 @@ std::string plot_energy(const std::string& csv, const std::string& png, const st
            "; set PNC_GIMP_SCRIPTS_DIR)";
   const std::string& script = found.path;
   // argument vector, no shell: the title and paths are data whatever they contain
-  const SubprocessResult r = run_subprocess({py, script, csv, png, title});
+  std::vector<std::string> argv = {py, script, csv, png, title};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  const SubprocessResult r = run_subprocess(argv);
   if (!r.started) return "cannot run " + py + ": " + r.error;
   if (!r.ok()) return std::string(script_name) + " failed (" + py + "): " + r.output;
   return "";
@@ -72,6 +77,8 @@ template <int D> struct GimpRun {
   bool stop_requested() const { return o.stop != nullptr && o.stop->requested(); }
   /// The numbers of a finished run and the plots.
   void fill_summary();
+  /// Why the run ended and why each crack stopped growing (RunSummary::end_reason, cracks).
+  void fill_outcomes();
   void write_summary_json() const;
   nlohmann::json cracks_json() const; ///< the "cracks" block of summary.json
 
@@ -364,21 +371,80 @@ template <int D> void GimpRun<D>::fill_summary() {
     sum.reaction_names.push_back(bc.name);
     sum.reactions.emplace_back(bc.reaction.data(), bc.reaction.data() + D);
   }
+  fill_outcomes();
   if (o.plot) {
+    // the plotting phase is announced: no silent seconds after the last step's ETA 0 s
+    const auto plot0 = Clock::now();
+    if (o.progress) std::cerr << "plotting energy.png (and G.png for cracks) ..." << std::endl;
     const std::string png = (fs::path(o.out_dir) / "energy.png").string();
-    sum.plot_warning = plot_energy(hist_csv, png, fs::path(o.input).filename().string());
+    sum.plot_warning = plot_energy(
+        hist_csv, png, fs::path(o.input).filename().string(), "plot_energy.py",
+        D == 2 ? std::vector<std::string>{"--per-thickness"} : std::vector<std::string>{});
     if (sum.plot_warning.empty()) sum.plot_png = png;
     if (!tip_ids.empty() || !front_ids.empty()) {
       const std::string gpng = (fs::path(o.out_dir) / "G.png").string();
+      std::vector<std::string> marks; // the critical G line and the stop marker (D272)
+      for (const auto& c : sum.cracks)
+        if (c.Gc > 0) {
+          marks.insert(marks.end(), {"--gc", c.name, fmt::format("{:.17g}", c.Gc)});
+          marks.insert(marks.end(), {"--stop", c.name, c.stop_reason});
+        }
       const std::string w =
-          plot_energy(hist_csv, gpng, fs::path(o.input).filename().string(), "plot_G.py");
+          plot_energy(hist_csv, gpng, fs::path(o.input).filename().string(), "plot_G.py", marks);
       if (w.empty())
         sum.plot_G_png = gpng;
       else
         sum.plot_warning += (sum.plot_warning.empty() ? "" : "; ") + w;
     }
+    if (o.progress)
+      std::cerr << fmt::format("plotting done in {:.1f} s\n",
+                               std::chrono::duration<double>(Clock::now() - plot0).count());
   }
   sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+}
+
+template <int D> void GimpRun<D>::fill_outcomes() {
+  if (s.time >= rc.t_end - eps_t)
+    sum.end_reason = "end time reached";
+  else if (rc.max_steps > 0 && s.steps >= rc.max_steps)
+    sum.end_reason = fmt::format("input max_steps ({}) reached", rc.max_steps);
+  else
+    sum.end_reason = fmt::format("--max-steps ({}) reached", o.stop_after_steps);
+  // the largest J (and mixed-mode ratio) of each crack's tips or fronts now
+  std::vector<double> J(s.cracks.size(), std::nan("")), mix(s.cracks.size(), std::nan(""));
+  auto take = [&](std::size_t c, double j, double gi, double gii) {
+    const CrackGrowth& g = s.cracks[c].growth;
+    if (!std::isfinite(j)) return;
+    J[c] = std::isfinite(J[c]) ? std::max(J[c], j) : j;
+    if (g.Gc > 0 && g.GIIc > 0) {
+      const double m = gi / g.Gc + gii / g.GIIc;
+      mix[c] = std::isfinite(mix[c]) ? std::max(mix[c], m) : m;
+    }
+  };
+  if constexpr (D == 2) {
+    for (const auto& t : crack_tips(s))
+      take(t.crack, t.J, t.GI, t.GII);
+  } else {
+    for (const auto& f : crack_fronts(s))
+      take(f.crack, f.J, f.GI, f.GII);
+  }
+  for (std::size_t c = 0; c < s.cracks.size(); ++c) {
+    const Crack& k = s.cracks[c];
+    CrackOutcome out{k.name, k.growth.Gc, k.growth.GIIc, k.growth.max_increments, k.increments, ""};
+    if (k.growth.Gc <= 0)
+      out.stop_reason = "no growth law (Gc = 0)";
+    else if (k.increments >= k.growth.max_increments)
+      out.stop_reason = fmt::format("max_increments ({}) reached", k.growth.max_increments);
+    else if (!std::isfinite(J[c]))
+      out.stop_reason = "no tip left inside the material";
+    else if (k.growth.GIIc > 0 ? mix[c] >= 1 : J[c] >= k.growth.Gc)
+      out.stop_reason = "still growing: the criterion is met at the end of the run";
+    else if (k.growth.GIIc > 0)
+      out.stop_reason = fmt::format("G_I/Gc + G_II/GIIc = {:.3g} < 1 at the end", mix[c]);
+    else
+      out.stop_reason = fmt::format("J = {:.4g} < Gc = {:.4g} J/m² at the end", J[c], k.growth.Gc);
+    sum.cracks.push_back(out);
+  }
 }
 
 template <int D> void GimpRun<D>::write_summary_json() const {

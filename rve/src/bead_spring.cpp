@@ -267,10 +267,9 @@ void write_bead_spring_record(const std::string& path, const System& s, const Bu
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-rve-build");
     f.set_attr("/", "model", "kg (glassy bead-spring polymer)");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real: A, g/mol, kcal/mol; density g/cm^3");
     f.write_string("/recipe", recipe_json);
     f.write_scalar("/spec/chains", spec.chains);
@@ -304,8 +303,8 @@ void write_bead_spring_record(const std::string& path, const System& s, const Bu
     for (const auto& c : bead_spring_commands(ff))
       cmds += c + "\n";
     f.write_string("/forcefield/lammps_commands", cmds);
-    f.write_scalar("/result/atoms", static_cast<double>(s.x.size()));
-    f.write_scalar("/result/bonds", static_cast<double>(s.bonds.size()));
+    f.write_scalar("/result/atoms", s.x.size());
+    f.write_scalar("/result/bonds", s.bonds.size());
     f.write_scalar("/result/density", s.density());
     f.set_attr("/result/density", "units", "g/cm^3");
     f.write_scalar("/result/reduced_density", ff.reduced_density(s.density()));

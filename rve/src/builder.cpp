@@ -345,9 +345,8 @@ void write_build_record(const std::string& path, const System& s, const BuildSpe
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-rve-build");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real: A, g/mol, kcal/mol; density g/cm^3");
     f.write_string("/recipe", recipe_json);
     f.write_scalar("/spec/chains", spec.chains);
@@ -377,10 +376,10 @@ void write_build_record(const std::string& path, const System& s, const BuildSpe
     for (const auto& c : polymer_forcefield_commands(ff))
       cmds += c + "\n";
     f.write_string("/forcefield/lammps_commands", cmds);
-    f.write_scalar("/result/atoms", static_cast<double>(s.x.size()));
-    f.write_scalar("/result/bonds", static_cast<double>(s.bonds.size()));
-    f.write_scalar("/result/angles", static_cast<double>(s.angles.size()));
-    f.write_scalar("/result/dihedrals", static_cast<double>(s.dihedrals.size()));
+    f.write_scalar("/result/atoms", s.x.size());
+    f.write_scalar("/result/bonds", s.bonds.size());
+    f.write_scalar("/result/angles", s.angles.size());
+    f.write_scalar("/result/dihedrals", s.dihedrals.size());
     f.write_scalar("/result/density", s.density());
     f.set_attr("/result/density", "units", "g/cm^3");
     f.write_scalar("/result/min_nonbonded_distance", min_nonbonded_distance(s));
@@ -394,9 +393,8 @@ void write_build_record(const std::string& path, const System& s, const BuildSpe
         X(static_cast<Eigen::Index>(i), a) = s.x[i][a];
     f.write_matrix("/result/positions", X);
     f.set_attr("/result/positions", "units", "A (unwrapped)");
-    std::vector<double> mol(s.mol.begin(), s.mol.end()), typ(s.type.begin(), s.type.end());
-    f.write_vector("/result/molecule", mol);
-    f.write_vector("/result/type", typ);
+    f.write_integers("/result/molecule", {s.mol.begin(), s.mol.end()});
+    f.write_integers("/result/type", {s.type.begin(), s.type.end()});
   }
   out.commit();
 }

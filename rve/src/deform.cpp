@@ -130,8 +130,8 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
   AtomicOutput out(ckpt_path(dir));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-rve-case");
-    f.set_attr("/", "pnc_version", version_string());
     f.set_attr("/", "updated_utc", utc_timestamp());
     f.set_attr("/", "stress_sign", "tension positive: sigma = -P (LAMMPS pressure tensor)");
     f.write_scalar("/case", spec.case_id);
@@ -139,7 +139,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.write_scalar("/steps_planned", spec.steps);
     f.write_scalar("/strain_max", spec.amplitude());
     f.write_string("/seed", std::to_string(spec.seed));
-    f.write_scalar("/hold_steps", static_cast<double>(spec.hold_steps));
+    f.write_scalar("/hold_steps", spec.hold_steps);
     f.write_scalar("/timestep", spec.timestep_fs);
     f.set_attr("/timestep", "units", "fs");
     f.write_scalar("/sample_every", spec.sample_every);
@@ -169,9 +169,9 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
         f.write_matrix(name, to_row(*m));
         f.set_attr(name, "units", "Pa");
       }
-      f.set_attr(
-          "/stress_virial", "definition",
-          "virial only, no kinetic term (eq. 6.23, Zhou 2003): compute pressure NULL virial");
+      f.set_attr("/stress_virial", "definition",
+                 "virial only, no kinetic term (docs/theory.md §3.5, Zhou 2003): compute pressure "
+                 "NULL virial");
       f.set_attr("/stress_total", "definition",
                  "virial + kinetic term (compute pressure thermo_temp)");
       const std::pair<const char*, const PathM*> checks[] = {

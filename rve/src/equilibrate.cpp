@@ -1,4 +1,4 @@
-// Equilibration protocol (sections 3.3.1-3.3.2), one child process per stage. Units real.
+// Equilibration protocol (docs/theory.md §3.3, D19), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
 #include "equilibrate_detail.hpp"
@@ -187,6 +187,7 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
   AtomicOutput out(p(dir, "final", ".h5"));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     stamp_stage_file(f, "final", crit, recipe_json);
     f.write_string("/ensemble", s.ensemble);
     f.write_scalar("/density", tf.mean(4));
@@ -333,7 +334,8 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   if (with_clay)
     stage("clay", [&](Lammps& l) {
       read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
-      // section 3.3.2 step 3: the polymer is held fixed, the clay relaxes in its field
+      // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the
+      // clay relaxes in its field
       l.cmd("velocity pnc_poly set 0.0 0.0 0.0");
       l.cmd("fix pnc_frz pnc_poly setforce 0.0 0.0 0.0");
       l.cmd("run 0");

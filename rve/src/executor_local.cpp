@@ -50,10 +50,10 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
   LocalRun out;
   const double t0 = now();
   if (jobs < 1) jobs = 1;
-  enum class S { todo, running, done, failed, skipped };
+  enum class S { waiting, running, done, failed, skipped };
   std::map<std::string, S> st;
   for (const auto& u : p.units)
-    st[u.id] = read_status(dir, u.id).state == UnitState::done ? S::done : S::todo;
+    st[u.id] = read_status(dir, u.id).state == UnitState::done ? S::done : S::waiting;
   std::map<pid_t, std::pair<const Unit*, double>> running;
   pnc::StopToken& stop = pnc::process_stop();
   for (;;) {
@@ -62,12 +62,12 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
     while (progress) {
       progress = false;
       for (const auto& u : p.units) {
-        if (st[u.id] != S::todo) continue;
+        if (st[u.id] != S::waiting) continue;
         bool ready = true, blocked = false;
         std::string why;
         for (const auto& n : u.needs) {
           const S s = st[n];
-          if (s == S::todo || s == S::running) ready = false;
+          if (s == S::waiting || s == S::running) ready = false;
           if (!u.join && (s == S::failed || s == S::skipped)) {
             blocked = true;
             why = n;

@@ -219,9 +219,8 @@ void write_phase_h5(const std::string& path, const PhaseCheckSpec& s, const Phas
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-rve-phase-check");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.write_string("/recipe", in.recipe_json.empty() ? "{}" : in.recipe_json);
     f.write_string("/phase", r.phase);
     f.write_scalar("/solid", r.solid ? 1.0 : 0.0);

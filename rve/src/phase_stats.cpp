@@ -249,8 +249,8 @@ nlohmann::json phase_json(const PhaseCheckResult& r) {
           {"cavitation_void_first", jnum(r.cav_void_first)},
           {"cavitation_void_last", jnum(r.cav_void_last)},
           {"cavitates", r.cavitates},
-          {"density_drift_kg_m3_s", jnum(r.drift_kg_m3_s)},
-          {"density_drift_stderr_kg_m3_s", jnum(r.drift_se_kg_m3_s)}};
+          {"density_drift_kg_per_m3_per_s", jnum(r.drift_kg_m3_s)},
+          {"density_drift_stderr_kg_per_m3_per_s", jnum(r.drift_se_kg_m3_s)}};
 }
 
 std::string phase_markdown(const PhaseCheckResult& r) {

@@ -40,7 +40,7 @@ const char* demo_text = R"({
 })";
 
 // The dissertation's polypropylene: 1500 beads, its protocol, 0.5 fs, the virial-only stress
-// (eq. 6.23, said so: D134), 10 x hold at zero strain (D131).
+// (docs/theory.md §3.5, said so: D134), 10 x hold at zero strain (D131).
 const char* paper_patch = R"({
   "name": "paper",
   "build": { "chains": 75 },

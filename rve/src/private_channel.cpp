@@ -2,10 +2,10 @@
 #include "pnc/rve/private_channel.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/fd_io.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
-#include <sys/random.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -81,21 +81,8 @@ bool equal_constant_time(const char* a, const char* b, std::size_t n) {
 } // namespace
 
 std::string random_token() {
-  unsigned char b[kTokenChars / 2];
-  std::size_t got = 0;
-  while (got < sizeof b) {
-    const ssize_t n = getrandom(b + got, sizeof b - got, 0);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("<getrandom>", "", "", std::string("no random bytes: ") + strerror(errno));
-    got += static_cast<std::size_t>(n);
-  }
-  static const char* hex = "0123456789abcdef";
-  std::string s;
-  for (unsigned char c : b) {
-    s += hex[c >> 4];
-    s += hex[c & 15];
-  }
-  return s;
+  static_assert(kTokenChars / 2 <= 32, "random_hex gives at most 32 bytes");
+  return random_hex(kTokenChars / 2);
 }
 
 bool is_same_or_descendant(pid_t pid, pid_t ancestor) {

@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/damage/data.hpp"
 
 #include <fmt/format.h>
 
@@ -91,11 +92,10 @@ std::string describe(const Recipe& r, const CombinedCases& out, std::size_t ncas
   const bool subtract = r.reference == "subtract";
   const int nrep = out.replicas;
   // the words "virial only" / "zero-strain hold" are what readers (and tests) look for
-  std::string def =
-      r.stress == "virial"
-          ? "virial only, no kinetic term (eq. 6.23, Zhou 2003; the dissertation's choice: "
-            "normal constants biased by -rho k_B T, D134)"
-          : "virial + kinetic term (total stress, D134)";
+  std::string def = r.stress == "virial" ? "virial only, no kinetic term (docs/theory.md §3.5, "
+                                           "Zhou 2003; the dissertation's choice: "
+                                           "normal constants biased by -rho k_B T, D134)"
+                                         : "virial + kinetic term (total stress, D134)";
   def += subtract ? fmt::format("; relative to the zero-strain hold (sigma - sigma_0, sigma_0 "
                                 "the mean of the {} x hold zero-strain holds of all {} case(s) "
                                 "of a replica; its error is common to every point, D131)",
@@ -255,30 +255,41 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
+    // every matrix here has the six Voigt columns (D236: files name their components)
+    const auto columns = [&f](const std::string& ds) {
+      f.set_attr(ds, "columns",
+                 ds.find("strain") != std::string::npos ? damage::kStrainColumns
+                                                        : damage::kStressColumns);
+    };
     f.set_attr("/", "stress_definition", c.stress_definition);
     f.set_attr("/", "format",
                "pnc cases v2: /case_<n>/{strain,stress,stress_stderr,reference_stderr}, "
                "/replicas/replica_<r>/... (docs/formats.md)");
     f.set_attr("/", "error_method", c.error_method);
-    f.set_attr("/", "replicas", static_cast<double>(c.replicas));
+    f.set_attr("/", "replicas", c.replicas);
     f.set_attr("/", "stress_choice", r.stress);
     f.set_attr("/", "reference", r.reference);
-    f.set_attr("/", "reference_holds", static_cast<double>(r.deform.reference_holds));
-    f.set_attr("/", "holds_checked", static_cast<double>(c.holds_checked));
-    f.set_attr("/", "holds_inflated", static_cast<double>(c.holds_inflated));
+    f.set_attr("/", "reference_holds", r.deform.reference_holds);
+    f.set_attr("/", "holds_checked", c.holds_checked);
+    f.set_attr("/", "holds_inflated", c.holds_inflated);
     for (const auto& cc : c.cases) {
       const std::string g = "/case_" + std::to_string(cc.id);
       f.write_matrix(g + "/strain", cc.strain);
+      columns(g + "/strain");
       f.set_attr(g + "/strain", "units", "1 (engineering shear)");
       f.write_matrix(g + "/stress", cc.stress);
+      columns(g + "/stress");
       f.set_attr(g + "/stress", "units", "Pa");
       // static rows (0 K, decision D120) have no standard errors: none are written, the fit
       // takes its no-data-errors path (a NaN or zero error is never a weight)
       if (r.deform.temperature != 0) {
         f.write_matrix(g + "/stress_stderr", cc.stress_stderr);
+        columns(g + "/stress_stderr");
         f.set_attr(g + "/stress_stderr", "units", "Pa");
         f.set_attr(g + "/stress_stderr", "method", c.error_method);
         f.write_matrix(g + "/reference_stderr", h5::RowMatrix(cc.reference_stderr));
+        columns(g + "/reference_stderr");
         f.set_attr(g + "/reference_stderr", "units", "Pa");
         f.set_attr(g + "/reference_stderr", "meaning",
                    "part of stress_stderr common to every point of the curve (the subtracted "
@@ -286,6 +297,7 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
       }
       if (cc.display_moving_average.rows() > 0) {
         f.write_matrix(g + "/stress_moving_average_display", cc.display_moving_average);
+        columns(g + "/stress_moving_average_display");
         f.set_attr(g + "/stress_moving_average_display", "units", "Pa");
         f.set_attr(g + "/stress_moving_average_display", "meaning",
                    "display only: never fitted, no error of its own (D133)");
@@ -302,8 +314,10 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
     for (std::size_t rep = 0; rep < results.size(); ++rep) {
       const std::string rg = fmt::format("/replicas/replica_{}", rep + 1);
       f.write_matrix(rg + "/reference_stress", h5::RowMatrix(c.reference[rep]));
+      columns(rg + "/reference_stress");
       f.set_attr(rg + "/reference_stress", "units", "Pa");
       f.write_matrix(rg + "/reference_stderr", h5::RowMatrix(c.reference_se[rep]));
+      columns(rg + "/reference_stderr");
       f.set_attr(rg + "/reference_stderr", "units", "Pa");
       for (std::size_t ci = 0; ci < results[rep].size(); ++ci) {
         const CaseResult& cr = results[rep][ci];
@@ -318,6 +332,7 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
             {"/raw_stress_virial_tau", &cr.stress_virial_tau_fs}};
         for (const auto& [name, m] : raw) {
           f.write_matrix(g + name, *m);
+          columns(g + name);
           f.set_attr(g + name, "units",
                      std::string(name).find("tau") != std::string::npos
                          ? "fs"
@@ -326,8 +341,10 @@ void write_combined_cases_h5(const std::string& path, const Recipe& r, const Com
         for (const auto& cc : c.cases)
           if (cc.id == cr.case_id) {
             f.write_matrix(g + "/stress", cc.replica_stress[rep]);
+            columns(g + "/stress");
             f.set_attr(g + "/stress", "units", "Pa (fit rows of this replica, stress_choice)");
             f.write_matrix(g + "/stress_stderr", cc.replica_stderr[rep]);
+            columns(g + "/stress_stderr");
             f.set_attr(g + "/stress_stderr", "units", "Pa (blocks, D132)");
           }
       }

@@ -1,9 +1,11 @@
-// Child-process stage runner for LAMMPS (see runner.hpp for why).
+// Child-process stage runner for LAMMPS (see runner.hpp for why; each stage's in.<stage>: D247).
 #include "pnc/rve/runner.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/fd_io.hpp"
 #include "pnc/core/locate.hpp"
 #include "pnc/core/params.hpp"
+#include "pnc/core/version.hpp"
 
 #include <lammps/library.h>
 
@@ -19,6 +21,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -53,7 +56,27 @@ std::vector<double> Lammps::call(char op, const std::string& text, int i, int j,
   return v;
 }
 
+Lammps::~Lammps() {
+  if (input_fd_ >= 0) ::close(input_fd_);
+}
+
+bool Lammps::record_input(const std::string& path, const std::string& header) {
+  if (input_fd_ >= 0) ::close(input_fd_);
+  input_fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (input_fd_ < 0) return false;
+  record(header);
+  return true;
+}
+
+// Written before LAMMPS runs the command, unbuffered: a LAMMPS error ends the process at once.
+void Lammps::record(const std::string& text) {
+  if (input_fd_ < 0) return;
+  // best effort: the recorded input is a copy; LAMMPS runs the command either way
+  (void)write_fully(input_fd_, text.empty() || text.back() != '\n' ? text + "\n" : text);
+}
+
 void Lammps::cmd(const std::string& command) {
+  record(command);
   if (fd_ >= 0)
     call(wire::kCommand, command);
   else
@@ -66,6 +89,7 @@ void Lammps::cmds(const std::vector<std::string>& commands) {
 }
 
 void Lammps::file(const std::string& path) {
+  record("include " + path);
   if (fd_ >= 0)
     call(wire::kFile, path);
   else
@@ -357,6 +381,23 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   }
 }
 
+/// The comment lines that open a stage's `in.<name>` (stage_input_path).
+std::string input_header(const StageSpec& spec, const std::vector<std::string>& lammps_args) {
+  std::error_code ec;
+  std::string extra;
+  for (const auto& a : lammps_args)
+    extra += " " + a;
+  std::string h = fmt::format(
+      "# LAMMPS input of the pnc stage '{}' ({}), recorded as it ran: every command pnc sent\n"
+      "# to LAMMPS, in order. Values pnc read back between commands (thermo, fix and compute\n"
+      "# values) only chose the commands that follow, which are recorded as sent.\n"
+      "# Rerun from {} with:\n#   {}lmp{} -in {}\n",
+      spec.name, version_string(), std::filesystem::current_path(ec).string(),
+      spec.ranks > 1 ? fmt::format("mpirun -np {} ", spec.ranks) : std::string(), extra,
+      stage_input_path(spec));
+  return h;
+}
+
 [[noreturn]] void child_main(const StageSpec& spec, const StageBody& body) {
   std::vector<std::string> args = {"pnc", "-log", spec.log_path, "-screen", "none", "-nocite"};
   for (const auto& a : spec.extra_args)
@@ -368,6 +409,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
       const int fd = start_server(spec, {args.begin() + 1, args.end()}, mp);
       {
         Lammps lmp(fd, spec.log_path);
+        lmp.record_input(stage_input_path(spec), input_header(spec, spec.extra_args));
         body(lmp);
         lmp.quit();
       }
@@ -382,8 +424,6 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
     std::fflush(nullptr);
     _exit(code);
   }
-  for (const auto& a : spec.extra_args)
-    args.push_back(a);
   std::vector<char*> argv;
   for (auto& a : args)
     argv.push_back(a.data());
@@ -397,6 +437,7 @@ int start_server(const StageSpec& spec, const std::vector<std::string>& lammps_a
   }
   try {
     Lammps lmp(h);
+    lmp.record_input(stage_input_path(spec), input_header(spec, spec.extra_args));
     body(lmp);
   } catch (const std::exception& e) {
     write_error_file(spec.log_path, e);
@@ -433,6 +474,8 @@ StageOutcome finish(const StageSpec& spec, int status, double seconds) {
   } else if (WIFSIGNALED(status)) {
     o.signal = WTERMSIG(status);
   }
+  std::error_code ec;
+  if (std::filesystem::exists(stage_input_path(spec), ec)) o.input_path = stage_input_path(spec);
   if (o.ok) return o;
   std::string msg;
   o.child_error = read_error_file(spec.log_path, msg);
@@ -470,7 +513,17 @@ void throw_stage_failure(const StageOutcome& o, const std::string& stage, const 
       throw std::runtime_error(stage + ": " + e.what() + note + " (log " + o.log_path + ")");
     }
   }
-  fail_tool("LAMMPS", "running " + stage, o.error + note, o.log_path);
+  // the commands as LAMMPS received them, up to the one that failed (D247): rerunnable alone
+  const std::string input =
+      o.input_path.empty() ? "" : "; the commands sent, rerunnable with lmp -in: " + o.input_path;
+  fail_tool("LAMMPS", "running " + stage, o.error + note + input, o.log_path);
+}
+
+std::string stage_input_path(const StageSpec& spec) {
+  std::string n = spec.name.empty() ? "stage" : spec.name;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return (std::filesystem::path(spec.log_path).parent_path() / ("in." + n)).string();
 }
 
 StageOutcome run_stage(const StageSpec& spec, const StageBody& body) {

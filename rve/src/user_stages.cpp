@@ -66,6 +66,7 @@ void write_h5(const std::string& path, const std::string& stage, const std::stri
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     eqdetail::stamp_stage_file(f, stage, criterion, recipe_json);
     if (!rows.empty()) {
       h5::RowMatrix m(static_cast<Eigen::Index>(rows.size()), 6);
@@ -270,6 +271,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
     AtomicOutput out(in_dir(dir, "final", ".h5"));
     {
       h5::File f(out.temp_path(), h5::File::Mode::truncate);
+      h5::write_provenance(f);
       eqdetail::stamp_stage_file(f, "final", crit, recipe_json);
       f.write_string("/ensemble", "user stages");
       const std::pair<const char*, std::pair<double, const char*>> vals[] = {

@@ -94,7 +94,7 @@ TEST_F(MaterialCli, UniaxialStressInTheElasticRangeFollowsTheComplianceOfC0) {
   EXPECT_TRUE(j["newton"]["mixed_control"].get<bool>());
   EXPECT_TRUE(j["converged"].get<bool>());
   EXPECT_LE(j["newton"]["max_iterations"].get<int>(), 1); // linear: the predictor is exact
-  EXPECT_NEAR(j["newton"]["residual_tolerance_pa"].get<double>(), tol_pa, 1e-6 * tol_pa);
+  EXPECT_NEAR(j["newton"]["residual_tolerance_Pa"].get<double>(), tol_pa, 1e-6 * tol_pa);
 }
 
 TEST_F(MaterialCli, MixedControlPastTheDamageOnsetConvergesAndIsReported) {
@@ -106,7 +106,7 @@ TEST_F(MaterialCli, MixedControlPastTheDamageOnsetConvergesAndIsReported) {
       run("material drive '" + card + "' --path uni.json --out uni.csv --no-plot --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto c = columns(p("uni.csv"));
-  const double tol_pa = nlohmann::json::parse(r.out)["newton"]["residual_tolerance_pa"];
+  const double tol_pa = nlohmann::json::parse(r.out)["newton"]["residual_tolerance_Pa"];
   EXPECT_GT(c.at("D1")[40], 0.0); // damaged
   int most = 0;
   for (std::size_t i = 1; i < c.at("step").size(); ++i) {

@@ -153,7 +153,7 @@ TEST_F(Report, MaterialDriveWritesItsPageAndFlagsAReferenceMismatchInRed) {
             std::string::npos);
   EXPECT_NE(html.find("src=\"data:image/png;base64,iVBORw0KGgo"), std::string::npos);
   // the end stress in MPa, 6 significant digits, as the JSON summary has it in Pa
-  const double s11 = j["final"]["stress_pa"][0].get<double>() / 1e6;
+  const double s11 = j["final"]["stress_Pa"][0].get<double>() / 1e6;
   EXPECT_NEAR(cell_after(html, "σ11 / ε11", 1), s11, 1e-5 * s11);
   EXPECT_NE(read_file(p("r_report.md")).find("](r.png)"), std::string::npos);
   // a reference whose s11 is 1 % + 1 kPa off in every row (steps 0..8: 9 values beyond the

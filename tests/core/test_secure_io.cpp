@@ -3,6 +3,8 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -16,20 +18,10 @@
 namespace fs = std::filesystem;
 
 namespace {
+using pnc::test::slurp;
 
 fs::path fresh_dir(const char* tag) {
-  const fs::path d = fs::temp_directory_path() /
-                     (std::string("pnc_secio_") + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return pnc::test::fresh_dir(std::string("secio_") + tag);
 }
 
 /// The InputError thrown by `f`, or a test failure if none.

@@ -1,6 +1,7 @@
 // Tests of the NDM kernel against independent references: closed forms of the damage
-// function, the energy functions of eqs. 5.31-5.35, compliance of engineering constants,
-// finite differences of the tangent, frame indifference, and the dissertation's Table 6.12.
+// function, the source's energy functions (sigma = dpsi/de, D1), compliance of engineering
+// constants, finite differences of the tangent, frame indifference, and the dissertation's
+// Table 6.12.
 #include "pnc/core/error.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/damage/moduli.hpp"
@@ -63,7 +64,7 @@ Eigen::Matrix3d stress_tensor(const Voigt& s) {
 // ---------------------------------------------------------------- damage function
 TEST(DamageFunction, CriticalStretchIsTheLennardJonesForcePeak) {
   // r_max/sigma from dF/dr = 0 of F = (24 eps/r)(2 (s/r)^12 - (s/r)^6): (26/7)^(1/6).
-  EXPECT_NEAR(critical_stretch(), 1.24446, 5e-6); // printed eq. 5.79 value
+  EXPECT_NEAR(critical_stretch(), 1.24446, 5e-6); // printed lambda_c value (docs/theory.md §1.2)
   // Independent check: the force magnitude g(x) = 2x^-13 - x^-7 is extremal there.
   auto g = [](double x) { return 2 * std::pow(x, -13) - std::pow(x, -7); };
   const double lc = critical_stretch(), h = 1e-5;
@@ -76,8 +77,8 @@ TEST(DamageFunction, ContinuousAtOnsetAndSaturatesAtOne) {
   EXPECT_EQ(damage_function(1.0), 0.0);
   EXPECT_NEAR(damage_function(lc * (1 + 1e-9)), 0.0, 1e-12); // no jump at onset
   EXPECT_NEAR(damage_function(1e3), 1.0, 1e-12);             // complete separation
-  // The printed prefactor 10.015 = 24/2.396 (|F_max| = 2.396 eps/sigma, eq. 5.79 ff.):
-  // reconstruct it from the kernel: D(x) - 1 = k (2x^-13 - x^-7).
+  // The printed prefactor 10.015 = 24/2.396 (|F_max| = 2.396 eps/sigma of the LJ force;
+  // docs/theory.md §1.2, D4): reconstruct it from the kernel: D(x) - 1 = k (2x^-13 - x^-7).
   const double x = 1.5;
   const double k = (damage_function(x) - 1) / (2 * std::pow(x, -13) - std::pow(x, -7));
   EXPECT_NEAR(k, 10.015, 5e-4);
@@ -117,8 +118,8 @@ TEST(Stiffness, C0FromEngineeringConstantsHasTheOrthotropicCompliance) {
 TEST(Stiffness, C0AndC1AreTheGradientOfTheFreeEnergy531to535) {
   // psi0 (5.31-5.32) + psi1 (5.33-5.35, reduced as in 5.58-5.66), written in TENSORIAL
   // Voigt strains e_I (e4 = gamma23/2 ...). The dissertation's Voigt stress is
-  // sigma_I = dpsi/de_I (eqs. 5.36-5.38: this is what makes 2 c7 on the diagonal of 5.37
-  // consistent with c7 = C0_44). With e4 = gamma/2, dpsi/de4 = 2 dpsi/dgamma4.
+  // sigma_I = dpsi/de_I (D1: this is what makes 2 c7 on the diagonal of the source's
+  // c-constant stiffness consistent with c7 = C0_44). With e4 = gamma/2, dpsi/de4 = 2 dpsi/dgamma4.
   const std::array<double, 9> c = {0.6, 0.55, 0.3, 0.7, 0.58, 0.56, 0.19, 0.04, 0.17};
   NdmParameters p;
   p.model = Model::pnc;
@@ -570,20 +571,21 @@ TEST(Dissertation, Table612FromTheTabulatedConstants) {
   const double inc = (pnc["C22"] - pp["C11"]) / pp["C11"] * 100;
   EXPECT_NEAR(inc, 106.26, 0.005);
   const DerivedModuli dpp = derive_moduli(pp), dpnc = derive_moduli(pnc);
-  EXPECT_NEAR(dpp.E_eq647 / 1e9, 0.162, 0.0005);
-  EXPECT_NEAR(dpp.E1 / 1e9, 0.162, 0.0005); // eq. 6.47 is exact for the isotropic reading
-  EXPECT_NEAR(dpnc.E2_eq646_printed / 1e9, 0.567, 0.0005);
-  // Compliance inversion (docs/theory.md section 1.5): E1 = 0.567, E2 = 0.600, E3 = 0.294.
+  EXPECT_NEAR(dpp.E_isotropic_formula / 1e9, 0.162, 0.0005);
+  EXPECT_NEAR(dpp.E1 / 1e9, 0.162,
+              0.0005); // the isotropic formula is exact for the isotropic reading
+  EXPECT_NEAR(dpnc.E2_as_printed / 1e9, 0.567, 0.0005);
+  // Compliance inversion (docs/theory.md §1.5): E1 = 0.567, E2 = 0.600, E3 = 0.294.
   EXPECT_NEAR(dpnc.E1 / 1e9, 0.567, 0.0005);
   EXPECT_NEAR(dpnc.E2 / 1e9, 0.600, 0.0005);
   EXPECT_NEAR(dpnc.E3 / 1e9, 0.294, 0.0005);
-  EXPECT_NEAR(dpnc.E2_eq646_printed, dpnc.E1, 1e-6 * dpnc.E1); // the printed "E2" is E1
+  EXPECT_NEAR(dpnc.E2_as_printed, dpnc.E1, 1e-6 * dpnc.E1); // the printed "E2" is E1
   // "% increase 250": 0.567 / 0.162 = 3.50 (both printed to 3 digits: +-0.5 %).
-  EXPECT_NEAR((dpnc.E2_eq646_printed / dpp.E_eq647 - 1) * 100, 250, 1.0);
+  EXPECT_NEAR((dpnc.E2_as_printed / dpp.E_isotropic_formula - 1) * 100, 250, 1.0);
 }
 
 // The driven stress of a case in closed form, written out here independently of the kernel:
-// sigma = (c0 + c1 D(lambda / alpha)) t with D of eq. 5.80 (D4) and the case's stretch
+// sigma = (c0 + c1 D(lambda / alpha)) t with D of docs/theory.md §1.2 (D4) and the case's stretch
 // lambda(t). Returns the first local maximum on a fine grid refined by bisection on the
 // slope, or a negative strain when the stress rises monotonically up to t_max.
 double first_peak_strain(double c0, double c1, double alpha, bool shear, double t_max) {
@@ -646,7 +648,8 @@ TEST(Dissertation, PurePolymerExtensionHasNoStrengthPeakUnderTheRowPairedLabels)
 }
 
 TEST(Dissertation, CriticalStrainOfOnsetFollowsAlpha) {
-  // Damage starts at lambda = alpha * lambda_c (eq. 5.81): 1.0715 for pnc (alpha = 0.861).
+  // Damage starts at lambda = alpha * lambda_c (docs/theory.md §1.2, D5): 1.0715 for pnc (alpha =
+  // 0.861).
   const NdmParameters p = dissertation_parameters(Model::pnc);
   const double onset = p.alpha() * critical_stretch() - 1;
   NdmState before, after;

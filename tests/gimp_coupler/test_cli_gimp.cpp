@@ -1,14 +1,20 @@
 // `pnc gimp run` end to end: --json on stdout, exit codes, bad input naming the key.
+#include "common/page_check.hpp"
 #include "common/run_command.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -30,6 +36,7 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   ASSERT_EQ(r.code, 0) << r.out;
   auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["dimension"], 3);
+  EXPECT_FALSE(j.contains("energy_J_per_m")); // 3-D: J and N (D281)
   EXPECT_EQ(j["steps"], 10);
   EXPECT_GT(j["particles"].get<int>(), 1000);
   r = sh(exe + " gimp run " + in + " --out " + (d / "out").string() +
@@ -44,6 +51,82 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   const double e0 = 0.5 * 1200 * 0.05 * 0.008 * 0.008 * 100.0;
   EXPECT_LT(j["energy_J"]["balance"].get<double>(), 0.0);
   EXPECT_GT(j["energy_J"]["balance"].get<double>(), -0.05 * e0);
+  // the run report of the resumed part: stopped by --max-steps, 3-D energies in J
+  EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
+  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_NE(html.find("Stopped at --max-steps: 20 steps"), std::string::npos);
+  EXPECT_NE(html.find("--max-steps (20) reached"), std::string::npos);
+  EXPECT_NE(html.find("Energies at the end (J)"), std::string::npos);
+  EXPECT_NE(html.find("Not drawn (--no-plot)."), std::string::npos);
+}
+
+// A coarse centre-cracked plate (half model of examples/gimp/plate_centre_crack_growth.json at
+// twice the cell size) whose crack may grow twice: the report states the stop reason
+// (max_increments), the relative energy error against its 1 % threshold (D271) with the
+// warning exactly when above it, 2-D quantities per unit thickness, and embeds energy.png and
+// G.png (critical-G line and stop marker drawn by plot_G.py); headless Chromium decodes both.
+TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
+  const fs::path d =
+      fs::temp_directory_path() / ("pnc_gimp_cli_report_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::ofstream(d / "crack.json") << R"({
+  "dimension": 2, "units": "SI",
+  "grid": {"origin": [-0.0025, -0.0325], "cells": [19, 52], "cell_size": 0.00125},
+  "particles_per_cell": 2,
+  "materials": [{"name": "polymer", "type": "hyperelastic_polymer", "density": 1200,
+                 "E": 1.5e9, "nu": 0.33}],
+  "bodies": [{"material": "polymer", "shape": "box", "min": [0.0, -0.03], "max": [0.02, 0.03]}],
+  "cracks": [{"name": "centre", "points": [[-0.001875, 1.25e-9], [0.010625, 1.25e-9]],
+              "j_radius": [0.002, 0.008],
+              "growth": {"Gc": 1000, "increment": 0.00125, "max_increments": 2}}],
+  "boundaries": [{"name": "symmetry", "min": [-1, -1], "max": [0, 1], "symmetry": "x"}],
+  "loads": {"tractions": [
+    {"name": "top", "min": [0.0, 0.0294], "max": [0.02, 0.03], "axis": "y",
+     "traction": [0.0, 1.0e7], "ramp": [0.0, 4.0e-4]},
+    {"name": "bottom", "min": [0.0, -0.03], "max": [0.02, -0.0294], "axis": "y",
+     "traction": [0.0, -1.0e7], "ramp": [0.0, 4.0e-4]}]},
+  "damping": 1.2e5, "fracture_every": 10,
+  "time": {"end": 5.0e-4, "cfl": 0.5},
+  "output": {"interval": 2.5e-4, "history_every": 10}, "threads": 1
+})";
+  const Result r = sh(std::string(PNC_EXE) + " gimp run " + (d / "crack.json").string() +
+                      " --out " + (d / "out").string() + " --json --quiet 2>/dev/null");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  // the handbook G of the full load (2.6 kJ/m^2 at a = 10.3 mm, docs/gimp.md) exceeds Gc =
+  // 1 kJ/m^2 by far, so the crack must use up its two increments
+  EXPECT_EQ(j["crack_increments"], 2);
+  // 2-D: energies and reactions per metre of thickness, and the keys say so (D281)
+  EXPECT_FALSE(j.contains("energy_J"));
+  EXPECT_TRUE(j.contains("reactions_N_per_m"));
+  const auto& e = j["energy_J_per_m"];
+  const double scale = std::max(
+      {std::fabs(e["initial"].get<double>()),
+       std::fabs(e["external_work"].get<double>()) + std::fabs(e["boundary_work"].get<double>()),
+       e["kinetic"].get<double>() + e["strain"].get<double>()});
+  const double rel = e["max_abs_balance"].get<double>() / scale;
+  EXPECT_NEAR(j["relative_energy_error"].get<double>(), rel, 1e-12 * rel);
+  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_NE(html.find("pnc gimp run: crack.json"), std::string::npos);
+  EXPECT_NE(html.find("max_increments (2) reached"), std::string::npos);
+  EXPECT_NE(html.find("threshold 1 %"), std::string::npos);
+  EXPECT_EQ(html.find("above the threshold") != std::string::npos, rel > 0.01);
+  EXPECT_NE(html.find("Energies at the end (J/m)"), std::string::npos);
+  EXPECT_NE(html.find("Reactions at the last step (N/m"), std::string::npos);
+  ASSERT_TRUE(fs::exists(d / "out" / "G.png")) << "python3-matplotlib is a test dependency";
+  EXPECT_NE(pnc::test::read_file((d / "out" / "report.md").string()).find("](G.png)"),
+            std::string::npos);
+  const auto b = pnc::test::render_in_chromium((d / "out" / "report.html").string(), d.string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, (std::vector<std::string>{"ok", "ok"})) << "energy.png and G.png decode";
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  // not a blank page: tables and two figures leave ink (an empty or unstyled white page is
+  // below 1 % of the 1200 x 3000 screenshot)
+  EXPECT_GT(b.ink, 0.02);
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
@@ -60,4 +143,32 @@ TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("materials[0].nu"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.7"), std::string::npos) << r.out;
+}
+
+// `pnc gimp parameters` prints the declared input keys (D292): JSON with every section and
+// entry (the rules derived from the declared ranges and SI units), Markdown tables, and the
+// TOML list of one dimension with its defaults.
+TEST(GimpCli, ParametersPrintsTheDeclarations) {
+  const std::string exe = PNC_EXE;
+  Result r = sh(exe + " gimp parameters --format json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::map<std::string, std::string> rules;
+  for (const auto& s : j.at("sections"))
+    for (const auto& p : s.at("parameters"))
+      rules[p.at("name").get<std::string>()] = p.at("rule").get<std::string>();
+  EXPECT_EQ(rules.at("time.cfl"), "must be a number in (0, 1]");
+  EXPECT_EQ(rules.at("grid.cell_size"), "must be a number > 0 m");
+  EXPECT_EQ(rules.at("materials[].density"), "must be a number > 0 kg/m^3");
+  EXPECT_EQ(rules.at("cracks[].growth.Gc"), "must be a number > 0 J/m^2");
+  EXPECT_EQ(rules.count("loads.tractions[].traction"), 1u);
+  r = sh(exe + " gimp parameters");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("#### `bodies[]` (shape = \"particles\")"), std::string::npos) << r.out;
+  r = sh(exe + " gimp parameters --format toml --dimension 3");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("\ncfl = 0.5\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("exactly 3 elements"), std::string::npos) << r.out;
+  r = sh(exe + " gimp parameters --dimension 4 2>&1");
+  EXPECT_NE(r.code, 0);
 }

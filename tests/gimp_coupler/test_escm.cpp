@@ -111,7 +111,8 @@ TEST(Escm, LjFccLatticeSums) {
 //    cell forces sum to zero;
 //  - the forces LAMMPS applied to the IVC atoms (compute reduce over a region) sum to that
 //    force converted to the slab;
-//  - the time-averaged IVC centroid (eq. 4.11) equals LAMMPS's own fix ave/time of compute com
+//  - the time-averaged IVC centroid (docs/theory.md §6.2) equals LAMMPS's own fix ave/time of
+//  compute com
 //    over the same N substeps (round-off tolerance).
 TEST(Escm, HandshakeInvariants) {
   const LjFcc lj = lj_fcc(kEps, kSig, kRc, kMass);
@@ -198,7 +199,7 @@ TEST(Escm, HandshakeInvariants) {
   lammps_free(av1);
 }
 
-// INT at the thermostat temperature (eqs. 4.5, 4.8): with the IVC damping switched off (no
+// INT at the thermostat temperature (docs/theory.md §6.2): with the IVC damping switched off (no
 // heat sink in the MD region: the SVC atoms follow the continuum at rest, the continuum is
 // undamped), the Langevin thermostat on INT brings the free atoms to the canonical
 // distribution at T, so the time average of the INT kinetic temperature is T. 192 INT atoms:
@@ -604,7 +605,7 @@ TEST(Escm, WaveCrossesHandshakeWithSmallReflection) {
   EXPECT_LT(R_cpl, 0.02);
 }
 
-// ---- Displacement gradients of eqs. 6.3-6.7 (escm_gradient.hpp, D79) ----
+// ---- Displacement gradients of docs/theory.md §6.3 (escm_gradient.hpp, D79) ----
 
 namespace {
 
@@ -662,16 +663,16 @@ GradRun affine_run(NodalFit fit, const std::vector<Eigen::Matrix2d>& A,
 // particles gives H = G at every particle whose element's four nodes had a full linear fit
 // at every increment, to round-off (independent: the analytic G). Measured max error 6e-15
 // (linear fit, D79; 1014 of 1045 particles supported); bound 1e-12. With the nodal value of
-// the printed eq. 6.4 (sum N du / count) the same run gives max error 0.135 for |G| = 0.05
-// (printed below): H is wrong by more than G itself, because even a uniform increment du is
+// the source's printed nodal average (sum N du / count) the same run gives max error 0.135 for |G|
+// = 0.05 (printed below): H is wrong by more than G itself, because even a uniform increment du is
 // mapped to (sum N / count) du, which varies from node to node. With the
 // shape-function-weighted mean (sum N du / sum N), which reproduces a uniform increment but
 // not an affine one on irregular particles (the nodal value is the field at the weighted
 // centroid of the node's particles, not at the node), 2.6e-2 (printed). Neither is asserted.
 // A second, non-proportional path x = (I + G2)(I + G1) X checks the composition order of
-// eq. 6.6 as implemented, F^{k+1} = (I + d(du)/dx) F^k: it must give H = (I + G2)(I + G1) - I;
-// the printed order F^k (I + d(du)/dx) would give (I + G1)(I + G2) - I there, which differs
-// by G1 G2 - G2 G1 (2.5e-3 here, far above the bound).
+// docs/theory.md §6.3 as implemented, F^{k+1} = (I + d(du)/dx) F^k: it must give H = (I + G2)(I +
+// G1) - I; the printed order F^k (I + d(du)/dx) would give (I + G1)(I + G2) - I there, which
+// differs by G1 G2 - G2 G1 (2.5e-3 here, far above the bound).
 TEST(Escm, GradientOfAffineFieldIsExact) {
   Eigen::Matrix2d G;
   G << 0.05, 0.02, -0.015, -0.03;

@@ -1,7 +1,9 @@
 // `pnc gimp couple` end to end (docs/escm.md): the Case I example in short mode, --json on stdout,
 // bad input exits with 1 and names the key before LAMMPS starts.
+#include "common/page_check.hpp"
 #include "common/run_command.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -73,6 +75,25 @@ TEST(EscmCli, ShortCaseOneRunsWithJson) {
   EXPECT_TRUE(fs::exists(d / "out" / "energy.csv"));
   EXPECT_TRUE(fs::exists(d / "out" / "profile.csv"));
   EXPECT_EQ(j["frames"].size(), 3u);
+  // the run report: the command, the reaction in N/m, the relative energy error |balance -
+  // created| / max(|W_bc|, |created|) (created = the handshake's works) against its 15 %
+  // threshold (D271), no figures
+  const auto& e = j["energy_J"];
+  const double created = e["work_cont_on_md"].get<double>() + e["work_md_on_cont"].get<double>();
+  const double rel = std::fabs(e["balance"].get<double>() - created) /
+                     std::max(std::fabs(e["work_boundary"].get<double>()), std::fabs(created));
+  EXPECT_NEAR(j["relative_energy_error"].get<double>(), rel, 1e-12 * rel);
+  EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
+  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_TRUE(fs::exists(d / "out" / "report.md"));
+  EXPECT_NE(html.find("pnc gimp couple: case1_lj_tension.json"), std::string::npos);
+  EXPECT_NE(html.find(fmt::format("{:.6g} N/m", F)), std::string::npos);
+  EXPECT_NE(html.find(fmt::format("{:.3g} % (threshold 15 %", 100 * rel)), std::string::npos);
+  EXPECT_EQ(html.find("above the threshold") != std::string::npos, rel > 0.15);
+  // the tension test measures this error at 9 % (docs/escm.md): the short run stays below 15 %
+  EXPECT_LT(rel, 0.15);
+  EXPECT_NE(html.find("Not drawn (--no-plot)."), std::string::npos);
 }
 
 TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
@@ -125,7 +146,7 @@ TEST(EscmCli, UnknownMdRegionKindListsTheKnownOnes) {
   fs::remove_all(d);
 }
 
-// Validation (3) of the displacement gradients (eqs. 6.3-6.7, D79) in the short Case I run
+// Validation (3) of the displacement gradients (docs/theory.md §6.3, D79) in the short Case I run
 // (24 x 14 cells, block 10 x 10 at cell 7, strain 0.2 %): the mean du/dX over the ordinary
 // continuum particles at least 2 cells away from the atom block (x < 5 h or x > 19 h, read
 // from the last particles_<k>.vtu), with all grid nodes of their element supported, against
@@ -151,19 +172,19 @@ TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
   nlohmann::json input;
   std::ifstream(in) >> input;
   const double eps = input["short"]["strain"].get<double>();
-  const double h = j["lj_fcc"]["a0_A"].get<double>() * 1e-10;
+  const double h = j["lj_fcc"]["a0_m"].get<double>();
   ASSERT_EQ(j["particle_frames"].size(), 3u);
   EXPECT_EQ(j["gradient"]["increments"].get<long>(), j["steps"].get<long>());
   const auto v = read_vtu(j["particle_frames"].back().get<std::string>());
   const auto& P = v.at("Points");
   const auto& U = v.at("displacement_m");
-  const auto& Z = v.at("zone");
-  const auto& S = v.at("gradient_supported");
-  const auto& H = v.at("du_dX");
-  const auto& F = v.at("F_solver");
+  const auto& Z = v.at("zone_index");
+  const auto& S = v.at("gradient_supported_1");
+  const auto& H = v.at("displacement_gradient_1"); // 9 components, row-major (D236)
+  const auto& F = v.at("deformation_gradient_solver_1");
   const std::size_t n = Z.size();
-  ASSERT_EQ(H.size(), n);
-  ASSERT_EQ(v.at("dv_dY").size(), n);
+  ASSERT_EQ(H.size(), 9 * n);
+  ASSERT_EQ(F.size(), 9 * n);
   double sum = 0, sum2 = 0, sumF = 0;
   std::size_t m = 0;
   double slope_w = 0;
@@ -181,9 +202,9 @@ TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
       sxy += X * U[3 * p];
       ++k;
       if (S[p] != 1) continue;
-      sum += H[p];
-      sum2 += H[p] * H[p];
-      sumF += F[4 * p] - 1;
+      sum += H[9 * p];
+      sum2 += H[9 * p] * H[9 * p];
+      sumF += F[9 * p] - 1;
       ++m;
     }
     ASSERT_GT(k, 10u);

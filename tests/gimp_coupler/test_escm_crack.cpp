@@ -3,6 +3,7 @@
 // through `pnc gimp couple`, the energy log of Case II before growth, and the input validation
 // of the crack keys (before LAMMPS starts).
 #include "common/escm_case3.hpp"
+#include "common/page_check.hpp"
 #include "common/read_csv.hpp"
 #include "common/run_command.hpp"
 
@@ -46,7 +47,7 @@ TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
   const fs::path d = fs::temp_directory_path() / "pnc_escm_case2";
   fs::remove_all(d);
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case2_mode1_crack.json";
-  const auto r = couple(in, d / "out", "--short --json --quiet --no-plot 2>/dev/null");
+  const auto r = couple(in, d / "out", "--short --json --quiet 2>/dev/null"); // with plots
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("crack"));
@@ -106,6 +107,25 @@ TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
   }
   EXPECT_LE(std::abs(em), 0.01 * wmax);
   EXPECT_GT(wmax, 0.0);
+  // (5) The run report: why growth stopped (the max_increments stop before the block, D81) and
+  //     the three figures embedded — crack.png with the J panel, Gc and the stop marker (D272)
+  ASSERT_EQ(j["plots"].size(), 3u) << "python3-matplotlib is a test dependency";
+  const std::string html = pnc::test::read_file(j["report"].get<std::string>());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  EXPECT_NE(html.find("max_increments (" + std::to_string(nmax) + ") reached at"),
+            std::string::npos);
+  std::size_t images = 0;
+  for (auto at = html.find("src=\"data:image/png;base64,iVBORw0KGgo"); at != std::string::npos;
+       at = html.find("src=\"data:image/png;base64,iVBORw0KGgo", at + 1))
+    ++images;
+  EXPECT_EQ(images, 3u);
+  // and it renders in a real browser: every figure decodes, no console error, not a blank page
+  const fs::path report = j["report"].get<std::string>();
+  const auto b = pnc::test::render_in_chromium(report.string(), report.parent_path().string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, (std::vector<std::string>{"ok", "ok", "ok"}));
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  EXPECT_GT(b.ink, 0.02);
 }
 
 // Short Case III: the short Case II geometry, top edge moved in -x to an engineering shear of

@@ -2,7 +2,7 @@
 // --out directory (a second one is refused at once, naming the holder), an existing run needs
 // --resume, and SIGINT/SIGTERM stop the run at a step boundary with a checkpoint, exit code
 // 128 + signal and one line naming the command that continues it; the continued run ends
-// bit for bit where the uninterrupted one ends.
+// bit for bit where the uninterrupted one ends; pnc.log keeps what both sessions printed.
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
 
@@ -47,10 +47,11 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
   const fs::path d = fs::temp_directory_path() / "pnc_gimp_lock";
   const std::string in = plate_input(d, kLongEnd);
   const fs::path out = d / "out";
-  const pid_t first = pnc::test::spawn(run_args(in, out) + " --quiet 2>" + (d / "first.txt").string());
+  const pid_t first =
+      pnc::test::spawn(run_args(in, out) + " --quiet 2>" + (d / "first.txt").string());
   // the lock file names its holder once the first process has the directory
-  ASSERT_TRUE(pnc::test::wait_for_text((out / ".pnc.lock").string(),
-                                       "pid " + std::to_string(first), 20));
+  ASSERT_TRUE(
+      pnc::test::wait_for_text((out / ".pnc.lock").string(), "pid " + std::to_string(first), 20));
   // a second process is refused at once (also with --resume), naming the directory and the
   // holder's pid and command
   const auto second = pnc::test::run_command(run_args(in, out) + " --resume --quiet 2>&1");
@@ -59,8 +60,8 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
   EXPECT_NE(second.out.find("pid " + std::to_string(first)), std::string::npos) << second.out;
   EXPECT_NE(second.out.find("gimp run"), std::string::npos) << second.out;
   // so is a coupled run into the same directory
-  const auto couple = pnc::test::run_command(exe + " gimp couple " + in + " --out " +
-                                             out.string() + " --resume 2>&1");
+  const auto couple = pnc::test::run_command(exe + " gimp couple " + in + " --out " + out.string() +
+                                             " --resume 2>&1");
   EXPECT_NE(couple.code, 0) << couple.out;
   EXPECT_NE(couple.out.find("pid " + std::to_string(first)), std::string::npos) << couple.out;
 
@@ -72,8 +73,8 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
   EXPECT_NE(slurp((d / "first.txt").string()).find("pnc: interrupted by SIGTERM"),
             std::string::npos);
   // the lock ends with its process: the directory can be continued at once
-  const auto third = pnc::test::run_command(run_args(in, out) + " --resume --quiet --max-steps " +
-                                            "100000 2>&1");
+  const auto third =
+      pnc::test::run_command(run_args(in, out) + " --resume --quiet --max-steps " + "100000 2>&1");
   EXPECT_EQ(third.code, 0) << third.out;
 }
 
@@ -125,6 +126,18 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   EXPECT_GT(j["steps_this_run"].get<long>(), 0);
   EXPECT_LT(j["steps_this_run"].get<long>(), j["steps"].get<long>());
   EXPECT_EQ(slurp((d / "a" / "history.csv").string()), slurp((out / "history.csv").string()));
-  EXPECT_EQ(slurp((d / "a" / "particles.pvd").string()),
-            slurp((out / "particles.pvd").string()));
+  EXPECT_EQ(slurp((d / "a" / "particles.pvd").string()), slurp((out / "particles.pvd").string()));
+
+  // pnc.log keeps both sessions: what the stopped run printed, its exit code, then the resumed
+  // run's (core/run_log.hpp)
+  const std::string log = slurp((out / "pnc.log").string());
+  const auto stopped_end = log.find("--- pnc finished: exit code " + std::to_string(128 + SIGINT));
+  const auto second = log.find("--resume --json", log.find("started in"));
+  EXPECT_NE(log.find(" err pnc gimp: step"), std::string::npos) << log;
+  EXPECT_NE(log.find(" err pnc: interrupted by SIGINT"), std::string::npos) << log;
+  ASSERT_NE(stopped_end, std::string::npos) << log;
+  EXPECT_NE(second, std::string::npos) << log;
+  EXPECT_LT(stopped_end, second) << log;
+  EXPECT_NE(log.find(" out {"), std::string::npos) << "the --json output is copied too\n" << log;
+  EXPECT_NE(log.rfind("--- pnc finished: exit code 0\n"), std::string::npos) << log;
 }

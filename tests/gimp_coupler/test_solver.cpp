@@ -90,7 +90,7 @@ TEST(GimpSolver, PatchTestHomogeneousDeformationIsExact) {
 }
 
 // A pre-stretched body turned by 90 degrees in a rigid rotation field keeps its stretch U
-// and its stress in the material frame (left-product update, docs/theory.md eq. 5.3).
+// and its stress in the material frame (left-product update, docs/theory.md §5.2).
 TEST(GimpSolver, ObjectivityUnderLargeRigidRotation) {
   for (int law = 0; law < 2; ++law) {
     Solver<2> s;

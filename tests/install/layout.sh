@@ -18,7 +18,8 @@ want=(bin/pnc "lib/libpnc_material.so.$abi" lib/libpnc_material.so
   share/pnc/scripts/plot_figures.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
   share/pnc/scripts/plot_energy.py share/pnc/scripts/plot_G.py
   share/doc/pnc/README.md share/doc/pnc/LICENSE share/doc/pnc/CITATION.cff
-  share/doc/pnc/docs/install.md share/doc/pnc/docs/plugin.md share/doc/pnc/examples)
+  share/doc/pnc/docs/install.md share/doc/pnc/docs/plugin.md share/doc/pnc/examples
+  share/doc/pnc/docs/schemas/fit.schema.json share/doc/pnc/docs/schemas/common.schema.json)
 [ "$have_server" = 1 ] && want+=(libexec/pnc/pnc_lammps_server)
 for f in "${want[@]}"; do
   [ -e "$f" ] || die "$stage/$f is missing"

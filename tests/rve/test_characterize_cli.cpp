@@ -1,6 +1,7 @@
 // pnc characterize end to end on a tiny recipe (seconds): outputs, JSON, resume without
 // recomputation, and a bad recipe's error line.
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/version.hpp"
 #include "pnc/damage/data.hpp"
 
 #include "common/page_check.hpp"
@@ -109,7 +110,7 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
                         "build/build.h5", "equilibrate/final.h5", "phase/phase.h5",
                         "cases/case_2/checkpoint.h5", "cases/case_6/checkpoint.h5"})
     EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
-  EXPECT_GT(j["equilibrated"]["density_g_cm3"].get<double>(), 0.5);
+  EXPECT_GT(j["equilibrated"]["density_kg_per_m3"].get<double>(), 500.0); // SI (D284)
   EXPECT_GE(j["equilibrated"]["void_fraction"].get<double>(), 0.0);
   // cases.h5: SI, labelled, relative to the zero-strain hold (row 0 dropped): 3 rows per case
   const auto data = pnc::damage::read_stress_strain_h5((fs::path(out) / "cases.h5").string());
@@ -123,6 +124,23 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   EXPECT_NE(data.stress_definition.find("virial + kinetic"), std::string::npos);
   EXPECT_NE(data.stress_definition.find("block standard errors"), std::string::npos);
   EXPECT_NE(data.stress_definition.find("zero-strain hold"), std::string::npos);
+  {
+    // the file names its columns and says what made it (the card's provenance convention)
+    pnc::h5::File f((fs::path(out) / "cases.h5").string(), pnc::h5::File::Mode::read);
+    EXPECT_EQ(f.attr_string("/case_2/strain", "columns").value_or(""), "e11,e22,e33,g23,g13,g12");
+    EXPECT_EQ(f.attr_string("/case_2/stress", "columns").value_or(""), "s11,s22,s33,s23,s13,s12");
+    EXPECT_EQ(f.attr_string("/replicas/replica_1/case_2/raw_strain", "columns").value_or(""),
+              "e11,e22,e33,g23,g13,g12");
+    const std::string cmd = f.attr_string("/provenance", "command").value_or("");
+    EXPECT_NE(cmd.find("characterize"), std::string::npos) << cmd;
+    EXPECT_NE(cmd.find("tiny.json"), std::string::npos) << cmd;
+    EXPECT_EQ(f.read_string("/provenance/software"), pnc::version_string());
+    // counts are integers (readable as numbers too)
+    pnc::h5::File b((fs::path(out) / "build/build.h5").string(), pnc::h5::File::Mode::read);
+    EXPECT_TRUE(b.is_integer("/result/atoms"));
+    EXPECT_EQ(b.read_vector("/result/type").size(),
+              static_cast<std::size_t>(b.read_integer("/result/atoms")));
+  }
   // resume of a finished run recomputes nothing (case checkpoints untouched)
   const auto t2 = fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5");
   // (with the figures this time: the report page of a one-replica run, D131 error bars)

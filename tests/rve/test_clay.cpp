@@ -96,7 +96,7 @@ struct ClayTerms {
   double bond = 0, angle = 0, tors = 0, lj = 0;
 };
 
-/// Closed forms of eq. 6.25 with the printed parameters (no 1/2), written out here
+/// Closed forms of docs/theory.md §3.2 (D23) with the printed parameters (no 1/2), written out here
 /// independently of clay.cpp's LAMMPS mapping; the topology is the builder's.
 ClayTerms closed_form(const System& s, const PolymerForceField& pff) {
   ClayTerms t;

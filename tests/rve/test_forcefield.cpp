@@ -1,6 +1,6 @@
 // Each force-field term: LAMMPS's energy (and the total forces) on a hand-built
 // configuration against an independent closed-form evaluation of the printed forms
-// (docs/theory.md section 3.1) with the unit reading of decision D13.
+// (docs/theory.md §3.1) with the unit reading of decision D13.
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/runner.hpp"
@@ -34,7 +34,7 @@ struct Terms {
   double total() const { return bond + angle + tors + lj; }
 };
 
-/// Closed forms of section 6.1, physical constants (k_l, k_theta: no LAMMPS halving),
+/// Closed forms of docs/theory.md §3.1, physical constants (k_l, k_theta: no LAMMPS halving),
 /// polymer torsion convention: omega = 0 is trans.
 Terms closed_form(const std::vector<V3>& x, const std::vector<int>& mol,
                   const PolymerForceField& ff) {

@@ -32,12 +32,14 @@ TEST(RveRecipe, PresetsParse) {
   EXPECT_EQ(paper.build.chains * paper.build.beads_per_chain, 1500);
   EXPECT_EQ(paper.equilibrate.ensemble, "npt");
   EXPECT_DOUBLE_EQ(paper.equilibrate.pressure_atm, 0.0);
-  EXPECT_DOUBLE_EQ(paper.deform.timestep_fs, 0.5); // section 6.3
-  EXPECT_EQ(paper.deform.hold_steps, 10000);       // 5 ps
-  EXPECT_EQ(paper.deform.sample_every, 10);        // 5 fs
-  EXPECT_EQ(paper.moving_average, 1);              // no smoothing in the fit data (D133)
-  EXPECT_EQ(paper.stress, "virial"); // the dissertation's eq. 6.23, said so in the preset
-  EXPECT_EQ(demo.stress, "total");   // everything else: the total stress (D134)
+  EXPECT_DOUBLE_EQ(paper.deform.timestep_fs,
+                   0.5); // the source's hold time step (docs/rve.md, paper preset)
+  EXPECT_EQ(paper.deform.hold_steps, 10000); // 5 ps
+  EXPECT_EQ(paper.deform.sample_every, 10);  // 5 fs
+  EXPECT_EQ(paper.moving_average, 1);        // no smoothing in the fit data (D133)
+  EXPECT_EQ(paper.stress, "virial"); // the dissertation's virial-only stress (docs/theory.md §3.5),
+                                     // said so in the preset
+  EXPECT_EQ(demo.stress, "total"); // everything else: the total stress (D134)
   EXPECT_EQ(parse_recipe(json::object(), "x").stress, "total");
   EXPECT_EQ(parse_recipe(json::object(), "x").replicas, 1);
   for (const auto& n : preset_names()) {

@@ -1,8 +1,10 @@
 // Stage runner: LAMMPS errors are reported with LAMMPS's own ERROR text and the parent
 // survives; pnc errors thrown in the child are reported; stages run concurrently; the
-// virial stress of a 2-atom periodic configuration matches the analytic value.
+// virial stress of a 2-atom periodic configuration matches the analytic value; every stage
+// leaves an input file that plain `lmp -in` reruns.
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/subprocess.hpp"
 #include "pnc/rve/forcefield.hpp"
 #include "pnc/rve/runner.hpp"
 
@@ -11,14 +13,37 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 using namespace pnc::rve;
 namespace fs = std::filesystem;
 
 namespace {
+std::string slurp_text(const std::string& path) {
+  std::ifstream f(path);
+  return {std::istreambuf_iterator<char>(f), {}};
+}
+
+/// The thermo lines ("step pe ke press" rows) of a LAMMPS log, as printed.
+std::vector<std::string> thermo_rows(const std::string& log) {
+  std::vector<std::string> rows;
+  std::istringstream in(slurp_text(log));
+  bool table = false;
+  for (std::string l; std::getline(in, l);) {
+    if (l.find("Step") != std::string::npos && l.find("PotEng") != std::string::npos) {
+      table = true;
+      continue;
+    }
+    if (l.rfind("Loop time", 0) == 0) table = false;
+    if (table) rows.push_back(l);
+  }
+  return rows;
+}
+
 fs::path tmpdir(const std::string& tag) {
   const auto d = fs::temp_directory_path() / ("pnc_test_rve_runner_" + tag);
   fs::remove_all(d);
@@ -44,6 +69,12 @@ TEST(RveRunner, BadLammpsCommandIsReportedWithLammpsErrorAndParentSurvives) {
   std::ifstream f(s.log_path);
   std::string text((std::istreambuf_iterator<char>(f)), {});
   EXPECT_NE(text.find("no_such_pair_style"), std::string::npos);
+  // the stage's input ends with the command that stopped LAMMPS (in.<stage>, D247)
+  const std::string input = slurp_text(stage_input_path(s));
+  EXPECT_EQ(fs::path(stage_input_path(s)).filename(), "in.bad_stage");
+  EXPECT_EQ(input.substr(input.rfind('\n', input.size() - 2) + 1),
+            "pair_style no_such_pair_style 2.5\n")
+      << input;
   // and the parent keeps working: a good stage after the failure
   const auto ok =
       run_stage({"good", (d / "good.log").string(), {}}, [](Lammps& l) { l.cmd("units real"); });
@@ -113,6 +144,9 @@ TEST(RveRunner, FailedStagesThrowTheErrorOfTheirKind) {
   EXPECT_EQ(what.rfind("LAMMPS failed while running stage lmp: ERROR", 0), 0u) << what;
   EXPECT_NE(what.find("no_such_command_xyz"), std::string::npos) << what;
   EXPECT_NE(what.find("(log " + (d / "lmp.log").string() + ")"), std::string::npos) << what;
+  EXPECT_EQ(out[0].input_path, (d / "in.lmp").string());
+  EXPECT_NE(what.find("rerunnable with lmp -in: " + (d / "in.lmp").string()), std::string::npos)
+      << what;
 
   std::tie(code, what) = thrown(out[1], "stage input"); // as before this contract
   EXPECT_EQ(code, pnc::exit_code::bad_input);
@@ -184,5 +218,36 @@ TEST(RveRunner, VirialStressOfTwoAtomsMatchesAnalytic) {
     EXPECT_NEAR(p[k], expect, 1e-9 * std::fabs(W / (L * L * L) * nktv2p)) << "component " << k;
   }
   EXPECT_GT(p[0], 0); // repulsive pair at r < 2^(1/6) sigma: positive pressure, sigma = -P < 0
+  fs::remove_all(d);
+}
+
+// Every stage leaves in.<stage> beside its log; plain `lmp -in` (the Debian lammps binary, the
+// same liblammps) reruns it from the directory its header names and prints the same thermo
+// rows, digit for digit: serial LAMMPS with the same commands is deterministic. A value pnc
+// read back chose the last command; the recorded command is the one that ran.
+TEST(RveRunner, EveryStageLeavesAnInputThatPlainLmpRerunsToTheSameNumbers) {
+  const auto d = tmpdir("input");
+  const StageSpec s{"md run/1", (d / "md.log").string(), {}};
+  const auto out = run_stage(s, [](Lammps& l) {
+    l.cmds({"units lj", "atom_style atomic", "lattice fcc 0.8442", "region b block 0 4 0 4 0 4",
+            "create_box 1 b", "create_atoms 1 box", "mass 1 1.0",
+            "velocity all create 1.44 87287 loop geom", "pair_style lj/cut 2.5",
+            "pair_coeff 1 1 1.0 1.0 2.5", "fix 1 all nve", "thermo 50",
+            "thermo_style custom step pe ke press", "thermo_modify format float %22.16g",
+            "run 200"});
+    l.cmd(l.thermo("pe") < 0 ? "run 100" : "run 50"); // a dense LJ liquid: pe < 0
+  });
+  ASSERT_TRUE(out.ok) << out.error;
+  const std::string in = stage_input_path(s);
+  ASSERT_EQ(fs::path(in).filename(), "in.md_run_1");
+  const std::string text = slurp_text(in);
+  EXPECT_NE(text.find("# Rerun from " + fs::current_path().string()), std::string::npos) << text;
+  EXPECT_NE(text.find("\nrun 100\n"), std::string::npos) << text;
+  const std::string rerun_log = (d / "rerun.log").string();
+  const auto r = pnc::run_subprocess({"lmp", "-in", in, "-log", rerun_log, "-screen", "none"});
+  ASSERT_TRUE(r.ok()) << r.error << r.output;
+  const auto a = thermo_rows(s.log_path), b = thermo_rows(rerun_log);
+  EXPECT_EQ(a.size(), 5u + 3u) << "rows at steps 0..200 and 200..300";
+  EXPECT_EQ(a, b);
   fs::remove_all(d);
 }

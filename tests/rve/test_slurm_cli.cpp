@@ -5,12 +5,16 @@
 //     the units run the same code on the same inputs with the same seeds and rank counts;
 //  2. a case unit cancelled with scancel while it runs is reported (its job id, why), the other
 //     units keep going, the fit says which unit is missing, and --resume submits only what is
-//     not done and finishes the campaign.
+//     not done and finishes the campaign;
+//  3. `pnc thermo ti` through Slurm gives the numbers of a local run.
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/campaign.hpp"
 
 #include "common/run_command.hpp"
+#ifdef PNC_HAVE_THERMO
+#include "../thermo/tiny_polymer.hpp"
+#endif
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -262,3 +266,68 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   EXPECT_GE(rendered, 5); // equilibrate, cases (2 + the resubmitted one), fit twice
   fs::remove_all(d);
 }
+
+// `pnc thermo ti --executor slurm` (decisions D285-D288): the (state, lambda) units as one job
+// array, the analysis after it (afterany), on the tiny polymer of the thermo tests; its numbers
+// equal a local run of the same input and seed to round-off (relative 1e-12): the units run the
+// same code on the same files with the same seeds on one rank each, so only the executor
+// differs (a different seed or node would differ by the sampling error, percent level).
+// Compiled only in builds with the thermo library (a build without it has no such test,
+// rather than a skipped one).
+#ifdef PNC_HAVE_THERMO
+TEST(RveSlurm, ThermoTiSameAsALocalRun) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_ti";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string rs = pnc::test::tiny_polymer_restart(d);
+  const std::string base = std::string(PNC_EXE) + " thermo ti --restart " + rs +
+                           " --vol 0,0.005 --dev none --points 2 --equil-steps 20 "
+                           "--prod-steps 60 --sample-every 10 --blocks 3 --no-plots";
+  const auto local = run_command(base + " --jobs 2 --out " + (d / "local").string() + " 2>" +
+                                 (d / "local.err").string());
+  ASSERT_EQ(local.code, 0) << slurp(d / "local.err");
+  const std::string sdir = (d / "slurm").string();
+  const auto sl =
+      run_command(base + " --out " + sdir + " --executor slurm --wait --job-name ti-test 2>" +
+                  (d / "slurm.err").string());
+  ASSERT_EQ(sl.code, 0) << slurp(d / "slurm.err");
+  // ti.h5: per state dA and its error, <dH/dl> and its error at every node (kcal/mol)
+  pnc::h5::File a((d / "local" / "ti.h5").string(), pnc::h5::File::Mode::read);
+  pnc::h5::File b((fs::path(sdir) / "ti.h5").string(), pnc::h5::File::Mode::read);
+  const auto near = [](double x, double y) { return std::fabs(x - y) <= 1e-12 * std::fabs(y); };
+  int compared = 0;
+  for (const char* id : {"ref", "vol_0.005"}) {
+    const std::string g = std::string("/states/") + id;
+    for (const char* n : {"/dA", "/dA_stderr"}) {
+      EXPECT_TRUE(near(a.read_scalar(g + n), b.read_scalar(g + n))) << g << n;
+      ++compared;
+    }
+    for (const char* n : {"/dhdl_mean", "/dhdl_stderr"}) {
+      const auto x = a.read_vector(g + n), y = b.read_vector(g + n);
+      ASSERT_EQ(x.size(), 2u);
+      ASSERT_EQ(y.size(), 2u);
+      for (std::size_t i = 0; i < 2; ++i, ++compared)
+        EXPECT_TRUE(near(x[i], y[i])) << g << n << "[" << i << "]";
+    }
+  }
+  EXPECT_EQ(compared, 12);
+  EXPECT_TRUE(fs::exists(fs::path(sdir) / "ti.h5"));
+  // every unit ran as a Slurm job: the 4 points as one array, the analysis after all of them
+  const auto st = status_json(sdir);
+  ASSERT_TRUE(st.is_object());
+  ASSERT_EQ(st["units"].size(), 5u);
+  const std::string array_job = unit_of(st, "ref/lambda_0")["job_id"];
+  for (const auto& u : st["units"]) {
+    EXPECT_EQ(u["state"], "done") << u.dump();
+    const std::string job = u["job_id"];
+    ASSERT_FALSE(job.empty()) << u.dump();
+    if (u["unit"] == "analysis") continue;
+    EXPECT_EQ(job.substr(0, job.find('_')), array_job.substr(0, array_job.find('_'))) << job;
+    EXPECT_GE(unit_of(st, "analysis")["started_s"].get<double>(), u["ended_s"].get<double>())
+        << u["unit"];
+  }
+  fs::remove_all(d);
+}
+#endif

@@ -233,7 +233,7 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
   const CaseResult c2 = read_case((fs::path(out) / "cases" / "case_2").string());
   EXPECT_LT((c2.stress_total - c2.stress_virial).cwiseAbs().maxCoeff(), 1e-6 * C11 * 2e-4);
   EXPECT_TRUE(std::isnan(c2.stress_virial_se(1, 1)));
-  EXPECT_NEAR(j["equilibrated"]["pressure_atm"].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(j["equilibrated"]["pressure_Pa"].get<double>(), 0.0, 1e-6 * 101325); // 1e-6 atm
   EXPECT_TRUE(fs::exists(fs::path(out) / "build" / "system.data"));
   EXPECT_EQ(slurp(fs::path(out) / "build" / "system.data"), slurp(d / "fcc.data"));
   EXPECT_EQ(j["fit"]["error_model"], "sandwich (HC3)"); // the fit's no-data-errors path
@@ -365,7 +365,9 @@ TEST(RveUserSystem, BeadSpringShortRunThroughCli) {
                       .read_matrix("/trace");
   const Eigen::Index k = tr.rows() - tr.rows() / 2;
   EXPECT_NEAR(o["equilibrated"]["temperature_K"].get<double>(), tr.col(0).tail(k).mean(), 1e-9);
-  EXPECT_NEAR(o["equilibrated"]["pressure_atm"].get<double>(), tr.col(2).tail(k).mean(), 1e-9);
+  // --json in SI (D284): the trace's atm in Pa
+  EXPECT_NEAR(o["equilibrated"]["pressure_Pa"].get<double>(), tr.col(2).tail(k).mean() * 101325.0,
+              1e-9 * 101325.0);
   for (const char* f : {"build/system.data", "build/system.json", "equilibrate/stage_4_npt.h5",
                         "equilibrate/final.restart", "cases/case_6/checkpoint.h5", "card.h5"})
     EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;

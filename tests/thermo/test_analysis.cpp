@@ -169,9 +169,9 @@ TEST(ThermoLj, AnalyticLambdaDerivativeMatchesFiniteDifference) {
 // bent by d/b each, E = k d^2 / b^2, F = dE/dd); long chains approach the continuum simply
 // supported beam with EI = k b under the load of this test -- F spread evenly over the
 // beads (the centre of mass is pulled), d the mean deflection: y = w x (L^3 - 2 L x^2 +
-// x^3) / (24 EI), mean wL^4/(120 EI), so F/d = 120 EI / L^3 (not eq. 6.9's 48, which is a
-// point load at mid-span with the mid-span deflection). The error is O(1/M) (the load and
-// the mean skip the two end beads): doubling M halves it.
+// x^3) / (24 EI), mean wL^4/(120 EI), so F/d = 120 EI / L^3 (not the printed ratio's 48 of
+// docs/theory.md §4.5 (D67), which is a point load at mid-span with the mid-span deflection). The
+// error is O(1/M) (the load and the mean skip the two end beads): doubling M halves it.
 TEST(ThermoBending, DiscreteChainStiffness) {
   const double b = 1.53, k = 1000;
   EXPECT_NEAR(discrete_bending_stiffness(4, b, k), 2 * k / (b * b), 1e-9);

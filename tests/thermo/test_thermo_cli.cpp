@@ -1,6 +1,15 @@
 // The `pnc thermo` subcommands end to end on tiny inputs: outputs, --json, --resume, and
 // errors that name the input (a LAMMPS error with LAMMPS's message).
+#include "common/page_check.hpp"
 #include "common/run_command.hpp"
+
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/forcefield.hpp"
+#include "pnc/rve/runner.hpp"
+
+#include <fmt/format.h>
+
+#include "tiny_polymer.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -11,6 +20,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -30,6 +41,19 @@ fs::path tmp(const std::string& tag) {
 }
 } // namespace
 
+/// The page `pnc thermo ...` wrote into `out`: report.html, checked self-contained.
+std::string report_page(const fs::path& out) {
+  EXPECT_TRUE(fs::exists(out / "report.md"));
+  const std::string html = pnc::test::read_file((out / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  return html;
+}
+
+/// `v ± se` as the report prints a value with its error (4 and 2 significant digits).
+std::string pm(double v, double se) {
+  return fmt::format("{:.4g} ± {:.2g}", v, se);
+}
+
 // The harmonic-chain persistence run needs no input file: JSON keys, relations between
 // them, and --resume (no rerun, same numbers).
 TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
@@ -43,16 +67,49 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["rates"].size(), 3u);
   EXPECT_TRUE(fs::exists(d / "persistence.h5"));
-  // xi_p = EI0 / kT at 300 K (kB in kcal/mol/K)
-  EXPECT_NEAR(j["xi_p_A"].get<double>(), j["EI0_kcal_mol_A"].get<double>() / (0.0019872067 * 300),
-              1e-6);
-  // 2 K l0 with K = 500 and l0 = 1.53
-  EXPECT_NEAR(j["expected_EI_continuum_kcal_mol_A"].get<double>(), 1530.0, 1e-9);
+  // --json is SI (D280): xi_p = EI0 / kT at 300 K, with the k_B of LAMMPS real units
+  // (0.0019872067 kcal/mol/K, 1.2e-6 above CODATA's) that xi_p is computed with: round-off only
+  const double si = 4184.0 / 6.02214076e23 * 1e-10;        // N m^2 per kcal/mol A
+  const double kB = 0.0019872067 * 4184.0 / 6.02214076e23; // J/K
+  EXPECT_NEAR(j["xi_p_m"].get<double>() / (j["EI0_N_m2"].get<double>() / (kB * 300)), 1.0, 1e-12);
+  // 2 K l0 with K = 500 and l0 = 1.53 A, in N m^2
+  EXPECT_NEAR(j["expected_EI_continuum_N_m2"].get<double>() / (1530.0 * si), 1.0, 1e-12);
+  // the anchor speeds in m/s: 1 A/fs = 1e5 m/s
+  EXPECT_NEAR(j["rates"][0]["rate_m_per_s"].get<double>(), 0.002 * 1e5, 1e-9);
+  // the run report (in the field's units): the command, EI(0) and xi_p with their 95 %
+  // intervals, no figures
+  const double ei = j["EI0_N_m2"].get<double>() / si, ci = j["EI0_ci95_N_m2"].get<double>() / si;
+  const double xi = j["xi_p_m"].get<double>() * 1e10, xci = j["xi_p_ci95_m"].get<double>() * 1e10;
+  EXPECT_EQ(j["report"], (d / "report.html").string());
+  std::string html = report_page(d);
+  EXPECT_NE(html.find("pnc thermo persistence"), std::string::npos);
+  EXPECT_NE(html.find(pm(ei, ci) + " kcal/mol Å"), std::string::npos);
+  EXPECT_NE(html.find(pm(xi, xci) + " Å"), std::string::npos);
+  EXPECT_NE(html.find("Not drawn (--no-plots)."), std::string::npos);
+  EXPECT_EQ(html.find("data:image/png"), std::string::npos);
+  // D270: the verdict follows the interval (resolved beyond twice, noise within once)
+  EXPECT_NE(html.find(ei > 2 * ci ? "Resolved:" : ei > ci ? "Weak:" : "Noise:"), std::string::npos);
   const auto t = fs::last_write_time(d / "rate_0.h5");
   const CmdRun r2 = run(args + " --resume");
   ASSERT_EQ(r2.code, 0);
   EXPECT_EQ(fs::last_write_time(d / "rate_0.h5"), t);
-  EXPECT_EQ(nlohmann::json::parse(r2.out)["EI0_kcal_mol_A"], j["EI0_kcal_mol_A"]);
+  EXPECT_EQ(nlohmann::json::parse(r2.out)["EI0_N_m2"], j["EI0_N_m2"]);
+  // resumed again with plots asked for, under a Python whose matplotlib import fails (as
+  // without python3-matplotlib): exit code 0, and the page says why there is no figure
+  fs::create_directories(d / "nompl" / "matplotlib");
+  std::ofstream(d / "nompl" / "matplotlib" / "__init__.py")
+      << "raise ModuleNotFoundError(\"No module named 'matplotlib'\")\n";
+  std::string plots = args;
+  plots.erase(plots.find("--no-plots "), 11);
+  const CmdRun r3 = pnc::test::run_command("PYTHONPATH='" + (d / "nompl").string() + "' " +
+                                           PNC_EXE + " " + plots + " --resume 2>/dev/null");
+  ASSERT_EQ(r3.code, 0) << r3.out;
+  EXPECT_TRUE(nlohmann::json::parse(r3.out)["plots"].empty());
+  html = report_page(d);
+  EXPECT_NE(html.find("Not drawn: "), std::string::npos);
+  EXPECT_NE(html.find("plotting: "), std::string::npos) << "in the warnings";
+  EXPECT_NE(html.find("matplotlib"), std::string::npos);
+  EXPECT_EQ(html.find("data:image/png"), std::string::npos);
 }
 
 TEST(ThermoCli, TiErrorsNameTheInput) {
@@ -75,4 +132,48 @@ TEST(ThermoCli, TiErrorsNameTheInput) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("vol"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.5"), std::string::npos) << r.out;
+}
+
+using pnc::test::tiny_polymer_restart;
+
+// `pnc thermo ti` on a tiny polymer (a reference and one dilated state, 2 Gauss points, short
+// sampling): report.html names the command and every Delta A of --json with its standard
+// error, embeds both figures, and renders in headless Chromium with every image decoded.
+TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
+  const auto d = tmp("ti_report_" + std::to_string(::getpid())); // parallel test runs
+  const std::string rs = tiny_polymer_restart(d);
+  const fs::path out = d / "ti";
+  const CmdRun r = run("thermo ti --restart " + rs +
+                       " --vol 0,0.005 --dev none --points 2 --equil-steps 20 --prod-steps 60 "
+                       "--sample-every 10 --blocks 3 --json --out " +
+                       out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["report"], (out / "report.html").string());
+  const std::string html = report_page(out);
+  EXPECT_NE(html.find("pnc thermo ti"), std::string::npos);
+  ASSERT_EQ(j["states"].size(), 2u);
+  // --json in J of the box (D280), the page in kcal/mol
+  const double kcal_mol = 4184.0 / 6.02214076e23; // J
+  for (const auto& st : j["states"])
+    EXPECT_NE(html.find(pm(st["dA_J"].get<double>() / kcal_mol,
+                           st["dA_stderr_J"].get<double>() / kcal_mol)),
+              std::string::npos)
+        << st["id"];
+  // the two PNGs plot_thermo.py drew, embedded (base64 of the PNG signature is iVBORw0KGgo)
+  ASSERT_EQ(j["plots"].size(), 2u) << "python3-matplotlib is a test dependency";
+  const std::string img = "src=\"data:image/png;base64,iVBORw0KGgo";
+  const auto first = html.find(img);
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_NE(html.find(img, first + 1), std::string::npos) << "both figures";
+  EXPECT_NE(pnc::test::read_file((out / "report.md").string()).find("](plots/dA_vs_strain.png)"),
+            std::string::npos);
+  const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, (std::vector<std::string>{"ok", "ok"})) << "the embedded figures decode";
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  // not a blank page: the tables and two figures leave ink (an empty or unstyled white page
+  // is below 1 % of the 1200 x 3000 screenshot)
+  EXPECT_GT(b.ink, 0.02);
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }

@@ -11,7 +11,9 @@
 
 #include <lammps/library.h>
 
+#include "tiny_polymer.hpp"
 #include <fmt/format.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -211,37 +213,14 @@ TEST(ThermoTi, TiAgreesWithFepBetweenAdjacentLambdas) {
   }
 }
 
-namespace {
-/// A tiny coarse-grained PP melt (12 chains x 10 beads), minimised, as a LAMMPS restart.
-std::string polymer_restart(const fs::path& d) {
-  rve::BuildSpec b;
-  b.chains = 12;
-  b.beads_per_chain = 10;
-  b.density = 0.9;
-  const rve::PolymerForceField ff;
-  const rve::System sys = rve::build_polymer(b, ff);
-  const std::string data = (d / "rve.data").string(), rs = (d / "rve.restart").string();
-  rve::write_data_file(data, sys, "thermo test");
-  const auto o = rve::run_stage({"prep", (d / "prep.log").string(), {}}, [&](rve::Lammps& l) {
-    l.cmd("units real");
-    l.cmd("atom_style molecular");
-    l.cmd("read_data " + data);
-    l.cmds(rve::polymer_forcefield_commands(ff));
-    l.cmd("minimize 1e-4 1e-6 200 2000");
-    l.cmd("velocity all create 300 5 dist gaussian");
-    l.cmd("write_restart " + rs);
-  });
-  if (!o.ok) throw std::runtime_error(o.error);
-  return rs;
-}
-} // namespace
+using pnc::test::tiny_polymer_restart;
 
 // Polymer: dH/dlambda from pair distances = central difference of LAMMPS's pair energy
 // (through pair_coeff at lambda -+ h) for the undeformed, dilated and sheared box; the
-// deformed volumes are det F V0 (F of eqs. 6.12, 6.13).
+// deformed volumes are det F V0 (F of docs/theory.md §4.2).
 TEST(ThermoTi, PolymerDhdlMatchesLammpsFiniteDifferenceAndStatesHaveDetFVolume) {
   const auto d = tmpdir("polymer");
-  const std::string rs = polymer_restart(d);
+  const std::string rs = tiny_polymer_restart(d);
   TiSpec spec;
   spec.dhdl_method = "pairs"; // the chunked pair-distance sampler (the LJ test uses "virial")
   spec.sampling.equil_steps = 100;

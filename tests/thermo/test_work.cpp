@@ -1,12 +1,14 @@
 // `pnc thermo work` (thermo/work.hpp) on synthetic run directories (recipe.json,
 // equilibrate/final.h5, cases.h5 written here): closed forms of the trapezoid, the error
 // propagation by Monte Carlo, the two-temperature split, and the input checks. No LAMMPS.
+#include "common/page_check.hpp"
 #include "common/run_command.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/thermo/work.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -264,8 +266,8 @@ TEST(ThermoWork, SofteningIsFlagged) {
 }
 
 // `pnc thermo work` end to end: two runs, --json keys with units, work.h5 units attributes,
-// work.csv columns, and the CLI's error for a missing run directory.
-TEST(ThermoWork, CliTwoRunsJsonH5Csv) {
+// work.csv columns, the run report, and the CLI's error for a missing run directory.
+TEST(ThermoWork, CliTwoRunsJsonH5CsvAndReport) {
   const double C0 = 4e9, C1 = -5e6, h = 1e-4;
   const auto e = uniaxial(20, h);
   const auto d1 = make_run(
@@ -282,14 +284,17 @@ TEST(ThermoWork, CliTwoRunsJsonH5Csv) {
   EXPECT_DOUBLE_EQ(j.at("temperature_K").get<double>(), 300.0);
   const auto& c = j.at("cases").at(0);
   const double eps = 20 * h;
-  EXPECT_NEAR(c.at("entropic").at("da_J_m3").get<double>(), 300 * C1 * eps * eps / 2,
+  EXPECT_NEAR(c.at("entropic").at("da_J_per_m3").get<double>(), 300 * C1 * eps * eps / 2,
               1e-6 * C0 * eps * eps);
-  EXPECT_NEAR(c.at("energetic").at("da_J_m3").get<double>(), C0 * eps * eps / 2,
+  EXPECT_NEAR(c.at("energetic").at("da_J_per_m3").get<double>(), C0 * eps * eps / 2,
               1e-6 * C0 * eps * eps);
   const double dA = c.at("total").at("dA_J").get<double>();
   EXPECT_NEAR(dA, (C0 + C1 * 300) * eps * eps / 2 * kV0_A3 * 1e-30, 1e-6 * std::fabs(dA));
-  EXPECT_NEAR(c.at("total").at("dA_kcal_mol").get<double>(), dA * 6.02214076e23 / 4184,
-              1e-9 * std::fabs(dA) * 1.5e20);
+  // the errors of dA are those of da times the box volume (SI only in --json, D280)
+  EXPECT_NEAR(c.at("total").at("dA_stderr_bound_J").get<double>(),
+              c.at("total").at("da_stderr_bound_J_per_m3").get<double>() * kV0_A3 * 1e-30,
+              1e-12 * c.at("total").at("dA_stderr_bound_J").get<double>());
+  EXPECT_FALSE(c.at("total").contains("dA_kcal_mol"));
   // every dataset of work.h5 that carries a quantity has units
   const h5::File f((out / "work.h5").string(), h5::File::Mode::read);
   for (const char* ds : {"/temperature", "/volume", "/case_1/strain", "/case_1/stress",
@@ -302,7 +307,27 @@ TEST(ThermoWork, CliTwoRunsJsonH5Csv) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("case,point,e11_1,", 0), 0u) << header;
-  EXPECT_NE(header.find("da_energetic_stderr_bound_J_m3"), std::string::npos) << header;
+  EXPECT_NE(header.find("da_energetic_stderr_bound_J_per_m3"), std::string::npos) << header;
+  // report.html: the verdict follows D143 from the --json numbers (resolved when |da| > 2 x its
+  // any-correlation bound, for the total and, with two runs, for one of the split parts), each
+  // case's da is on the page as printed, work.png is embedded and the page renders in Chromium
+  ASSERT_EQ(j.at("report"), (out / "report.html").string());
+  const std::string html = pnc::test::read_file((out / "report.html").string());
+  const auto resolved = [](const nlohmann::json& w) {
+    return std::fabs(w.at("da_J_per_m3").get<double>()) >
+           2 * w.at("da_stderr_bound_J_per_m3").get<double>();
+  };
+  const bool ok =
+      resolved(c.at("total")) && (resolved(c.at("entropic")) || resolved(c.at("energetic")));
+  EXPECT_NE(html.find(ok ? "Resolved: every case (1)" : "No result"), std::string::npos);
+  EXPECT_NE(html.find(fmt::format("{:.4g} ± ", c.at("total").at("da_J_per_m3").get<double>())),
+            std::string::npos);
+  ASSERT_EQ(j.at("plots").size(), 1u) << "python3-matplotlib is a test dependency";
+  const auto b = pnc::test::render_in_chromium((out / "report.html").string(), out.string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, std::vector<std::string>{"ok"}) << "work.png decodes";
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  EXPECT_GT(b.ink, 0.02); // a page with a table and a figure, not a blank one
   const auto bad =
       pnc::test::run_command(std::string(PNC_EXE) + " thermo work --from " +
                              (out / "nope").string() + " --out " + out.string() + " 2>&1");

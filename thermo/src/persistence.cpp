@@ -1,4 +1,5 @@
-// Steered bending of a short chain: EI and persistence length (section 6.2.1; units real).
+// Steered bending of a short chain: EI and persistence length (docs/theory.md §4.5, D66-D68; units
+// real).
 #include "pnc/thermo/persistence.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -202,15 +203,14 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
   }
   fm /= static_cast<double>(tail);
   dm /= static_cast<double>(tail);
-  r.ei_end = fm * L3 / (48.0 * dm); // eq. 6.9
+  r.ei_end = fm * L3 / (48.0 * dm); // the printed end-of-pull ratio (docs/theory.md §4.5, D67)
   r.d_max = dm;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   AtomicOutput o(out);
   {
     h5::File f(o.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-bending-rate");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.write_scalar("/rate", rate);
     f.set_attr("/rate", "units", "A/fs");
     f.write_vector("/samples/anchor", r.anchor);
@@ -226,7 +226,8 @@ void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, dou
     f.write_scalar("/EI_stderr", r.ei.se);
     f.set_attr("/EI", "units", "kcal/mol*A (L^3/48 dF/dd)");
     f.write_scalar("/EI_end_ratio", r.ei_end);
-    f.set_attr("/EI_end_ratio", "units", "kcal/mol*A (F L^3/(48 d), last 10 % means, eq. 6.9)");
+    f.set_attr("/EI_end_ratio", "units",
+               "kcal/mol*A (F L^3/(48 d), last 10 % means, theory.md §4.5)");
     f.write_scalar("/d_end", r.d_max);
     f.write_scalar("/length", g.length);
     f.write_scalar("/seconds", r.seconds);
@@ -321,9 +322,8 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
   AtomicOutput o(res.h5);
   {
     h5::File f(o.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-persistence");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real inside (A, fs, kcal/mol, K); SI where named");
     f.write_string("/spec/chain", spec.chain);
     f.write_string("/spec/supports", spec.supports);
@@ -332,7 +332,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     f.set_attr("/spec/spring_k", "units", "kcal/mol/A^2");
     f.write_scalar("/spec/pull_distance", spec.pull_distance);
     f.write_scalar("/spec/timestep", spec.timestep_fs);
-    f.write_scalar("/spec/hold_steps", static_cast<double>(spec.hold_steps));
+    f.write_scalar("/spec/hold_steps", spec.hold_steps);
     f.write_scalar("/spec/temperature", spec.temperature);
     f.write_scalar("/spec/damp", spec.damp_fs);
     f.write_string("/spec/seed", std::to_string(spec.seed));
@@ -378,7 +378,7 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     f.set_attr("/EI0_SI", "units", "N m^2");
     f.write_scalar("/xi_p", res.xi_p);
     f.write_scalar("/xi_p_ci95", res.xi_p_ci95);
-    f.set_attr("/xi_p", "units", "A (EI0 / kB T, eq. 6.8)");
+    f.set_attr("/xi_p", "units", "A (EI0 / kB T, theory.md §4.5)");
     if (spec.chain == "harmonic") {
       f.write_scalar("/expected/EI_discrete", res.expected_ei);
       f.write_scalar("/expected/EI_continuum", res.expected_ei_continuum);

@@ -103,9 +103,8 @@ void write_point(const std::string& path, const PointJob& j, const PointResult& 
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-lambda-point");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.write_string("/label", j.label);
     f.write_scalar("/lambda", r.lambda);
     f.write_scalar("/lambda_prev", r.lambda_prev);
@@ -113,8 +112,8 @@ void write_point(const std::string& path, const PointJob& j, const PointResult& 
     f.write_string("/seed", std::to_string(j.seed));
     f.write_scalar("/timestep", s.timestep_fs);
     f.set_attr("/timestep", "units", "fs");
-    f.write_scalar("/equil_steps", static_cast<double>(s.equil_steps));
-    f.write_scalar("/prod_steps", static_cast<double>(s.prod_steps));
+    f.write_scalar("/equil_steps", s.equil_steps);
+    f.write_scalar("/prod_steps", s.prod_steps);
     f.write_scalar("/sample_every", s.sample_every);
     f.write_scalar("/blocks", s.blocks);
     f.write_scalar("/temperature", s.temperature);
@@ -313,9 +312,10 @@ std::vector<std::string> deform_commands(const DeformState& st, const double lo[
   H << hi[0] - lo[0], xy, xz, 0, hi[1] - lo[1], yz, 0, 0, hi[2] - lo[2];
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (st.kind == "vol")
-    F *= 1 + st.strain; // eq. 6.12
+    F *= 1 + st.strain; // volumetric F = (1+a) I (docs/theory.md §4.2, D63)
   else if (st.kind == "dev")
-    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity()); // eq. 6.13
+    // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2)
+    F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity());
   else if (st.kind != "ref")
     fail("<ti>", "state", st.kind, "must be ref, vol or dev");
   std::vector<std::string> out;
@@ -596,38 +596,64 @@ TiResult collect_ti(const TiSpec& spec, const std::string& dir) {
   return r;
 }
 
+void check_ti_start(const TiSpec& spec, const std::string& restart) {
+  spec.validate("<ti>");
+  if (!fs::is_regular_file(restart))
+    fail(restart, "restart", restart, "no such LAMMPS restart file");
+}
+
+std::vector<TiPoint> ti_points(const TiSpec& spec, const std::string& dir) {
+  const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
+  std::vector<TiPoint> out;
+  const auto states = ti_states(spec);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const auto& st = states[k];
+    const auto jobs =
+        node_jobs(q, (fs::path(dir) / st.id).string(), st.id, spec.seed * 1000 + k * 10 + 1);
+    for (std::size_t i = 0; i < jobs.size(); ++i)
+      out.push_back({st, k, i, jobs[i]});
+  }
+  return out;
+}
+
+void run_ti_point(const TiSpec& spec, const TiPoint& point, const std::string& restart,
+                  const std::vector<std::string>& ff, const Progress& progress) {
+  check_ti_start(spec, restart);
+  const LambdaSystem sys = polymer_system(spec, point.state, fs::absolute(restart).string(), ff);
+  run_points(spec.sampling, {{point.job, sys}}, false, 1, progress);
+}
+
+TiResult finish_ti(const TiSpec& spec, const std::string& dir, const std::string& source_json,
+                   double seconds) {
+  TiResult r = collect_ti(spec, dir);
+  r.h5 = (fs::path(dir) / "ti.h5").string();
+  r.seconds = seconds;
+  write_ti_h5(r.h5, r, source_json);
+  return r;
+}
+
 TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vector<std::string>& ff,
                 const std::string& dir, bool resume, const std::string& source_json,
                 const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  spec.validate("<ti>");
-  if (!fs::is_regular_file(restart))
-    fail(restart, "restart", restart, "no such LAMMPS restart file");
-  const Quadrature q = make_rule(spec.rule, spec.points, "<ti>");
+  check_ti_start(spec, restart);
   std::vector<std::pair<PointJob, LambdaSystem>> point_jobs;
-  const auto states = ti_states(spec);
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    const auto& st = states[k];
-    const LambdaSystem sys = polymer_system(spec, st, fs::absolute(restart).string(), ff);
-    for (const auto& j :
-         node_jobs(q, (fs::path(dir) / st.id).string(), st.id, spec.seed * 1000 + k * 10 + 1))
-      point_jobs.push_back({j, sys});
+  std::vector<LambdaSystem> systems; // one per state
+  for (const auto& p : ti_points(spec, dir)) {
+    if (p.state_index >= systems.size())
+      systems.push_back(polymer_system(spec, p.state, fs::absolute(restart).string(), ff));
+    point_jobs.push_back({p.job, systems[p.state_index]});
   }
   run_points(spec.sampling, point_jobs, resume, spec.jobs, progress);
-  TiResult r = collect_ti(spec, dir);
-  r.h5 = (fs::path(dir) / "ti.h5").string();
-  r.seconds = seconds_since(t0);
-  write_ti_h5(r.h5, r, source_json);
-  return r;
+  return finish_ti(spec, dir, source_json, seconds_since(t0));
 }
 
 void write_ti_h5(const std::string& path, const TiResult& r, const std::string& source_json) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-ti");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     f.set_attr("/", "units", "LAMMPS real: kcal/mol, A, fs, K; moduli in Pa");
     f.write_string("/recipe", source_json.empty() ? "{}" : source_json);
     const auto& s = r.spec;
@@ -646,8 +672,8 @@ void write_ti_h5(const std::string& path, const TiResult& r, const std::string& 
     f.write_scalar("/spec/cutoff", s.path.cutoff);
     f.set_attr("/spec/cutoff", "units", "A (fixed at every lambda, D62)");
     f.write_scalar("/spec/timestep", s.sampling.timestep_fs);
-    f.write_scalar("/spec/equil_steps", static_cast<double>(s.sampling.equil_steps));
-    f.write_scalar("/spec/prod_steps", static_cast<double>(s.sampling.prod_steps));
+    f.write_scalar("/spec/equil_steps", s.sampling.equil_steps);
+    f.write_scalar("/spec/prod_steps", s.sampling.prod_steps);
     f.write_scalar("/spec/sample_every", s.sampling.sample_every);
     f.write_scalar("/spec/blocks", s.sampling.blocks);
     f.write_scalar("/spec/temperature", s.sampling.temperature);
@@ -744,8 +770,8 @@ void write_ti_h5(const std::string& path, const TiResult& r, const std::string& 
         f.write_scalar(g + "/modulus_stderr", fit.modulus_se);
         f.set_attr(g + "/modulus", "units", "Pa");
         f.set_attr(g + "/modulus", "definition",
-                   fit.kind == "vol" ? "K = 2 c2 / (9 V0) (appendix A, D65)"
-                                     : "mu = c2 / (6 V0) (appendix A, D65)");
+                   fit.kind == "vol" ? "K = 2 c2 / (9 V0) (theory.md §4.4, D65)"
+                                     : "mu = c2 / (6 V0) (theory.md §4.4, D65)");
       }
     }
   }

@@ -51,9 +51,8 @@ void write_work_h5(const std::string& path, const WorkResult& r) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     f.set_attr("/", "format", "pnc-thermo-work");
-    f.set_attr("/", "pnc_version", version_string());
-    f.set_attr("/", "created_utc", utc_timestamp());
     std::string notes;
     for (const auto& n : r.notes)
       notes += n + ".\n";
@@ -99,11 +98,11 @@ void write_work_h5(const std::string& path, const WorkResult& r) {
 void write_work_csv(const std::string& path, const WorkResult& r) {
   std::ostringstream o;
   o.precision(12);
-  o << "case,point,e11_1,e22_1,e33_1,g23_1,g13_1,g12_1,da_J_m3,da_stderr_indep_J_m3,"
-       "da_stderr_bound_J_m3,dA_J,dA_kcal_mol";
+  o << "case,point,e11_1,e22_1,e33_1,g23_1,g13_1,g12_1,da_J_per_m3,da_stderr_indep_J_per_m3,"
+       "da_stderr_bound_J_per_m3,dA_J,dA_kcal_mol";
   if (r.runs == 2)
-    o << ",da_entropic_J_m3,da_entropic_stderr_indep_J_m3,da_entropic_stderr_bound_J_m3,"
-         "da_energetic_J_m3,da_energetic_stderr_indep_J_m3,da_energetic_stderr_bound_J_m3";
+    o << ",da_entropic_J_per_m3,da_entropic_stderr_indep_J_per_m3,da_entropic_stderr_bound_J_per_m3,"
+         "da_energetic_J_per_m3,da_energetic_stderr_indep_J_per_m3,da_energetic_stderr_bound_J_per_m3";
   o << '\n';
   for (const auto& c : r.cases)
     for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {

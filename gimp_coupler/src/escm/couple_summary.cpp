@@ -103,7 +103,7 @@ void write_couple_summary(CoupledRun& run, const MdRegion& region, const CoupleO
                      {"mu_Pa", 0.5 * (lj.C11 - lj.C12)},
                      {"E_Pa", lj.E()},
                      {"nu", lj.nu()},
-                     {"density_kg_m3", lj.density},
+                     {"density_kg_per_m3", lj.density},
                      {"strip_modulus_Pa", lj.strip_modulus()}};
   // The fixed edge's reaction along the load (N per m); for Case I the left edge (as before).
   sj["reaction_fixed_N_per_m"] = r.reaction_left;

@@ -164,18 +164,13 @@ void CoupledRun::gather() {
 }
 
 std::vector<PointArray> CoupledRun::gradient_arrays(std::size_t b, std::size_t e) const {
-  std::vector<PointArray> a = {{"du_dX", 1, {}},
-                               {"du_dY", 1, {}},
-                               {"dv_dX", 1, {}},
-                               {"dv_dY", 1, {}},
-                               {"gradient_supported", 1, {}}};
+  std::vector<PointArray> a = {{"displacement_gradient_1", "1", 9, {}, {}},
+                               {"gradient_supported_1", "1", 1, {}, {}}};
   for (std::size_t k = b; k < e; ++k) {
-    const Eigen::Matrix2d H = grad_.H(k);
-    a[0].values.push_back(H(0, 0));
-    a[1].values.push_back(H(0, 1));
-    a[2].values.push_back(H(1, 0));
-    a[3].values.push_back(H(1, 1));
-    a[4].values.push_back(grad_.supported()[k]);
+    const Eigen::Matrix2d H = grad_.H(k); // in-plane; the z row and column are 0
+    a[0].values.insert(a[0].values.end(),
+                       {H(0, 0), H(0, 1), 0.0, H(1, 0), H(1, 1), 0.0, 0.0, 0.0, 0.0});
+    a[1].values.push_back(grad_.supported()[k]);
   }
   return a;
 }

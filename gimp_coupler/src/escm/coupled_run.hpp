@@ -122,8 +122,9 @@ public:
   const std::vector<Eigen::Vector3d>& atoms_x() const { return gax_; }
   /// Gradient points: continuum particles then atoms (m), at the last gather().
   std::size_t gradient_points() const { return gx_.size(); }
-  /// The four gradient components and the support flag of gradient points [b, e) as VTU
-  /// point arrays (du_dX, du_dY, dv_dX, dv_dY, gradient_supported).
+  /// The displacement gradient H = F - I (9 components, row-major H_ij = du_i/dX_j, the z row
+  /// and column 0) and the support flag of gradient points [b, e) as VTU point arrays
+  /// (displacement_gradient_1, gradient_supported_1).
   std::vector<PointArray> gradient_arrays(std::size_t b, std::size_t e) const;
   const std::vector<std::unique_ptr<Observer>>& observers() const { return obs_; }
 

@@ -105,15 +105,15 @@ std::size_t write_coupled_checkpoint(const std::string& dir, const Solver<2>& s,
   AtomicOutput out(main);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     const CouplerState& st = c.coupler;
     f.write_string("/format", kFormat);
-    f.write_string("/software", version_string());
     f.write_string("/continuum_file", c.continuum_file);
     f.write_string("/run/input_path", c.input_path);
     f.write_string("/run/input", c.input_text);
     f.write_scalar("/run/short", c.short_mode ? 1.0 : 0.0);
-    f.write_scalar("/run/step", static_cast<double>(c.step));
-    f.write_scalar("/run/nsteps", static_cast<double>(c.nsteps));
+    f.write_scalar("/run/step", c.step);
+    f.write_scalar("/run/nsteps", c.nsteps);
     f.write_scalar("/run/time", c.time_s);
     f.set_attr("/run/time", "units", "s");
     f.write_scalar("/run/wall", c.wall_s);
@@ -153,7 +153,7 @@ std::size_t write_coupled_checkpoint(const std::string& dir, const Solver<2>& s,
     f.write_scalar("/coupler/prescribed_work", st.prescribed_work);
     f.set_attr("/coupler/prescribed_work", "units", "J/m");
     f.write_scalar("/coupler/segment", st.segment);
-    f.write_scalar("/coupler/md_step", static_cast<double>(st.md_step));
+    f.write_scalar("/coupler/md_step", st.md_step);
     f.write_vector("/coupler/timing",
                    {st.timing.lammps, st.timing.callback, st.timing.continuum, st.timing.coupling});
     f.set_attr("/coupler/timing", "units", "s");
@@ -166,7 +166,7 @@ std::size_t write_coupled_checkpoint(const std::string& dir, const Solver<2>& s,
     f.set_attr("/lammps/f", "units", "kcal/mol/A");
     f.write_matrix("/lammps/image",
                    per_atom(std::vector<double>(st.image.begin(), st.image.end()), 3));
-    f.write_vector("/lammps/type", std::vector<double>(st.type.begin(), st.type.end()));
+    f.write_integers("/lammps/type", {st.type.begin(), st.type.end()});
   }
   out.commit();
   return static_cast<std::size_t>(fs::file_size(main) + fs::file_size(cont));

@@ -1,4 +1,4 @@
-// Displacement gradients by eqs. 6.3-6.7 (pnc/gimp_coupler/escm_gradient.hpp, D79).
+// Displacement gradients by docs/theory.md §6.3 (pnc/gimp_coupler/escm_gradient.hpp, D79).
 #include "pnc/gimp_coupler/escm_gradient.hpp"
 #include "pnc/core/error.hpp"
 
@@ -86,7 +86,7 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
     N = fx * fy;
     dN = Eigen::Vector2d(sx * fy, sy * fx) / h_;
   };
-  // Eq. 6.3 (and the moments of the linear fit, D79).
+  // Particle increments (docs/theory.md §6.3) and the moments of the linear fit (D79).
   for (std::size_t p = 0; p < n; ++p) {
     if (!contributes_[p]) continue;
     const Eigen::Vector2d du = x_new[p] - x_[p];
@@ -104,7 +104,7 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
         ++count[I];
       }
   }
-  // Eq. 6.4 / D79: nodal increments and whether each node had a full fit.
+  // docs/theory.md §6.3 / D79: nodal increments and whether each node had a full fit.
   std::vector<Eigen::Vector2d> dU(nn, Eigen::Vector2d::Zero());
   std::vector<char> full(nn, 0);
   for (std::size_t I = 0; I < nn; ++I) {
@@ -128,7 +128,7 @@ void GradientTracker::update(const std::vector<Eigen::Vector2d>& x_new) {
       full[I] = 1;
     }
   }
-  // Eqs. 6.5-6.7.
+  // docs/theory.md §6.3: gradient, F update, H = F - I.
   for (std::size_t p = 0; p < n; ++p) {
     Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
     bool ok = true;

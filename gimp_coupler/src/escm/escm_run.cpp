@@ -14,8 +14,10 @@
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 
 #include <chrono>
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <filesystem>
+#include <iostream>
 #include <memory>
 
 namespace pnc::gimp::escm {
@@ -39,11 +41,11 @@ bool stop_now(const pnc::StopToken* stop, long done, long every, bool progress) 
   static const pnc::StopToken* told = nullptr;
   if (progress && told != stop) {
     told = stop;
-    std::fprintf(stderr,
-                 "pnc gimp couple: stop requested: stopping at the next checkpoint (step %ld); "
-                 "signal again to stop now (the resumed run then equals this one to round-off, "
-                 "not bit for bit)\n",
-                 (done / every + 1) * every);
+    std::cerr << fmt::format(
+        "pnc gimp couple: stop requested: stopping at the next checkpoint (step {}); "
+        "signal again to stop now (the resumed run then equals this one to round-off, "
+        "not bit for bit)\n",
+        (done / every + 1) * every);
   }
   return false;
 }
@@ -64,8 +66,8 @@ open_resume(const CoupleOptions& o, const std::string& input_text, const std::st
     check_same_input(src, from->input_text, input_text, ckpt_file);
   } else if (o.resume) {
     if (o.progress)
-      std::fprintf(stderr, "pnc gimp couple: --resume: no checkpoint in %s, starting at t = 0\n",
-                   o.out_dir.c_str());
+      std::cerr << fmt::format(
+          "pnc gimp couple: --resume: no checkpoint in {}, starting at t = 0\n", o.out_dir.c_str());
   }
   refuse_existing_run(o.out_dir, o.resume, {"checkpoint.h5", "summary.json"});
   return from;
@@ -126,9 +128,10 @@ double run_steps(CoupledRun& run, const CoupleOptions& o, Checkpointer& ckpt, do
     if (o.progress && (std::chrono::duration<double>(now - last).count() > 2 || k + 1 == nsteps)) {
       last = now;
       const double el = std::chrono::duration<double>(now - w0).count();
-      std::fprintf(stderr, "step %ld/%ld  t = %.2f ps  elapsed %.1f s  ETA %.1f s\n", k + 1, nsteps,
-                   run.solver().time / kPs, el,
-                   el / static_cast<double>(k + 1 - k0) * static_cast<double>(nsteps - k - 1));
+      std::cerr << fmt::format("step {}/{}  t = {:.2f} ps  elapsed {:.1f} s  ETA {:.1f} s\n", k + 1,
+                               nsteps, run.solver().time / kPs, el,
+                               el / static_cast<double>(k + 1 - k0) *
+                                   static_cast<double>(nsteps - k - 1));
     }
     const long done = k + 1;
     const bool stop = stop_now(o.stop, done, sc.checkpoint_every, o.progress);
@@ -171,26 +174,34 @@ CoupleSummary run_couple(const CoupleOptions& o) {
     r.resumed = true;
     r.start_step = run.steps_done();
     if (o.progress)
-      std::fprintf(stderr, "pnc gimp couple: resumed from %s at step %ld/%ld (t = %.2f ps)\n",
-                   ckpt_file.c_str(), run.steps_done(), run.schedule().nsteps,
-                   run.solver().time / kPs);
+      std::cerr << fmt::format("pnc gimp couple: resumed from {} at step {}/{} (t = {:.2f} ps)\n",
+                               ckpt_file.c_str(), run.steps_done(), run.schedule().nsteps,
+                               run.solver().time / kPs);
   }
   Checkpointer ckpt(run, o, input_text, r);
   r.wall_s = wall_before + run_steps(run, o, ckpt, wall_before, r);
   if (!r.interrupted.empty()) { // stopped with a checkpoint: the CSVs so far, no summary
     collect(run, run.solver().steps, r);
     if (o.progress)
-      std::fprintf(stderr,
-                   "pnc gimp couple: stopped (%s) after step %ld/%ld (t = %.2f ps); checkpoint "
-                   "%s: continue with --resume\n",
-                   r.interrupted.c_str(), r.steps, run.schedule().nsteps, run.solver().time / kPs,
-                   ckpt_file.c_str());
+      std::cerr << fmt::format(
+          "pnc gimp couple: stopped ({}) after step {}/{} (t = {:.2f} ps); checkpoint "
+          "{}: continue with --resume\n",
+          r.interrupted.c_str(), r.steps, run.schedule().nsteps, run.solver().time / kPs,
+          ckpt_file.c_str());
     return r;
   }
   ckpt.write(run.schedule().nsteps, r.wall_s);
   collect(run, run.schedule().nsteps, r);
   write_couple_summary(run, *region, o, r);
-  if (o.plot) plot_couple(o.out_dir, p.crack, r);
+  if (o.plot) { // announced: no silent seconds after the last step's ETA
+    const auto plot0 = std::chrono::steady_clock::now();
+    if (o.progress) std::cerr << "plotting profile.png, energy.png ..." << std::endl;
+    plot_couple(o.out_dir, p.crack, r);
+    if (o.progress)
+      std::cerr << fmt::format(
+          "plotting done in {:.1f} s\n",
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - plot0).count());
+  }
   return r;
 }
 

@@ -6,7 +6,9 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/gimp_coupler/fracture.hpp"
 
-#include <cstdio>
+#include <fmt/format.h>
+
+#include <iostream>
 #include <sstream>
 
 namespace pnc::gimp::escm {
@@ -179,12 +181,12 @@ public:
     rec.md = bonds_->measure(run.atoms_x());
     frame_log_.push_back(crack_json(rec));
     if (progress_)
-      std::fprintf(stderr,
-                   "frame %s  t = %.2f ps  continuum tip x = %.2f A (%d/%d increments)  MD: "
-                   "%d/%d bonds broken, separated %.1f A, %d columns slipped\n",
-                   std::to_string(index).c_str(), rec.time / 1e-12, rec.tip.tip[0] / units::m_per_A,
-                   rec.increments, max_increments_, rec.md.broken, rec.md.bonds, rec.md.length_A,
-                   rec.md.slipped_columns);
+      std::cerr << fmt::format(
+          "frame {}  t = {:.2f} ps  continuum tip x = {:.2f} A ({}/{} increments)  MD: "
+          "{}/{} bonds broken, separated {:.1f} A, {} columns slipped\n",
+          std::to_string(index).c_str(), rec.time / 1e-12, rec.tip.tip[0] / units::m_per_A,
+          rec.increments, max_increments_, rec.md.broken, rec.md.bonds, rec.md.length_A,
+          rec.md.slipped_columns);
   }
 
   void save(CoupledCheckpoint& ck) const override {

@@ -2,9 +2,11 @@
 #include "observers.hpp"
 
 #include "pnc/core/atomic_file.hpp"
+#include "pnc/core/vtu.hpp"
 
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -78,15 +80,18 @@ private:
   std::ostringstream prof_;
 };
 
-/// Continuum particles as a VTU point cloud (SI: m, m/s): zone (-1 ordinary continuum, 1 IVC
-/// probe, 2 SVC), displacement_m, velocity_m_per_s, F_solver (the GIMP solver's F11 F12 F21
-/// F22), then `extra`.
+/// Continuum particles as a VTU point cloud (SI: m, m/s): zone_index (-1 ordinary continuum,
+/// 1 IVC probe, 2 SVC), displacement_m, velocity_m_per_s, deformation_gradient_solver_1 (the
+/// GIMP solver's F as a 9-component tensor, F33 = 1 in plane strain), then `extra`, and the field
+/// data `field`.
 void write_particles_vtu(const std::string& path, const Solver<2>& s, const std::vector<int>& zone,
-                         const std::vector<PointArray>& extra) {
+                         const std::vector<PointArray>& extra,
+                         const std::vector<FieldScalar>& field) {
   const std::size_t n = s.particles.size();
   std::vector<Eigen::Vector3d> x(n);
-  std::vector<PointArray> arrays = {
-      {"displacement_m", 3, {}}, {"velocity_m_per_s", 3, {}}, {"F_solver", 4, {}}};
+  std::vector<PointArray> arrays = {{"displacement_m", "m", 3, {}, {}},
+                                    {"velocity_m_per_s", "m/s", 3, {}, {}},
+                                    {"deformation_gradient_solver_1", "1", 9, {}, {}}};
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d& xi = s.particles.x[i];
     const Eigen::Vector2d u = xi - s.particles.x0[i];
@@ -95,10 +100,11 @@ void write_particles_vtu(const std::string& path, const Solver<2>& s, const std:
     x[i] = Eigen::Vector3d(xi[0], xi[1], 0.0);
     arrays[0].values.insert(arrays[0].values.end(), {u[0], u[1], 0.0});
     arrays[1].values.insert(arrays[1].values.end(), {v[0], v[1], 0.0});
-    arrays[2].values.insert(arrays[2].values.end(), {F(0, 0), F(0, 1), F(1, 0), F(1, 1)});
+    arrays[2].values.insert(arrays[2].values.end(),
+                            {F(0, 0), F(0, 1), 0.0, F(1, 0), F(1, 1), 0.0, 0.0, 0.0, 1.0});
   }
   arrays.insert(arrays.end(), extra.begin(), extra.end());
-  write_point_cloud_vtu(path, x, zone, arrays, 12);
+  write_point_cloud_vtu(path, x, zone, arrays, 12, field);
 }
 
 std::string join_lines(const std::vector<std::string>& v) {
@@ -116,20 +122,42 @@ std::vector<std::string> split_lines(const std::string& s) {
   return v;
 }
 
+/// The frame index k of a frame file ".../<name>_<k>.vtu" (written by Frames below).
+double frame_index_of(const std::string& path) {
+  const auto us = path.find_last_of('_'), dot = path.rfind(".vtu");
+  return std::stod(path.substr(us + 1, dot - us - 1));
+}
+
+/// `dir`/<name>: the PVD series of `files` (frames of this run, resumed ones included), the
+/// timestep of each its frame index, strictly increasing; the physical time is each frame's
+/// field data `time_s` (D236).
+void write_frame_pvd(const std::string& dir, const std::string& name,
+                     const std::vector<std::string>& files) {
+  std::vector<pnc::vtu::PvdEntry> entries;
+  for (const auto& f : files)
+    entries.push_back({std::filesystem::path(f).filename().string(), frame_index_of(f)});
+  pnc::vtu::write_pvd(dir + "/" + name, entries);
+}
+
 /// atoms_<k>.vtu (Coupler::write_atoms_vtu) and particles_<k>.vtu at every frame, both with
-/// the displacement gradients (D79).
+/// the displacement gradients (D79), the field data time_s and frame_index, and the series
+/// atoms.pvd and particles.pvd rewritten after each frame.
 class Frames final : public Observer {
 public:
   void on_frame(const CoupledRun& run, long index) override {
     const std::string idx = std::to_string(index);
+    const std::vector<FieldScalar> field = {{"time_s", "s", run.solver().time},
+                                            {"frame_index", "index", static_cast<double>(index)}};
     const std::string f = run.out_dir() + "/atoms_" + idx + ".vtu";
     run.coupler().write_atoms_vtu(
-        f, run.gradient_arrays(run.continuum_points(), run.gradient_points()));
+        f, run.gradient_arrays(run.continuum_points(), run.gradient_points()), field);
     frames_.push_back(f);
     const std::string fp = run.out_dir() + "/particles_" + idx + ".vtu";
     write_particles_vtu(fp, run.solver(), run.particle_zones(),
-                        run.gradient_arrays(0, run.continuum_points()));
+                        run.gradient_arrays(0, run.continuum_points()), field);
     particle_frames_.push_back(fp);
+    write_frame_pvd(run.out_dir(), "atoms.pvd", frames_);
+    write_frame_pvd(run.out_dir(), "particles.pvd", particle_frames_);
   }
   void save(CoupledCheckpoint& ck) const override {
     ck.texts["frames"] = join_lines(frames_);

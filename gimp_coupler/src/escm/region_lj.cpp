@@ -45,9 +45,14 @@ public:
   }
 
   void summarize(nlohmann::json& sj) const override {
-    sj["lj_fcc"] = {{"a0_A", lj_.a0_A},      {"C11_Pa", lj_.C11}, {"C12_Pa", lj_.C12},
-                    {"C44_Pa", lj_.C44},     {"E_Pa", lj_.E()},   {"nu", lj_.nu()},
-                    {"density", lj_.density}};
+    // SI keys with unit suffixes (D238, D282)
+    sj["lj_fcc"] = {{"a0_m", lj_.a0_A * units::m_per_A},
+                    {"C11_Pa", lj_.C11},
+                    {"C12_Pa", lj_.C12},
+                    {"C44_Pa", lj_.C44},
+                    {"E_Pa", lj_.E()},
+                    {"nu", lj_.nu()},
+                    {"density_kg_per_m3", lj_.density}};
   }
 
 private:

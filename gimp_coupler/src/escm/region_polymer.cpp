@@ -8,7 +8,9 @@
 #include "pnc/gimp_coupler/escm_polymer.hpp"
 
 #include <cmath>
-#include <cstdio>
+#include <fmt/format.h>
+
+#include <iostream>
 #include <limits>
 #include <stdexcept>
 
@@ -104,8 +106,8 @@ void PolymerRegion::build(const CoupleInput& p, const std::string& out_dir, cons
   sigma_A_ = ps.ff.sigma;
   pnc::make_output_directory(out_dir);
   if (progress)
-    std::fprintf(stderr, "pnc gimp couple: building the polymer block (%d x %d cells)\n", p.nbx,
-                 p.nby);
+    std::cerr << fmt::format("pnc gimp couple: building the polymer block ({} x {} cells)\n", p.nbx,
+                             p.nby);
   poly_ = build_polymer_block(ps, out_dir, src);
   lj_.a0_A = poly_.h_A;
   lj_.density = poly_.density_kg_m3;
@@ -120,10 +122,10 @@ void PolymerRegion::build(const CoupleInput& p, const std::string& out_dir, cons
   lj_.C12 = lam;
   lj_.C44 = mu;
   json_ = {{"data_file", poly_.data_file},
-           {"cell_size_A", poly_.h_A},
-           {"slab_A", poly_.Lz_A},
-           {"density_kg_m3", poly_.density_kg_m3},
-           {"build_density_g_cm3", poly_.build_density},
+           {"cell_size_m", poly_.h_A * units::m_per_A}, // SI keys (D238, D282)
+           {"slab_m", poly_.Lz_A * units::m_per_A},
+           {"density_kg_per_m3", poly_.density_kg_m3},
+           {"build_density_kg_per_m3", poly_.build_density * 1000.0},
            {"atoms", poly_.atoms},
            {"chains", poly_.chains},
            {"beads_per_chain", poly_.beads_per_chain},
@@ -143,23 +145,23 @@ void PolymerRegion::build(const CoupleInput& p, const std::string& out_dir, cons
            {"measured_lambda_Pa", poly_.lambda},
            {"measured_mu_Pa", poly_.mu},
            {"strain_probe", p.strain_probe},
-           {"relaxed_pressure_atm",
-            {{"p", poly_.pressure_atm},
-             {"pxx", poly_.pxx_atm},
-             {"pyy", poly_.pyy_atm},
-             {"pzz", poly_.pzz_atm}}},
+           {"relaxed_pressure_Pa",
+            {{"p", poly_.pressure_atm * pnc::units::pa_per_atm},
+             {"pxx", poly_.pxx_atm * pnc::units::pa_per_atm},
+             {"pyy", poly_.pyy_atm * pnc::units::pa_per_atm},
+             {"pzz", poly_.pzz_atm * pnc::units::pa_per_atm}}},
            {"cut_periodic",
             {poly_.cut_periodic_bonds, poly_.cut_periodic_angles, poly_.cut_periodic_dihedrals}},
            {"cut_svc_free", {poly_.cut_svc_bonds, poly_.cut_svc_angles, poly_.cut_svc_dihedrals}},
            {"cut_interface",
             {poly_.cut_interface_bonds, poly_.cut_interface_angles, poly_.cut_interface_dihedrals}},
-           {"interface_y_A", poly_.interface_y_A},
+           {"interface_y_m", poly_.interface_y_A * units::m_per_A},
            {"atoms_changed_zone", poly_.moved_zone},
            {"surface_minimisation",
             {{"passes", poly_.surface_passes},
              {"atoms_changed_zone_last_pass", poly_.moved_zone_last},
-             {"fmax_kcal_mol_A", poly_.surface_fmax},
-             {"fnorm_kcal_mol_A", poly_.surface_fnorm}}},
+             {"fmax_N", poly_.surface_fmax * units::N_per_kcalmolA},
+             {"fnorm_N", poly_.surface_fnorm * units::N_per_kcalmolA}}},
            {"volume_cell_beads",
             {{"min", poly_.min_cell_beads},
              {"mean", poly_.mean_cell_beads},

@@ -72,12 +72,18 @@ public:
   /// Markdown (the subset of markdown_to_html) kept verbatim in report.md; in HTML its
   /// headings keep their level ("## " is <h2>) and images are resolved against `base_dir`.
   Page& markdown(const std::string& md, const std::string& base_dir);
+  /// The "Warnings" section of a run report: "None." when `items` is empty, else one amber
+  /// item each.
+  Page& warnings(const std::vector<std::string>& items);
 
   std::string html() const;
   std::string markdown() const;
   /// Writes html() to `html_path` and, unless empty, markdown() to `md_path`, each atomically
   /// (pnc/core/atomic_file.hpp). Throws pnc::InputError naming the path.
   void write(const std::string& html_path, const std::string& md_path = "") const;
+  /// The run report of an output folder: writes `dir`/report.html and `dir`/report.md (as
+  /// write()) and returns the HTML path.
+  std::string write_report(const std::string& dir) const;
 
 private:
   enum class Kind { section, subsection, paragraph, facts, table, list, verdict, figure, pre, md };

@@ -48,8 +48,11 @@ enum class ParamType {
   integer_list,
   real_list,
   string_list, ///< an array of strings (each further checked by `check`, e.g. one command)
-  table_list   ///< an array of objects (TOML tables), each read by `check` (e.g. with its own
+  table_list,  ///< an array of objects (TOML tables), each read by `check` (e.g. with its own
                ///< Parameters, read with a field prefix)
+  custom       ///< a value of a form the types above cannot state ("all" or a list of axes, a
+               ///< list of points): checked by `check` alone; printed as `type_text`, its rule
+               ///< "must be " + `extra_rule`
 };
 
 /// A range of reals; either bound open or closed, or absent (infinite).
@@ -97,6 +100,7 @@ struct Parameter {
   std::size_t min_size = 0;    ///< lists: length rule
   std::size_t max_size = std::numeric_limits<std::size_t>::max();
   std::string extra_rule;    ///< what `check` enforces, for the printed tables ("odd")
+  std::string type_text;     ///< custom: the type as printed ("string or list of strings")
   std::string note;          ///< more text for the printed tables (e.g. a model-dependent default)
   bool omit_default = false; ///< values() leaves the entry out while it holds its default
   bool required = false;     ///< read() refuses an input without it (no default then)
@@ -119,7 +123,7 @@ struct Parameter {
   /// The last component of the path.
   std::string key() const;
   /// "bool", "integer", "real", "string", "list of integers", "list of reals", "list of
-  /// strings", "list of tables".
+  /// strings", "list of tables"; a custom entry's `type_text`.
   std::string type_name() const;
   /// The range or the allowed values as printed in tables: "[1, 64]", "(0, 50]", "\"npt\",
   /// \"nvt\"", "1 to 6 elements in [1, 6]"; "" when anything of the type goes.
@@ -180,6 +184,12 @@ public:
                    std::size_t min_size, std::size_t max_size, std::string unit, std::string text);
   Parameter& strings(const std::string& key, std::vector<std::string>& target, std::size_t min_size,
                      std::size_t max_size, std::string text);
+  /// A custom entry (not bound to a variable): `type_text` as printed ("\"all\" or list of
+  /// strings"), `rule` what it must be (printed; refusals say "must be " + rule), `check` the
+  /// whole check (it should refuse with rule()). No default: `absent_means` says what leaving
+  /// it out does.
+  Parameter& custom(const std::string& key, std::string type_text, std::string rule,
+                    std::string unit, std::string text, std::string absent_means, ParamCheck check);
   /// Any entry, declared field by field (its path is set from the open section and `p.path`).
   Parameter& add(Parameter p);
 
@@ -247,23 +257,27 @@ std::string nearest_name(const std::string& key, const std::vector<std::string>&
 
 namespace detail {
 std::int64_t param_integer(const nlohmann::json& v);
-}
-
+/// A declaration with its key, type, default, unit and text set; the rest left to the caller.
+Parameter param_entry(const std::string& key, ParamType type, nlohmann::json default_value,
+                      std::string unit, std::string text);
+/// Refuses (std::logic_error: a programming error) a range that the integer type T cannot hold.
 template <class T>
-Parameter& Parameters::integer(const std::string& key, T& target, std::int64_t min,
-                               std::int64_t max, std::string unit, std::string text) {
+void check_integer_range(const std::string& key, std::int64_t min, std::int64_t max) {
   static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an integer type");
   using L = std::numeric_limits<T>;
   if (min < static_cast<std::int64_t>(L::min()) ||
       (L::max() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) &&
        max > static_cast<std::int64_t>(L::max())))
-    throw std::logic_error("Parameters::integer: the range of '" + key + "' does not fit");
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::integer;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+    throw std::logic_error("Parameters: the range of '" + key + "' does not fit its type");
+}
+} // namespace detail
+
+template <class T>
+Parameter& Parameters::integer(const std::string& key, T& target, std::int64_t min,
+                               std::int64_t max, std::string unit, std::string text) {
+  detail::check_integer_range<T>(key, min, max);
+  Parameter p =
+      detail::param_entry(key, ParamType::integer, target, std::move(unit), std::move(text));
   p.int_min = min;
   p.int_max = max;
   p.store = [&target](const nlohmann::json& v) {
@@ -277,18 +291,9 @@ template <class T>
 Parameter& Parameters::integers(const std::string& key, std::vector<T>& target, std::int64_t min,
                                 std::int64_t max, std::size_t min_size, std::size_t max_size,
                                 std::string unit, std::string text) {
-  static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an integer type");
-  using L = std::numeric_limits<T>;
-  if (min < static_cast<std::int64_t>(L::min()) ||
-      (L::max() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) &&
-       max > static_cast<std::int64_t>(L::max())))
-    throw std::logic_error("Parameters::integers: the range of '" + key + "' does not fit");
-  Parameter p;
-  p.path = key;
-  p.type = ParamType::integer_list;
-  p.default_value = target;
-  p.unit = std::move(unit);
-  p.text = std::move(text);
+  detail::check_integer_range<T>(key, min, max);
+  Parameter p =
+      detail::param_entry(key, ParamType::integer_list, target, std::move(unit), std::move(text));
   p.int_min = min;
   p.int_max = max;
   p.min_size = min_size;

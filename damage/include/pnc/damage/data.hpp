@@ -6,10 +6,12 @@
 //  * CSV  header `case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12` (extra columns
 //    `sd11..sd12` with the standard error of each stress are optional); strain
 //    dimensionless, shear as engineering gamma, stress in MPa; `case` 1..6 as in
-//    docs/theory.md section 2.1. Rows of one case must be in loading order.
+//    docs/theory.md §2.1. Rows of one case must be in loading order.
 //  * HDF5 `cases.h5` (written by rve/ and by `pnc synth`): /case_<n>/strain (k x 6, 1),
 //    /case_<n>/stress (k x 6, Pa), optional /case_<n>/stress_stderr (k x 6, Pa); each
-//    dataset has a `units` attribute; the root has `stress_definition`.
+//    dataset has a `units` attribute and a `columns` attribute naming its six columns
+//    (kStrainColumns, kStressColumns: the CSV names); the root has `stress_definition` and
+//    the provenance block (pnc/core/hdf5_io.hpp).
 #include <Eigen/Dense>
 
 #include <string>
@@ -18,6 +20,11 @@
 namespace pnc::damage {
 
 using PathMatrix = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+
+/// Names of the six Voigt columns of strain and stress matrices (the CSV header's names):
+/// normal strains e, engineering shear strains g, stresses s.
+inline constexpr const char* kStrainColumns = "e11,e22,e33,g23,g13,g12";
+inline constexpr const char* kStressColumns = "s11,s22,s33,s23,s13,s12";
 
 struct CaseCurve {
   int id = 0;

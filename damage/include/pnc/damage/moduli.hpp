@@ -1,7 +1,7 @@
 #pragma once
 // pnc/damage/moduli.hpp: engineering moduli derived from the undamaged stiffness C0 and the
-// NDM strengths per deformation case (section 6.3.3, Tables 6.12-6.13).
-// Units: those of the constants (Pa for a card); strains dimensionless.
+// NDM strengths per deformation case (docs/theory.md §1.5; the published moduli and strength
+// tables). Units: those of the constants (Pa for a card); strains dimensionless.
 #include "pnc/damage/ndm.hpp"
 
 #include <optional>
@@ -13,12 +13,13 @@ struct DerivedModuli {
   double E1, E2, E3;
   double nu12, nu13, nu23, nu21, nu31, nu32; ///< nu_ij = -S_ji / S_ii
   double G23, G13, G12;
-  /// Eq. 6.46 as printed: det(C_n) / (C22 C33 - C23^2). The dissertation calls it E2; it is
-  /// E1 by inversion (docs/theory.md section 1.5).
-  double E2_eq646_printed;
-  /// Eq. 6.47 (isotropic pure polymer): (C22^2 + C12 C22 - 2 C12^2) / (C22 + C12), with
-  /// C22 -> C11 of the card. Meaningful for the pp model; computed for both.
-  double E_eq647;
+  /// The source's closed form for E2 as printed: det(C_n) / (C22 C33 - C23^2). It is
+  /// E1 by inversion (docs/theory.md §1.5).
+  double E2_as_printed;
+  /// The source's isotropic formula (pure polymer, docs/theory.md §1.5): (C22^2 + C12 C22 - 2
+  /// C12^2) / (C22 + C12), with C22 -> C11 of the card. Meaningful for the pp model; computed for
+  /// both.
+  double E_isotropic_formula;
 };
 DerivedModuli derive_moduli(const NdmParameters& p);
 

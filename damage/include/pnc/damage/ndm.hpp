@@ -1,6 +1,6 @@
 #pragma once
-// pnc/damage/ndm.hpp: the nano-scale damage model (NDM) of Nair (2010), chapter 5 and
-// section 6.3, as one pure integration function in the spirit of the MGIS behaviour
+// pnc/damage/ndm.hpp: the nano-scale damage model (NDM) of Nair (2010) (docs/theory.md
+// §1), as one pure integration function in the spirit of the MGIS behaviour
 // interface. Every caller (the Ceres fit, the fe_material plugin, the GIMP solver, the
 // deal.II demo, the UMAT shim) goes through integrate(); there are no globals and no
 // "current point" members.
@@ -10,10 +10,11 @@
 //
 // Conventions (docs/decisions.md, entries D1-D8):
 //  * Voigt order 1..6 = 11, 22, 33, 23, 13, 12; strain with ENGINEERING shear
-//    (gamma_23 = 2 eps_23 ...), stress plain. {sigma} = ([C0] + [C1(D)]) {eps}  (eq. 5.36).
+//    (gamma_23 = 2 eps_23 ...), stress plain. {sigma} = ([C0] + [C1(D)]) {eps}  (docs/theory.md
+//    §1.1).
 //  * C0 holds the physical orthotropic stiffnesses C0_ij in that engineering form
-//    (C0_44 = mu_23 ...). The c1..c9 constants of eq. 5.37 convert as in decision D1.
-//  * C1 (eqs. 5.58-5.66) in engineering form: normal block as printed, shear diagonal
+//    (C0_44 = mu_23 ...). The source's c1..c9 constants convert as in decision D1.
+//  * C1 (docs/theory.md §1.1) in engineering form: normal block as printed, shear diagonal
 //    C1_44 = A22 D2, C1_55 = A26 D3, C1_66 = A24 D2 (the printed 2 A D acts on the
 //    tensorial shear strain, see D2). The pure polymer uses the isotropic reading (D3).
 //  * Damage D(lambda) = 1 + k (2 x^-13 - x^-7) for x = lambda/alpha > lambda_c, else 0, with
@@ -57,7 +58,7 @@ struct NdmParameters {
   Model model = Model::pnc;
   std::array<double, kMaxConstants> k{}; ///< constants in the order of constant_names()
   /// Rotation from the global (loading) frame to the platelet frame: x_local = R x_global
-  /// (section 7.2.3, eq. 7.2). Identity when the platelet lies along the global x1.
+  /// (docs/theory.md §1.1 and §1.3, D7). Identity when the platelet lies along the global x1.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
 
   double& operator[](const std::string& name);
@@ -73,19 +74,19 @@ Matrix6 stiffness_c1(const NdmParameters& p, const std::array<double, 3>& D);
 /// d[C1]/dD_k (constant matrices since C1 is linear in D).
 Matrix6 stiffness_c1_dD(const NdmParameters& p, int k);
 
-/// Orthotropic [C0] from the c1..c9 constants of eq. 5.37 (decision D1: C11 = 2c1, C12 = c4,
+/// Orthotropic [C0] from the source's c1..c9 constants (decision D1: C11 = 2c1, C12 = c4,
 /// C44 = c7 in engineering form).
 Matrix6 c0_from_c_constants(const std::array<double, 9>& c);
-/// Orthotropic [C0] from engineering constants (eqs. 5.39-5.47). Poisson ratios nu_ij are
-/// "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
+/// Orthotropic [C0] from engineering constants (the orthotropic compliance inverse, D1b). Poisson
+/// ratios nu_ij are "strain in j per strain in i" with nu_ji = nu_ij E_j / E_i.
 Matrix6 c0_from_engineering(double E1, double E2, double E3, double nu12, double nu13, double nu23,
                             double mu12, double mu13, double mu23);
 
-/// Damage function D(x) of eq. 5.80 for a (scaled) stretch x; D = 0 for x <= lambda_c.
+/// Damage function D(x) of docs/theory.md §1.2 for a (scaled) stretch x; D = 0 for x <= lambda_c.
 double damage_function(double x);
 /// dD/dx.
 double damage_function_derivative(double x);
-/// lambda_c = (26/7)^(1/6) = 1.24446 (eq. 5.79).
+/// lambda_c = (26/7)^(1/6) = 1.24446 (docs/theory.md §1.2).
 double critical_stretch();
 
 /// The internal state: kappa_k = largest mode stretch reached so far (1 = virgin), and the

@@ -5,17 +5,17 @@
 
 namespace pnc::damage {
 
-/// The constants of Tables 6.6-6.11 as one parameter set (Pa; alpha dimensionless).
-/// pnc: C0 as used in eq. 6.46 (C11, C13 from Table 6.6; C12, C22, C23 from Table 6.7;
-///      C33 from Table 6.8), C44 (6.9), C55 (case 5 text), A's as labelled (2A1 = -0.99 ->
-///      A1 = -0.495, ...), A26 = 0 (case 5). Case 6 was not fitted in the dissertation:
-///      C66 and A24 are NOT printed and are set to C44 and A22 (decision D9).
+/// The published constant tables as one parameter set (decision D9) (Pa; alpha dimensionless).
+/// pnc: C0 as used in the source's E2 formula (docs/theory.md §1.5; which published table each
+///      C_ij comes from: D9), C44 (from its table), C55 (case 5 text), A's as labelled (2A1 = -0.99
+///      -> A1 = -0.495, ...), A26 = 0 (case 5). Case 6 was not fitted in the dissertation: C66 and
+///      A24 are NOT printed and are set to C44 and A22 (decision D9).
 /// pp : C11 = C22 = 0.559, C12 = 0.447 (Table 6.10), C44 = C66 = 0.109, damage slopes as
 ///      printed per row: diagonal 2 B1 = -0.405 (row "2B2", sigma22), off-diagonal B2 = -0.304
 ///      (row "B1", sigma11), B4 = -0.757 (Table 6.11), alpha = 0.941 (decision D9).
 NdmParameters dissertation_parameters(Model m);
 
-/// Deformation cases of section 6.3.1 (numbered as in docs/theory.md section 2.1):
+/// Deformation cases of docs/theory.md §2.1 (numbered as there):
 /// 1-3 extension along x1..x3 with the lateral dimensions held, 4-6 simple shear 2-3, 1-3,
 /// 1-2. For a case and an amount t (strain or engineering shear), the small-strain tensor
 /// in engineering Voigt form.
@@ -24,7 +24,7 @@ struct DeformationCase {
   const char* name;
   int driven;              ///< Voigt index 0..5 of the imposed strain component
   std::vector<int> active; ///< stress components the model makes non-zero
-  int damage_mode;         ///< D index driven (section 6.3.1): 0=D1, 1=D2, 2=D3
+  int damage_mode;         ///< D index driven (docs/theory.md §2.1, D12): 0=D1, 1=D2, 2=D3
 };
 /// Throws pnc::InputError (naming `source`) for an id outside 1..6.
 const DeformationCase& deformation_case(int id, const std::string& source = "<case>");

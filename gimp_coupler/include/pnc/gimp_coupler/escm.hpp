@@ -1,6 +1,6 @@
 #pragma once
 // pnc/gimp_coupler/escm.hpp: concurrent GIMP-MD coupling by the embedded statistical coupling
-// method (ESCM), dissertation chapter 4 (eqs. 4.1-4.11) and section 6.1; docs/escm.md;
+// method (ESCM) of the source, docs/theory.md §6; docs/escm.md;
 // decisions D70-D79 in docs/decisions.md.
 //
 // The continuum is the 2-D uGIMP solver (plane strain, SI, per metre of thickness); the MD
@@ -15,19 +15,21 @@
 // cells (IVC), the rest the interior (INT). Each atom belongs to the cell that contains it.
 // Continuum particles of INT cells are removed (the continuum has a hole there); SVC particles
 // stay ordinary continuum particles; IVC particles become zero-stress "probe" material points
-// (a tiny mass fraction) whose positions follow the IVC atoms (eq. 4.1).
+// (a tiny mass fraction) whose positions follow the IVC atoms (docs/theory.md §6.2, D73).
 //
 // One coupled step of length dt (continuum) = N MD substeps of dtau = dt / N:
 //  1. the corner nodes of the IVC cells (Gamma, fixed at setup) get the velocity of the IVC
 //     cells sharing them (equal weights w_ip = 1 / (number of IVC cells at node i)); continuum
 //     step with those nodes prescribed; their reactions R_i give the force of the continuum
 //     on each IVC cell, f_p = sum_i w_ip (-R_i) (a partition of unity, so
-//     sum_p f_p = sum_i (-R_i) exactly; eq. 4.2 with D71);
+//     sum_p f_p = sum_i (-R_i) exactly; docs/theory.md §6.2, D71);
 //  2. MD: IVC atoms get f_p / N_p each (fix external callback) and a zero-temperature
-//     Langevin damping (eqs. 4.6, 4.9); INT atoms a Langevin thermostat at T (eqs. 4.5, 4.8);
-//     SVC atoms move with the grid velocity v* interpolated at each atom (eq. 4.3, D72);
-//  3. IVC cell centroids are time-averaged over the N substeps (eq. 4.11); the IVC material
-//     point moves by the change of that average between blocks (eq. 4.1, D73).
+//     Langevin damping; INT atoms a Langevin thermostat at T (both docs/theory.md §6.2);
+//     SVC atoms move with the grid velocity v* interpolated at each atom (docs/theory.md §6.2,
+//     D72);
+//  3. IVC cell centroids are time-averaged over the N substeps (docs/theory.md §6.2); the IVC
+//  material
+//     point moves by the change of that average between blocks (D73).
 // Modes (D71): `neumann` (default): the MD region is driven by the IVC forces; pair forces
 // between SVC atoms and the other atoms are excluded so the continuum's stress is not
 // transmitted twice. `schwarz`: SVC atoms interact with the MD region (they shield its
@@ -38,6 +40,7 @@
 // generates itself before any LAMMPS command; the user's md_setup commands are passed on
 // unchecked (run them once in a separate process, e.g. `lmp -in`, when in doubt).
 #include "pnc/core/units.hpp"
+#include "pnc/core/vtu.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <Eigen/Core>
@@ -90,11 +93,11 @@ struct Config {
 /// One volume cell (an SVC or IVC continuum particle and its atoms).
 struct Cell {
   Zone zone = Zone::none;
-  std::size_t particle = 0;     ///< index into solver.particles (after setup)
-  std::array<int, 2> ij{};      ///< grid cell index
-  std::vector<int> atoms;       ///< LAMMPS atom ids
-  Eigen::Vector2d c0_A;         ///< initial centroid of its atoms, Angstrom (LAMMPS frame)
-  Eigen::Vector2d mean_A;       ///< IVC: time-averaged centroid of the last block (eq. 4.11)
+  std::size_t particle = 0; ///< index into solver.particles (after setup)
+  std::array<int, 2> ij{};  ///< grid cell index
+  std::vector<int> atoms;   ///< LAMMPS atom ids
+  Eigen::Vector2d c0_A;     ///< initial centroid of its atoms, Angstrom (LAMMPS frame)
+  Eigen::Vector2d mean_A; ///< IVC: time-averaged centroid of the last block (docs/theory.md §6.2)
   Eigen::Vector2d prev_mean_A;  ///< IVC: the block before
   Eigen::Vector2d force_N;      ///< IVC: continuum force on the cell, N per m thickness
   Eigen::Vector2d atom_force;   ///< IVC: force per atom, kcal/mol/A (slab)
@@ -124,20 +127,19 @@ struct EnergyRow {
   double initial = 0.0; ///< cont_kinetic + cont_strain + md_kinetic at setup
 };
 
-/// A named per-point array for the VTU writers: `components` values per point, point-major.
-struct PointArray {
-  std::string name;
-  int components = 1;
-  std::vector<double> values;
-};
+/// A named per-point array for the VTU writers (pnc/core/vtu.hpp: the unit in the name and in
+/// `unit`; 1, 3, 6 or 9 components per point, point-major).
+using PointArray = pnc::vtu::PointArray;
+/// A frame's field-data scalar (the physical time "time_s", the "frame_index").
+using FieldScalar = pnc::vtu::FieldScalar;
 
-/// Writes a VTU point cloud (one VTK_VERTEX cell per point; ASCII, `precision` digits) with
-/// the Int32 point array "zone" and then `arrays` (Float64), atomically. Positions in the
-/// caller's units (3 coordinates per point). Throws std::invalid_argument naming an array
-/// whose size is not points x components.
+/// Writes a VTU point cloud through pnc/core/vtu.hpp (one VTK_VERTEX cell per point; ASCII,
+/// `precision` digits; D236) with the Int32 point array "zone_index" and then `arrays`,
+/// atomically; `field`: the frame's field data. Positions in m (3 coordinates per point).
+/// Throws pnc::InputError naming an array whose size is not points x components.
 void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vector3d>& x,
                            const std::vector<int>& zone, const std::vector<PointArray>& arrays,
-                           int precision);
+                           int precision, const std::vector<FieldScalar>& field = {});
 
 /// Wall-clock split of the coupled steps so far, s.
 struct Timing {
@@ -214,10 +216,12 @@ public:
   Eigen::Vector2d to_continuum(const Eigen::Vector3d& xA) const;
   /// Writes the energy log as CSV (columns in docs/formats.md, "ESCM energy log"), atomically.
   void write_energy_csv(const std::string& path) const;
-  /// Writes the atoms as a VTU point cloud (Angstrom, LAMMPS frame) with point data zone
-  /// (0 INT, 1 IVC, 2 SVC), displacement (A) since setup and velocity (A/fs), then the
-  /// `extra` arrays (Float64, one entry per atom in id order), atomically.
-  void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {}) const;
+  /// Writes the atoms as a VTU point cloud (positions in m: the LAMMPS frame's Angstrom times
+  /// 1e-10) with point data zone_index (0 INT, 1 IVC, 2 SVC), displacement_m since setup and
+  /// velocity_m_per_s, then the `extra` arrays (one entry per atom in id order), and the field
+  /// data `field` (e.g. time_s), atomically.
+  void write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra = {},
+                       const std::vector<FieldScalar>& field = {}) const;
   /// A restart point (between steps): rebuilds LAMMPS's neighbour lists, box and ghost atoms
   /// from the current positions (`run 0`), puts back the forces of the last substep, re-creates
   /// the Langevin fixes with the seeds of the next segment (their heat tallies carried as

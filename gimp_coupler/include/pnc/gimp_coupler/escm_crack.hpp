@@ -1,6 +1,6 @@
 #pragma once
-// pnc/gimp_coupler/escm_crack.hpp: ESCM Cases II and III (dissertation section 6.1, figures
-// 6.7-6.14; docs/escm.md "Cases II and III"; decisions D80-D84 in docs/decisions.md): an edge
+// pnc/gimp_coupler/escm_crack.hpp: ESCM Cases II and III (the source's crack
+// cases; docs/escm.md "Cases II and III"; decisions D80-D84 in docs/decisions.md): an edge
 // pre-crack in the continuum on the line through the centre of the atom block, growing toward
 // the block by the J-integral criterion of the GIMP solver (D38-D40) and stopped at the outer
 // boundary of the SVC ring (D81), and the atomistic separation of the MD region across the

@@ -1,22 +1,23 @@
 #pragma once
 // pnc/gimp_coupler/escm_gradient.hpp: displacement gradients of a set of particles (continuum
-// material points and atoms alike) by the post-processing method of dissertation section 6.1,
-// eqs. 6.3-6.7, with decision D79 (docs/decisions.md); docs/escm.md, "Displacement gradient".
+// material points and atoms alike) by the source's post-processing method,
+// docs/theory.md §6.3, with decision D79 (docs/decisions.md); docs/escm.md, "Displacement
+// gradient".
 //
 // 2-D, SI: positions and spacing in m; gradients dimensionless. At every increment k -> k+1
 // (positions x^k -> x^{k+1}, increment du_p = x_p^{k+1} - x_p^k):
 //  1. a regular background grid of bilinear elements (node I at origin + spacing (i, j)) is
 //     laid over the current positions x^k; N_pI is the bilinear shape function of node I at
 //     particle p (non-zero for the four nodes of the element containing x_p^k);
-//  2. nodal incremental displacement dU_I from the particles with N_pI > 0 (eqs. 6.3-6.4):
+//  2. nodal incremental displacement dU_I from the particles with N_pI > 0 (docs/theory.md §6.3):
 //     by default (D79) the weighted least-squares linear fit dU(x) = a + B (x - x_I), weights
-//     N_pI, dU_I = a; it reproduces any affine increment exactly. The printed eq. 6.4
-//     (sum N_pI du_p / count) and the shape-function-weighted mean (sum N du / sum N) are
+//     N_pI, dU_I = a; it reproduces any affine increment exactly. The source's printed nodal
+//     average (sum N_pI du_p / count) and the shape-function-weighted mean (sum N du / sum N) are
 //     available for comparison;
 //  3. gradient of the increment at each particle, d(du)/dx = sum_I dU_I (dN_pI/dx)^T with the
-//     derivatives at x_p^k (eq. 6.5);
-//  4. F^{k+1} = (I + d(du)/dx) F^k (eq. 6.6; D79: the printed F^k (I + d(du)/dx) is the
-//     transposed composition, equal only when the increments commute), H = F - I (eq. 6.7),
+//     derivatives at x_p^k (docs/theory.md §6.3);
+//  4. F^{k+1} = (I + d(du)/dx) F^k (docs/theory.md §6.3; D79: the printed F^k (I + d(du)/dx) is the
+//     transposed composition, equal only when the increments commute), H = F - I (§6.3),
 //     H_ij = du_i/dX_j.
 // Cost O(particles) per increment. Implementation: src/escm_gradient.cpp.
 #include <Eigen/Core>
@@ -26,7 +27,7 @@
 
 namespace pnc::gimp::escm {
 
-/// Nodal incremental displacement (eq. 6.4 and D79).
+/// Nodal incremental displacement (docs/theory.md §6.3 and D79).
 enum class NodalFit {
   linear,     ///< weighted linear least squares, weights N_pI (default; affine-exact)
   weight_sum, ///< sum N_pI du_p / sum N_pI (exact for a uniform increment only)

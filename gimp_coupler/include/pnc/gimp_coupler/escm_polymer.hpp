@@ -1,6 +1,6 @@
 #pragma once
 // pnc/gimp_coupler/escm_polymer.hpp: the coarse-grained polypropylene MD region of the ESCM
-// coupled runs (dissertation section 6.1; docs/escm.md "Polymer MD region"; decisions D100-D108).
+// coupled runs (the source's ESCM cases; docs/escm.md "Polymer MD region"; decisions D100-D108).
 //
 // A thin polymer slab, periodic in z, with free x/y surfaces, aligned with the continuum grid:
 //  1. chains grown with the rve/ builder (pnc::rve::grow_chains, force field

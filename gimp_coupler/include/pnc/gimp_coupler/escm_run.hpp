@@ -5,8 +5,8 @@
 // in the continuum growing toward the block under tension normal to it (Case II, mode I) or
 // shear parallel to it (Case III, mode II), escm_crack.hpp, decisions D80-D84.
 // Outputs in DIR: energy.csv, profile.csv, atoms_<k>.vtu, particles_<k>.vtu (both with the
-// displacement gradients of eqs. 6.3-6.7, escm_gradient.hpp), lammps.log, summary.json and, with
-// /usr/bin/python3 + matplotlib, profile.png and energy.png; with a crack also crack.csv
+// displacement gradients of docs/theory.md §6.3, escm_gradient.hpp), lammps.log, summary.json and,
+// with /usr/bin/python3 + matplotlib, profile.png and energy.png; with a crack also crack.csv
 // (continuum tip, J, G_I, G_II, crack-face opening and sliding, atomistic separation) and
 // crack.png. Units: input in LAMMPS real for
 // the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
@@ -68,7 +68,8 @@ struct CoupleSummary {
 
 /// Validates the input (throws pnc::InputError naming file, key, value, rule) before LAMMPS
 /// starts, then runs. Without `resume`, a directory that holds a run (checkpoint.h5 or
-/// summary.json) is refused (pnc::refuse_existing_run). Throws std::runtime_error for failures during the run.
+/// summary.json) is refused (pnc::refuse_existing_run). Throws std::runtime_error for failures
+/// during the run.
 CoupleSummary run_couple(const CoupleOptions& o);
 
 } // namespace pnc::gimp::escm

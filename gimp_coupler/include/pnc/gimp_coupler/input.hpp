@@ -1,8 +1,11 @@
 #pragma once
 // pnc/gimp_coupler/input.hpp: the JSON input file of `pnc gimp run` (docs/gimp.md).
 //
-// One JSON object; SI units (m, kg, s, Pa). Every error is a pnc::InputError naming the
-// file, the key (e.g. "bodies[1].radius"), the value and the rule it broke.
+// One JSON object; SI units (m, kg, s, Pa). Every key is declared once (input_parameters):
+// unknown keys are refused naming the allowed ones and the nearest, every value is checked
+// against its type and range, then the rules between keys. Every error is a pnc::InputError
+// naming the file, the key (e.g. "bodies[1].radius"), the value and the rule it broke.
+#include "pnc/core/parameters.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <string>
@@ -26,6 +29,14 @@ struct RunConfig {
   long fracture_every = 10;     ///< steps between J evaluations / crack growth checks (2-D)
   std::vector<std::string> material_names;
 };
+
+/// The keys of the input, each declared once with its type, default, range and SI unit
+/// (input_parameters.cpp, D290): `dimension` 2 or 3 as read for that dimension; 0 for the
+/// documentation of both (vectors of 2 or 3 numbers). With `tables`, the keys of the tables'
+/// elements follow as sections "materials[]", "bodies[]", ... (one per kind: a set for
+/// printing as Markdown or JSON only; to_toml() and read() need tables = false).
+/// `pnc gimp parameters` prints them.
+pnc::Parameters input_parameters(int dimension, bool tables = true);
 
 /// The `dimension` of an input file (2 or 3); throws InputError.
 int input_dimension(const std::string& path);

@@ -13,7 +13,7 @@
 // Laws (docs/gimp.md, docs/decisions.md D30-):
 //  - LinearElastic: St Venant-Kirchhoff, S = lambda tr(E) I + 2 mu E, E = (C - I)/2,
 //    sigma = J^-1 F S F^T. Objective; reduces to Hooke's law (E, nu) for small strain.
-//  - HyperelasticPolymer: the compressible law of dissertation eq. 2.29 read as
+//  - HyperelasticPolymer: the compressible law of docs/theory.md §5.3 read as
 //    W = c1 (I3 - 1)^2 + c2 (I1 I3^(-1/3) + 3 I2^2 I3^(-4/3) - 30) (decision D31); small-strain
 //    bulk modulus K = 8 c1, shear modulus mu = 38 c2.
 //  - DamageLaw: the NDM through the fe_material plugin: small strain eps = U - I from the
@@ -96,7 +96,7 @@ private:
   double E_, nu_, lambda_, mu_;
 };
 
-/// Compressible hyperelastic polymer (dissertation section 2.2.1, decision D31):
+/// Compressible hyperelastic polymer (docs/theory.md §5.3, decision D31):
 /// W = c1 (I3 - 1)^2 + c2 (I1 / I3^(1/3) + 3 I2^2 / I3^(4/3) - 30), invariants of C = F^T F.
 /// W = 0 and S = 0 at C = I; small-strain K = 8 c1, mu = 38 c2.
 class HyperelasticPolymer final : public Material {

@@ -2,12 +2,14 @@
 // pnc/gimp_coupler/output.hpp: particle frames (VTU + PVD index), histories (CSV) and
 // checkpoints (HDF5) of the GIMP solver. All files are written atomically.
 //
-// VTU (VTK XML UnstructuredGrid, one VTK_VERTEX cell per particle; ParaView-readable), point
-// data, SI units: displacement (m), velocity (m/s), stress (Cauchy, Pa, 9 components),
-// strain (Green-Lagrange E = (F^T F - I)/2, 9 components), density (kg/m^3), volume (m^3),
-// mass (kg), strain_energy_density (J/m^3), material (index), and one array per material
-// state variable (named after the law's state names; 0 for particles of other laws).
-// 2-D frames have z = 0 and 3-component vectors.
+// VTU (pnc/core/vtu.hpp: VTK XML UnstructuredGrid, one VTK_VERTEX cell per particle;
+// ParaView-readable; D236): points in m; point data, SI units, the unit in each name:
+// displacement_m, velocity_m_per_s (3 components), stress_Pa (Cauchy) and strain_1
+// (Green-Lagrange E = (F^T F - I)/2) as symmetric tensors (6 components, XX YY ZZ XY YZ XZ),
+// density_kg_per_m3, volume_m3, mass_kg, strain_energy_density_J_per_m3, material_index
+// (Int32; names in the file's comment), and one array <state name>_1 per material state
+// variable (the damage laws' kappa and D, dimensionless; 0 for particles of other laws).
+// Field data: time_s and the "units" list. 2-D frames have z = 0 and 3-component vectors.
 #include "pnc/gimp_coupler/solver.hpp"
 
 #include <string>
@@ -20,7 +22,8 @@ template <int D>
 void write_vtu(const std::string& path, const Solver<D>& s, bool binary,
                const std::vector<std::string>& material_names);
 
-/// Writes the PVD index of frames (file names relative to the PVD's folder) and times (s).
+/// Writes the PVD index of frames (file names relative to the PVD's folder); the timestep is
+/// the time (s), which must increase strictly (pnc::InputError otherwise).
 void write_pvd(const std::string& path, const std::vector<std::string>& files,
                const std::vector<double>& times);
 

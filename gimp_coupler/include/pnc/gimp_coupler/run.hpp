@@ -30,6 +30,16 @@ struct RunOptions {
   const pnc::StopToken* stop = nullptr;
 };
 
+/// Growth of one crack at the end of a run (cracks with a growth law or a tip): why it is not
+/// growing any more, in words, for the run report and the G plot's stop marker.
+struct CrackOutcome {
+  std::string name;
+  double Gc = 0.0, GIIc = 0.0; ///< J/m^2 (crack area); Gc = 0: no growth law
+  int max_increments = 0;
+  int increments = 0;      ///< in total, including before a resume
+  std::string stop_reason; ///< e.g. "max_increments (12) reached", "J < Gc at the end"
+};
+
 struct RunSummary {
   int dimension = 2;
   std::size_t particles = 0;
@@ -47,6 +57,10 @@ struct RunSummary {
   std::string pvd, history_csv, checkpoint, plot_png, plot_warning;
   std::string plot_G_png;   ///< G.png (runs with crack tips)
   int crack_increments = 0; ///< crack growth increments in this run
+  std::vector<CrackOutcome> cracks;
+  /// Why the run ended: "end time reached", "input max_steps (N) reached" or
+  /// "--max-steps (N) reached" (a stop the run can be resumed from).
+  std::string end_reason;
   std::vector<std::string> reaction_names;
   std::vector<std::vector<double>> reactions; ///< last step, N, per boundary
   bool stopped = false; ///< stopped on RunOptions::stop before the end (continue with resume)

@@ -5,7 +5,7 @@
 // Units: SI. Positions, half-lengths m; velocity m/s; mass kg; volume m^3 (2-D: area x 1 m);
 // stress Pa; force N; energy J; body acceleration m/s^2; time s.
 //
-// One step (dissertation eqs. 2.39-2.46, docs/theory.md section 5.2; decisions D30, D33-D35):
+// One step (docs/theory.md §5.2; decisions D30, D33-D35):
 //  0. P2G with S_ip, grad S_ip at x_p^t: m_i, p_i, f_i^int,t = -sum sigma_p grad S V_p,
 //     f_i^ext,t+dt = sum S_ip f_p^ext(t+dt); velocity BCs imposed on p_i.
 //  1. v*_i = (p_i + dt/2 (f^int,t + f^ext)) / m_i; BCs on v*.
@@ -13,8 +13,8 @@
 //     V_p = V_p0 det F_p; sigma_p from the material law.
 //  3. f_i^int,* = -sum sigma_p* grad S_ip V_p (weights still at x_p^t).
 //  4. p_i^t+dt = m_i v*_i + dt/2 (f^int,* + f^ext); BCs; v_i^t+dt = p_i^t+dt / m_i.
-//  5. x_p += dt sum S_ip v*_i;  v_p += sum S_ip (v_i^t+dt - v_i^t)  (FLIP form of eq. 2.22
-//     with the nodal momentum change of eq. 2.45, decision D33).
+//  5. x_p += dt sum S_ip v*_i;  v_p += sum S_ip (v_i^t+dt - v_i^t)  (FLIP form: the particle
+//     velocity follows the nodal momentum change, not the source's printed update; decision D33).
 // Particle domains: uGIMP, the half-lengths l_p stay fixed (decision D34).
 // Threads: std::thread pool; P2G scatters go to per-thread grid copies reduced in node
 // blocks, summing the copies in thread order (no races, deterministic for a thread count).

@@ -1,9 +1,9 @@
 #pragma once
 // pnc/gimp_coupler/weights.hpp: uGIMP shape functions on a regular background grid.
 //
-// The 1-D weight S(xi) and its derivative dS/dx_p (docs/theory.md eq. 5.1, dissertation
-// eqs. 2.14-2.15) for xi = x_p - X_i, cell size L and particle half-length l, with
-// 0 < l <= L/2. In 2-D/3-D the weight is the product over axes,
+// The 1-D weight S(xi) and its derivative dS/dx_p (docs/theory.md §5.1) for xi = x_p - X_i, cell
+// size L and particle half-length l, with 0 < l <= L/2. In 2-D/3-D the weight is the product over
+// axes,
 //   S_ip = prod_a S(xi_a),  dS_ip/dx_a = S'(xi_a) prod_{b != a} S(xi_b).
 // Units: lengths in m, S dimensionless, dS/dx in 1/m.
 //

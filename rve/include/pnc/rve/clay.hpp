@@ -1,5 +1,5 @@
 #pragma once
-// pnc/rve/clay.hpp: the montmorillonite platelet (sections 3.3.2, 6.3.1) and the
+// pnc/rve/clay.hpp: the montmorillonite platelet (docs/theory.md §3.2, D23) and the
 // polymer-nanoclay composite RVE built around it.
 //
 // Units: LAMMPS `real` (A, g/mol, kcal/mol); densities g/cm^3; fractions dimensionless.

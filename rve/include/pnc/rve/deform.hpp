@@ -1,10 +1,10 @@
 #pragma once
-// pnc/rve/deform.hpp: the stepwise strain-controlled deformation driver (section 6.3).
+// pnc/rve/deform.hpp: the stepwise strain-controlled deformation driver (docs/theory.md §3.4, D17).
 //
 // Units: LAMMPS `real` inside (A, fs, kcal/mol, atm, K); the stresses this header returns
 // and stores are in Pa (tension positive: sigma = -P).
 //
-// Case numbering as docs/theory.md section 2.1 / damage/reference.hpp: 1-3 extension along
+// Case numbering as docs/theory.md §2.1 / damage/reference.hpp: 1-3 extension along
 // x1..x3 with the lateral box lengths held, 4 simple shear 2-3 (tilt yz = gamma Lz),
 // 5 simple shear 1-3 (tilt xz = gamma Lz), 6 simple shear 1-2 (tilt xy = gamma Ly), in a
 // triclinic box. The pure polymer uses cases 2 and 6.
@@ -19,7 +19,7 @@
 //     `momentum_every` steps), `hold_steps` of `timestep_fs` (row 0, the zero-strain hold that
 //     measures the reference stress: `reference_holds` x `hold_steps`, decision D131);
 //   * every `sample_every` steps the six stress components are sampled twice: virial only
-//     (compute pressure NULL virial, eq. 6.23) and with the kinetic term (thermo_temp);
+//     (compute pressure NULL virial, docs/theory.md §3.5) and with the kinetic term (thermo_temp);
 //   * per step: mean of the samples and its standard error by block averaging (`blocks`
 //     contiguous blocks, s.e. = sd(block means)/sqrt(blocks)), checked against the integrated
 //     autocorrelation time of the samples (statistics.hpp, decision D132): blocks shorter than
@@ -43,8 +43,10 @@ struct DeformSpec {
   /// final engineering shear gamma of the shear cases 4-6; 0 = strain_max (decision D12m)
   double shear_strain_max = 0;
   /// the final strain of this spec's case: shear_strain_max for cases 4-6 when set
-  double amplitude() const { return case_id >= 4 && shear_strain_max != 0 ? shear_strain_max : strain_max; }
-  int steps = 40;          ///< strain steps
+  double amplitude() const {
+    return case_id >= 4 && shear_strain_max != 0 ? shear_strain_max : strain_max;
+  }
+  int steps = 40; ///< strain steps
   double timestep_fs = 0.5;
   long hold_steps = 10000; ///< MD steps per strain step (5 ps at 0.5 fs)
   int sample_every = 10;   ///< 5 fs at 0.5 fs
@@ -70,7 +72,7 @@ struct CaseResult {
   int case_id = 0;
   int rows_done = 0; ///< finished rows: row 0 = hold at zero strain, row k = strain step k
   Eigen::Matrix<double, Eigen::Dynamic, 6> strain;           ///< engineering, k x 6
-  Eigen::Matrix<double, Eigen::Dynamic, 6> stress_virial;    ///< Pa, eq. 6.23
+  Eigen::Matrix<double, Eigen::Dynamic, 6> stress_virial;    ///< Pa, docs/theory.md §3.5
   Eigen::Matrix<double, Eigen::Dynamic, 6> stress_virial_se; ///< Pa
   Eigen::Matrix<double, Eigen::Dynamic, 6> stress_total;     ///< Pa, with kinetic term
   Eigen::Matrix<double, Eigen::Dynamic, 6> stress_total_se;  ///< Pa

@@ -1,5 +1,5 @@
 #pragma once
-// pnc/rve/equilibrate.hpp: the equilibration protocol of sections 3.3.1-3.3.2 for the
+// pnc/rve/equilibrate.hpp: the equilibration protocol of docs/theory.md §3.3 (D19) for the
 // polymer RVE, one supervised child process per stage.
 //
 // Units: LAMMPS `real` (A, fs, kcal/mol, atm, K); densities in g/cm^3.
@@ -70,9 +70,9 @@ struct EquilibratedState {
 
 /// Runs the protocol from a LAMMPS data file into `dir`. Stages with results are skipped
 /// when `resume`. Throws pnc::InputError naming the stage (and LAMMPS's ERROR line) on failure.
-/// `with_clay` (composite data file of clay.hpp, section 3.3.2): the clay (group pnc_clay) is
-/// frozen in pushoff and hot (not integrated; fix setforce 0 during the minimisation), then
-/// stage "clay" minimises and runs the clay (NVE + Langevin at `temperature`, `clay_steps`)
+/// `with_clay` (composite data file of clay.hpp; docs/theory.md §3.3, D25): the clay (group
+/// pnc_clay) is frozen in pushoff and hot (not integrated; fix setforce 0 during the minimisation),
+/// then stage "clay" minimises and runs the clay (NVE + Langevin at `temperature`, `clay_steps`)
 /// with the polymer fixed; cool/langevin/final move everything, and the NPT barostat acts on
 /// x2 and x3 only (coupled), x1 (along the platelet) keeps its build length (decision D24).
 /// `ranks`: MPI ranks of LAMMPS per stage (StageSpec::ranks).

@@ -1,10 +1,10 @@
 #pragma once
 // pnc/rve/forcefield.hpp: the coarse-grained polypropylene force field of Nair (2010)
-// section 6.1 (after Wei et al. 2002) and its mapping onto LAMMPS styles.
+// (docs/theory.md §3.1; after Wei et al. 2002) and its mapping onto LAMMPS styles.
 //
 // Units: LAMMPS `real` throughout rve/ -- Angstrom, fs, kcal/mol, g/mol, atm, K.
 //
-// Physical forms (docs/theory.md section 3.1), with the parameters stored here as printed
+// Physical forms (docs/theory.md §3.1), with the parameters stored here as printed
 // (after the unit reading of decision D13, converted to kcal/mol):
 //   E_bond  = k_l/2 (l - l0)^2                 -> bond harmonic        K = k_l/2
 //   E_angle = k_theta/2 (cos th - cos th0)^2   -> angle cosine/squared K = k_theta/2

@@ -49,7 +49,8 @@ struct Recipe {
   PhaseCheckSpec phase_check; ///< off unless the recipe enables it (the presets do)
   std::vector<int> cases = {2, 6};
   /// which stress goes to the fit: "total" (with the kinetic term, the default: decision D134)
-  /// or "virial" (eq. 6.23, the dissertation's; biases every normal constant by -rho k_B T)
+  /// or "virial" (docs/theory.md §3.5, the dissertation's; biases every normal constant by -rho k_B
+  /// T)
   std::string stress = "total";
   /// points of a moving average over strain steps stored for display only (1 = off); the fit
   /// always gets the unsmoothed points and their own errors (decision D133)

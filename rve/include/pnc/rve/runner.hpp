@@ -32,6 +32,14 @@ public:
   /// Remote instance: `fd` is the connected socket to the server's rank 0; `log_path` is the
   /// server's LAMMPS log (for the error message when the server ends).
   Lammps(int fd, std::string log_path) : fd_(fd), log_(std::move(log_path)) {}
+  ~Lammps();
+  Lammps(const Lammps&) = delete;
+  Lammps& operator=(const Lammps&) = delete;
+  /// From now on every command (and `file` as `include PATH`) is also appended to the LAMMPS
+  /// input file `path`, each line written before LAMMPS runs it (so the command that stopped
+  /// LAMMPS is its last line); `header` (comment lines) starts the file. Returns false (and
+  /// records nothing) when the file cannot be created; a symbolic link there is refused.
+  bool record_input(const std::string& path, const std::string& header);
   void cmd(const std::string& command);
   void cmds(const std::vector<std::string>& commands);
   /// Runs a LAMMPS input file (lammps_file).
@@ -56,9 +64,11 @@ private:
   /// whether the server found the fix/compute.
   std::vector<double> call(char op, const std::string& text, int i = 0, int j = 0,
                            bool* found = nullptr);
+  void record(const std::string& line);
   void* h_ = nullptr;
   int fd_ = -1;
   std::string log_;
+  int input_fd_ = -1; ///< record_input's file, or -1
 };
 
 struct StageSpec {
@@ -78,6 +88,7 @@ struct StageOutcome {
   int signal = 0;    ///< signal that killed the child, 0 if none
   std::string error; ///< LAMMPS's ERROR line (+ last command) or the pnc error, if !ok
   std::string log_path;
+  std::string input_path; ///< its in.<name> (stage_input_path) when the child wrote one, else ""
   double seconds = 0;
   /// The pnc error (InputError, SimulationError, ToolError; any other exception as a
   /// std::runtime_error) the stage body threw in the child, rebuilt in the parent; null when
@@ -86,6 +97,12 @@ struct StageOutcome {
 };
 
 using StageBody = std::function<void(Lammps&)>;
+
+/// `in.<name>` next to the stage's log (characters other than letters, digits, '.', '-' and
+/// '_' in the name become '_'): the LAMMPS input every stage leaves, the commands pnc sent in
+/// the order LAMMPS ran them, rerunnable with plain `lmp -in` from the directory its header
+/// names (docs/decisions/rve.md D247).
+std::string stage_input_path(const StageSpec& spec);
 
 /// Runs `body` in a child process with its own LAMMPS instance; blocks until it ends.
 StageOutcome run_stage(const StageSpec& spec, const StageBody& body);

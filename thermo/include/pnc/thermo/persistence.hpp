@@ -1,6 +1,6 @@
 #pragma once
 // pnc/thermo/persistence.hpp: bending stiffness EI and persistence length xi_p of a short
-// chain by steered bending (dissertation section 6.2.1, eqs. 6.8-6.9).
+// chain by steered bending (docs/theory.md §4.5, D66-D68).
 //
 // Units: LAMMPS `real` inside (A, fs, kcal/mol, K); EI is reported in kcal/mol*A and N m^2,
 // xi_p in A.
@@ -19,11 +19,11 @@
 // Per rate: EI = L^3/48 * dF/dd, with dF/dd the ratio of the least-squares slopes of F and
 // of d against the anchor position (the constant Langevin drag of a steady pull shifts F
 // but not the slope; regressing F on the noisy d directly would be biased, D66), with a
-// block-averaged standard error; the end-of-pull ratio F L^3/(48 d) of eq. 6.9 is reported
-// too. EI(rate) is fitted by a straight line (weighted) and extrapolated to zero rate, with
-// a 95 % confidence interval (Student t, n-2 dof); xi_p = EI / (kB T) (eq. 6.8).
+// block-averaged standard error; the end-of-pull ratio F L^3/(48 d) as printed in the source (D67)
+// is reported too. EI(rate) is fitted by a straight line (weighted) and extrapolated to zero rate,
+// with a 95 % confidence interval (Student t, n-2 dof); xi_p = EI / (kB T) (docs/theory.md §4.5).
 //
-// Chains: "pp" -- the coarse-grained polypropylene of section 6.1 (rve/forcefield.hpp),
+// Chains: "pp" -- the coarse-grained polypropylene of docs/theory.md §3.1 (rve/forcefield.hpp),
 // built as the all-trans planar zigzag in the xz plane; "harmonic" -- a straight chain
 // with `angle harmonic` E = K (theta - 180 deg)^2 and harmonic bonds, no torsion and no
 // pair forces, whose bending stiffness is known by construction (validation; D68):

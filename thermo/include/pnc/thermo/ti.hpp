@@ -1,9 +1,9 @@
 #pragma once
 // pnc/thermo/ti.hpp: Helmholtz free energy by thermodynamic integration (TI) over a
-// coupling parameter lambda (dissertation sections 3.4.1 and 6.2.2; docs/theory.md section 4).
+// coupling parameter lambda (docs/theory.md §4).
 //
 // Units: LAMMPS `real` throughout -- kcal/mol (energies, dH/dlambda, Delta A), A, fs, K;
-// moduli derived through appendix A are reported in Pa.
+// moduli derived by docs/theory.md §4.4 are reported in Pa.
 //
 //   Delta A = A(1) - A(0) = int_0^1 < dH/dlambda >_lambda dlambda
 //
@@ -37,7 +37,7 @@
 
 namespace pnc::thermo {
 
-/// Linear LJ ramp of docs/theory.md eq. 4.1. Defaults: the dissertation's eps0 = 0.0498,
+/// Linear LJ ramp of docs/theory.md §4.1. Defaults: the dissertation's eps0 = 0.0498,
 /// eps1 = 0.498 ("J/mol", read kJ/mol like D13, here in kcal/mol), sig0 = 0.95 A,
 /// sig1 = 2.95 A; cut-off 2.5 sig1 at every lambda (D62).
 struct LjPath {
@@ -147,8 +147,8 @@ LambdaIntegral collect(const Quadrature& rule, const std::vector<PointJob>& jobs
 // ---------------------------------------------------------------------------------------
 // The polymer RVE: free energy of deformation.
 
-/// A deformation state: "vol" F = (1+a) I (eq. 6.12) or "dev" F = I + b (1 - delta_ij)
-/// (eq. 6.13); the unstrained state is "ref".
+/// A deformation state: "vol" F = (1+a) I or "dev" F = I + b (1 - delta_ij)
+/// (docs/theory.md §4.2, D63); the unstrained state is "ref".
 struct DeformState {
   std::string kind; ///< "ref", "vol", "dev"
   double strain = 0;
@@ -205,10 +205,10 @@ struct StateResult {
   double volume = 0; ///< A^3, of the deformed box
 };
 
-/// Appendix A from Delta A(strain): quadratic fit a + b s + c s^2 (weighted by the
-/// standard errors) per kind; energy density W = Delta A / V0. Volumetric: eps_kk = 3 alpha,
-/// K = d2W/d eps_kk^2 = 2 c / (9 V0); deviatoric: eps_bar:eps_bar = 6 beta^2,
-/// W = mu eps_bar:eps_bar, mu = c / (6 V0). Pa. (D65)
+/// Moduli from Delta A(strain) (docs/theory.md §4.4): quadratic fit a + b s + c s^2 (weighted by
+/// the standard errors) per kind; energy density W = Delta A / V0. Volumetric: eps_kk = 3 alpha, K
+/// = d2W/d eps_kk^2 = 2 c / (9 V0); deviatoric: eps_bar:eps_bar = 6 beta^2, W = mu eps_bar:eps_bar,
+/// mu = c / (6 V0). Pa. (D65)
 struct ResponseFit {
   std::string kind;
   PolyFit fit;        ///< of Delta A (kcal/mol) against the strain parameter
@@ -230,6 +230,26 @@ struct TiResult {
 TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vector<std::string>& ff,
                 const std::string& dir, bool resume, const std::string& source_json,
                 const Progress& progress);
+
+/// The checks run_ti makes before any work: the spec, and that `restart` is a file.
+void check_ti_start(const TiSpec& spec, const std::string& restart);
+
+/// One (state, lambda node) of a TI: the unit of work of `pnc thermo ti`'s plan (decision
+/// D285). Its file is job.h5 = dir/<state id>/lambda_<node>.h5, its seed the one run_ti uses.
+struct TiPoint {
+  DeformState state;
+  std::size_t state_index = 0, node = 0;
+  PointJob job;
+};
+/// Every point of `spec` in `dir`: states in ti_states order, nodes ascending.
+std::vector<TiPoint> ti_points(const TiSpec& spec, const std::string& dir);
+/// Runs one point (always; its file is replaced atomically) in its supervised LAMMPS child;
+/// throws like run_points.
+void run_ti_point(const TiSpec& spec, const TiPoint& point, const std::string& restart,
+                  const std::vector<std::string>& ff, const Progress& progress);
+/// The analysis: collect_ti, then dir/ti.h5 (write_ti_h5); `seconds` is stored as the wall time.
+TiResult finish_ti(const TiSpec& spec, const std::string& dir, const std::string& source_json,
+                   double seconds);
 
 /// Analysis only (all point files must exist).
 TiResult collect_ti(const TiSpec& spec, const std::string& dir);

@@ -1,0 +1,69 @@
+#pragma once
+// The driver side of a plan of units (rve/campaign.hpp) that every planned command shares:
+// `pnc characterize` and `pnc thermo ti` (app/cmd_campaign.cpp; docs/cluster.md, decisions
+// D240-D246 and D285-D289). A command makes its plan, registers how one of its units runs
+// (`pnc run-unit DIR UNIT` dispatches by plan.command), and hands the plan to the local or the
+// Slurm executor; its last unit (the fit, the TI analysis) is a join unit that names what is
+// missing.
+#include "pnc/rve/campaign.hpp"
+#include "pnc/rve/slurm.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace pnc::app {
+
+/// Runs unit `u` of the plan in run folder `dir` in this process and records its state
+/// (rve::run_unit_recorded); returns the process exit code. Errors are printed when
+/// `print_errors` (a Slurm job's output); a local child leaves that to the executor.
+using PlanUnitRunner = std::function<int(const std::string& dir, const rve::Plan& p,
+                                         const rve::Unit& u, bool print_errors)>;
+/// `pnc run-unit` runs the units of plans whose command is `command` with `runner`.
+void register_plan_command(const std::string& command, PlanUnitRunner runner);
+
+/// `body` with the exit codes of a unit: its return value; 128 + N when stopped by signal N
+/// (the unit is pending again); 1 on bad input or a failed LAMMPS stage; 2 internal error.
+int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int()>& body);
+
+/// The Slurm options of a planned command (--partition, --account, --time, --sbatch-template,
+/// --job-name, --wait); empty strings keep the recipe's or the cluster's defaults.
+struct SlurmOptions {
+  std::string partition, account, time, sbatch_template, job_name;
+  bool wait = false;
+};
+/// Adds those options to `cmd`; `recipe`: an option not given comes from the recipe's "slurm"
+/// section first (pnc characterize).
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe);
+
+/// What the driver of a planned command knows about its run.
+struct PlanDriver {
+  std::string command;    ///< "characterize", "thermo ti" (messages, --json)
+  std::string dir;        ///< the run folder
+  std::string final_unit; ///< the join unit whose end ends the run ("fit", "analysis")
+  bool json = false;      ///< --json: the submission as JSON when not waiting
+};
+
+/// Throws the failure of a run whose final unit is not done: the recorded LAMMPS or
+/// simulation error of a failed unit (exit code 7 or 6, docs/errors.md), else an InputError
+/// naming the first failed unit and the count; either way the user is told to --resume.
+void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
+                             const std::vector<std::string>& failed,
+                             const std::vector<std::string>& not_run);
+
+/// The Slurm executor for a planned command: submits what is not done (spec overridden by
+/// `o`), prints the jobs; without --wait returns 0 at once (with --json the submission on
+/// stdout); with --wait polls the unit states until the final unit ended and returns
+/// `conclude(failed)`. `default_prefix` names the jobs when --job-name is not given.
+int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
+                   const SlurmOptions& o, const std::string& default_prefix,
+                   const std::function<int(const std::vector<std::string>&)>& conclude);
+
+/// "pnc-" + `name` with every character outside [A-Za-z0-9.-] replaced by '_' (40 at most).
+std::string job_prefix_of(const std::string& name);
+
+} // namespace pnc::app

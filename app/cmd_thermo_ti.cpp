@@ -1,0 +1,468 @@
+// pnc thermo ti: free energy of deformation by thermodynamic integration, run as a plan of
+// units (decisions D285-D289, docs/thermo.md, docs/cluster.md): one unit per (state, lambda
+// node) writing <state>/lambda_<i>.h5, then the join unit `analysis` (ti.h5, plots, report,
+// summary.json), by the local executor or through Slurm like `pnc characterize`. Units: LAMMPS
+// real (kcal/mol, A, fs, K); moduli in Pa.
+#include "campaign_driver.hpp"
+#include "checks.hpp"
+#include "run_control.hpp"
+#include "thermo_cli.hpp"
+#include "thermo_report.hpp"
+
+#include "pnc/core/atomic_file.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/run_dir.hpp"
+#include "pnc/core/run_log.hpp"
+#include "pnc/core/stop.hpp"
+#include "pnc/core/units.hpp"
+#include "pnc/rve/builder.hpp"
+#include "pnc/rve/campaign.hpp"
+#include "pnc/rve/equilibrate.hpp"
+#include "pnc/rve/executor.hpp"
+#include "pnc/rve/recipe.hpp"
+#include "pnc/thermo/ti.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace pnc::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kCommand = "thermo ti";
+
+struct TiArgs {
+  thermo::TiSpec spec;
+  std::string from, restart, out, vol = "0,0.00125,0.0025,0.00375,0.005",
+                                  dev = "0,0.00125,0.0025,0.00375,0.005";
+  bool demo = false, resume = false, json = false, no_plots = false;
+  std::string executor = "local"; ///< "local" or "slurm"
+  SlurmOptions slurm;
+};
+
+/// The equilibrated start state and the force-field commands.
+std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
+  const int given = (a.from.empty() ? 0 : 1) + (a.restart.empty() ? 0 : 1) + (a.demo ? 1 : 0);
+  if (given != 1)
+    fail("<command line>", "--from/--restart/--demo", "",
+         "give exactly one source of the equilibrated RVE");
+  if (!a.restart.empty()) {
+    if (!fs::is_regular_file(a.restart))
+      fail(a.restart, "--restart", a.restart, "no such LAMMPS restart file");
+    return {a.restart, rve::polymer_forcefield_commands({})};
+  }
+  if (!a.from.empty()) {
+    const std::string rp = (fs::path(a.from) / "recipe.json").string();
+    const std::string rs = (fs::path(a.from) / "equilibrate" / "final.restart").string();
+    if (!fs::is_regular_file(rp))
+      fail(a.from, "--from", a.from, "is not a `pnc characterize` output (no recipe.json)");
+    if (!fs::is_regular_file(rs))
+      fail(rs, "--from", a.from, "has no equilibrated state (equilibrate/final.restart)");
+    const rve::Recipe r = rve::read_recipe(rp);
+    if (r.model != "pp")
+      fail(rp, "model", r.model,
+           "thermo ti ramps a single-type LJ; the nanocomposite (model pnc) is not supported yet");
+    if (r.system.enabled) // the built-in force field would be applied to the user's atoms
+      fail(rp, "system", r.system.input_file,
+           "thermo ti works on the built-in polymer force field; a run of your own system "
+           "(recipe \"system\", docs/rve.md) is not supported yet");
+    return {rs, rve::polymer_forcefield_commands(r.ff)};
+  }
+  // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve
+  const rve::Recipe r = rve::parse_recipe(rve::preset_json("demo"), "preset demo");
+  const fs::path d = fs::path(a.out) / "rve";
+  make_output_directory(d.string());
+  const std::string data = (d / "rve.data").string();
+  if (!(a.resume && fs::exists(data))) {
+    std::cerr << fmt::format("pnc thermo ti [demo RVE] building {} chains x {} beads\n",
+                             r.build.chains, r.build.beads_per_chain);
+    const rve::System s = rve::build_polymer(r.build, r.ff);
+    rve::write_data_file(data, s, "pnc thermo ti demo");
+  }
+  std::cerr << "pnc thermo ti [demo RVE] equilibrating (recipe demo)\n";
+  const auto e = rve::equilibrate(data, r.ff, r.equilibrate, (d / "equilibrate").string(), a.resume,
+                                  rve::expanded_json(r).dump(), false);
+  std::cerr << fmt::format("  equilibrated: density {:.4f} g/cm3, P {:.0f} atm\n", e.density,
+                           e.pressure_total);
+  return {e.restart, rve::polymer_forcefield_commands(r.ff)};
+}
+
+nlohmann::json spec_json(const thermo::TiSpec& s) {
+  return {{"rule", s.rule},
+          {"points", s.points},
+          {"vol", s.vol},
+          {"dev", s.dev},
+          {"eps0_kcal_mol", s.path.eps0},
+          {"eps1_kcal_mol", s.path.eps1},
+          {"sig0_A", s.path.sig0},
+          {"sig1_A", s.path.sig1},
+          {"cutoff_A", s.path.cutoff},
+          {"timestep_fs", s.sampling.timestep_fs},
+          {"equil_steps", s.sampling.equil_steps},
+          {"prod_steps", s.sampling.prod_steps},
+          {"sample_every", s.sampling.sample_every},
+          {"blocks", s.sampling.blocks},
+          {"temperature_K", s.sampling.temperature},
+          {"damp_fs", s.damp_fs},
+          {"seed", s.seed},
+          {"fd_h", s.fd_h},
+          {"dhdl_method", s.dhdl_method}};
+}
+
+/// The spec a run folder holds (ti_spec.json, written by spec_json): what every unit runs.
+thermo::TiSpec spec_from_json(const nlohmann::json& j, const std::string& source) {
+  thermo::TiSpec s;
+  try {
+    s.rule = j.at("rule").get<std::string>();
+    s.points = j.at("points").get<int>();
+    s.vol = j.at("vol").get<std::vector<double>>();
+    s.dev = j.at("dev").get<std::vector<double>>();
+    s.path.eps0 = j.at("eps0_kcal_mol").get<double>();
+    s.path.eps1 = j.at("eps1_kcal_mol").get<double>();
+    s.path.sig0 = j.at("sig0_A").get<double>();
+    s.path.sig1 = j.at("sig1_A").get<double>();
+    s.path.cutoff = j.at("cutoff_A").get<double>();
+    s.sampling.timestep_fs = j.at("timestep_fs").get<double>();
+    s.sampling.equil_steps = j.at("equil_steps").get<long>();
+    s.sampling.prod_steps = j.at("prod_steps").get<long>();
+    s.sampling.sample_every = j.at("sample_every").get<int>();
+    s.sampling.blocks = j.at("blocks").get<int>();
+    s.sampling.temperature = j.at("temperature_K").get<double>();
+    s.damp_fs = j.at("damp_fs").get<double>();
+    s.seed = j.at("seed").get<std::uint64_t>();
+    s.fd_h = j.at("fd_h").get<double>();
+    s.dhdl_method = j.at("dhdl_method").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    fail(source, "", "", std::string("is not a pnc thermo ti spec: ") + e.what());
+  }
+  s.validate(source);
+  return s;
+}
+
+std::string spec_path(const std::string& dir) {
+  return (fs::path(dir) / "ti_spec.json").string();
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) fail(path, "", "", "cannot read the file");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::string summary_file(const std::string& dir) {
+  return (fs::path(dir) / "summary.json").string();
+}
+
+/// The unit id of a point: "<state id>/lambda_<i>" with the state id's '.' as 'p' and '-' as
+/// 'm' (unit ids are [a-z0-9_] parts), e.g. "vol_0p00125/lambda_1" (D285).
+std::string point_unit_id(const thermo::TiPoint& p) {
+  std::string s;
+  for (char c : p.state.id) {
+    const char l = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    s += l == '.' ? 'p' : l == '-' ? 'm' : l == '+' ? 'p' : (std::isalnum(l) ? l : '_');
+  }
+  return fmt::format("{}/lambda_{}", s, p.node);
+}
+
+std::string relative_to(const std::string& path, const std::string& dir) {
+  return fs::path(path).lexically_relative(dir).string();
+}
+
+/// The plan: every point (one group, one Slurm array), then the join unit `analysis`.
+rve::Plan ti_plan(const thermo::TiSpec& spec, const std::string& dir,
+                  const nlohmann::json& parameters) {
+  rve::Plan p;
+  p.command = kCommand;
+  p.parameters = parameters;
+  rve::Unit an{"analysis", "analysis", "analysis", {}, true, 1, {}, {}};
+  for (const auto& pt : thermo::ti_points(spec, dir)) {
+    rve::Unit u{point_unit_id(pt), "lambda_point", "lambda_points", {}, false, 1, {}, {}};
+    u.inputs = {"ti_spec.json"};
+    u.outputs = {relative_to(pt.job.h5, dir)};
+    an.needs.push_back(u.id);
+    an.inputs.push_back(u.outputs.front());
+    p.units.push_back(u);
+  }
+  an.outputs = {"ti.h5", "report.html", "summary.json"};
+  p.units.push_back(an);
+  return p;
+}
+
+/// D286: a point is done exactly when its file exists (the file is its checkpoint, written
+/// atomically, as --resume has always read it): a point file without a done state (an earlier
+/// run, a unit that ended between writing it and its state) is recorded done, a done state
+/// whose file is gone is cleared, so the point runs again.
+void sync_point_states(const std::string& dir, const thermo::TiSpec& spec) {
+  for (const auto& pt : thermo::ti_points(spec, dir)) {
+    const std::string id = point_unit_id(pt);
+    rve::UnitStatus s = rve::read_status(dir, id);
+    const bool have = fs::exists(pt.job.h5);
+    if (have && s.state != rve::UnitState::done &&
+        !(s.state == rve::UnitState::running && !s.job_id.empty())) {
+      s.state = rve::UnitState::done;
+      s.message = "its lambda file exists (reused)";
+      s.detail = {{"h5", pt.job.h5}, {"reused", true}};
+      rve::write_status(dir, id, s);
+    } else if (!have && s.state == rve::UnitState::done) {
+      rve::clear_status(dir, id);
+    }
+  }
+}
+
+struct TiReportArgs {
+  thermo::TiSpec spec;
+  std::string out, command_line;
+  bool no_plots = false;
+};
+
+/// The report of a finished TI (stderr lines, plots, report.html); returns the --json object.
+nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
+  std::cerr << "\n  state            dA = A(1) - A(0) (kcal/mol)     <dH/dl> at the nodes\n";
+  double worst_fd = 0;
+  for (const auto& st : r.states) {
+    std::string nodes;
+    for (const auto& p : st.ti.points) {
+      nodes += fmt::format(" {:.3f}+-{:.3f}", p.dhdl.value, p.dhdl.se);
+      if (p.checks.count("fd_dhdl_lammps"))
+        worst_fd =
+            std::max(worst_fd, std::fabs(p.checks.at("fd_dhdl_lammps") - p.checks.at("dhdl_pnc")) /
+                                   std::max(1e-12, std::fabs(p.checks.at("dhdl_pnc"))));
+    }
+    std::cerr << fmt::format("  {:<14} {:>10.4f} +- {:.4f}          {}\n", st.state.id,
+                             st.ti.dA.value, st.ti.dA.se, nodes);
+  }
+  std::cerr << fmt::format("  finite-difference check of dH/dl against LAMMPS's pair energy: "
+                           "largest relative difference {:.2e}\n",
+                           worst_fd);
+  for (const auto& f : r.fits)
+    if (std::isfinite(f.modulus))
+      std::cerr << fmt::format(
+          "  {} response (docs/theory.md §4.4, of A(1) - A(0)): {} = {:.3g} +- {:.2g} "
+          "GPa (quadratic fit, V0 {:.0f} A^3)\n",
+          f.kind, f.kind == "vol" ? "K" : "mu", f.modulus * 1e-9, f.modulus_se * 1e-9, f.v0);
+  std::vector<std::string> pngs;
+  ThermoRun rep{a.command_line, a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
+  if (!a.no_plots) {
+    std::ostringstream c1, c2;
+    c1.precision(12);
+    c2.precision(12);
+    c1 << "state,lambda,dhdl,dhdl_se\n";
+    c2 << "kind,strain,strain_measure,dA,dA_se\n";
+    for (const auto& st : r.states) {
+      for (const auto& p : st.ti.points)
+        c1 << st.state.id << ',' << p.lambda << ',' << p.dhdl.value << ',' << p.dhdl.se << '\n';
+      for (const char* k : {"vol", "dev"})
+        if (st.state.kind == k || st.state.kind == "ref") {
+          const bool in = st.state.kind == "ref"
+                              ? !(std::string(k) == "vol" ? a.spec.vol : a.spec.dev).empty()
+                              : true;
+          if (!in) continue;
+          const double m = std::string(k) == "vol" ? 3 * st.state.strain : st.state.strain;
+          c2 << k << ',' << st.state.strain << ',' << m << ',' << st.ti.dA.value << ','
+             << st.ti.dA.se << '\n';
+        }
+    }
+    const fs::path pd = fs::path(a.out) / "plots";
+    make_output_directory(pd.string());
+    write_text_atomically((pd / "dhdl.csv").string(), c1.str());
+    write_text_atomically((pd / "dA.csv").string(), c2.str());
+    pngs = run_plot({"ti", (pd / "dhdl.csv").string(), (pd / "dA.csv").string(), pd.string()}, rep);
+  }
+  std::cerr << "  results: " << r.h5 << "\n";
+  for (const auto& p : pngs)
+    std::cerr << "  plot: " << p << "\n";
+  rep.seconds = r.seconds;
+  const std::string report = write_ti_report(rep, a.spec, r, worst_fd);
+  std::cerr << "  report: " << report << "\n";
+  std::cerr << fmt::format("  wall time {:.1f} s\n", r.seconds);
+  return ti_json(rep, a.spec, r, report, worst_fd); // SI keys (D280)
+}
+
+/// Runs one unit of a `thermo ti` plan in this process (PlanUnitRunner).
+int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
+                 bool print_errors) {
+  return guarded_unit(u, print_errors, [&] {
+    const std::string sj = read_text(spec_path(dir));
+    const auto j = nlohmann::json::parse(sj, nullptr, false);
+    if (j.is_discarded()) fail(spec_path(dir), "", "", "is not valid JSON");
+    const thermo::TiSpec spec = spec_from_json(j, spec_path(dir));
+    const auto restart = p.parameters.value("restart", std::string());
+    const auto ff = p.parameters.value("ff", std::vector<std::string>{});
+    if (u.kind == "lambda_point") {
+      for (const auto& pt : thermo::ti_points(spec, dir))
+        if (point_unit_id(pt) == u.id) {
+          fs::path log(pt.job.h5);
+          log.replace_extension(".log");
+          rve::run_unit_recorded(
+              dir, u,
+              [&] {
+                thermo::run_ti_point(spec, pt, restart, ff, print_progress);
+                const thermo::PointResult r = thermo::read_point(pt.job.h5);
+                return nlohmann::json{{"h5", pt.job.h5},
+                                      {"dhdl_kcal_mol", jnum(r.dhdl.value)},
+                                      {"dhdl_stderr_kcal_mol", jnum(r.dhdl.se)}};
+              },
+              log.string());
+          return 0;
+        }
+      fail(rve::plan_path(dir), "unit", u.id, "names no point of the spec in ti_spec.json");
+    }
+    if (u.kind != "analysis") fail(rve::plan_path(dir), u.id + ".kind", u.kind, "unknown kind");
+    rve::run_unit_recorded(dir, u, [&] {
+      std::vector<std::string> missing;
+      for (const auto& pt : thermo::ti_points(spec, dir))
+        if (!fs::exists(pt.job.h5))
+          missing.push_back(point_unit_id(pt) + " (" + relative_to(pt.job.h5, dir) + ")");
+      if (!missing.empty())
+        fail(dir, "analysis", fmt::format("{} missing", missing.size()),
+             fmt::format("the lambda point(s) {} did not finish: rerun with --resume (pnc status "
+                         "{} says why)",
+                         fmt::join(missing, ", "), dir));
+      const double t0 = p.parameters.value("started_s", rve::epoch_seconds());
+      const thermo::TiResult r =
+          thermo::finish_ti(spec, dir, sj, std::max(0.0, rve::epoch_seconds() - t0));
+      const TiReportArgs ra{spec, dir, p.parameters.value("command_line", std::string()),
+                            p.parameters.value("no_plots", false)};
+      write_text_atomically(summary_file(dir), report_ti(ra, r).dump() + "\n");
+      return nlohmann::json{{"exit_code", 0}, {"summary", summary_file(dir)}, {"h5", r.h5}};
+    });
+    return 0;
+  });
+}
+
+/// After the executor: the analysis's summary (--json), or the failures.
+int conclude_ti(const TiArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
+                const std::vector<std::string>& not_run) {
+  throw_unless_final_done({kCommand, a.out, "analysis", a.json}, p, failed, not_run);
+  if (a.json) std::cout << read_text(summary_file(a.out)) << std::flush;
+  return 0;
+}
+
+int run_thermo_ti(TiArgs a) {
+  a.spec.vol = parse_list(a.vol, "--vol");
+  a.spec.dev = parse_list(a.dev, "--dev");
+  a.spec.validate("<command line>");
+  const RunDirLock lock(a.out, command_line()); // one process per run directory
+  start_run_log(a.out, command_line());         // pnc.log: what this run printed
+  const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept
+  // one spec per output directory: --resume must not mix protocols
+  const std::string sj = spec_json(a.spec).dump(2) + "\n";
+  const std::string sp = spec_path(a.out);
+  if (fs::exists(sp)) {
+    if (read_text(sp) != sj)
+      fail(sp, "--out", a.out,
+           "holds a TI with other settings; use a new --out directory (or the same settings)");
+    refuse_existing_run(a.out, a.resume, {"ti_spec.json"});
+  }
+  if (fs::exists(rve::plan_path(a.out)) && rve::read_plan(a.out).command != kCommand)
+    fail(rve::plan_path(a.out), "--out", a.out,
+         "holds the plan of another command; use a new --out directory");
+  const auto [restart, ff] = start_state(a);
+  thermo::check_ti_start(a.spec, restart);
+  const double started = rve::epoch_seconds(); // the wall time of the TI, as before the plan
+  write_text_atomically(sp, sj);
+  const auto states = thermo::ti_states(a.spec);
+  std::cerr << fmt::format("pnc thermo ti: {} state(s) x {} lambda point(s) ({} rule), {} + {} "
+                           "steps of {} fs per point, dH/dl every {} steps; start state {}\n",
+                           states.size(), a.spec.points, a.spec.rule, a.spec.sampling.equil_steps,
+                           a.spec.sampling.prod_steps, a.spec.sampling.timestep_fs,
+                           a.spec.sampling.sample_every, restart);
+  const nlohmann::json params = {{"restart", fs::absolute(restart).string()},
+                                 {"ff", ff},
+                                 {"no_plots", a.no_plots},
+                                 {"executor", a.executor},
+                                 {"jobs", a.spec.jobs},
+                                 {"command_line", command_line()},
+                                 {"started_s", started}};
+  const rve::Plan p = ti_plan(a.spec, a.out, params);
+  sync_point_states(a.out, a.spec);
+  rve::clear_status(a.out, "analysis"); // the analysis runs again on every --resume (seconds)
+  rve::write_plan(a.out, p);
+  if (a.executor == "slurm")
+    return run_plan_slurm(
+        {kCommand, a.out, "analysis", a.json}, p, rve::SlurmSpec{}, a.slurm, job_prefix_of("ti"),
+        [&](const std::vector<std::string>& failed) { return conclude_ti(a, p, failed, {}); });
+  std::cerr << fmt::format("pnc thermo ti: {} unit(s), {} at a time; states in {}/state, pnc "
+                           "status {} shows them\n",
+                           p.units.size(), a.spec.jobs, a.out, a.out);
+  const rve::LocalRun lr = rve::run_local(
+      a.out, p, a.spec.jobs, [&](const rve::Unit& u) { return ti_unit_main(a.out, p, u, false); });
+  return conclude_ti(a, p, lr.failed, lr.not_run);
+}
+
+} // namespace
+
+void register_thermo_ti(CLI::App* th, Action& action) {
+  register_plan_command(kCommand, ti_unit_main);
+  auto ta = std::make_shared<TiArgs>();
+  auto* ti = th->add_subcommand(
+      "ti", "Thermodynamic integration of the LJ coupling over deformation states -> ti.h5");
+  ti->add_option("--from", ta->from, "`pnc characterize` output directory (pure polymer)");
+  ti->add_option("--restart", ta->restart, "Equilibrated LAMMPS restart (default PP force field)");
+  ti->add_flag("--demo", ta->demo, "Build and equilibrate the demo RVE (600 beads) under OUT/rve");
+  ti->add_option("--out", ta->out, "Output directory")->required();
+  ti->add_option("--rule", ta->spec.rule, "Quadrature: gauss (default) or trapezoid")
+      ->check(CLI::IsMember({"gauss", "trapezoid"}));
+  ti->add_option("--points", ta->spec.points, "Quadrature points (default 3, Table 6.1)")
+      ->check(CLI::Range(1, 64));
+  ti->add_option("--vol", ta->vol, "alpha values of F = (1+alpha) I, comma-separated, or none");
+  ti->add_option("--dev", ta->dev, "beta values of F = I + beta(1-delta_ij), or none");
+  ti->add_option("--eps0", ta->spec.path.eps0, "epsilon at lambda = 0 (kcal/mol, (0, 100])")
+      ->check(FinitePositive(100));
+  ti->add_option("--eps1", ta->spec.path.eps1, "epsilon at lambda = 1 (kcal/mol, (0, 100])")
+      ->check(FinitePositive(100));
+  ti->add_option("--sig0", ta->spec.path.sig0, "sigma at lambda = 0 (A, (0, 10])")
+      ->check(FinitePositive(10));
+  ti->add_option("--sig1", ta->spec.path.sig1, "sigma at lambda = 1 (A, (0, 10])")
+      ->check(FinitePositive(10));
+  ti->add_option("--cutoff", ta->spec.path.cutoff, "LJ cut-off at every lambda (A, (0, 30])")
+      ->check(FinitePositive(30));
+  ti->add_option("--dhdl", ta->spec.dhdl_method,
+                 "dH/dlambda sampler: virial (one run, energy + pair virial identity; default) "
+                 "or pairs (pair-distance sums after every sample interval)")
+      ->check(CLI::IsMember({"virial", "pairs"}));
+  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "fs (default 0.5, (0, 10])")
+      ->check(FinitePositive(10));
+  ti->add_option("--equil-steps", ta->spec.sampling.equil_steps,
+                 "Steps discarded per lambda point (default 60000 = 30 ps)")
+      ->check(CLI::Range(0L, kMaxRunSteps));
+  ti->add_option("--prod-steps", ta->spec.sampling.prod_steps,
+                 "Steps averaged per lambda point (default 20000 = 10 ps)")
+      ->check(CLI::Range(1L, kMaxRunSteps));
+  ti->add_option("--sample-every", ta->spec.sampling.sample_every,
+                 "Steps between dH/dlambda samples (default 100, D64)")
+      ->check(CLI::Range(1, 1000000));
+  ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)")
+      ->check(CLI::Range(3, 10000));
+  ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300, (0, 1e4])")
+      ->check(FinitePositive(1e4));
+  ti->add_option("--seed", ta->spec.seed, "Thermostat seed (1 to 800000000)")
+      ->check(CLI::Range(1, 800000000));
+  ti->add_option("--jobs", ta->spec.jobs, "Lambda points run at the same time")
+      ->check(CLI::Range(1, 64));
+  ti->add_flag("--resume", ta->resume,
+               "Continue: finished (state, lambda) points are reused, the others run (or are "
+               "submitted) again");
+  ti->add_option("--executor", ta->executor,
+                 "Who runs the (state, lambda) units: local (children of this process, --jobs at "
+                 "a time) or slurm (one job array, the analysis after it; docs/cluster.md)")
+      ->check(CLI::IsMember({"local", "slurm"}));
+  add_slurm_options(ti, ta->slurm, false);
+  ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
+  ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
+  ti->callback([ta, &action] { action = [ta] { return run_thermo_ti(*ta); }; });
+}
+
+} // namespace pnc::app

@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""The deal.II demo's solution.pvd read back with VTK's own XML reader (D236).
+
+    /usr/bin/python3 read_demo_pvd.py DIR   # DIR/solution.pvd of a demo run
+
+Checks: the PVD timesteps increase strictly and are the step indices; every frame, read by
+VTK, has the field data step_index (= its timestep), displacement_mm and force_N_per_mm, the
+point array "displacement_mm" with 2 or 3 components, the arrays D1_1, stress_22_MPa and
+strain_22_1 (cell averages, written by deal.II as point data of each cell), and every point and cell array named with its unit: its name is in the String
+field data "units" ("name=unit") with the unit after the name's last "_" ("1" for
+dimensionless). Prints the loads, so a snap-back
+(the load going back while the timestep goes on) is visible. Exit code 0 when all holds.
+Needs python3-vtk9 (Debian: /usr/bin/python3).
+"""
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import vtk
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__)
+        return 2
+    d = sys.argv[1]
+    fails = []
+    sets = ET.parse(os.path.join(d, "solution.pvd")).getroot().findall("./Collection/DataSet")
+    steps = [float(s.get("timestep")) for s in sets]
+    if len(steps) < 2:
+        fails.append("at least 2 frames, got %d" % len(steps))
+    if not all(b > a for a, b in zip(steps, steps[1:])):
+        fails.append("timesteps increase strictly: %s" % steps)
+    if any(t != int(t) or t < 0 for t in steps):
+        fails.append("timesteps are step indices: %s" % steps)
+    loads = []
+    for s, t in zip(sets, steps):
+        r = vtk.vtkXMLUnstructuredGridReader()
+        r.SetFileName(os.path.join(d, s.get("file")))
+        r.Update()
+        g = r.GetOutput()
+        fd = g.GetFieldData()
+        for name in ("step_index", "displacement_mm", "force_N_per_mm"):
+            if fd.GetArray(name) is None:
+                fails.append("%s: field data %s missing" % (s.get("file"), name))
+        if fails:
+            break
+        if fd.GetArray("step_index").GetTuple1(0) != t:
+            fails.append("%s: step_index != timestep %g" % (s.get("file"), t))
+        u = g.GetPointData().GetArray("displacement_mm")
+        if u is None or u.GetNumberOfComponents() not in (2, 3):
+            fails.append("%s: point array displacement_mm" % s.get("file"))
+        # deal.II's DataOut writes the cell-averaged values as point data of each cell's patch
+        for name in ("D1_1", "stress_22_MPa", "strain_22_1"):
+            if g.GetPointData().GetArray(name) is None and g.GetCellData().GetArray(name) is None:
+                fails.append("%s: array %s missing" % (s.get("file"), name))
+        ua = fd.GetAbstractArray("units")
+        units = dict(ua.GetValue(k).split("=", 1) for k in range(ua.GetNumberOfValues())) \
+            if ua is not None else {}
+        if units.get("Points") != "mm":
+            fails.append("%s: units has no Points=mm: %s" % (s.get("file"), units))
+        for data in (g.GetPointData(), g.GetCellData()):
+            for k in range(data.GetNumberOfArrays()):
+                name = data.GetArrayName(k)
+                unit = name.rsplit("_", 1)[-1]
+                if name not in units:
+                    fails.append("%s: array %s not in units" % (s.get("file"), name))
+                elif units[name] != unit:
+                    fails.append("%s: %s has unit %s, name says %s"
+                                 % (s.get("file"), name, units[name], unit))
+        loads.append(fd.GetArray("displacement_mm").GetTuple1(0))
+    print("timesteps", steps)
+    print("displacement_mm", loads)
+    for f in fails:
+        print("FAIL:", f)
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
