@@ -1,7 +1,7 @@
 // The keys of the JSON input of `pnc gimp run`, each declared once (pnc/core/parameters.hpp):
 // name, type, default, range, unit (SI: m, kg, s, Pa) and one line of text. load_input reads
 // through them (checked_input); `pnc gimp parameters` prints them, and the key tables of
-// docs/gimp.md are generated from that printout (decisions D290-D294). The rules between keys
+// docs/gimp.md are generated from that printout (decisions D290-D292). The rules between keys
 // (a box needs min and max, exactly one of fix / symmetry / velocity, unique material names,
 // the CFL step, ...) are checked by the readers after read() (input.cpp, input_bodies.cpp,
 // input_cracks.cpp).

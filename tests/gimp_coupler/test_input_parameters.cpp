@@ -1,4 +1,4 @@
-// The declared keys of the `pnc gimp run` input (input_parameters.cpp, D290-D294): every kind
+// The declared keys of the `pnc gimp run` input (input_parameters.cpp, D290-D292): every kind
 // of entry refused with the rule its declaration states, unknown keys refused naming the
 // allowed ones and the nearest, the printed template read back gives the reader's defaults,
 // and every example of examples/gimp/ is read by the declarations.
