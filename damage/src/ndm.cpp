@@ -1,6 +1,7 @@
 // NDM kernel: see pnc/damage/ndm.hpp and docs/decisions.md (D1-D8).
 #include "pnc/damage/ndm.hpp"
 
+#include "ndm_internal.hpp"
 #include "pnc/core/error.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -12,6 +13,8 @@
 #include <type_traits>
 
 namespace pnc::damage {
+
+using namespace detail; // the kernel pieces shared with the batched route (ndm_internal.hpp)
 
 // ---------------------------------------------------------------- stiffness
 namespace {
@@ -96,29 +99,17 @@ Matrix6 stiffness_c1_dD(const NdmParameters& p, int mode) {
 }
 
 // ---------------------------------------------------------------- damage function
-namespace {
+// lambda_c, the damage function and the onset margin live in ndm_internal.hpp (shared with
+// the batched route, ndm_batch.cpp, D261).
+namespace detail {
 const double kLambdaC = std::pow(26.0 / 7.0, 1.0 / 6.0);
 // k = 1 / |2 lc^-13 - lc^-7|: makes D(lambda_c) = 0 exactly (decision D4).
 const double kDamageScale = 1.0 / std::abs(2 * std::pow(kLambdaC, -13) - std::pow(kLambdaC, -7));
-} // namespace
+} // namespace detail
 
 double critical_stretch() {
   return kLambdaC;
 }
-
-namespace {
-// D(x) and dD/dx together (docs/theory.md §1.2, decision D4), one division.
-inline void damage_and_slope(double x, double& D, double& dD) {
-  if (!(x > kLambdaC)) {
-    D = dD = 0.0;
-    return;
-  }
-  const double xi = 1.0 / x;
-  const double x2 = xi * xi, x6 = x2 * x2 * x2, x7 = x6 * xi, x8 = x6 * x2;
-  D = 1.0 + kDamageScale * (2 * x7 * x6 - x7);
-  dD = kDamageScale * (-26 * x8 * x6 + 7 * x8);
-}
-} // namespace
 
 double damage_function(double x) {
   double D, dD;
@@ -131,24 +122,6 @@ double damage_function_derivative(double x) {
   damage_and_slope(x, D, dD);
   return dD;
 }
-
-namespace {
-// Damage of a mode at the largest stretch kappa, as integrate() forms it: below
-// `no_damage_below` (alpha lambda_c less a margin that covers the rounding of the division)
-// kappa / alpha <= lambda_c certainly, so D = dD/dx = 0 without dividing; above it,
-// D(kappa / alpha) as printed. Returns true when the mode is below the onset.
-inline bool mode_damage(double kappa, double alpha, double no_damage_below, double& D, double& dD) {
-  if (kappa < no_damage_below) {
-    D = dD = 0.0;
-    return true;
-  }
-  damage_and_slope(kappa / alpha, D, dD);
-  return false;
-}
-double onset_margin(double alpha) {
-  return alpha * kLambdaC * (1.0 - 1e-12);
-}
-} // namespace
 
 double damage_of_kappa(const NdmParameters& p, double kappa, double* slope) {
   double D, dD;
@@ -247,14 +220,6 @@ inline Eigen::Matrix3d right_cauchy_green(const Voigt& v) {
 // Largest principal stretch of F(v): sqrt of the largest eigenvalue of C = F^T F.
 inline double largest_stretch(const Voigt& v) {
   return std::sqrt(largest_eigenvalue(right_cauchy_green(v)));
-}
-// The uncapped mode stretch of D7 with the finite shear term: lambda = e_kk + t + sqrt(1 + t^2)
-// (1 + e_kk in extension; t + sqrt(1 + t^2), the principal stretch of simple shear by
-// gamma = 2t, in shear).
-inline void uncapped_stretch(double ekk, double t, double& lambda, double& dlambda_dt) {
-  const double r = std::sqrt(1.0 + t * t);
-  lambda = ekk + t + r;
-  dlambda_dt = 1.0 + t / r;
 }
 
 // mu > largest eigenvalue of the symmetric e, without the eigenvalue: mu I - e is positive
@@ -363,6 +328,14 @@ Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vecto
   return row;
 }
 } // namespace
+
+void detail::stretch_values(Model m, const Voigt& v, std::array<double, 3>& lambda) {
+  lambda = compute_stretch(m, v).lambda;
+}
+
+double detail::largest_principal_stretch(const Voigt& v) {
+  return largest_stretch(v);
+}
 
 ModeStretch mode_stretches(Model m, const Voigt& v, bool with_derivative) {
   const Stretch s = compute_stretch(m, v);

@@ -1,6 +1,7 @@
 // Constitutive laws of the GIMP solver (materials.hpp). SI units.
 #include "pnc/gimp_coupler/materials.hpp"
 
+#include "pnc/core/error.hpp"
 #include "pnc/fe_material/material.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -10,6 +11,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace pnc::gimp {
 
@@ -22,6 +24,23 @@ void check_jacobian(double J, const char* law) {
   }
 }
 } // namespace
+
+// ---------------------------------------------------------------- many particles (D264)
+void Material::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                           std::size_t stride, Mat3* sigma, double* W) const {
+  std::vector<double> s1(std::max<std::size_t>(stride, 1));
+  for (std::size_t i = 0; i < n; ++i) {
+    double* s = state + i * stride;
+    try {
+      update(F0[i], F1[i], s, s1.data(), sigma[i], W[i]);
+    } catch (const pnc::InputError&) {
+      throw;
+    } catch (const std::exception& ex) {
+      throw PointFailure(i, ex.what());
+    }
+    std::copy(s1.begin(), s1.begin() + static_cast<std::ptrdiff_t>(stride), s);
+  }
+}
 
 // ---------------------------------------------------------------- St Venant-Kirchhoff
 LinearElastic::LinearElastic(double rho0, double E, double nu)
@@ -170,6 +189,101 @@ void DamageLaw::update(const Mat3& F0, const Mat3& F1, const double* s0, double*
   const Mat3 T = from_voigt_stress(sig);
   const Mat3 TU = T * U1;
   sigma = R1 * (0.5 * (TU + TU.transpose())) * R1.transpose() / F1.determinant();
+}
+
+namespace {
+// Scratch of DamageLaw::update_many, one per thread, grown to the largest batch seen: no
+// allocation per particle and none per call once grown.
+struct BatchScratch {
+  std::vector<double> e0, de, st, sig, W;
+  std::vector<int> status;
+  std::vector<Mat3> R1, U1;
+  void resize(std::size_t n, std::size_t ns) {
+    if (e0.size() >= 6 * n && st.size() >= ns * n) return;
+    e0.resize(6 * n);
+    de.resize(6 * n);
+    st.resize(std::max<std::size_t>(ns * n, 1));
+    sig.resize(6 * n);
+    W.resize(n);
+    status.resize(n);
+    R1.resize(n);
+    U1.resize(n);
+  }
+};
+} // namespace
+
+void DamageLaw::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                            std::size_t stride, Mat3* sigma, double* W) const {
+  if (!law_->has_batch()) {
+    Material::update_many(n, F0, F1, state, stride, sigma, W);
+    return;
+  }
+  // The points before the first det F1 <= 0 go through the batch; that point (if any) fails
+  // after them, as in the per-particle loop.
+  std::size_t m = 0;
+  for (; m < n; ++m) {
+    const double J = F1[m].determinant();
+    if (!(J > 0.0) || !std::isfinite(J)) break;
+  }
+  const auto ns = static_cast<std::size_t>(n_state_);
+  thread_local BatchScratch b;
+  b.resize(m, ns);
+  const Mat3 I = Mat3::Identity();
+  for (std::size_t i = 0; i < m; ++i) { // eps = U - I (D32), component blocks of ld = m
+    Mat3 R0, U0;
+    polar_decomposition(F0[i], R0, U0);
+    polar_decomposition(F1[i], b.R1[i], b.U1[i]);
+    const auto e0 = to_voigt_strain(U0 - I);
+    const auto e1 = to_voigt_strain(b.U1[i] - I);
+    for (std::size_t k = 0; k < 6; ++k) {
+      b.e0[k * m + i] = e0[k];
+      b.de[k * m + i] = e1[k] - e0[k];
+    }
+    for (std::size_t k = 0; k < ns; ++k)
+      b.st[k * m + i] = state[i * stride + k];
+  }
+  pnc_material_point_soa v;
+  pnc_material_point_soa_init(&v);
+  v.tangent_request = PNC_MATERIAL_TANGENT_NONE;
+  v.ld = m;
+  v.strain0 = b.e0.data();
+  v.dstrain = b.de.data();
+  v.state0 = b.st.data();
+  v.state1 = b.st.data(); // in place (allowed: state1 == state0)
+  v.stress = b.sig.data();
+  v.stored_energy = b.W.data();
+  v.status = b.status.data();
+  const int rc = m > 0 ? law_->try_integrate_batch(m, &v) : PNC_MATERIAL_OK;
+  if (rc != PNC_MATERIAL_OK && v.n_failed == 0) { // a refused batch: the per-particle loop
+    Material::update_many(n, F0, F1, state, stride, sigma, W);
+    return;
+  }
+  const std::size_t first_bad = v.n_failed > 0 ? v.first_failed : m;
+  for (std::size_t i = 0; i < first_bad; ++i) {
+    for (std::size_t k = 0; k < ns; ++k)
+      state[i * stride + k] = b.st[k * m + i];
+    std::array<double, 6> sg;
+    for (std::size_t k = 0; k < 6; ++k)
+      sg[k] = b.sig[k * m + i];
+    W[i] = b.W[i];
+    // Biot stress T to Cauchy, as update(): sigma = J^-1 R sym(T U) R^T (D32).
+    const Mat3 T = from_voigt_stress(sg);
+    const Mat3 TU = T * b.U1[i];
+    sigma[i] = b.R1[i] * (0.5 * (TU + TU.transpose())) * b.R1[i].transpose() / F1[i].determinant();
+  }
+  if (first_bad < n) { // the first failed point: update() gives its message
+    std::vector<double> s1(std::max<std::size_t>(ns, 1));
+    try {
+      update(F0[first_bad], F1[first_bad], state + first_bad * stride, s1.data(), sigma[first_bad],
+             W[first_bad]);
+    } catch (const pnc::InputError&) {
+      throw;
+    } catch (const std::exception& ex) {
+      throw PointFailure(first_bad, ex.what());
+    }
+    throw PointFailure(first_bad, "damage_card: the batched entry refused this point and the "
+                                  "single-point entry did not");
+  }
 }
 
 } // namespace pnc::gimp

@@ -163,55 +163,76 @@ template <int D> void Solver<D>::update_stress(double dt) {
     const auto [b, e] = block(th, T, n);
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
     std::fill(fi, fi + nn, Vec::Zero());
-    Stencil<D> st;
-    const int stride = P.state_stride;
-    std::vector<double> s1(static_cast<std::size_t>(std::max(stride, 1)));
-    for (std::size_t p = b; p < e; ++p) {
-      assemble_stencil(grid, wcache_[p], st); // weights at x^t from the P2G pass
-      if (nfields_ > 1) apply_fields(p, st);
-      // grad v* = sum v*_i (x) grad S_ip, with scalar accumulators (an Eigen outer-product
-      // temporary here caused store-forwarding stalls that cost half of the 3-D step).
-      double g[D][D] = {};
-      for (int k = 0; k < Stencil<D>::size; ++k) {
-        const Vec& vi = gvs_[st.node[k]];
-        const Vec& dS = st.dS[k];
+    const auto stride = static_cast<std::size_t>(P.state_stride);
+    // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of
+    // one material (Material::update_many, the plugin's batched entry for a damage card), then
+    // the forces in particle order as before.
+    constexpr std::size_t kChunk = 64;
+    std::vector<Stencil<D>> sts(kChunk);
+    std::vector<Mat3> F0(kChunk), F1(kChunk);
+    for (std::size_t c0 = b; c0 < e; c0 += kChunk) {
+      const std::size_t c1 = std::min(e, c0 + kChunk);
+      for (std::size_t p = c0; p < c1; ++p) {
+        Stencil<D>& st = sts[p - c0];
+        assemble_stencil(grid, wcache_[p], st); // weights at x^t from the P2G pass
+        if (nfields_ > 1) apply_fields(p, st);
+        // grad v* = sum v*_i (x) grad S_ip, with scalar accumulators (an Eigen outer-product
+        // temporary here caused store-forwarding stalls that cost half of the 3-D step).
+        double g[D][D] = {};
+        for (int k = 0; k < Stencil<D>::size; ++k) {
+          const Vec& vi = gvs_[st.node[k]];
+          const Vec& dS = st.dS[k];
+          for (int a = 0; a < D; ++a)
+            for (int c = 0; c < D; ++c)
+              g[a][c] += vi[a] * dS[c];
+        }
+        Mat grad;
         for (int a = 0; a < D; ++a)
           for (int c = 0; c < D; ++c)
-            g[a][c] += vi[a] * dS[c];
+            grad(a, c) = g[a][c];
+        F0[p - c0] = to3<D>(P.F[p]);
+        F1[p - c0] = to3<D>(Mat((Mat::Identity() + dt * grad) * P.F[p]));
       }
-      Mat grad;
-      for (int a = 0; a < D; ++a)
-        for (int c = 0; c < D; ++c)
-          grad(a, c) = g[a][c];
-      const Mat Fnew = (Mat::Identity() + dt * grad) * P.F[p];
-      const Material& mt = *materials[static_cast<std::size_t>(P.mat[p])];
-      double* s = P.state.data() + p * static_cast<std::size_t>(stride);
-      try {
-        mt.update(to3<D>(P.F[p]), to3<D>(Fnew), s, s1.data(), P.sigma[p], P.W[p]);
-      } catch (const pnc::InputError&) {
-        throw; // a material that refuses its configuration: the user's input
-      } catch (const std::exception& ex) {
-        // the law cannot take this deformation (det F <= 0, a plugin's failed point): the
-        // simulation failed at this particle, exit code 6
-        pnc::fail_simulation("gimp: particle " + std::to_string(p), steps, time, "s", ex.what());
-      }
-      std::copy(s1.begin(), s1.begin() + stride, s);
-      double sV[D][D]; // V^t
-      for (int a = 0; a < D; ++a)
-        for (int c = 0; c < D; ++c)
-          sV[a][c] = P.sigma[p](a, c) * P.V[p];
-      for (int k = 0; k < Stencil<D>::size; ++k) {
-        const Vec& dS = st.dS[k];
-        Vec& f = fi[st.node[k]];
-        for (int a = 0; a < D; ++a) {
-          double q = 0.0;
-          for (int c = 0; c < D; ++c)
-            q += sV[a][c] * dS[c];
-          f[a] -= q;
+      for (std::size_t r0 = c0; r0 < c1;) {
+        std::size_t r1 = r0 + 1;
+        while (r1 < c1 && P.mat[r1] == P.mat[r0])
+          ++r1;
+        const Material& mt = *materials[static_cast<std::size_t>(P.mat[r0])];
+        try {
+          mt.update_many(r1 - r0, &F0[r0 - c0], &F1[r0 - c0], P.state.data() + r0 * stride, stride,
+                         &P.sigma[r0], &P.W[r0]);
+        } catch (const pnc::InputError&) {
+          throw; // a material that refuses its configuration: the user's input
+        } catch (const PointFailure& ex) {
+          // the law cannot take this deformation (det F <= 0, a plugin's failed point): the
+          // simulation failed at this particle, exit code 6
+          pnc::fail_simulation("gimp: particle " + std::to_string(r0 + ex.index()), steps, time,
+                               "s", ex.what());
+        } catch (const std::exception& ex) {
+          pnc::fail_simulation("gimp: particle " + std::to_string(r0), steps, time, "s", ex.what());
         }
+        r0 = r1;
       }
-      P.F[p] = Fnew;
-      P.V[p] = P.V0[p] * Fnew.determinant();
+      for (std::size_t p = c0; p < c1; ++p) {
+        const Stencil<D>& st = sts[p - c0];
+        double sV[D][D]; // V^t
+        for (int a = 0; a < D; ++a)
+          for (int c = 0; c < D; ++c)
+            sV[a][c] = P.sigma[p](a, c) * P.V[p];
+        for (int k = 0; k < Stencil<D>::size; ++k) {
+          const Vec& dS = st.dS[k];
+          Vec& f = fi[st.node[k]];
+          for (int a = 0; a < D; ++a) {
+            double q = 0.0;
+            for (int c = 0; c < D; ++c)
+              q += sV[a][c] * dS[c];
+            f[a] -= q;
+          }
+        }
+        const Mat Fnew = F1[p - c0].template topLeftCorner<D, D>();
+        P.F[p] = Fnew;
+        P.V[p] = P.V0[p] * Fnew.determinant();
+      }
     }
   });
 }

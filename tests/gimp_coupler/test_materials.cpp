@@ -8,6 +8,10 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
+#include <random>
+#include <string>
+
 using namespace pnc::gimp;
 
 namespace {
@@ -140,4 +144,132 @@ TEST(GimpMaterials, PolarDecomposition) {
   EXPECT_LT((R.transpose() * R - Mat3::Identity()).norm(), 1e-13);
   EXPECT_NEAR(R.determinant(), 1.0, 1e-13);
   EXPECT_LT((U - U.transpose()).norm(), 1e-13);
+}
+
+// Material::update_many (the solver's particle update, D264): a damage card through the
+// plugin's batched entry gives, for every particle, the Cauchy stress and the state of
+// update() bit for bit (the same operations on the same numbers, D261), and the stored
+// energy to the rounding of one 6-term dot product in another order. Points of all three
+// paths (elastic, damaging, unloading), both models, rotated deformations; the default
+// update_many of a law without a batched entry gives the loop's numbers bit for bit.
+namespace {
+std::shared_ptr<const pnc::fe_material::Material> card_law(pnc::damage::Model model) {
+  const auto p = pnc::damage::dissertation_parameters(model);
+  return std::make_shared<const pnc::fe_material::Material>(
+      pnc::fe_material::Material::from_constants(
+          pnc::damage::model_name(model),
+          std::vector<double>(p.k.begin(), p.k.begin() + static_cast<long>(p.size()))));
+}
+} // namespace
+
+TEST(GimpMaterials, UpdateManyEqualsUpdateOnEveryPathAndNamesTheFirstFailedPoint) {
+  std::mt19937 rng(20261203);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto model : {pnc::damage::Model::pp, pnc::damage::Model::pnc}) {
+    auto dm = card_law(model);
+    const DamageLaw dl(1000, dm);
+    const LinearElastic le(1000, 1e9, 0.3);
+    const std::size_t n = 53, ns = static_cast<std::size_t>(dl.n_state()), stride = ns + 1;
+    std::vector<Mat3> F0(n), F1(n);
+    std::vector<double> state(n * stride, -7.0); // the padding entry must stay untouched
+    for (std::size_t i = 0; i < n; ++i) {
+      const Mat3 Q = rot(3.0 * u(rng), Eigen::Vector3d(u(rng), u(rng), 1.0));
+      Mat3 e;
+      e << u(rng), u(rng), u(rng), 0, u(rng), u(rng), 0, 0, u(rng);
+      e = 0.5 * (e + e.transpose());
+      // path by i % 3: small strain (elastic), large (damage growth), large then back to a
+      // quarter of it (unloading from the damaged state of the first step)
+      const double amp = i % 3 == 0 ? 0.004 : 0.35;
+      F0[i] = Q * (Mat3::Identity() + (i % 3 == 2 ? amp : 0.0) * e);
+      F1[i] = Q * (Mat3::Identity() + (i % 3 == 2 ? 0.25 * amp : amp) * e);
+      double* s = state.data() + i * stride;
+      dl.init_state(s);
+      if (i % 3 == 2) { // damage the start state
+        std::vector<double> s1(ns);
+        Mat3 sg;
+        double W;
+        dl.update(Mat3::Identity(), F0[i], s, s1.data(), sg, W);
+        std::copy(s1.begin(), s1.end(), s);
+      }
+    }
+    // reference: update() point by point
+    std::vector<Mat3> sig_ref(n);
+    std::vector<double> W_ref(n), st_ref(state);
+    int damaging = 0, damaged_start = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<double> s1(ns);
+      dl.update(F0[i], F1[i], state.data() + i * stride, s1.data(), sig_ref[i], W_ref[i]);
+      std::copy(s1.begin(), s1.end(), st_ref.begin() + static_cast<long>(i * stride));
+      for (std::size_t k = 0; k < ns; ++k) {
+        damaging += s1[k] != state[i * stride + k];
+        damaged_start += i % 3 == 2 && state[i * stride + k] > 0.0 && k + 1 == ns;
+      }
+    }
+    ASSERT_GT(damaging, 10) << "the large strains must grow damage";
+    ASSERT_GT(damaged_start, 0);
+    std::vector<Mat3> sig(n);
+    std::vector<double> W(n), st(state);
+    dl.update_many(n, F0.data(), F1.data(), st.data(), stride, sig.data(), W.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(sig[i], sig_ref[i]) << "point " << i;
+      // W = 1/2 T . eps in the batch's summation order: bound 8 u sum |T_k eps_k| / 2
+      std::array<double, 6> e0{}, de{}, T{};
+      Mat3 R, U0, U1;
+      polar_decomposition(F0[i], R, U0);
+      polar_decomposition(F1[i], R, U1);
+      const auto a0 = to_voigt_strain(U0 - Mat3::Identity());
+      const auto a1 = to_voigt_strain(U1 - Mat3::Identity());
+      for (int k = 0; k < 6; ++k) {
+        e0[static_cast<std::size_t>(k)] = a0[static_cast<std::size_t>(k)];
+        de[static_cast<std::size_t>(k)] =
+            a1[static_cast<std::size_t>(k)] - a0[static_cast<std::size_t>(k)];
+      }
+      std::vector<double> s1(ns);
+      dm->integrate2(state.data() + i * stride, s1.data(), e0.data(), de.data(), T.data(), nullptr,
+                     PNC_MATERIAL_TANGENT_NONE);
+      double mag = 0.0;
+      for (std::size_t k = 0; k < 6; ++k)
+        mag += std::abs(T[k] * a1[k]);
+      EXPECT_LE(std::abs(W[i] - W_ref[i]), 8 * std::numeric_limits<double>::epsilon() * 0.5 * mag)
+          << "point " << i;
+    }
+    EXPECT_EQ(st, st_ref); // state bit for bit, padding untouched
+
+    // a particle that fails (det F <= 0) and a later one: the first is named, with the
+    // message of update(), and the particles before it are written
+    std::vector<Mat3> G1(F1);
+    G1[17] = -F1[17];
+    G1[30](0, 0) = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> st2(state);
+    std::vector<Mat3> sig2(n);
+    std::vector<double> W2(n);
+    std::string single;
+    try {
+      std::vector<double> s1(ns);
+      Mat3 sg;
+      double w;
+      dl.update(F0[17], G1[17], state.data() + 17 * stride, s1.data(), sg, w);
+    } catch (const std::exception& ex) {
+      single = ex.what();
+    }
+    ASSERT_FALSE(single.empty());
+    try {
+      dl.update_many(n, F0.data(), G1.data(), st2.data(), stride, sig2.data(), W2.data());
+      ADD_FAILURE() << "no PointFailure";
+    } catch (const PointFailure& ex) {
+      EXPECT_EQ(ex.index(), 17u);
+      EXPECT_EQ(std::string(ex.what()), single);
+    }
+    for (std::size_t i = 0; i < 17; ++i)
+      EXPECT_EQ(sig2[i], sig_ref[i]) << "point " << i;
+
+    // the default loop (a law without a batched entry) is update() bit for bit
+    std::vector<Mat3> sl(n), sl_ref(n);
+    std::vector<double> Wl(n), Wl_ref(n);
+    for (std::size_t i = 0; i < n; ++i)
+      le.update(F0[i], F1[i], nullptr, nullptr, sl_ref[i], Wl_ref[i]);
+    le.update_many(n, F0.data(), F1.data(), nullptr, 0, sl.data(), Wl.data());
+    EXPECT_EQ(sl, sl_ref);
+    EXPECT_EQ(Wl, Wl_ref);
+  }
 }

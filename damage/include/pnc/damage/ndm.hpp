@@ -224,6 +224,46 @@ Status integrate_row_major(const PreparedNdm& q, const NdmState& s0, NdmState& s
                            double* K_row_major, ErrorBuffer& err,
                            TangentKind kind = TangentKind::consistent, NdmEnergy* energy = nullptr);
 
+/// A batch of points in structure-of-arrays layout, the view behind the plugin's
+/// pnc_material_integrate_batch (decisions D260, D261). Every array is a block of components,
+/// component k of point i at [k * ld + i] (ld >= n): eps0, deps and sigma 6 x ld (Voigt order,
+/// engineering shear strain; stress in the units of the constants), state0 and state1
+/// state_size(model) x ld in the flat order of state_to_array(), K 36 x ld with entry (r, c) of
+/// the row-major tangent d sigma_r / d eps_c at [(6 r + c) ld + i]. stored, dissipated
+/// (energy densities, NdmEnergy) and status hold n entries. Optional outputs are null.
+/// state1 may be state0 (the same block); no other arrays may overlap.
+struct NdmBatch {
+  std::size_t n = 0;
+  std::size_t ld = 0;
+  const double* eps0 = nullptr;
+  const double* deps = nullptr;
+  const double* state0 = nullptr;
+  double* state1 = nullptr;
+  double* sigma = nullptr;
+  double* K = nullptr; ///< required unless kind is none
+  double* stored = nullptr;
+  double* dissipated = nullptr;
+  int* status = nullptr; ///< per point: Status::ok (0) or Status::bad_input (1)
+  TangentKind kind = TangentKind::none;
+};
+
+/// What one integrate_batch() call did: points per path (D261) and the first failure.
+struct NdmBatchStats {
+  std::size_t elastic = 0;   ///< every mode below the damage onset: sigma = C0g eps
+  std::size_t unloading = 0; ///< damaged, no damage growth: sigma = (C0g + sum D dC1g) eps
+  std::size_t kernel = 0; ///< through integrate_row_major() (damage growth, capped stretches, pp)
+  std::size_t failed = 0; ///< non-finite input or result: nothing of the point written
+  std::size_t first_failed = 0; ///< index of the first failed point (n when none failed)
+};
+
+/// Integrates every point of b with prepared parameters: for each point the same numbers, bit
+/// for bit, as integrate_row_major() with the same kind (energies: see D261), and the same
+/// points fail (a non-finite strain, state or result). A failed point gets status bad_input
+/// and nothing else written; the others are computed. No allocation; the points are taken in
+/// chunks, grouped by path: elastic and unloading points in loops over the chunk that the
+/// compiler vectorises, the rest one by one through the kernel's routine.
+NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b);
+
 /// Damage of one mode at the largest stretch kappa, as integrate() computes it: 0 up to the
 /// onset kappa = alpha lambda_c, D(kappa / alpha) beyond; `slope` (if not null) receives
 /// dD/dkappa (1/stretch). Dimensionless.

@@ -20,6 +20,13 @@
 //   double onset = mat.property("damage_onset_stretch");
 //   int k2 = mat.state_index("kappa2");
 //
+//   // ABI 1.2: n points in one call, structure of arrays (component k of point i at k*ld + i)
+//   pnc_material_point_soa b;
+//   pnc_material_point_soa_init(&b);
+//   b.ld = n; b.strain0 = e0.data(); b.dstrain = de.data(); b.state0 = b.state1 = st.data();
+//   b.stress = sig.data();                          // 6*n, 6*n, n_state*n, 6*n doubles
+//   mat.integrate_batch(n, b);                      // throws, naming the first failed point
+//
 // Units and Voigt order as in pnc_material.h: Pa, 11,22,33,23,13,12, engineering shear
 // strain. A Material is move-only; integrate() is const and may be called from many threads
 // on one Material. A Material made by a Plugin keeps the plugin loaded while it exists.
@@ -87,6 +94,8 @@ struct Api {
   pnc_material_state_index_fn state_index = nullptr;
   pnc_material_model_n_constants_fn model_n_constants = nullptr;
   pnc_material_model_constant_name_fn model_constant_name = nullptr;
+  // ABI 1.2 (null for a plugin older than minor 2; integrate_batch() then throws)
+  pnc_material_integrate_batch_fn integrate_batch = nullptr;
   /// All of ABI 1.1 is there.
   bool has_v2() const noexcept {
     return abi_version_minor && integrate2 && property && n_properties && property_name &&
@@ -377,6 +386,43 @@ public:
                   "': not a state variable of model " + model());
     return i;
   }
+  // ---- ABI 1.2: the batched entry (pnc_material_point_soa; docs/plugin.md "ABI 1.2").
+
+  /// Whether the plugin has the batched entry (ABI 1.2 or newer).
+  bool has_batch() const noexcept { return api().integrate_batch != nullptr; }
+
+  /// n points in one call, no exceptions: the caller fills *batch (pnc_material_point_soa_init,
+  /// ld, the blocks, tangent_request) and gets the status, per-point status and message there.
+  int try_integrate_batch(std::size_t n, pnc_material_point_soa* batch) const noexcept {
+    if (!api().integrate_batch) {
+      if (batch && batch->size >= sizeof(pnc_material_point_soa))
+        detail_copy(batch->err, batch->err_len,
+                    "pnc_material_integrate_batch is missing: the plugin predates ABI 1.2");
+      return PNC_MATERIAL_INTERNAL;
+    }
+    return api().integrate_batch(m_, n, batch);
+  }
+  /// The same; throws Error (naming the first failed point, the field, the value and the rule)
+  /// when any point fails. The points that did not fail are computed and written all the same.
+  void integrate_batch(std::size_t n, pnc_material_point_soa& batch) const {
+    if (!lib_->api.integrate_batch)
+      throw Error("pnc::fe_material: '" + lib_->path +
+                  "': symbol 'pnc_material_integrate_batch' is missing: the plugin predates ABI " +
+                  std::to_string(PNC_MATERIAL_ABI_VERSION) + ".2; use a newer libpnc_material");
+    char err[768] = {0};
+    char* const user_err = batch.err;
+    const std::size_t user_len = batch.err_len;
+    if (!user_err) {
+      batch.err = err;
+      batch.err_len = sizeof err;
+    }
+    const int st = api().integrate_batch(m_, n, &batch);
+    const std::string msg = batch.err ? batch.err : "";
+    batch.err = user_err;
+    batch.err_len = user_len;
+    if (st != PNC_MATERIAL_OK) throw Error(msg, st);
+  }
+
   /// The constant names of a model, in the order from_constants() takes (linked library).
   static std::vector<std::string> model_constant_names(const std::string& model) {
     return detail::model_constant_names(*linked(), model);
@@ -443,6 +489,7 @@ private:
     a.state_index = &pnc_material_state_index;
     a.model_n_constants = &pnc_material_model_n_constants;
     a.model_constant_name = &pnc_material_model_constant_name;
+    a.integrate_batch = &pnc_material_integrate_batch;
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
@@ -522,6 +569,7 @@ public:
     resolve_optional(*lib, "pnc_material_state_index", a.state_index);
     resolve_optional(*lib, "pnc_material_model_n_constants", a.model_n_constants);
     resolve_optional(*lib, "pnc_material_model_constant_name", a.model_constant_name);
+    resolve_optional(*lib, "pnc_material_integrate_batch", a.integrate_batch);
     lib_ = std::move(lib);
   }
 

@@ -38,9 +38,10 @@
  * the symbols added in MINOR carry the symbol version PNC_MATERIAL_MAJOR.MINOR.
  * 1.0: the first ABI (pnc_material_integrate, the queries, UMAT PROPS metadata).
  * 1.1: the v2 point interface (pnc_material_point, pnc_material_integrate2), property and
- *      state-index queries. */
+ *      state-index queries.
+ * 1.2: the batched entry (pnc_material_point_soa, pnc_material_integrate_batch). */
 #define PNC_MATERIAL_ABI_VERSION 1
-#define PNC_MATERIAL_ABI_VERSION_MINOR 1
+#define PNC_MATERIAL_ABI_VERSION_MINOR 2
 
 #if defined(_WIN32)
 #if defined(PNC_MATERIAL_BUILDING)
@@ -286,6 +287,92 @@ PNC_MATERIAL_API int pnc_material_state_index(const pnc_material* m, const char*
 PNC_MATERIAL_API int pnc_material_model_n_constants(const char* model);
 PNC_MATERIAL_API const char* pnc_material_model_constant_name(const char* model, int i);
 
+/* ======================================================================================
+ * ABI 1.2: the batched entry (docs/plugin.md "ABI 1.2"). Many points of one material in one
+ * call, in structure-of-arrays layout, in the spirit of MGIS's batch integration.
+ * ====================================================================================== */
+
+/* The version of the layout below; the layout only ever grows at the end. */
+#define PNC_MATERIAL_POINT_SOA_VERSION 1
+
+/* n points and one increment each: inputs, outputs and the error buffer of
+ * pnc_material_integrate_batch(). The caller owns the struct and every array; the library
+ * keeps no pointer after the call returns and allocates nothing per point.
+ *
+ * Layout: every array is a block of components, component k of point i at [k * ld + i]
+ * (ld >= n, in doubles: a dense block has ld = n; a host may keep blocks for a larger
+ * capacity and integrate the first n points). Units and Voigt order as in
+ * pnc_material_integrate(): 11, 22, 33, 23, 13, 12, engineering shear strain, stress in Pa.
+ *   strain0, dstrain  6 x ld (in)      total strain at the start and its increment
+ *   state0            n_state x ld (in) state variable s of point i at [s * ld + i], in the
+ *                                       order of pnc_material_state_name()
+ *   state1            n_state x ld (out) the end state; may be the same block as state0
+ *   stress            6 x ld (out), Pa
+ *   tangent           36 x ld (out), Pa: ONE block in which entry (r, c) of the row-major
+ *                     6x6 tangent of pnc_material_point (d sigma_r / d eps_c) is component
+ *                     6 r + c: tangent[(6 r + c) * ld + i]. NULL only with TANGENT_NONE.
+ *   stored_energy, dissipated_energy   n entries each (out, J/m^3, as in
+ *                     pnc_material_point), or NULL when not wanted
+ *   status            n entries (out): PNC_MATERIAL_OK or PNC_MATERIAL_BAD_INPUT per point,
+ *                     or NULL
+ * No two arrays may overlap, except state1 == state0 exactly.
+ *
+ * Set size = sizeof(pnc_material_point_soa) and version = PNC_MATERIAL_POINT_SOA_VERSION (or
+ * call pnc_material_point_soa_init()). As for pnc_material_point, the library reads and writes
+ * only the first `size` bytes: a smaller struct from an older header is accepted as long as it
+ * reaches `tangent` (missing trailing fields are neither read nor written: no status array, no
+ * energies, no message); a newer version is refused (PNC_MATERIAL_BAD_ARGUMENT). */
+typedef struct pnc_material_point_soa {
+  uint32_t size;             /* bytes of this struct as the caller compiled it */
+  uint32_t version;          /* PNC_MATERIAL_POINT_SOA_VERSION of the caller's header */
+  double dt;                 /* time increment of every point, s: finite and >= 0 (unused by
+                                the rate-independent law otherwise) */
+  int tangent_request;       /* PNC_MATERIAL_TANGENT_* for every point */
+  size_t ld;                 /* leading dimension of every block, in doubles (>= n) */
+  const double* strain0;     /* 6 x ld (in) */
+  const double* dstrain;     /* 6 x ld (in) */
+  const double* state0;      /* n_state x ld (in) */
+  double* state1;            /* n_state x ld (out; may be state0) */
+  double* stress;            /* 6 x ld (out), Pa */
+  double* tangent;           /* 36 x ld (out), Pa; NULL only with TANGENT_NONE */
+  int* status;               /* n (out) or NULL */
+  double* stored_energy;     /* n (out, J/m^3) or NULL */
+  double* dissipated_energy; /* n (out, J/m^3) or NULL */
+  size_t n_failed;           /* out: how many points failed */
+  size_t first_failed;       /* out: index of the first failed point (n when none) */
+  char* err;                 /* caller's buffer for one NUL-terminated message, or NULL */
+  size_t err_len;            /* bytes of err (0 for none) */
+} pnc_material_point_soa;
+
+/* Zeroes a batch view and sets size and version for this header. */
+static inline void pnc_material_point_soa_init(pnc_material_point_soa* batch) {
+  size_t i;
+  unsigned char* b = (unsigned char*)batch;
+  for (i = 0; i < sizeof *batch; ++i)
+    b[i] = 0;
+  batch->size = (uint32_t)sizeof *batch;
+  batch->version = PNC_MATERIAL_POINT_SOA_VERSION;
+}
+
+/* Integrates the law over one increment at each of the n points of *batch: for every point
+ * the numbers pnc_material_integrate2() gives for the same arrays and tangent_request (stress,
+ * state and tangent bit for bit; energies to the last bits, docs/plugin.md), and the same
+ * points fail. n = 0 is allowed (the arrays may then be NULL).
+ * Returns PNC_MATERIAL_OK when every point succeeded, or:
+ *  PNC_MATERIAL_BAD_ARGUMENT: NULL material or batch, a size smaller than the fields up to
+ *    `tangent`, an unknown version or tangent_request, ld < n, a NULL array that is required;
+ *    nothing but err is written;
+ *  PNC_MATERIAL_BAD_INPUT: a non-finite or negative dt (nothing but err is written), or one or
+ *    more points failed (a non-finite strain or state, or a non-finite result). A failed point
+ *    gets status PNC_MATERIAL_BAD_INPUT and nothing else written; every other point is computed
+ *    and written. n_failed counts them, first_failed is the first, and err names it (index,
+ *    field, value, rule);
+ *  PNC_MATERIAL_INTERNAL: an unexpected failure (outputs unspecified).
+ * Thread safety as for pnc_material_integrate2(): many batches of one material may run at
+ * once (on disjoint arrays). */
+PNC_MATERIAL_API int pnc_material_integrate_batch(const pnc_material* m, size_t n,
+                                                  pnc_material_point_soa* batch);
+
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
 typedef pnc_material* (*pnc_material_create_fn)(const char*, char*, size_t);
@@ -320,6 +407,9 @@ typedef int (*pnc_material_damage_stiffness_fn)(const pnc_material*, int, double
 typedef int (*pnc_material_state_index_fn)(const pnc_material*, const char*);
 typedef int (*pnc_material_model_n_constants_fn)(const char*);
 typedef const char* (*pnc_material_model_constant_name_fn)(const char*, int);
+/* ABI 1.2 */
+typedef int (*pnc_material_integrate_batch_fn)(const pnc_material*, size_t,
+                                               pnc_material_point_soa*);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -22,7 +22,9 @@
 #include <Eigen/Dense>
 
 #include <array>
+#include <cstddef>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +36,17 @@ class Material;
 namespace pnc::gimp {
 
 using Mat3 = Eigen::Matrix3d;
+
+/// The law failed at point `index` of an update_many() call; what() is update()'s message.
+class PointFailure : public std::runtime_error {
+public:
+  PointFailure(std::size_t index, const std::string& what)
+      : std::runtime_error(what), index_(index) {}
+  std::size_t index() const noexcept { return index_; }
+
+private:
+  std::size_t index_;
+};
 
 class Material {
 public:
@@ -49,6 +62,13 @@ public:
   /// reference volume). Throws std::runtime_error if the law fails (e.g. det F <= 0).
   virtual void update(const Mat3& F0, const Mat3& F1, const double* s0, double* s1, Mat3& sigma,
                       double& W) const = 0;
+  /// update() for n particles at once (decision D264): point i has F0[i], F1[i], its state at
+  /// state + i * stride (n_state() doubles, read as s0 and overwritten with s1 in place) and
+  /// writes sigma[i] (Pa) and W[i] (J/m^3). The same numbers as n update() calls. A point the
+  /// law cannot take throws PointFailure with its index (the points before it are written,
+  /// the rest unspecified); InputError passes through. The default is the loop over update().
+  virtual void update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                           std::size_t stride, Mat3* sigma, double* W) const;
   /// Small-strain dilatational wave speed sqrt(M / rho0), M the largest diagonal stiffness
   /// (m/s); the CFL time step uses it.
   virtual double wave_speed() const = 0;
@@ -113,6 +133,11 @@ public:
   void init_state(double* s) const override;
   void update(const Mat3& F0, const Mat3& F1, const double* s0, double* s1, Mat3& sigma,
               double& W) const override;
+  /// Through the plugin's batched entry (ABI 1.2, pnc_material_integrate_batch; D264) when the
+  /// plugin has it, the per-particle loop otherwise. Stress and state equal update()'s bit for
+  /// bit; W to the last bits (the batched energies, D261).
+  void update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state, std::size_t stride,
+                   Mat3* sigma, double* W) const override;
   double wave_speed() const override { return c_; }
   double youngs_modulus() const override;
   double poisson_ratio() const override;

@@ -1,0 +1,459 @@
+// The batched route of the NDM kernel (pnc/damage/ndm.hpp integrate_batch, decisions D260,
+// D261). Points are taken in chunks of kChunk; within a chunk every pass is a loop over the
+// points with the components in separate arrays (structure of arrays), written without
+// branches on per-point data so that the compiler vectorises it:
+//  1. eps = eps0 + deps, the platelet-frame strain el = T eps, the finiteness of the inputs;
+//  2. the mode stretches of D7 (pnc; pp through the kernel's own function, point by point);
+//  3. kappa1, D1 and the path of each point: elastic (every mode below the onset), unloading
+//     (no mode with damage growth) or kernel (damage growth, a stretch whose cap may bind);
+//  4. sigma = C0g eps for the chunk, sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
+//     points gathered into a compact block, integrate_row_major() for the kernel points;
+//  5. the result check and the writes to the caller's arrays.
+// Every expression is the one integrate_impl() (ndm.cpp) evaluates, in the same order, so the
+// numbers are the same bit for bit (the test FeMaterialBatch.* checks it); the shared pieces
+// come from ndm_internal.hpp.
+#include "ndm_internal.hpp"
+#include "pnc/damage/ndm.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+
+namespace pnc::damage {
+
+namespace {
+
+using detail::damage_and_slope;
+
+constexpr std::size_t kChunk = 32;
+constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0; // Chunk::path
+
+// Scratch of one chunk (about 12 KB on the stack; no allocation).
+struct Chunk {
+  double eps[6][kChunk]; // global strain at the end
+  double el[6][kChunk];  // platelet-frame strain (a copy of eps without rotation)
+  double s0[6][kChunk];  // state at the start (flat layout)
+  double lam[3][kChunk]; // mode stretches
+  double kap[3][kChunk]; // kappa at the end
+  double D[3][kChunk];   // damage at the end
+  double sig[6][kChunk]; // stress at the end
+  double stored[kChunk]; // energies
+  double diss[kChunk];
+  double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
+  // Path (kElastic, kUnloading, kKernel) and "the fast stretch is not decidable" as doubles:
+  // the loops that set them then hold one element type, which the vectoriser needs.
+  double path[kChunk];
+  double scalar_stretch[kChunk];
+};
+
+// x * 0 is 0 for finite x and NaN otherwise: a branch-free finiteness accumulator.
+inline double nf(double x) {
+  return x * 0.0;
+}
+
+// 0.5 sigma . eps in the order of Eigen's 6-vector dot (the kernel's 0.5 * sigma.dot(eps))
+// with SSE2 packets: pairs (0, 1), (2, 3), (4, 5), reduced as p0 + (p1 + p2), then lane 0 +
+// lane 1.
+inline double half_dot(const double (&s)[6][kChunk], const double (&e)[6][kChunk], std::size_t i) {
+  const double l0 = s[0][i] * e[0][i] + (s[2][i] * e[2][i] + s[4][i] * e[4][i]);
+  const double l1 = s[1][i] * e[1][i] + (s[3][i] * e[3][i] + s[5][i] * e[5][i]);
+  return 0.5 * (l0 + l1);
+}
+
+// Pass 1: strains, rotation and input finiteness of points [0, m) of the chunk at `base`.
+void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t m, int ns,
+          Chunk& c) {
+  for (int k = 0; k < 6; ++k) {
+    const double* __restrict a = b.eps0 + static_cast<std::size_t>(k) * b.ld + base;
+    const double* __restrict d = b.deps + static_cast<std::size_t>(k) * b.ld + base;
+    double* __restrict e = c.eps[k];
+    double* __restrict bad = c.bad;
+    for (std::size_t i = 0; i < m; ++i) {
+      e[i] = a[i] + d[i];
+      bad[i] += nf(a[i]) + nf(d[i]) + nf(e[i]);
+    }
+  }
+  for (int k = 0; k < ns; ++k) {
+    const double* __restrict s = b.state0 + static_cast<std::size_t>(k) * b.ld + base;
+    double* __restrict o = c.s0[k];
+    double* __restrict bad = c.bad;
+    for (std::size_t i = 0; i < m; ++i) {
+      o[i] = s[i];
+      bad[i] += nf(s[i]);
+    }
+  }
+  if (!q.rotated) {
+    std::memcpy(c.el, c.eps, sizeof c.el);
+    return;
+  }
+  // el = T eps as the kernel's times(T): columns 1, 2, 6 only for a plane strain, else the
+  // full product, summed in column order.
+  const Matrix6& T = q.T;
+  for (int r = 0; r < 6; ++r) {
+    const double t0 = T(r, 0), t1 = T(r, 1), t2 = T(r, 2), t3 = T(r, 3), t4 = T(r, 4), t5 = T(r, 5);
+    double* __restrict o = c.el[r];
+    for (std::size_t i = 0; i < m; ++i) {
+      const double e0 = c.eps[0][i], e1 = c.eps[1][i], e2 = c.eps[2][i], e3 = c.eps[3][i],
+                   e4 = c.eps[4][i], e5 = c.eps[5][i];
+      const bool plane = e2 == 0.0 && e3 == 0.0 && e4 == 0.0;
+      const double full = t0 * e0 + t1 * e1 + t2 * e2 + t3 * e3 + t4 * e4 + t5 * e5;
+      const double pl = t0 * e0 + t1 * e1 + t5 * e5;
+      o[i] = plane ? pl : full;
+    }
+  }
+}
+
+// Is the kernel's cap test (Sylvester's criterion that mu I - C is positive definite, C =
+// F^T F of D6) certainly false? The leading minors are formed here in an order of our own;
+// each differs from the kernel's by a few roundings of terms of size M^k, far below the
+// margin 1e-10 M^k, so a minor beyond the margin has the kernel's sign. Anything closer (a
+// tie, a non-finite value) is left to the kernel: returns false.
+inline bool surely_not_capped(double v0, double v1, double v2, double v3, double v4, double v5,
+                              double mu) {
+  const double f00 = 1.0 + v0, f11 = 1.0 + v1, f22 = 1.0 + v2;
+  const double c00 = f00 * f00, c01 = f00 * v5, c02 = f00 * v4;
+  const double c11 = v5 * v5 + f11 * f11, c12 = v5 * v4 + f11 * v3;
+  const double c22 = v4 * v4 + v3 * v3 + f22 * f22;
+  const double a = mu - c00, bb = mu - c11, cc = mu - c22;
+  const double m1 = a, m2 = a * bb - c01 * c01;
+  const double m3 =
+      a * (bb * cc - c12 * c12) - cc * c01 * c01 - bb * c02 * c02 - 2.0 * c01 * c02 * c12;
+  const double M = std::max(std::max(std::abs(mu), c00), std::max(c11, c22));
+  const double t1 = 1e-10 * M, t2 = t1 * M, t3 = t2 * M;
+  // (bitwise & and |: no branches, so that the loop over points vectorises)
+  const bool first_pos = m1 > t1, second_pos = m2 > t2;
+  return (m1 < -t1) | (first_pos & (m2 < -t2)) | (first_pos & second_pos & (m3 < -t3));
+}
+
+// The uncapped stretch of one mode of a general strain as general_stretch() forms it (t_k
+// without a square root when one shear is 0); true when the cap certainly does not bind, so
+// that it is the mode's stretch (else the kernel path decides). ekk, ea, eb: e_kk, e_ka, e_kb.
+inline bool general_mode(double ekk, double ea, double eb, double v0, double v1, double v2,
+                         double v3, double v4, double v5, double& un) {
+  const double root = std::sqrt(ea * ea + eb * eb);
+  const double sh_b = ea == 0.0 ? std::abs(eb) : root;
+  const double sh = eb == 0.0 ? std::abs(ea) : sh_b;
+  double g;
+  detail::uncapped_stretch(ekk, sh, un, g);
+  return !(un > 0.0) | surely_not_capped(v0, v1, v2, v3, v4, v5, un * un);
+}
+
+// Pass 2 (pnc): the mode stretches of D7 as compute_stretch() forms them. Block-diagonal
+// strains (g23 = g13 = 0) in closed form; general strains with the uncapped stretch where the
+// cap certainly does not bind, the kernel path otherwise.
+void pnc_stretches(std::size_t m, Chunk& c) {
+  for (std::size_t i = 0; i < m; ++i) {
+    const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i],
+                 v4 = c.el[4][i], v5 = c.el[5][i];
+    // block-diagonal (compute_stretch's closed form)
+    const double p = 1.0 + v0, qq = v5, r = 1.0 + v1;
+    const double smax =
+        0.5 * (std::sqrt((p + r) * (p + r) + qq * qq) + std::sqrt((p - r) * (p - r) + qq * qq));
+    const double lmax = std::max(1.0 + v2, smax);
+    const double t = 0.5 * std::abs(qq);
+    double u0, u1, g;
+    detail::uncapped_stretch(v0, t, u0, g);
+    detail::uncapped_stretch(v1, t, u1, g);
+    const double b0 = std::min(u0, lmax), b1 = std::min(u1, lmax), b2 = 1.0 + v2;
+    // general (general_stretch(), the cap by Sylvester's criterion)
+    const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
+    // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
+    double gl[3];
+    const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
+    const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
+    const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
+    const bool sure = s0 & s1 & s2;
+    const bool block = v3 == 0.0 && v4 == 0.0;
+    c.lam[0][i] = block ? b0 : gl[0];
+    c.lam[1][i] = block ? b1 : gl[1];
+    c.lam[2][i] = block ? b2 : gl[2];
+    c.scalar_stretch[i] = (!block & !sure) ? 1.0 : 0.0;
+  }
+}
+
+// Pass 2b: the stretches the closed forms above do not settle (pnc: a general strain whose cap
+// may bind; pp: every point), through the kernel's own function, point by point: lambda_max
+// of a general strain is the closed-form cubic with acos and cos, which has no vector form
+// with the same rounding.
+void scalar_stretches(Model model, std::size_t m, Chunk& c) {
+  for (std::size_t i = 0; i < m; ++i) {
+    if (model == Model::pnc && c.scalar_stretch[i] == 0.0) continue;
+    Voigt v;
+    for (int k = 0; k < 6; ++k)
+      v[k] = c.el[k][i];
+    std::array<double, 3> lam;
+    detail::stretch_values(model, v, lam);
+    for (int k = 0; k < 3; ++k)
+      c.lam[k][i] = lam[static_cast<std::size_t>(k)];
+  }
+}
+
+// Pass 3: kappa1 and D1 of every mode, and the path. A mode with damage growth (loading and
+// dD != 0) needs the growth term of the tangent and dissipates: kernel path. Without growth,
+// D1 = D0 for every mode (a mode that does not load keeps kappa; one that loads below the
+// onset has D0 = D1 = 0), so the dissipated energy is 0 exactly.
+template <int N> void classify(const PreparedNdm& q, std::size_t m, Chunk& c) {
+  const double alpha = q.p.alpha();
+  const double ndb = detail::onset_margin(alpha);
+  for (std::size_t i = 0; i < m; ++i) {
+    double below = 1.0, grow = 0.0;
+    for (int k = 0; k < N; ++k) {
+      const double lam = c.lam[k][i], k0 = c.s0[k][i];
+      const bool loading = lam > k0;
+      const double k1 = loading ? lam : k0;
+      const bool under = k1 < ndb; // mode_damage(), without its branch
+      double D, dD;
+      damage_and_slope(k1 / alpha, D, dD);
+      D = under ? 0.0 : D;
+      dD = under ? 0.0 : dD;
+      c.kap[k][i] = k1;
+      c.D[k][i] = D;
+      below = under ? below : 0.0;
+      const double growth = loading ? dD : 0.0; // dD of a loading mode
+      grow = growth != 0.0 ? 1.0 : grow;
+    }
+    const double path = below != 0.0 ? kElastic : kUnloading;
+    c.path[i] = grow != 0.0 ? kKernel : path;
+  }
+}
+
+// sigma = A eps as the kernel's times(A) (see load()).
+inline double row_times(const double* a, double e0, double e1, double e2, double e3, double e4,
+                        double e5) {
+  const bool plane = e2 == 0.0 && e3 == 0.0 && e4 == 0.0;
+  const double full = a[0] * e0 + a[1] * e1 + a[2] * e2 + a[3] * e3 + a[4] * e4 + a[5] * e5;
+  const double pl = a[0] * e0 + a[1] * e1 + a[5] * e5;
+  return plane ? pl : full;
+}
+
+// The secant stiffness entry (r, c) of a point as the kernel forms Cd: C0g, plus D_m dC1g_m
+// for every mode with D_m != 0, in mode order.
+inline double secant_entry(const PreparedNdm& q, int r, int col, int n, const double* D) {
+  double x = q.C0g(r, col);
+  for (int k = 0; k < n; ++k) {
+    const double y = x + D[k] * q.dC1g[static_cast<std::size_t>(k)](r, col);
+    x = D[k] != 0.0 ? y : x;
+  }
+  return x;
+}
+
+// Pass 4a: sigma = C0g eps for every point of the chunk (the elastic path; the others are
+// overwritten below), with the stored energy.
+void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
+  for (int r = 0; r < 6; ++r) {
+    double a[6];
+    for (int j = 0; j < 6; ++j)
+      a[j] = q.C0g(r, j);
+    double* __restrict o = c.sig[r];
+    for (std::size_t i = 0; i < m; ++i)
+      o[i] = row_times(a, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
+                       c.eps[5][i]);
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    c.stored[i] = half_dot(c.sig, c.eps, i);
+    c.diss[i] = 0.0;
+  }
+}
+
+// Pass 4b: the unloading points, gathered into a compact block: sigma = Cd eps, Cd formed
+// entry by entry as the kernel does. idx lists the points (u of them).
+template <int N>
+void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t u, Chunk& c) {
+  constexpr int n = N;
+  double e[6][kChunk], D[3][kChunk], s[6][kChunk], bad[kChunk];
+  for (std::size_t j = 0; j < u; ++j) {
+    for (int k = 0; k < 6; ++k)
+      e[k][j] = c.eps[k][idx[j]];
+    for (int k = 0; k < 3; ++k)
+      D[k][j] = k < n ? c.D[k][idx[j]] : 0.0;
+    bad[j] = 0.0;
+  }
+  for (int r = 0; r < 6; ++r) {
+    double a[6], d[3][6];
+    for (int col = 0; col < 6; ++col) {
+      a[col] = q.C0g(r, col);
+      for (int k = 0; k < 3; ++k)
+        d[k][col] = q.dC1g[static_cast<std::size_t>(k)](r, col);
+    }
+    for (std::size_t j = 0; j < u; ++j) {
+      double row[6];
+      for (int col = 0; col < 6; ++col) {
+        double x = a[col];
+        for (int k = 0; k < n; ++k) {
+          const double y = x + D[k][j] * d[k][col];
+          x = D[k][j] != 0.0 ? y : x;
+        }
+        row[col] = x;
+        bad[j] += nf(x); // a tangent entry: finite unless the constants overflow
+      }
+      s[r][j] = row_times(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
+    }
+  }
+  for (std::size_t j = 0; j < u; ++j) {
+    for (int k = 0; k < 6; ++k)
+      c.sig[k][idx[j]] = s[k][j];
+    c.bad[idx[j]] += bad[j];
+    c.stored[idx[j]] = half_dot(c.sig, c.eps, idx[j]);
+  }
+}
+
+// Pass 4c: a kernel point through integrate_row_major(); its tangent into K36.
+void kernel_point(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t i, int ns,
+                  Chunk& c, double* K36) {
+  double e0[6], de[6], flat[6], sig[6];
+  for (int k = 0; k < 6; ++k) {
+    e0[k] = b.eps0[static_cast<std::size_t>(k) * b.ld + base + i];
+    de[k] = b.deps[static_cast<std::size_t>(k) * b.ld + base + i];
+  }
+  for (int k = 0; k < ns; ++k)
+    flat[k] = c.s0[k][i];
+  const Model model = q.p.model;
+  const NdmState s0 = state_from_array(model, flat);
+  NdmState s1;
+  NdmEnergy energy;
+  ErrorBuffer err;
+  const Status st = integrate_row_major(q, s0, s1, e0, de, sig, K36, err, b.kind, &energy);
+  if (st != Status::ok) {
+    c.bad[i] += 1.0;
+    return;
+  }
+  state_to_array(model, s1, flat);
+  const int n = model == Model::pnc ? 3 : 1;
+  for (int k = 0; k < n; ++k) {
+    c.kap[k][i] = flat[k];
+    c.D[k][i] = flat[n + k];
+  }
+  for (int k = 0; k < 6; ++k)
+    c.sig[k][i] = sig[k];
+  c.stored[i] = energy.stored;
+  c.diss[i] = energy.dissipated;
+  if (K36)
+    for (int k = 0; k < 36; ++k)
+      c.bad[i] += nf(K36[k]);
+}
+
+// Pass 5a: the result check of every point (stress, end state, energies; the tangent was
+// checked where it was formed).
+void check_results(std::size_t m, int n, Chunk& c) {
+  for (std::size_t i = 0; i < m; ++i) {
+    double x = c.bad[i] + nf(c.stored[i]) + nf(c.diss[i]);
+    for (int k = 0; k < 6; ++k)
+      x += nf(c.sig[k][i]);
+    for (int k = 0; k < n; ++k)
+      x += nf(c.kap[k][i]) + nf(c.D[k][i]);
+    c.bad[i] = x;
+  }
+}
+
+// Pass 5b: writes to the caller's arrays, for the points that did not fail. `all_ok`: no point
+// of the chunk failed, so the loops need no per-point test.
+void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t m, int n,
+            const Chunk& c, const double (*Kk)[36], const std::size_t* kidx, std::size_t nk,
+            const std::size_t* uidx, std::size_t nu) {
+  bool all_ok = true;
+  for (std::size_t i = 0; i < m; ++i)
+    all_ok = all_ok && c.bad[i] == 0.0;
+  auto put = [&](double* dst, const double* src) {
+    if (all_ok) {
+      std::memcpy(dst, src, m * sizeof(double));
+      return;
+    }
+    for (std::size_t i = 0; i < m; ++i)
+      if (c.bad[i] == 0.0) dst[i] = src[i];
+  };
+  for (int k = 0; k < 6; ++k)
+    put(b.sigma + static_cast<std::size_t>(k) * b.ld + base, c.sig[k]);
+  for (int k = 0; k < n; ++k) {
+    put(b.state1 + static_cast<std::size_t>(k) * b.ld + base, c.kap[k]);
+    put(b.state1 + static_cast<std::size_t>(n + k) * b.ld + base, c.D[k]);
+  }
+  if (b.stored) put(b.stored + base, c.stored);
+  if (b.dissipated) put(b.dissipated + base, c.diss);
+  if (b.status)
+    for (std::size_t i = 0; i < m; ++i)
+      b.status[base + i] = c.bad[i] == 0.0 ? 0 : 1;
+  if (b.kind == TangentKind::none || !b.K) return;
+  // Every point first gets C0g (the elastic path, and every point for the elastic request);
+  // then the unloading points their secant and the kernel points their own tangent.
+  for (int r = 0; r < 6; ++r)
+    for (int col = 0; col < 6; ++col) {
+      const double v = q.C0g(r, col);
+      double* __restrict dst = b.K + static_cast<std::size_t>(6 * r + col) * b.ld + base;
+      if (all_ok)
+        for (std::size_t i = 0; i < m; ++i)
+          dst[i] = v;
+      else
+        for (std::size_t i = 0; i < m; ++i)
+          if (c.bad[i] == 0.0) dst[i] = v;
+    }
+  if (b.kind == TangentKind::elastic) return;
+  for (std::size_t j = 0; j < nu; ++j) {
+    const std::size_t i = uidx[j];
+    if (c.bad[i] != 0.0) continue;
+    const double D[3] = {c.D[0][i], n > 1 ? c.D[1][i] : 0.0, n > 2 ? c.D[2][i] : 0.0};
+    for (int r = 0; r < 6; ++r)
+      for (int col = 0; col < 6; ++col)
+        b.K[static_cast<std::size_t>(6 * r + col) * b.ld + base + i] =
+            secant_entry(q, r, col, n, D);
+  }
+  for (std::size_t j = 0; j < nk; ++j) {
+    const std::size_t i = kidx[j];
+    if (c.bad[i] != 0.0) continue;
+    for (int rc = 0; rc < 36; ++rc)
+      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = Kk[j][rc];
+  }
+}
+
+} // namespace
+
+NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b) {
+  NdmBatchStats stats;
+  stats.first_failed = b.n;
+  const Model model = q.p.model;
+  const int n = model == Model::pnc ? 3 : 1;
+  const int ns = static_cast<int>(state_size(model));
+  Chunk c;
+  double Kk[kChunk][36]; // tangents of the kernel points of a chunk
+  std::size_t uidx[kChunk], kidx[kChunk];
+  for (std::size_t base = 0; base < b.n; base += kChunk) {
+    const std::size_t m = std::min(kChunk, b.n - base);
+    std::fill(c.bad, c.bad + m, 0.0);
+    load(q, b, base, m, ns, c);
+    if (model == Model::pnc) pnc_stretches(m, c);
+    scalar_stretches(model, m, c);
+    if (n == 3)
+      classify<3>(q, m, c);
+    else
+      classify<1>(q, m, c);
+    std::size_t nu = 0, nk = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (c.bad[i] != 0.0) continue; // failed on input: no path
+      if (c.path[i] == kUnloading) uidx[nu++] = i;
+      if (c.path[i] == kKernel) kidx[nk++] = i;
+    }
+    elastic_stress(q, m, c);
+    if (nu && n == 3) unloading_stress<3>(q, uidx, nu, c);
+    if (nu && n == 1) unloading_stress<1>(q, uidx, nu, c);
+    const bool want_K = b.kind != TangentKind::none && b.K;
+    for (std::size_t j = 0; j < nk; ++j)
+      kernel_point(q, b, base, kidx[j], ns, c, want_K ? Kk[j] : nullptr);
+    check_results(m, n, c);
+    commit(q, b, base, m, n, c, Kk, kidx, nk, uidx, nu);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (c.bad[i] != 0.0) {
+        if (stats.failed++ == 0) stats.first_failed = base + i;
+      } else if (c.path[i] == kKernel) {
+        ++stats.kernel;
+      } else if (c.path[i] == kUnloading) {
+        ++stats.unloading;
+      } else {
+        ++stats.elastic;
+      }
+    }
+  }
+  return stats;
+}
+
+} // namespace pnc::damage

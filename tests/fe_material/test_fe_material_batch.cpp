@@ -1,0 +1,389 @@
+// Tests of ABI 1.2 of the material plugin (pnc_material.h "ABI 1.2", docs/plugin.md, decisions
+// D260-D262): pnc_material_integrate_batch against pnc_material_integrate2 point by point. The
+// batched route evaluates the kernel's expressions in the kernel's order, so stress, end state
+// and tangent must be equal bit for bit; the stored energy sums the same six products in an
+// order of its own (bound derived below); the dissipated energy is the kernel's or exactly 0.
+#include "v2_support.hpp"
+
+#include <dlfcn.h>
+
+#include <cfloat>
+#include <cstdint>
+#include <random>
+
+namespace {
+
+using namespace pnc_v2_test;
+
+// One point of a test batch: strain at the start, increment, start state (flat, n_state).
+struct Point {
+  Vec6 e0, de;
+  std::vector<double> s0;
+};
+
+enum class Kind { elastic, damaging, unloading };
+
+// The end state of the path 0 -> e through integrate2 (the single-point route, the reference).
+std::vector<double> state_after(const pnc_material* m, const Vec6& e) {
+  const std::vector<double> v = virgin(m);
+  const Out o = call(m, v.data(), Vec6::Zero(), e, PNC_MATERIAL_TANGENT_NONE);
+  EXPECT_EQ(o.status, PNC_MATERIAL_OK) << o.err;
+  return std::vector<double>(o.state1.begin(), o.state1.begin() + static_cast<long>(v.size()));
+}
+
+// A strain past the damage onset of the model (pnc: mode stretch alpha lambda_c = 1.07 along
+// x2; pp: largest principal stretch 1.17), with random shears; zero out-of-plane components
+// (e33 = g23 = g13 = 0) when `plane`.
+Vec6 damaging_strain(Model model, std::mt19937_64& g, bool plane) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vec6 e;
+  e << 0.01 * u(g), (model == Model::pnc ? 0.12 : 0.22) + 0.01 * u(g), 0.01 * u(g), 0.02 * u(g),
+      0.02 * u(g), 0.02 * u(g);
+  if (plane) e[2] = e[3] = e[4] = 0.0;
+  return e;
+}
+
+// n points: `share` of them elastic (small strain, virgin), damaging (loading past a history at
+// 98 % of the strain) and unloading (back to 70 % of the history); every fifth point a plane
+// strain, every seventh elastic one a pure extension (the kernel's tie case of the cap).
+std::vector<Point> make_points(const pnc_material* m, Model model, std::size_t n, unsigned seed,
+                               double elastic = 0.7, double damaging = 0.2) {
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), pick(0.0, 1.0);
+  std::vector<Point> pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool plane = i % 5 == 0;
+    const double r = pick(g);
+    Point p;
+    if (r < elastic) {
+      Vec6 e;
+      for (int k = 0; k < 6; ++k)
+        e[k] = 0.01 * u(g);
+      if (plane) e[2] = e[3] = e[4] = 0.0;
+      if (i % 7 == 0) { // pure extension along x1, x2 or x3
+        e.setZero();
+        e[static_cast<long>(i % 3)] = 0.02;
+      }
+      p.e0 = 0.9 * e;
+      p.de = e - p.e0;
+      p.s0 = virgin(m);
+    } else {
+      const Vec6 e = damaging_strain(model, g, plane);
+      const bool loading = r < elastic + damaging;
+      p.s0 = state_after(m, loading ? Vec6(0.98 * e) : e);
+      p.e0 = loading ? Vec6(0.98 * e) : e;
+      p.de = (loading ? e : Vec6(0.7 * e)) - p.e0;
+    }
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+// The blocks of a batch (component k of point i at k * ld + i) with sentinels everywhere.
+struct Blocks {
+  std::size_t n, ld;
+  int ns;
+  std::vector<double> e0, de, s0, s1, sig, K, stored, diss;
+  std::vector<int> status;
+  Blocks(const std::vector<Point>& pts, int n_state, std::size_t pad = 0)
+      : n(pts.size()), ld(pts.size() + pad), ns(n_state), e0(6 * ld, 0.0), de(6 * ld, 0.0),
+        s0(static_cast<std::size_t>(ns) * ld, 1.0), s1(s0.size(), -99.0), sig(6 * ld, -99.0),
+        K(36 * ld, -99.0), stored(ld, -99.0), diss(ld, -99.0), status(ld, -99) {
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < 6; ++k) {
+        e0[k * ld + i] = pts[i].e0[static_cast<long>(k)];
+        de[k * ld + i] = pts[i].de[static_cast<long>(k)];
+      }
+      for (std::size_t k = 0; k < static_cast<std::size_t>(ns); ++k)
+        s0[k * ld + i] = pts[i].s0[k];
+    }
+  }
+  pnc_material_point_soa view(int request, char* err, std::size_t err_len) {
+    pnc_material_point_soa b;
+    pnc_material_point_soa_init(&b);
+    b.tangent_request = request;
+    b.ld = ld;
+    b.strain0 = e0.data();
+    b.dstrain = de.data();
+    b.state0 = s0.data();
+    b.state1 = s1.data();
+    b.stress = sig.data();
+    b.tangent = request == PNC_MATERIAL_TANGENT_NONE ? nullptr : K.data();
+    b.status = status.data();
+    b.stored_energy = stored.data();
+    b.dissipated_energy = diss.data();
+    b.err = err;
+    b.err_len = err_len;
+    return b;
+  }
+};
+
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Point i of the batch against integrate2 on the same inputs: stress, state, tangent bit for
+// bit; stored energy within the bound of two summation orders of the same six products
+// (each order errs by at most 5 u sum |sigma_k eps_k| (n - 1 = 5 additions), u = 2^-53, so
+// the two differ by at most 10 u of it; the factor 1/2 is exact); dissipated energy exact.
+void expect_point_equal(const pnc_material* m, const std::vector<Point>& pts, const Blocks& b,
+                        std::size_t i, int request, const std::string& what) {
+  const Point& p = pts[i];
+  const Out o = call(m, p.s0.data(), p.e0, p.de, request);
+  ASSERT_EQ(o.status, PNC_MATERIAL_OK) << o.err;
+  ASSERT_EQ(b.status[i], PNC_MATERIAL_OK) << what << " point " << i;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_TRUE(same_bits(b.sig[k * b.ld + i], o.stress[k]))
+        << what << " point " << i << " stress " << k << ": " << b.sig[k * b.ld + i] << " vs "
+        << o.stress[k];
+    sum += std::abs(o.stress[k] * (p.e0[static_cast<long>(k)] + p.de[static_cast<long>(k)]));
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(b.ns); ++k)
+    EXPECT_TRUE(same_bits(b.s1[k * b.ld + i], o.state1[k]))
+        << what << " point " << i << " state " << k << ": " << b.s1[k * b.ld + i] << " vs "
+        << o.state1[k];
+  if (request != PNC_MATERIAL_TANGENT_NONE) {
+    for (std::size_t rc = 0; rc < 36; ++rc)
+      EXPECT_TRUE(same_bits(b.K[rc * b.ld + i], o.K[rc]))
+          << what << " point " << i << " tangent " << rc << ": " << b.K[rc * b.ld + i] << " vs "
+          << o.K[rc];
+  }
+  EXPECT_LE(std::abs(b.stored[i] - o.stored), 10 * (DBL_EPSILON / 2) * 0.5 * sum)
+      << what << " point " << i;
+  EXPECT_TRUE(same_bits(b.diss[i], o.dissipated) || (b.diss[i] == 0.0 && o.dissipated == 0.0))
+      << what << " point " << i << ": " << b.diss[i] << " vs " << o.dissipated;
+}
+
+pnc::damage::NdmBatchStats paths_of(const NdmParameters& p, Blocks& b) {
+  pnc::damage::NdmBatch v;
+  v.n = b.n;
+  v.ld = b.ld;
+  v.eps0 = b.e0.data();
+  v.deps = b.de.data();
+  v.state0 = b.s0.data();
+  std::vector<double> s1(b.s1.size()), sig(b.sig.size());
+  v.state1 = s1.data();
+  v.sigma = sig.data();
+  return pnc::damage::integrate_batch(pnc::damage::prepare(p), v);
+}
+
+// ------------------------------------------------------------------ equality
+TEST(FeMaterialBatch, EqualsTheSinglePointEntryOnEveryPathModelFrameAndRequest) {
+  for (const Case& c : kCases) {
+    const NdmParameters p = params(c.model, c.rotated);
+    auto m = make(p);
+    const int ns = pnc_material_n_state(m.get());
+    const auto pts = make_points(m.get(), c.model, 300, 11);
+    for (int request = PNC_MATERIAL_TANGENT_NONE; request <= PNC_MATERIAL_TANGENT_CONSISTENT;
+         ++request) {
+      Blocks b(pts, ns);
+      char err[512] = {0};
+      pnc_material_point_soa v = b.view(request, err, sizeof err);
+      ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
+      EXPECT_EQ(v.n_failed, 0u);
+      EXPECT_EQ(v.first_failed, b.n);
+      const std::string what = name_of(c) + " request " + std::to_string(request);
+      for (std::size_t i = 0; i < b.n; ++i)
+        expect_point_equal(m.get(), pts, b, i, request, what);
+      if (request == PNC_MATERIAL_TANGENT_NONE) {
+        // every path is exercised: fast elastic and unloading points and kernel points
+        const auto st = paths_of(p, b);
+        EXPECT_GT(st.elastic, 100u) << what;
+        EXPECT_GT(st.unloading, 10u) << what;
+        EXPECT_GT(st.kernel, 30u) << what;
+        EXPECT_EQ(st.elastic + st.unloading + st.kernel, b.n) << what;
+      }
+    }
+  }
+}
+
+TEST(FeMaterialBatch, SizesZeroOneOddAndLargeWithPaddedBlocksAndInPlaceState) {
+  const NdmParameters p = params(Model::pnc, true);
+  auto m = make(p);
+  const int ns = pnc_material_n_state(m.get());
+  // n = 0: nothing to do, the arrays may be NULL
+  pnc_material_point_soa empty;
+  pnc_material_point_soa_init(&empty);
+  empty.tangent_request = PNC_MATERIAL_TANGENT_CONSISTENT;
+  EXPECT_EQ(pnc_material_integrate_batch(m.get(), 0, &empty), PNC_MATERIAL_OK);
+  EXPECT_EQ(empty.n_failed, 0u);
+  EXPECT_EQ(empty.first_failed, 0u);
+  // 1, odd sizes across the chunk boundary (32), and a large batch; ld > n
+  for (const std::size_t n :
+       {std::size_t{1}, std::size_t{31}, std::size_t{33}, std::size_t{97}, std::size_t{5001}}) {
+    const auto pts = make_points(m.get(), Model::pnc, n, static_cast<unsigned>(n));
+    Blocks b(pts, ns, 3);
+    char err[512] = {0};
+    pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
+    ASSERT_EQ(pnc_material_integrate_batch(m.get(), n, &v), PNC_MATERIAL_OK) << err;
+    const std::size_t stride = n > 200 ? 37 : 1; // every point of the small ones
+    for (std::size_t i = 0; i < n; i += stride)
+      expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT,
+                         "n = " + std::to_string(n));
+    // the padding past n is not touched
+    for (std::size_t k = 0; k < 6; ++k)
+      for (std::size_t i = n; i < b.ld; ++i)
+        EXPECT_EQ(b.sig[k * b.ld + i], -99.0);
+    for (std::size_t i = n; i < b.ld; ++i) {
+      EXPECT_EQ(b.K[35 * b.ld + i], -99.0);
+      EXPECT_EQ(b.status[i], -99);
+    }
+    // state1 == state0 (in place) gives the same end state
+    std::vector<double> inplace = b.s0;
+    v.state0 = inplace.data();
+    v.state1 = inplace.data();
+    ASSERT_EQ(pnc_material_integrate_batch(m.get(), n, &v), PNC_MATERIAL_OK) << err;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(ns); ++k)
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_TRUE(same_bits(inplace[k * b.ld + i], b.s1[k * b.ld + i])) << "n = " << n;
+  }
+}
+
+// ------------------------------------------------------------------ failures
+TEST(FeMaterialBatch, BadPointsAreReportedAndTheOthersAreComputed) {
+  for (const Model model : {Model::pnc, Model::pp}) {
+    auto m = make(params(model, true));
+    const int ns = pnc_material_n_state(m.get());
+    auto pts = make_points(m.get(), model, 70, 5);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    pts[17].de[2] = nan;                                     // a non-finite strain
+    pts[40].s0[0] = std::numeric_limits<double>::infinity(); // a non-finite state
+    pts[41].e0 << 1e300, 1e300, 0, 0, 0, 1e300;              // a result that overflows
+    pts[41].de.setZero();
+    Blocks b(pts, ns);
+    char err[512] = {0};
+    pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
+    ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_BAD_INPUT);
+    EXPECT_EQ(v.n_failed, 3u);
+    EXPECT_EQ(v.first_failed, 17u);
+    const std::string msg = err;
+    EXPECT_NE(msg.find("pnc_material_integrate_batch"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("dstrain[component 2, point 17]"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("nan"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("finite"), std::string::npos) << msg;
+    for (const std::size_t bad : {std::size_t{17}, std::size_t{40}, std::size_t{41}}) {
+      // the single-point entry refuses the same points
+      const Out o = call(m.get(), pts[bad].s0.data(), pts[bad].e0, pts[bad].de,
+                         PNC_MATERIAL_TANGENT_CONSISTENT);
+      EXPECT_EQ(o.status, PNC_MATERIAL_BAD_INPUT) << bad;
+      EXPECT_EQ(b.status[bad], PNC_MATERIAL_BAD_INPUT) << bad;
+      for (std::size_t k = 0; k < 6; ++k)
+        EXPECT_EQ(b.sig[k * b.ld + bad], -99.0) << bad;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(ns); ++k)
+        EXPECT_EQ(b.s1[k * b.ld + bad], -99.0) << bad;
+      for (std::size_t rc = 0; rc < 36; ++rc)
+        EXPECT_EQ(b.K[rc * b.ld + bad], -99.0) << bad;
+      EXPECT_EQ(b.stored[bad], -99.0);
+      EXPECT_EQ(b.diss[bad], -99.0);
+    }
+    for (std::size_t i = 0; i < b.n; ++i)
+      if (i != 17 && i != 40 && i != 41)
+        expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT, "with bad points");
+  }
+}
+
+TEST(FeMaterialBatch, BadArgumentsAreRefusedWithTheFieldAndNothingWritten) {
+  auto m = make(params(Model::pnc, false));
+  const auto pts = make_points(m.get(), Model::pnc, 4, 3);
+  Blocks b(pts, 6);
+  char err[512] = {0};
+  auto expect = [&](pnc_material_point_soa v, const pnc_material* mat, std::size_t n, int status,
+                    const char* field) {
+    err[0] = '\0';
+    EXPECT_EQ(pnc_material_integrate_batch(mat, n, &v), status) << field;
+    EXPECT_NE(std::string(err).find(field), std::string::npos) << err;
+    EXPECT_EQ(b.sig[0], -99.0) << field;
+    EXPECT_EQ(b.status[0], -99) << field;
+  };
+  EXPECT_EQ(pnc_material_integrate_batch(m.get(), 4, nullptr), PNC_MATERIAL_BAD_ARGUMENT);
+  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
+  expect(v, nullptr, 4, PNC_MATERIAL_BAD_ARGUMENT, "'m'");
+  v.version = PNC_MATERIAL_POINT_SOA_VERSION + 1;
+  expect(v, m.get(), 4, PNC_MATERIAL_BAD_ARGUMENT, "batch.version");
+  v = b.view(7, err, sizeof err);
+  expect(v, m.get(), 4, PNC_MATERIAL_BAD_ARGUMENT, "batch.tangent_request");
+  v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
+  expect(v, m.get(), 5, PNC_MATERIAL_BAD_ARGUMENT, "batch.ld");
+  v.tangent = nullptr;
+  expect(v, m.get(), 4, PNC_MATERIAL_BAD_ARGUMENT, "tangent");
+  v = b.view(PNC_MATERIAL_TANGENT_NONE, err, sizeof err);
+  v.dt = -1.0;
+  expect(v, m.get(), 4, PNC_MATERIAL_BAD_INPUT, "batch.dt");
+  v.dt = std::numeric_limits<double>::quiet_NaN();
+  expect(v, m.get(), 4, PNC_MATERIAL_BAD_INPUT, "batch.dt");
+}
+
+// ------------------------------------------------------------------ layout versions
+TEST(FeMaterialBatch, AnOlderSmallerStructIsAcceptedAndOnlyItsBytesAreTouched) {
+  auto m = make(params(Model::pp, false));
+  auto pts = make_points(m.get(), Model::pp, 40, 9);
+  Blocks b(pts, 2);
+  char err[512] = {0};
+  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_SECANT, err, sizeof err);
+  // ends after `tangent`: no status array, energies, counters or message
+  v.size = static_cast<uint32_t>(offsetof(pnc_material_point_soa, status));
+  v.n_failed = 1234;
+  v.first_failed = 5678;
+  ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK);
+  for (std::size_t i = 0; i < b.n; ++i) {
+    EXPECT_EQ(b.status[i], -99);
+    EXPECT_EQ(b.stored[i], -99.0);
+    EXPECT_EQ(b.diss[i], -99.0);
+    const Out o =
+        call(m.get(), pts[i].s0.data(), pts[i].e0, pts[i].de, PNC_MATERIAL_TANGENT_SECANT);
+    for (std::size_t k = 0; k < 6; ++k)
+      EXPECT_TRUE(same_bits(b.sig[k * b.ld + i], o.stress[k])) << i;
+  }
+  EXPECT_EQ(v.n_failed, 1234u);
+  EXPECT_EQ(v.first_failed, 5678u);
+  // with a failing point: BAD_INPUT, still no write past `size`
+  b.e0[0] = std::numeric_limits<double>::quiet_NaN();
+  err[0] = '\0';
+  EXPECT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_BAD_INPUT);
+  EXPECT_EQ(err[0], '\0');
+  EXPECT_EQ(v.n_failed, 1234u);
+  // too small to reach the arrays: refused
+  v.size = static_cast<uint32_t>(offsetof(pnc_material_point_soa, tangent));
+  EXPECT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_BAD_ARGUMENT);
+}
+
+TEST(FeMaterialBatch, TheSymbolCarriesMinorTwoAndTheWrapperReachesIt) {
+  void* h = dlopen(PNC_MATERIAL_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(h, nullptr) << dlerror();
+  const std::string v1 = "PNC_MATERIAL_" + std::to_string(PNC_MATERIAL_ABI_VERSION);
+  EXPECT_NE(dlvsym(h, "pnc_material_integrate_batch", (v1 + ".2").c_str()), nullptr);
+  EXPECT_EQ(dlvsym(h, "pnc_material_integrate_batch", (v1 + ".1").c_str()), nullptr);
+  EXPECT_EQ(dlvsym(h, "pnc_material_integrate_batch", v1.c_str()), nullptr);
+  dlclose(h);
+  EXPECT_EQ(PNC_MATERIAL_ABI_VERSION_MINOR, 2);
+  // through a dlopen()ed plugin and the C++ wrapper
+  const pnc::fe_material::Plugin plugin(PNC_MATERIAL_PLUGIN_PATH);
+  EXPECT_EQ(plugin.abi_version_minor(), 2);
+  const NdmParameters p = params(Model::pnc, true);
+  std::array<double, 9> R{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      R[static_cast<std::size_t>(3 * r + c)] = p.R(r, c);
+  const auto mat =
+      plugin.from_constants("pnc", std::vector<double>(p.k.begin(), p.k.begin() + 22), &R);
+  auto m = make(p);
+  auto pts = make_points(m.get(), Model::pnc, 9, 4);
+  pts[6].e0[1] = std::numeric_limits<double>::infinity();
+  Blocks b(pts, 6);
+  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_ELASTIC, nullptr, 0);
+  try {
+    mat.integrate_batch(b.n, v);
+    ADD_FAILURE() << "no exception";
+  } catch (const pnc::fe_material::Error& e) {
+    EXPECT_EQ(e.status(), PNC_MATERIAL_BAD_INPUT);
+    EXPECT_NE(std::string(e.what()).find("strain0[component 1, point 6]"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(v.err, nullptr); // the caller's (absent) buffer is restored
+  EXPECT_EQ(b.status[6], PNC_MATERIAL_BAD_INPUT);
+  for (std::size_t i = 0; i < b.n; ++i)
+    if (i != 6) expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_ELASTIC, "wrapper");
+}
+
+} // namespace
