@@ -220,6 +220,32 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
       ->check(CLI::PositiveNumber);
   c->callback([args, &action] { action = [args] { return run_gimp_couple(*args); }; });
 }
+
+// `pnc gimp couple-parameters`: the declared keys of the couple input (couple_parameters.cpp,
+// D295) as Markdown tables (the generated region of docs/escm.md), JSON or a commented TOML
+// template.
+void register_gimp_couple_parameters(CLI::App* gimp, Action& action) {
+  auto format = std::make_shared<std::string>("markdown");
+  auto* c = gimp->add_subcommand(
+      "couple-parameters",
+      "Print every key of the couple input: type, default, range, unit, meaning");
+  c->add_option("--format", *format,
+                "markdown (tables, default), json or toml (a commented list of the keys with "
+                "their defaults; the input itself is JSON)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  c->callback([format, &action] {
+    action = [format] {
+      const Parameters p = gimp::escm::couple_input_parameters();
+      if (*format == "toml")
+        std::cout << p.to_toml();
+      else if (*format == "json")
+        std::cout << p.to_json().dump(2) << "\n";
+      else
+        std::cout << p.to_markdown(4);
+      return 0;
+    };
+  });
+}
 } // namespace
 #endif
 
@@ -276,6 +302,7 @@ void register_gimp(CLI::App& app, Action& action) {
   params->callback([pa, &action] { action = [pa] { return run_gimp_parameters(*pa); }; });
 #ifdef PNC_GIMP_HAS_ESCM
   register_gimp_couple(gimp, action); // ESCM, docs/escm.md
+  register_gimp_couple_parameters(gimp, action);
 #endif
 }
 

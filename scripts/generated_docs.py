@@ -10,15 +10,16 @@ and ends with the line
     <!-- end generated -->
 
 Everything between the two lines is the output of the pnc command named on the first one
-(run without a shell, its words taken from the marker line; only `pnc recipe parameters ...`
-and `pnc gimp parameters ...` are run). The recipe key tables of docs/rve.md and the input key
-tables of docs/gimp.md are such regions: the keys are declared once (in
-rve/src/recipe_parameters.cpp, gimp_coupler/src/input_parameters.cpp), and the tables follow.
+(run without a shell, its words taken from the marker line; only `pnc recipe parameters ...`,
+`pnc gimp parameters ...` and `pnc gimp couple-parameters ...` are run). The recipe key tables
+of docs/rve.md and the input key tables of docs/gimp.md and docs/escm.md are such regions: the
+keys are declared once (in rve/src/recipe_parameters.cpp, gimp_coupler/src/input_parameters.cpp,
+gimp_coupler/src/escm/couple_parameters.cpp), and the tables follow.
 
     python3 scripts/generated_docs.py --pnc build/app/pnc            # rewrite the regions
     python3 scripts/generated_docs.py --pnc build/app/pnc --check    # exit 1 if one is stale
 
-The ctest docs.recipe_parameters runs the check (decisions D232, D292). Python 3 standard library only.
+The ctest docs.recipe_parameters runs the check (decisions D232, D292, D295). Python 3 standard library only.
 """
 
 import argparse
@@ -30,7 +31,7 @@ import sys
 
 BEGIN = re.compile(r"^<!-- begin generated: pnc ((?:[a-z0-9_-]+ ?)+) -->$")
 END = "<!-- end generated -->"
-ALLOWED = [["recipe", "parameters"], ["gimp", "parameters"]]
+ALLOWED = [["recipe", "parameters"], ["gimp", "parameters"], ["gimp", "couple-parameters"]]
 
 
 def render(pnc, words):

@@ -126,6 +126,33 @@ TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
   EXPECT_NE(r.out.find("[0.5, 10]"), std::string::npos) << r.out;
 }
 
+// `pnc gimp couple-parameters` prints the declared keys of the couple input (D294): JSON with
+// every section and entry (the rules derived from the declared ranges and units), Markdown
+// tables (the generated region of docs/escm.md) and the TOML list of the defaults.
+TEST(EscmCli, CoupleParametersPrintsTheDeclarations) {
+  const std::string exe = PNC_EXE;
+  Result r = sh(exe + " gimp couple-parameters --format json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::map<std::string, std::string> rules;
+  for (const auto& s : j.at("sections"))
+    for (const auto& p : s.at("parameters"))
+      rules[p.at("name").get<std::string>()] = p.at("rule").get<std::string>();
+  EXPECT_EQ(rules.at("md_timestep_fs"), "must be a number in [0.0001, 20] fs");
+  EXPECT_EQ(rules.at("crack.Gc"), "must be a number in (0, 1000) J/m^2");
+  EXPECT_EQ(rules.at("lj.epsilon"), "must be a number > 0 kcal/mol");
+  EXPECT_EQ(rules.at("md.density"), "must be a number in [0.05, 3] g/cm^3");
+  EXPECT_EQ(rules.count("md.forcefield.cutoff_sigma"), 1u);
+  r = sh(exe + " gimp couple-parameters");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("#### `md.forcefield`"), std::string::npos) << r.out;
+  r = sh(exe + " gimp couple-parameters --format toml");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("\nsubsteps = 20\n"), std::string::npos) << r.out;
+  r = sh(exe + " gimp couple-parameters --format yaml 2>&1");
+  EXPECT_NE(r.code, 0);
+}
+
 // The MD region kinds come from a registry keyed by md.type (docs/escm.md "Code layout",
 // D201): an unknown kind is an input error at md.type that names the value and lists the kinds
 // this build registered (the LJ crystal always; the polymer when rve/ is built).

@@ -158,18 +158,18 @@ TEST(EscmCrack, BadCrackInputExitsWithOneAndNamesTheKey) {
   struct Case {
     std::string json, key, rule;
   };
-  const std::vector<Case> cases = {
-      {R"({"load": "bend"})", "load", "tension_y"},
-      {R"({"load": "tension_y", "crack": {"length_cells": 40}})", "crack.length_cells",
-       "before the atom block"},
-      {R"({"load": "tension_y", "crack": {"lenght_cells": 4}})", "crack.lenght_cells",
-       "unknown key"},
-      {R"({"load": "tension_y", "crack": {"interface_fraction": 0}})", "crack.interface_fraction",
-       "(0, 1]"},
-      {R"({"crack": {"length_cells": 4}})", "load", "needs load"},
-      {R"({"load": "shear", "block_cells": [14, 13], "crack": {}})", "block_cells",
-       "even number of cell rows"},
-      {R"({"load": "tension_y", "short": {"crack": {"Gc": -1}}})", "short.crack.Gc", "(0, 1e3)"}};
+  const std::vector<Case> cases = {{R"({"load": "bend"})", "load", "tension_y"},
+                                   {R"({"load": "tension_y", "crack": {"length_cells": 40}})",
+                                    "crack.length_cells", "before the atom block"},
+                                   {R"({"load": "tension_y", "crack": {"lenght_cells": 4}})",
+                                    "crack.lenght_cells", "unknown key"},
+                                   {R"({"load": "tension_y", "crack": {"interface_fraction": 0}})",
+                                    "crack.interface_fraction", "(0, 1]"},
+                                   {R"({"crack": {"length_cells": 4}})", "load", "needs load"},
+                                   {R"({"load": "shear", "block_cells": [14, 13], "crack": {}})",
+                                    "block_cells", "even number of cell rows"},
+                                   {R"({"load": "tension_y", "short": {"crack": {"Gc": -1}}})",
+                                    "short.crack.Gc", "(0, 1000) J/m^2"}};
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const fs::path f = d / ("bad" + std::to_string(k) + ".json");
     std::ofstream(f) << cases[k].json;

@@ -5,6 +5,8 @@
 // schedule, J/m^2 and Pa where the key says so.
 #include "pnc/gimp_coupler/escm_run.hpp"
 
+#include "pnc/core/parameters.hpp"
+
 #include <string>
 
 namespace pnc::gimp::escm {
@@ -43,6 +45,11 @@ struct CoupleInput {
   int block_x0() const { return (ncx - nbx) / 2; }
   int block_y0() const { return (ncy - nby) / 2; }
 };
+
+/// Declares the keys of the input (couple_parameters.cpp, D293), bound to `in`: `top` the top
+/// level (with lj and short), else the "short" overrides (every top-level key but lj and short).
+/// `crack_given` is set by read() to whether the level has a "crack" table.
+void declare_couple_input(Parameters& p, CoupleInput& in, bool top, bool& crack_given);
 
 /// Reads the input and its "short" overrides (with `short_mode`) and checks the geometry and
 /// the rules of the MD region kind (MdRegion::check_input), before LAMMPS starts. Throws

@@ -28,6 +28,13 @@ bool md_region_known(const std::string& kind) {
   return registry().count(kind) > 0;
 }
 
+std::vector<std::string> md_region_kinds() {
+  std::vector<std::string> k;
+  for (const auto& [name, make] : registry())
+    k.push_back(name);
+  return k;
+}
+
 std::string md_region_kinds_text() {
   std::string s;
   std::size_t k = 0;

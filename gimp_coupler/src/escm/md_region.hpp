@@ -70,6 +70,8 @@ using MdRegionFactory = std::function<std::unique_ptr<MdRegion>()>;
 bool register_md_region(const std::string& kind, MdRegionFactory make);
 /// Whether `kind` is registered.
 bool md_region_known(const std::string& kind);
+/// The registered kinds, sorted ("lj", "polymer").
+std::vector<std::string> md_region_kinds();
 /// The registered kinds for an error message: "\"lj\" or \"polymer\"".
 std::string md_region_kinds_text();
 /// A new region of `kind`; an unknown kind is an input error naming `src`, md.type and the

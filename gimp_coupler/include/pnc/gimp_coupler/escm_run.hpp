@@ -10,6 +10,7 @@
 // (continuum tip, J, G_I, G_II, crack-face opening and sliding, atomistic separation) and
 // crack.png. Units: input in LAMMPS real for
 // the MD (kcal/mol, Angstrom, g/mol, fs) and ps for the schedule; outputs as in formats.md.
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/gimp_coupler/escm.hpp"
 
@@ -71,5 +72,10 @@ struct CoupleSummary {
 /// summary.json) is refused (pnc::refuse_existing_run). Throws std::runtime_error for failures
 /// during the run.
 CoupleSummary run_couple(const CoupleOptions& o);
+
+/// The declared keys of the input (type, default, range, unit, text; D293), bound to an input
+/// of defaults it holds: for printing (`pnc gimp couple-parameters`). Units as stated per key:
+/// LAMMPS real for the MD keys (kcal/mol, A, g/mol, fs, K), ps for the schedule, J/m^2, Pa.
+pnc::Parameters couple_input_parameters();
 
 } // namespace pnc::gimp::escm
