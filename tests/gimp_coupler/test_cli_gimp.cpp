@@ -55,8 +55,12 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
   const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
-  EXPECT_NE(html.find("Stopped at --max-steps: 20 steps"), std::string::npos);
-  EXPECT_NE(html.find("--max-steps (20) reached"), std::string::npos);
+  // the "stopped early" banner comes first: why, where, and how to continue (with --resume)
+  const auto banner = html.find("Did not finish: --max-steps (20) reached");
+  EXPECT_NE(banner, std::string::npos);
+  EXPECT_LT(banner, html.find("What was run"));
+  EXPECT_NE(html.find("Stopped after step 20 at t = "), std::string::npos);
+  EXPECT_NE(html.find("--resume --max-steps 20</code>"), std::string::npos) << "the resume command";
   EXPECT_NE(html.find("Energies at the end (J)"), std::string::npos);
   EXPECT_NE(html.find("Not drawn (--no-plot)."), std::string::npos);
 }
