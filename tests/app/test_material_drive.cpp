@@ -360,6 +360,14 @@ TEST_F(MaterialCli, Hdf5OutputStatesItsUnitsAndThePngIsDrawn) {
   png.read(sig, 8);
   EXPECT_EQ(std::string(sig + 1, 3), "PNG");
   EXPECT_FALSE(fs::exists(p("r.png.csv"))); // the plot data were private
+  // the plotting phase (seconds: matplotlib starts) is announced before it runs, then its
+  // end, and both come before the summary lines: no silent seconds
+  const auto plotting = r.err.find("pnc material drive: plotting r.png ...");
+  const auto plotted = r.err.find("pnc material drive: plotted r.png in ");
+  ASSERT_NE(plotting, std::string::npos) << r.err;
+  ASSERT_NE(plotted, std::string::npos) << r.err;
+  EXPECT_LT(plotting, plotted) << r.err;
+  EXPECT_LT(plotted, r.err.find("pnc material drive: " + card)) << r.err;
   // units in the CSV header comments
   std::ifstream f(p("r.csv"));
   std::string head((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
