@@ -19,7 +19,8 @@ void stopped_banner(html::Page& page, const RunStop& stop) {
   std::vector<std::pair<Tone, std::string>> items;
   if (!stop.where.empty()) items.push_back({tone, "Stopped " + stop.where + "."});
   if (stop.valid.empty())
-    items.push_back({Tone::neutral, "Valid in the output folder: nothing but this report."});
+    items.push_back({Tone::neutral, "Valid in the output folder: no finished result yet "
+                                    "(`pnc.log` holds what the run printed)."});
   for (const auto& v : stop.valid)
     items.push_back({Tone::neutral, "Valid in the output folder: " + v});
   if (!stop.resume.empty())
