@@ -55,6 +55,14 @@ void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
                              const std::vector<std::string>& failed,
                              const std::vector<std::string>& not_run);
 
+/// Runs `body` (the local executor and the conclusion of a planned command). When it throws
+/// because the run stopped early (a signal, a failed unit), the run folder still gets
+/// report.html / report.md saying so first (stopped_report.hpp: why, how many units are done,
+/// which are not, the finished units' outputs, the resume command); the error then goes on to
+/// main() as before. `title`: the report's title.
+int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::string& title,
+                       const std::function<int()>& body);
+
 /// The Slurm executor for a planned command: submits what is not done (spec overridden by
 /// `o`), prints the jobs; without --wait returns 0 at once (with --json the submission on
 /// stdout); with --wait polls the unit states until the final unit ended and returns

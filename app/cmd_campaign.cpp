@@ -5,6 +5,7 @@
 #include "characterize.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
+#include "stopped_report.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/error_record.hpp"
@@ -348,6 +349,63 @@ void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
                    d.dir));
 }
 
+namespace {
+/// "a, b, c" of at most `n` ids, then "and K more".
+std::string some_ids(const std::vector<std::string>& ids, std::size_t n = 6) {
+  std::string t;
+  for (std::size_t i = 0; i < ids.size() && i < n; ++i)
+    t += (i ? ", " : "") + ids[i];
+  if (ids.size() > n) t += fmt::format(" and {} more", ids.size() - n);
+  return t;
+}
+
+void write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p, const std::string& title,
+                               const std::string& reason, bool failure) {
+  std::vector<std::string> done, failed, open;
+  RunStop stop;
+  for (const auto& u : p.units) {
+    const rve::UnitState st = rve::read_status(d.dir, u.id).state;
+    if (st == rve::UnitState::done) {
+      done.push_back(u.id);
+      if (!u.outputs.empty() && stop.valid.size() < 8)
+        stop.valid.push_back(
+            fmt::format("unit `{}` (done): `{}`", u.id, fmt::join(u.outputs, "`, `")));
+    } else {
+      (st == rve::UnitState::failed ? failed : open).push_back(u.id);
+    }
+  }
+  if (done.size() > stop.valid.size())
+    stop.valid.push_back(
+        fmt::format("{} finished unit(s) in all: {}", done.size(), some_ids(done)));
+  stop.reason = reason;
+  stop.where = fmt::format("with {} of {} units done{}{}", done.size(), p.units.size(),
+                           failed.empty() ? "" : "; failed: " + some_ids(failed),
+                           open.empty() ? "" : "; not finished: " + some_ids(open));
+  stop.resume = resume_command(); // finished units are kept and not run again
+  stop.failure = failure;
+  const std::string html = try_write_stopped_report(
+      d.dir, title, stop,
+      {{"command", "`" + command_line() + "`"},
+       {"run folder", "`" + d.dir + "`"},
+       {"unit states", "`pnc status " + d.dir + "` shows every unit and its log"}});
+  if (!html.empty())
+    std::cerr << "pnc " << d.command << ": report (stopped early): " << html << "\n";
+}
+} // namespace
+
+int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::string& title,
+                       const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const pnc::Interrupted& e) {
+    write_plan_stopped_report(d, p, title, signal_reason(e.signal()), false);
+    throw;
+  } catch (const pnc::Error& e) {
+    write_plan_stopped_report(d, p, title, e.what(), true);
+    throw;
+  }
+}
+
 int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
                    const SlurmOptions& o, const std::string& default_prefix,
                    const std::function<int(const std::vector<std::string>&)>& conclude) {
@@ -423,9 +481,12 @@ int run_characterize(const CharacterizeArgs& a) {
   std::cerr << fmt::format("pnc characterize: {} unit(s), {} at a time; cases on {} MPI rank(s), "
                            "equilibrations on {}; states in {}/state, pnc status {} shows them\n",
                            p.units.size(), jobs, ranks, eq_ranks, a.out, a.out);
-  const rve::LocalRun lr = rve::run_local(
-      a.out, p, jobs, [&](const rve::Unit& u) { return unit_main(a.out, p, r, u, false); });
-  return conclude(a, p, lr.failed, lr.not_run);
+  return run_local_reported(
+      {"characterize", a.out, "fit", a.json}, p, "pnc characterize: " + r.name, [&] {
+        const rve::LocalRun lr = rve::run_local(
+            a.out, p, jobs, [&](const rve::Unit& u) { return unit_main(a.out, p, r, u, false); });
+        return conclude(a, p, lr.failed, lr.not_run);
+      });
 }
 
 void register_campaign(CLI::App& app, Action& action) {

@@ -3,7 +3,9 @@
 #include "gimp_report.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
+#include "stopped_report.hpp"
 
+#include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -18,6 +20,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -33,6 +36,64 @@ struct GimpRunArgs {
   long max_steps = 0;
 };
 
+namespace fs = std::filesystem;
+
+/// The files of a stopped `pnc gimp run` / `pnc gimp couple` folder and what they hold, those
+/// that exist (the "stopped early" banner, stopped_report.hpp).
+std::vector<std::string> gimp_valid_files(const std::string& out, long steps) {
+  std::vector<std::string> v;
+  const fs::path d(out);
+  if (fs::exists(d / "checkpoint.h5"))
+    v.push_back(steps >= 0 ? fmt::format("`checkpoint.h5`: the whole state after step {}", steps)
+                           : "`checkpoint.h5`: the state at the last checkpoint before the "
+                             "failure");
+  if (fs::exists(d / "history.csv"))
+    v.push_back(steps >= 0 ? fmt::format("`history.csv`: steps 0 to {}", steps)
+                           : "`history.csv`: the steps up to the last checkpoint");
+  for (const char* pvd : {"particles.pvd", "continuum.pvd", "md.pvd"})
+    if (fs::exists(d / pvd))
+      v.push_back(fmt::format("`{}` and its VTU frames: the output times passed", pvd));
+  if (fs::exists(d / "energy.csv")) v.push_back("`energy.csv`: the coupled steps done");
+  if (fs::exists(d / "pnc.log")) v.push_back("`pnc.log`: everything the run printed");
+  return v;
+}
+
+std::vector<std::pair<std::string, std::string>>
+gimp_stop_facts(const std::string& input, const std::string& out, long steps_this_run) {
+  std::vector<std::pair<std::string, std::string>> f = {{"command", "`" + command_line() + "`"},
+                                                        {"input", "`" + input + "`"},
+                                                        {"output folder", "`" + out + "`"}};
+  if (steps_this_run >= 0) f.push_back({"steps in this session", std::to_string(steps_this_run)});
+  return f;
+}
+
+/// gimp::run(); a simulation failure (a law that cannot take a particle's deformation) still
+/// leaves report.html / report.md saying so, then reaches main() as before (exit code 6).
+gimp::RunSummary run_gimp_reporting_failure(const GimpRunArgs& a, const gimp::RunOptions& o) {
+  try {
+    return gimp::run(o);
+  } catch (const pnc::SimulationError& e) {
+    const auto& c = e.context();
+    std::string where;
+    if (c.step >= 0) where = fmt::format("at step {}", c.step);
+    if (std::isfinite(c.time))
+      where += fmt::format("{}t = {:.6g} {}", where.empty() ? "at " : ", ", c.time, c.time_unit);
+    RunStop stop{e.what(),
+                 where,
+                 gimp_valid_files(a.out, -1),
+                 "",
+                 "Resuming would meet the same failure: change the input (a smaller `time.cfl`, "
+                 "a finer grid, gentler loading or a material that takes the deformation; "
+                 "docs/gimp.md) and start again.",
+                 true};
+    const std::string report =
+        try_write_stopped_report(a.out, "pnc gimp run: " + fs::path(a.input).filename().string(),
+                                 stop, gimp_stop_facts(a.input, a.out, -1));
+    if (!report.empty()) std::cerr << "pnc gimp run: report (failed): " << report << "\n";
+    throw;
+  }
+}
+
 int run_gimp(const GimpRunArgs& a) {
   gimp::RunOptions o;
   o.input = a.input;
@@ -46,11 +107,19 @@ int run_gimp(const GimpRunArgs& a) {
   const RunDirLock lock(a.out, command_line());
   start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
-  const gimp::RunSummary s = gimp::run(o);
-  if (s.stopped)
+  const gimp::RunSummary s = run_gimp_reporting_failure(a, o);
+  if (s.stopped) {
+    const std::string where = fmt::format("after step {} at t = {:.6g} s", s.steps, s.time);
+    RunStop stop{signal_reason(s.stop_signal), where, gimp_valid_files(a.out, s.steps),
+                 resume_command()};
+    const std::string report =
+        try_write_stopped_report(a.out, "pnc gimp run: " + fs::path(a.input).filename().string(),
+                                 stop, gimp_stop_facts(a.input, a.out, s.steps_this_run));
+    if (!report.empty()) std::cerr << "  report (stopped early): " << report << "\n";
     throw pnc::Interrupted(s.stop_signal,
                            fmt::format("{}: stopped after step {} at t = {:.6g} s; checkpoint {}",
                                        a.input, s.steps, s.time, s.checkpoint));
+  }
 
   std::cerr << fmt::format("pnc gimp run: {} ({}-D{}), {} particles, {} threads\n", a.input,
                            s.dimension, s.dimension == 2 ? ", plane strain" : "", s.particles,
@@ -158,6 +227,14 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
     const std::string where =
         fmt::format("{}: stopped ({}) after {} coupled steps at {:.4g} ps; checkpoint {}", a.input,
                     s.interrupted, s.steps, s.time_s * 1e12, s.checkpoint);
+    RunStop stop{s.signal ? signal_reason(s.signal)
+                          : fmt::format("--max-steps ({}) reached", a.max_steps),
+                 fmt::format("after coupled step {} at t = {:.4g} ps", s.steps, s.time_s * 1e12),
+                 gimp_valid_files(a.out, s.steps), resume_command()};
+    const std::string report =
+        try_write_stopped_report(a.out, "pnc gimp couple: " + fs::path(a.input).filename().string(),
+                                 stop, gimp_stop_facts(a.input, a.out, s.steps - s.start_step));
+    if (!report.empty()) std::cerr << "  report (stopped early): " << report << "\n";
     if (s.signal) throw pnc::Interrupted(s.signal, where);
     std::cerr << "pnc gimp couple: " << where << ": continue with --resume\n";
     return 0;

@@ -7,6 +7,7 @@
 #include "registrars.hpp"
 #include "report.hpp"
 #include "run_control.hpp"
+#include "stopped_report.hpp"
 #include "thermo_cli.hpp"
 #include "thermo_report.hpp"
 
@@ -14,6 +15,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
+#include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/rve/builder.hpp"
@@ -92,6 +94,41 @@ struct PersistenceArgs {
   bool resume = false, json = false, no_plots = false;
 };
 
+/// A persistence run that stopped (a signal, a failed LAMMPS rate) still leaves report.html /
+/// report.md saying so first (stopped_report.hpp): the finished rates (OUT/rate_<i>.h5, kept and
+/// reused by --resume) and the resume command.
+void persistence_stopped(const PersistenceArgs& a, const std::string& reason, bool failure) {
+  RunStop stop;
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < a.spec.rates.size(); ++i)
+    if (fs::exists(fs::path(a.out) / fmt::format("rate_{}.h5", i))) {
+      ++done;
+      stop.valid.push_back(
+          fmt::format("`rate_{}.h5`: the rate {:.6g} A/fs, finished", i, a.spec.rates[i]));
+    }
+  stop.reason = reason;
+  stop.where = fmt::format("with {} of {} bending rates done", done, a.spec.rates.size());
+  stop.resume = resume_command(); // finished rates are reused
+  stop.failure = failure;
+  const std::string html = try_write_stopped_report(
+      a.out, "pnc thermo persistence: " + a.out, stop,
+      {{"command", "`" + command_line() + "`"}, {"output folder", "`" + a.out + "`"}});
+  if (!html.empty())
+    std::cerr << "pnc thermo persistence: report (stopped early): " << html << "\n";
+}
+
+thermo::PersistenceResult run_persistence_reported(const PersistenceArgs& a) {
+  try {
+    return thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
+  } catch (const pnc::Interrupted& e) {
+    persistence_stopped(a, signal_reason(e.signal()), false);
+    throw;
+  } catch (const pnc::Error& e) {
+    persistence_stopped(a, e.what(), true);
+    throw;
+  }
+}
+
 int run_thermo_persistence(PersistenceArgs a) {
   a.spec.rates = parse_list(a.rates, "--rates");
   a.spec.validate("<command line>");
@@ -104,8 +141,7 @@ int run_thermo_persistence(PersistenceArgs a) {
                            a.spec.rates.size(), a.spec.pull_distance, a.spec.timestep_fs,
                            a.spec.temperature);
   const auto t0 = std::chrono::steady_clock::now();
-  const thermo::PersistenceResult r =
-      thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
+  const thermo::PersistenceResult r = run_persistence_reported(a);
   ThermoRun rep{command_line(), a.out, r.h5, 0, !a.no_plots, {}, {}, {}};
   const double si = units::j_m_per_kcal_mol_A;
   std::cerr << fmt::format(

@@ -397,9 +397,13 @@ int run_thermo_ti(TiArgs a) {
   std::cerr << fmt::format("pnc thermo ti: {} unit(s), {} at a time; states in {}/state, pnc "
                            "status {} shows them\n",
                            p.units.size(), a.spec.jobs, a.out, a.out);
-  const rve::LocalRun lr = rve::run_local(
-      a.out, p, a.spec.jobs, [&](const rve::Unit& u) { return ti_unit_main(a.out, p, u, false); });
-  return conclude_ti(a, p, lr.failed, lr.not_run);
+  return run_local_reported(
+      {kCommand, a.out, "analysis", a.json}, p, "pnc thermo ti: " + a.out, [&] {
+        const rve::LocalRun lr = rve::run_local(a.out, p, a.spec.jobs, [&](const rve::Unit& u) {
+          return ti_unit_main(a.out, p, u, false);
+        });
+        return conclude_ti(a, p, lr.failed, lr.not_run);
+      });
 }
 
 } // namespace

@@ -9,9 +9,11 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 namespace pnc::app {
 
@@ -165,7 +167,15 @@ std::string plot_drive(const DriveResult& r, const DriveMeta& meta, const std::s
   }
   const std::string title =
       fs::path(meta.card).filename().string() + " along " + fs::path(meta.path).filename().string();
+  // announced, as every plotting phase: it takes seconds (starting matplotlib), and the summary
+  // lines come after it
+  std::cerr << "pnc material drive: plotting " << png << " ..." << std::endl;
+  const auto t0 = std::chrono::steady_clock::now();
   const auto wrote = run_plot_script("plot_drive.py", {data.temp_path(), png, title});
+  if (!wrote.empty())
+    std::cerr << fmt::format(
+        "pnc material drive: plotted {} in {:.1f} s\n", wrote.front(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return wrote.empty() ? std::string() : wrote.front(); // no PNG: run_plot_script warned
 }
 

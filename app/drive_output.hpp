@@ -27,7 +27,9 @@ void write_drive_output(const std::string& out, const DriveResult& r, const Driv
 std::string drive_csv(const DriveResult& r, const DriveMeta& meta);
 
 /// Draws `png` from the result (scripts/plot_drive.py through run_plot_script: argument
-/// vector, no shell). Returns the PNG written, or "" when it could not be drawn (a warning).
+/// vector, no shell), announcing the phase on stderr ("pnc material drive: plotting PNG ...",
+/// then "... plotted PNG in T s"). Returns the PNG written, or "" when it could not be drawn
+/// (a warning).
 std::string plot_drive(const DriveResult& r, const DriveMeta& meta, const std::string& png);
 
 /// Tolerances of the reference comparison: |value - reference| <= abs + rel |reference|,

@@ -1,4 +1,5 @@
 #include "drive_report.hpp"
+#include "stopped_report.hpp"
 
 #include "fit_report.hpp"
 
@@ -28,9 +29,16 @@ std::string write_drive_report(const DriveRun& run) {
                   fs::path(run.meta.path).filename().string());
   const int steps = static_cast<int>(r.rows.size()) - 1;
   std::vector<std::string> next;
-  if (!r.converged) {
-    page.verdict(fmt::format("Stopped early: {} of {} steps", steps, run.planned_steps), Tone::bad,
-                 {{Tone::bad, r.failure}});
+  if (!r.converged) { // the banner of every run that stopped early (stopped_report.hpp)
+    stopped_banner(page,
+                   {r.failure,
+                    fmt::format("after {} of {} steps (the next step did not converge)", steps,
+                                run.planned_steps),
+                    {fmt::format("`{}`: steps 0 to {}, each converged", run.out, steps)},
+                    "",
+                    "There is nothing to resume: change the path (see What to do next) and run it "
+                    "again.",
+                    true});
     next.push_back("A stress-controlled step did not converge: the law has no state with that "
                    "stress (past its peak, softening) — drive that segment in strain, or use "
                    "smaller steps up to it.");

@@ -1,6 +1,8 @@
 #include "gimp_report.hpp"
 
 #include "fit_report.hpp" // seconds_text
+#include "run_control.hpp"
+#include "stopped_report.hpp"
 
 #include "pnc/core/html_page.hpp"
 #include "pnc/core/version.hpp"
@@ -104,9 +106,20 @@ std::string write_gimp_run_report(const GimpRunInfo& run, const gimp::RunSummary
                                                     "stopped: {}",
                                                     c.name, c.increments, c.stop_reason)});
   const std::string how = fmt::format("{} steps to t = {:.6g} s", s.steps, s.time);
-  if (partial)
-    page.verdict("Stopped at --max-steps: " + how, Tone::neutral, reasons);
-  else
+  if (partial) { // the banner of every run that stopped early, then the run's own reasons
+    RunStop stop{s.end_reason,
+                 fmt::format("after step {} at t = {:.6g} s", s.steps, s.time),
+                 {fmt::format("`checkpoint.h5`: the whole state after step {}", s.steps),
+                  fmt::format("`history.csv`: steps 0 to {}", s.steps),
+                  "`" + fs::path(s.pvd).filename().string() +
+                      "` and its VTU frames: the output times passed"},
+                 resume_command()};
+    stopped_banner(page, stop);
+    std::vector<std::string> notes; // energy warning, crack outcomes
+    for (const auto& x : reasons)
+      notes.push_back(x.second);
+    if (!notes.empty()) page.list(notes);
+  } else
     page.verdict((high ? "Completed with a warning: " : "Completed: ") + how + " (" + s.end_reason +
                      ")",
                  high ? Tone::warning : Tone::good, reasons);

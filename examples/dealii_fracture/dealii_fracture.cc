@@ -2376,7 +2376,15 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
   const auto t_plot = Clock::now();
   if (p.plot && !fp.records.empty()) {
     const std::string png = p.directory + "/force_displacement.png";
-    if (plot(p.directory + "/force_displacement.csv", png, r.stop)) {
+    // announced: starting matplotlib takes seconds after the last step line
+    if (!p.quiet) std::cerr << "dealii_fracture: plotting " << png << " ..." << std::endl;
+    const bool drawn = plot(p.directory + "/force_displacement.csv", png, r.stop);
+    if (!p.quiet && drawn) {
+      std::ostringstream took; // the stream's own format stays as it was
+      took << std::fixed << std::setprecision(1) << seconds_since(t_plot);
+      std::cerr << "dealii_fracture: plotted " << png << " in " << took.str() << " s" << std::endl;
+    }
+    if (drawn) {
       j["plot"] = png;
       r.png = png;
       const std::string damage = p.directory + "/force_displacement_damage.png";

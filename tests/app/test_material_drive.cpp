@@ -15,6 +15,15 @@
 #include <cmath>
 
 using pnc::test::CliResult;
+
+namespace {
+std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+} // namespace
 using pnc::test::Mat6;
 using pnc::test::MaterialCli;
 using pnc::test::Vec6;
@@ -126,6 +135,17 @@ TEST_F(MaterialCli, MixedControlPastTheDamageOnsetConvergesAndIsReported) {
   EXPECT_EQ(b.code, 3) << b.err;
   EXPECT_NE(b.err.find("beyond.toml: segment[1] 'too far' step"), std::string::npos) << b.err;
   EXPECT_TRUE(fs::exists(p("b.csv"))); // the steps before it are kept
+  // the report says first, in words, that the run did not finish, why, where, and what is valid
+  const std::string md = slurp(p("b_report.md"));
+  const auto banner = md.find("Did not finish: ");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_EQ(md.find("beyond.toml: segment[1] 'too far' step"), md.find(":", banner) + 2) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("of 5 steps (the next step did not converge)"), std::string::npos) << md;
+  EXPECT_NE(md.find("b.csv`: steps 0 to"), std::string::npos) << md;
+  EXPECT_NE(md.find("nothing to resume"), std::string::npos) << md;
+  const std::string html = slurp(p("b_report.html"));
+  EXPECT_NE(html.find("Did not finish: "), std::string::npos);
 }
 
 TEST_F(MaterialCli, StrainControlEqualsDirectPluginCalls) {
@@ -340,6 +360,14 @@ TEST_F(MaterialCli, Hdf5OutputStatesItsUnitsAndThePngIsDrawn) {
   png.read(sig, 8);
   EXPECT_EQ(std::string(sig + 1, 3), "PNG");
   EXPECT_FALSE(fs::exists(p("r.png.csv"))); // the plot data were private
+  // the plotting phase (seconds: matplotlib starts) is announced before it runs, then its
+  // end, and both come before the summary lines: no silent seconds
+  const auto plotting = r.err.find("pnc material drive: plotting r.png ...");
+  const auto plotted = r.err.find("pnc material drive: plotted r.png in ");
+  ASSERT_NE(plotting, std::string::npos) << r.err;
+  ASSERT_NE(plotted, std::string::npos) << r.err;
+  EXPECT_LT(plotting, plotted) << r.err;
+  EXPECT_LT(plotted, r.err.find("pnc material drive: " + card)) << r.err;
   // units in the CSV header comments
   std::ifstream f(p("r.csv"));
   std::string head((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

@@ -55,8 +55,12 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
   const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
-  EXPECT_NE(html.find("Stopped at --max-steps: 20 steps"), std::string::npos);
-  EXPECT_NE(html.find("--max-steps (20) reached"), std::string::npos);
+  // the "stopped early" banner comes first: why, where, and how to continue (with --resume)
+  const auto banner = html.find("Did not finish: --max-steps (20) reached");
+  EXPECT_NE(banner, std::string::npos);
+  EXPECT_LT(banner, html.find("What was run"));
+  EXPECT_NE(html.find("Stopped after step 20 at t = "), std::string::npos);
+  EXPECT_NE(html.find("--resume --max-steps 20</code>"), std::string::npos) << "the resume command";
   EXPECT_NE(html.find("Energies at the end (J)"), std::string::npos);
   EXPECT_NE(html.find("Not drawn (--no-plot)."), std::string::npos);
 }
@@ -143,6 +147,57 @@ TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("materials[0].nu"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.7"), std::string::npos) << r.out;
+}
+
+// A simulation failure (a law that cannot take the deformation: a compressive traction of
+// 1e12 Pa, far beyond the modulus of 1.5 GPa, inverts particles within the first step) ends
+// with exit code 6 and the error as before, and the output folder still has a report whose
+// first block says the run did not finish, why (the failure message), where (step and time with
+// its unit), what is valid, and that resuming would meet the same failure; headless Chromium
+// renders it.
+TEST(GimpCli, SimulationFailureLeavesAReportSayingWhyAndWhere) {
+  const fs::path d =
+      fs::temp_directory_path() / ("pnc_gimp_cli_fail_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::ofstream(d / "crush.json") << R"({
+  "dimension": 2, "units": "SI",
+  "grid": {"origin": [-0.002, -0.002], "cells": [14, 14], "cell_size": 0.001},
+  "particles_per_cell": 2,
+  "materials": [{"name": "polymer", "type": "hyperelastic_polymer", "density": 1200,
+                 "E": 1.5e9, "nu": 0.33}],
+  "bodies": [{"material": "polymer", "shape": "box", "min": [0.0, 0.0], "max": [0.01, 0.01]}],
+  "boundaries": [{"name": "wall", "min": [-0.002, -0.002], "max": [0.0, 0.012], "fix": ["x"]}],
+  "loads": {"tractions": [{"name": "push", "min": [0.009, 0.0], "max": [0.01, 0.01], "axis": "x",
+                           "traction": [-1.0e12, 0.0], "ramp": [0.0, 1.0e-9]}]},
+  "time": {"end": 1.0e-4, "cfl": 0.5},
+  "output": {"interval": 2.0e-5, "vtu": "binary", "history_every": 10, "checkpoint_every": 1},
+  "threads": 1
+})";
+  const fs::path out = d / "out";
+  const Result r = sh(std::string(PNC_EXE) + " gimp run " + (d / "crush.json").string() +
+                      " --out " + out.string() + " --no-plot 2>&1");
+  EXPECT_EQ(r.code, 6) << r.out;
+  EXPECT_NE(r.out.find("pnc: error: gimp: particle "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("det F"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("report (failed): " + (out / "report.html").string()), std::string::npos)
+      << r.out;
+  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const auto banner = md.find("## Did not finish: gimp: particle ");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("det F", banner), std::string::npos) << md;
+  EXPECT_NE(md.find("- Stopped at step "), std::string::npos) << md;
+  EXPECT_NE(md.find(", t = "), std::string::npos) << md;
+  EXPECT_NE(md.find("Resuming would meet the same failure"), std::string::npos) << md;
+  EXPECT_EQ(md.find("--resume"), std::string::npos) << "no resume offered\n" << md;
+  const std::string html = pnc::test::read_file((out / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  EXPECT_GT(b.ink, 0.0) << "the banner and tables are drawn";
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }
 
 // `pnc gimp parameters` prints the declared input keys (D292): JSON with every section and

@@ -96,6 +96,35 @@ TEST(EscmCli, ShortCaseOneRunsWithJson) {
   EXPECT_NE(html.find("Not drawn (--no-plot)."), std::string::npos);
 }
 
+// Stopped by --max-steps (exit 0, a checkpoint, no summary.json): the folder still has a
+// report whose first block says the run did not finish, why, after which coupled step (time
+// in ps), what is valid and the command that continues it.
+TEST(EscmCli, MaxStepsStopLeavesAReportWithTheResumeCommand) {
+  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_stop";
+  fs::remove_all(d);
+  const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case1_lj_tension.json";
+  const std::string cmd = std::string(PNC_EXE) + " gimp couple " + in + " --out " +
+                          (d / "out").string() + " --short --quiet --no-plot --max-steps 20";
+  const Result r = sh(cmd + " 2>&1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+  EXPECT_NE(r.out.find("report (stopped early): " + (d / "out" / "report.html").string()),
+            std::string::npos)
+      << r.out;
+  const std::string md = pnc::test::read_file((d / "out" / "report.md").string());
+  const auto banner = md.find("## Did not finish: --max-steps (20) reached");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("Stopped after coupled step 20 at t = "), std::string::npos) << md;
+  EXPECT_NE(md.find(" ps."), std::string::npos) << md;
+  EXPECT_NE(md.find("`checkpoint.h5`: the whole state after step 20"), std::string::npos) << md;
+  EXPECT_NE(md.find("`energy.csv`"), std::string::npos) << md;
+  EXPECT_NE(md.find(cmd + " --resume`"), std::string::npos) << md;
+  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
+}
+
 TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
   const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_bad";
   fs::create_directories(d);

@@ -117,6 +117,21 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
             std::string::npos)
       << msg;
   EXPECT_FALSE(fs::exists(out / "summary.json")) << "stopped before the end";
+  // ... but a report saying so first: the reason, where it stopped, what is valid, how to go on
+  const std::string md = slurp((out / "report.md").string());
+  const auto banner = md.find("Did not finish: interrupted by SIGINT");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("Stopped after step "), std::string::npos) << md;
+  EXPECT_NE(md.find(" s."), std::string::npos) << "the time with its unit\n" << md;
+  EXPECT_NE(md.find("`checkpoint.h5`: the whole state after step"), std::string::npos) << md;
+  EXPECT_NE(md.find("`history.csv`: steps 0 to"), std::string::npos) << md;
+  EXPECT_NE(md.find("--no-plot --resume`"), std::string::npos) << md;
+  const std::string page = slurp((out / "report.html").string());
+  EXPECT_NE(page.find("Did not finish: interrupted by SIGINT"), std::string::npos);
+  EXPECT_NE(msg.find("report (stopped early): " + (out / "report.html").string()),
+            std::string::npos)
+      << msg;
 
   const auto resumed =
       pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
@@ -125,6 +140,8 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   EXPECT_TRUE(j["resumed"].get<bool>());
   EXPECT_GT(j["steps_this_run"].get<long>(), 0);
   EXPECT_LT(j["steps_this_run"].get<long>(), j["steps"].get<long>());
+  EXPECT_EQ(slurp((out / "report.md").string()).find("Did not finish"), std::string::npos)
+      << "the finished run's report replaces the stopped one";
   EXPECT_EQ(slurp((d / "a" / "history.csv").string()), slurp((out / "history.csv").string()));
   EXPECT_EQ(slurp((d / "a" / "particles.pvd").string()), slurp((out / "particles.pvd").string()));
 

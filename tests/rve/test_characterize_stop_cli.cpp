@@ -54,6 +54,15 @@ TEST(RveCharacterizeStop, SigintStopsTheCasesAndResumeContinuesTheirCheckpoints)
   EXPECT_NE(msg.find("pnc: interrupted by SIGINT"), std::string::npos) << msg;
   EXPECT_NE(msg.find("continue with: " + cmd + " --resume"), std::string::npos) << msg;
   EXPECT_FALSE(fs::exists(fs::path(out) / "cases.h5")) << "stopped before the end";
+  // the run folder still has a report that says first why and where it stopped, what is kept,
+  // and how to continue (app/stopped_report.hpp)
+  const std::string md = slurp(out + "/report.md");
+  const auto banner = md.find("Did not finish: interrupted by SIGINT");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("units done; not finished: "), std::string::npos) << md;
+  EXPECT_NE(md.find("unit `replica_1/equilibrate` (done)"), std::string::npos) << md;
+  EXPECT_NE(md.find(cmd + " --resume`"), std::string::npos) << md;
   const pnc::rve::CaseResult at_stop = pnc::rve::read_case(out + "/cases/case_2");
   ASSERT_GE(at_stop.rows_done, 2);
   ASSERT_LT(at_stop.rows_done, 13) << "the case finished before the signal";
@@ -71,5 +80,7 @@ TEST(RveCharacterizeStop, SigintStopsTheCasesAndResumeContinuesTheirCheckpoints)
     EXPECT_EQ(done.stress_virial.row(k), at_stop.stress_virial.row(k)) << k;
   }
   EXPECT_TRUE(fs::exists(fs::path(out) / "cases.h5"));
+  EXPECT_EQ(slurp(out + "/report.md").find("Did not finish"), std::string::npos)
+      << "the finished run's report replaces the stopped one";
   fs::remove_all(d);
 }

@@ -2,6 +2,7 @@
 // errors that name the input (a LAMMPS error with LAMMPS's message).
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/spawn.hpp"
 
 #include "pnc/rve/builder.hpp"
 #include "pnc/rve/forcefield.hpp"
@@ -16,6 +17,7 @@
 
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -110,6 +112,37 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
   EXPECT_NE(html.find("plotting: "), std::string::npos) << "in the warnings";
   EXPECT_NE(html.find("matplotlib"), std::string::npos);
   EXPECT_EQ(html.find("data:image/png"), std::string::npos);
+}
+
+// SIGINT during the first bending rate (5e6 hold steps: minutes, far longer than the wait):
+// exit 128 + SIGINT, and the folder has a report whose first block says the run did not finish,
+// why, how many rates are done (none) and the command that continues it.
+TEST(ThermoCli, PersistenceStoppedBySigintLeavesAReport) {
+  const auto d = tmp("pers_stop");
+  const fs::path out = d / "out";
+  const std::string cmd = std::string(PNC_EXE) +
+                          " thermo persistence --chain harmonic --supports roller --angle-k 500 "
+                          "--spring-k 100 --pull-distance 1 --rates 0.002,0.004 --timestep 1 "
+                          "--hold-steps 5000000 --no-plots --out " +
+                          out.string();
+  const std::string err = (d / "err.txt").string();
+  const pid_t pid = pnc::test::spawn(cmd + " 2>" + err);
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "pnc thermo persistence: harmonic chain", 60))
+      << pnc::test::slurp(err);
+  ::usleep(1000 * 1000); // the first rate's LAMMPS child is running
+  ::kill(pid, SIGINT);
+  const auto e = pnc::test::wait_for(pid, 60);
+  ASSERT_TRUE(e.ended) << "still running 60 s after SIGINT";
+  const std::string msg = pnc::test::slurp(err);
+  EXPECT_EQ(e.code, 128 + SIGINT) << msg;
+  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const auto banner = md.find("## Did not finish: interrupted by SIGINT");
+  ASSERT_NE(banner, std::string::npos) << md << msg;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("Stopped with 0 of 2 bending rates done."), std::string::npos) << md;
+  EXPECT_NE(md.find(cmd + " --resume`"), std::string::npos) << md;
+  EXPECT_FALSE(fs::exists(out / "persistence.h5"));
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }
 
 TEST(ThermoCli, TiErrorsNameTheInput) {

@@ -3,6 +3,7 @@
 // and `pnc run-unit` on its run folder; --resume reruns only what is missing.
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/spawn.hpp"
 
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/forcefield.hpp"
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -140,5 +142,44 @@ TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
       EXPECT_EQ(s2, s1) << id << " was not rerun";
   }
   EXPECT_EQ(ti_numbers(out / "ti.h5"), n1); // the rerun point has the same seed: same samples
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
+}
+
+// SIGINT while the lambda points run: exit 128 + SIGINT as every long command, and the run
+// folder has a report whose first block says the TI did not finish, why, how many units are
+// done out of the five, which are not finished, and the command that continues it
+// (app/stopped_report.hpp). The points sample long enough (10^5 steps each) to be running.
+TEST(ThermoTiPlan, SigintLeavesAReportSayingWhatIsDoneAndHowToResume) {
+  const auto d = fs::temp_directory_path() / ("pnc_test_ti_stop_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string rs = pnc::test::tiny_polymer_restart(d);
+  const fs::path out = d / "plan";
+  const std::string cmd = std::string(PNC_EXE) + " thermo ti --restart " + rs +
+                          " --vol 0,0.005 --dev none --points 2 --equil-steps 20 --prod-steps "
+                          "100000 --sample-every 10 --blocks 3 --no-plots --jobs 2 --out " +
+                          out.string();
+  const std::string err = (d / "err.txt").string();
+  const pid_t pid = pnc::test::spawn(cmd + " 2>" + err);
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "unit(s), 2 at a time", 60)) << pnc::test::slurp(err);
+  ::usleep(1500 * 1000); // the first two points are running
+  ::kill(pid, SIGINT);
+  const auto e = pnc::test::wait_for(pid, 60);
+  ASSERT_TRUE(e.ended) << "still running 60 s after SIGINT";
+  const std::string msg = pnc::test::slurp(err);
+  EXPECT_EQ(e.code, 128 + SIGINT) << msg;
+  EXPECT_NE(msg.find("pnc: interrupted by SIGINT"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("report (stopped early): " + (out / "report.html").string()),
+            std::string::npos)
+      << msg;
+  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const auto banner = md.find("## Did not finish: interrupted by SIGINT");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find(" of 5 units done"), std::string::npos) << md;
+  EXPECT_NE(md.find("not finished: "), std::string::npos) << md;
+  EXPECT_NE(md.find("analysis"), std::string::npos) << "the analysis did not run\n" << md;
+  EXPECT_NE(md.find(cmd + " --resume`"), std::string::npos) << md;
+  EXPECT_FALSE(fs::exists(out / "ti.h5"));
   if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }
