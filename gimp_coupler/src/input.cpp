@@ -79,34 +79,9 @@ void read_materials(const Node& top, const std::string& base_dir, RunConfig& rc,
     rc.material_names.push_back(name);
     const std::string type = m.str("type");
     const double rho = m.num("density");
-    if (type == "linear_elastic") {
-      const double E = m.num("E"), nu = m.num("nu");
-      s.materials.push_back(std::make_shared<LinearElastic>(rho, E, nu));
-    } else if (type == "hyperelastic_polymer") {
-      double c1, c2;
-      if (m.has("c1") || m.has("c2")) {
-        if (m.has("E") || m.has("nu"))
-          m.bad("E", m.has("E") ? m.at("E") : m.at("nu"), "give either (c1, c2) or (E, nu)");
-        if (!m.has("c1") || !m.has("c2"))
-          fail(source, m.key(m.has("c1") ? "c2" : "c1"), "<missing>", "give c1 and c2 together");
-        c1 = m.num("c1");
-        c2 = m.num("c2");
-      } else {
-        const double E = m.num("E", 1.5e9), nu = m.num("nu", 0.33);
-        std::tie(c1, c2) = HyperelasticPolymer::calibrate(E, nu);
-      }
-      s.materials.push_back(std::make_shared<HyperelasticPolymer>(rho, c1, c2));
-    } else { // damage_card
-      const fs::path card = resolve(base_dir, m.str("card"));
-      if (!fs::exists(card)) m.bad("card", m.at("card"), "file not found: " + card.string());
-      try {
-        auto law = std::make_shared<const pnc::fe_material::Material>(
-            pnc::fe_material::Material::from_card(card.string()));
-        s.materials.push_back(std::make_shared<DamageLaw>(rho, law));
-      } catch (const pnc::fe_material::Error& e) {
-        m.bad("card", m.at("card"), std::string("not a usable material card: ") + e.what());
-      }
-    }
+    const MaterialKind* kind = find_material_kind(type); // the declarations checked it
+    if (!kind) m.bad("type", m.at("type"), "must be one of the material laws");
+    s.materials.push_back(kind->make(m, base_dir, rho));
   }
 }
 

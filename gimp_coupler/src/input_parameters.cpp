@@ -5,6 +5,7 @@
 // (a box needs min and max, exactly one of fix / symmetry / velocity, unique material names,
 // the CFL step, ...) are checked by the readers after read() (input.cpp, input_bodies.cpp,
 // input_cracks.cpp).
+#include "input_declare.hpp"
 #include "input_parts.hpp"
 
 #include "pnc/core/parameters.hpp"
@@ -21,28 +22,9 @@ constexpr std::size_t kAnySize = std::numeric_limits<std::size_t>::max();
 
 // ---- entries not bound to a variable: read() returns their values ----
 
-Parameter& real(Parameters& p, const std::string& key, json def, RealRange r, std::string unit,
-                std::string text) {
-  Parameter e =
-      detail::param_entry(key, ParamType::real, std::move(def), std::move(unit), std::move(text));
-  e.range = r;
-  return p.add(std::move(e));
-}
-
-Parameter& integer(Parameters& p, const std::string& key, std::int64_t def, std::int64_t lo,
-                   std::int64_t hi, std::string text) {
-  Parameter e = detail::param_entry(key, ParamType::integer, def, "", std::move(text));
-  e.int_min = lo;
-  e.int_max = hi;
-  return p.add(std::move(e));
-}
-
-Parameter& string(Parameters& p, const std::string& key, json def, std::vector<Choice> choices,
-                  std::string text) {
-  Parameter e = detail::param_entry(key, ParamType::string, std::move(def), "", std::move(text));
-  e.choices = std::move(choices);
-  return p.add(std::move(e));
-}
+using declare::integer;
+using declare::real;
+using declare::string;
 
 // A vector of one number per axis (dimension 0: the documentation of 2-D and 3-D).
 Parameter& vec(Parameters& p, int dim, const std::string& key, std::string unit, std::string text) {
@@ -118,34 +100,13 @@ bool points_ok(const json& v, std::size_t n, std::size_t min) {
 
 // ---- the tables (elements of materials[], bodies[], ...) ----
 
-const std::vector<Choice> kMaterialTypes = {
-    {"linear_elastic", "St Venant-Kirchhoff"},
-    {"hyperelastic_polymer", "the polymer's hyperelastic law (theory.md section 5.3, D31)"},
-    {"damage_card", "the NDM of a material card through the fe_material plugin (D32)"}};
-
+// The keys every material has, then those of its law (material_kinds.cpp: one entry per law).
 void declare_material(Parameters& p, const std::string& type) {
   string(p, "name", nullptr, {}, "the material's name (unique), named by bodies[].material")
       .require();
-  string(p, "type", nullptr, kMaterialTypes, "the law").require();
+  string(p, "type", nullptr, input_detail::material_type_choices(), "the law").require();
   real(p, "density", nullptr, RealRange::above(0), "kg/m^3", "mass density").require();
-  if (type == "linear_elastic") {
-    real(p, "E", nullptr, RealRange::above(0), "Pa", "Young's modulus").require();
-    real(p, "nu", nullptr, RealRange::open(-1, 0.5), "1", "Poisson's ratio").require();
-  } else if (type == "hyperelastic_polymer") {
-    real(p, "E", nullptr, RealRange::above(0), "Pa", "small-strain Young's modulus")
-        .no_default("1.5e9 Pa unless c1, c2 are given")
-        .remark("not with c1, c2");
-    real(p, "nu", nullptr, RealRange::open(-1, 0.5), "1", "small-strain Poisson's ratio")
-        .no_default("0.33 unless c1, c2 are given");
-    real(p, "c1", nullptr, RealRange::above(0), "Pa", "volumetric constant (K = 8 c1)")
-        .no_default("from E, nu")
-        .remark("c1 and c2 together");
-    real(p, "c2", nullptr, RealRange::above(0), "Pa", "shear constant (mu = 38 c2)")
-        .no_default("from E, nu");
-  } else {
-    string(p, "card", nullptr, {}, "HDF5 material card (relative to the input file's folder)")
-        .require();
-  }
+  if (const auto* k = input_detail::find_material_kind(type)) k->declare(p);
 }
 
 std::vector<Choice> shapes(int dim, bool particles) {
@@ -410,9 +371,9 @@ void declare_input(Parameters& p, int dim, Tables* t, bool tables) {
   integer(p, "checkpoint_every", 1, 1, 1000000, "VTU frames between checkpoints");
 
   if (t || !tables) return;
-  for (const auto& m : kMaterialTypes) {
-    p.section("materials[]", m.meaning, "type = \"" + m.value + "\"");
-    declare_material(p, m.value);
+  for (const auto& m : input_detail::material_kinds()) {
+    p.section("materials[]", m.text, "type = \"" + m.type + "\"");
+    declare_material(p, m.type);
   }
   p.section("bodies[]", "particles on a sub-grid inside a shape minus holes",
             "shape != \"particles\"");

@@ -5,13 +5,17 @@
 #include "pnc/gimp_coupler/input.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/params.hpp"
+#include "pnc/gimp_coupler/materials.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace pnc::gimp::input_detail {
 
@@ -94,6 +98,24 @@ struct Node {
 /// value of its type and in its range, every default filled in (in the tables too); then the
 /// readers below check the rules between keys and build the solver.
 json checked_input(const json& doc, const std::string& source, int dimension);
+
+/// One material law the input can name (materials[].type): its name, one line of text, its
+/// keys beyond name, type and density (declared on the parameter layer), and how the law is
+/// built from an entry that passed the declarations (rules between keys checked there).
+/// The laws are the rows of material_kinds() in material_kinds.cpp, one line each.
+struct MaterialKind {
+  std::string type;
+  std::string text;
+  void (*declare)(Parameters& p);
+  std::shared_ptr<const Material> (*make)(const Node& m, const std::string& base_dir,
+                                          double density_kg_per_m3);
+};
+/// The registered laws, in the order of the documentation.
+const std::vector<MaterialKind>& material_kinds();
+/// The law named `type`, or nullptr.
+const MaterialKind* find_material_kind(const std::string& type);
+/// The laws as the allowed values of materials[].type.
+std::vector<Choice> material_type_choices();
 
 /// A relative path `p` resolved against the input's folder `base`.
 std::filesystem::path resolve(const std::string& base, const std::string& p);
