@@ -106,8 +106,9 @@ def run_once(exe, prm, card, case, solver, timeout, workdir):
         "cg_solves": ls["cg_solves"],
         "solves": ls["solves"],
         "fallbacks": ls["fallbacks"],
-        "peak_load": j["peak_load"],
-        "final_load": j["final_load"],
+        # SI keys (D299): N per metre of thickness in 2-D, N in 3-D
+        "peak_load": j["peak_load_N_per_m" if j["dimension"] == 2 else "peak_load_N"],
+        "final_load": j["final_load_N_per_m" if j["dimension"] == 2 else "final_load_N"],
         "finished": j["finished"],
         "wall_s": j["wall_time_s"],
     }

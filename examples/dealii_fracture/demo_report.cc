@@ -253,4 +253,41 @@ std::string write_report(const ReportInput& in) {
   return page.write_report(dir.string());
 }
 
+nlohmann::json si_summary(const nlohmann::json& summary) {
+  // The demo computes in mm, MPa, N/mm (2-D) or N (3-D), mJ/mm or mJ; pnc/core/units.hpp has no
+  // millimetre constants, so they are named here once.
+  constexpr double m_per_mm = 1e-3;            // length
+  constexpr double n_per_m_per_n_per_mm = 1e3; // 2-D force per thickness: N/mm -> N/m
+  constexpr double j_per_m_per_mj_per_mm = 1;  // 2-D energy per thickness: mJ/mm = J/m
+  constexpr double j_per_mj = 1e-3;            // 3-D energy
+  const bool plane = summary.value("dimension", 2) == 2;
+  const std::string force = plane ? "_N_per_m" : "_N", energy = plane ? "_J_per_m" : "_J";
+  const double to_force = plane ? n_per_m_per_n_per_mm : 1.0,
+               to_energy = plane ? j_per_m_per_mj_per_mm : j_per_mj;
+  struct Rule {
+    const char* old_key;
+    std::string new_key;
+    double factor;
+  };
+  const Rule rules[] = {
+      {"peak_load", "peak_load" + force, to_force},
+      {"final_load", "final_load" + force, to_force},
+      {"displacement_at_peak", "displacement_at_peak_m", m_per_mm},
+      {"final_displacement", "final_displacement_m", m_per_mm},
+      {"external_work", "external_work" + energy, to_energy},
+      {"elastic_energy", "elastic_energy" + energy, to_energy},
+      {"dissipated_energy", "dissipated_energy" + energy, to_energy},
+      {"work_minus_elastic_energy", "work_minus_elastic_energy" + energy, to_energy},
+      {"impl_ex_negative_dissipation", "impl_ex_negative_dissipation" + energy, to_energy},
+      {"nonlocal_length_mm", "nonlocal_length_m", m_per_mm}};
+  nlohmann::json out = summary;
+  out.erase("units");
+  for (const auto& r : rules)
+    if (summary.contains(r.old_key)) {
+      out.erase(r.old_key);
+      out[r.new_key] = summary.at(r.old_key).get<double>() * r.factor;
+    }
+  return out;
+}
+
 } // namespace pncdemo

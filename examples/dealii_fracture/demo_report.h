@@ -43,6 +43,13 @@ struct ReportInput {
 /// the peak, or the reason it stopped early.
 std::string stop_text(const nlohmann::json& summary, double stop_fraction);
 
+/// The `--json` object the demo prints (D299): `summary` (FractureProblem::summary() plus the
+/// run's entries, in mm, MPa, N/mm or N, mJ/mm or mJ) with every dimensional value in SI under
+/// a key that ends with its unit: lengths and displacements `_m`; in 2-D (per metre of
+/// thickness) forces `_N_per_m` and energies `_J_per_m`, in 3-D `_N` and `_J`. The `units`
+/// string is dropped (the keys say it); dimensionless entries and `_s` times are copied.
+nlohmann::json si_summary(const nlohmann::json& summary);
+
 /// Writes `in.directory`/report.html and report.md (atomically) and returns the HTML path.
 /// Throws pnc::InputError naming the path when a file cannot be written.
 std::string write_report(const ReportInput& in);

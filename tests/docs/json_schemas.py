@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The --json outputs of pnc match the JSON Schemas shipped in docs/schemas/ (D238).
 
-Runs `pnc synth`, `pnc fit`, `pnc card show`, `pnc material drive`, `pnc card tables`,
-`pnc gimp run` (a 1-s bar impact in 3-D, 5 steps of the 2-D plate) and `pnc status` (a plan
-written here), and in builds with LAMMPS `pnc rve build`, `pnc characterize` (8 chains, short
+Runs `pnc synth`, `pnc fit`, `pnc card show`, `pnc card export --format json`, `pnc material
+drive`, `pnc card tables`, `pnc gimp run` (a 1-s bar impact in 3-D, 5 steps of the 2-D plate)
+and `pnc status` (a plan written here), and in builds with LAMMPS `pnc rve build`, `pnc characterize` (8 chains, short
 stages, one case), `pnc thermo ti` (a 12-chain melt, 2 lambda points), `pnc thermo
 persistence` (a 4-bead harmonic chain), `pnc thermo work` (with python3-h5py) and `pnc gimp
 couple` (the short Case I run) in a fresh temporary directory and validates each printed
@@ -80,6 +80,23 @@ def run_json(pnc, args, cwd):
     if r.returncode not in (0, 4):  # 4: a card that is not usable, still a complete output
         raise SystemExit(f"json_schemas: pnc {' '.join(args)} exited {r.returncode}:\n{r.stderr}")
     return json.loads(r.stdout)
+
+
+def card_export_output(pnc, d, shown, failures):
+    """`pnc card export card.h5 --format json` (it has no --json: the format is the JSON). Its
+    PROPS state their units per entry (D299): Pa for the stiffness constants, 1 for alpha, and
+    the values are the card's, as `pnc card show` prints them in the same units."""
+    r = subprocess.run([pnc, "card", "export", "card.h5", "--format", "json"], cwd=d,
+                       capture_output=True, text=True, timeout=120)
+    if r.returncode != 0:
+        raise SystemExit(f"json_schemas: pnc card export exited {r.returncode}:\n{r.stderr}")
+    ex = json.loads(r.stdout)
+    for p in ex["props"]:
+        c = shown["constants"].get(p["name"])
+        if c is not None and c["value"] is not None and (p["units"] != c["units"] or p["value"] != c["value"]):
+            failures.append(f"card export: {p['name']} = {p['value']} {p['units']}, card show "
+                            f"says {c['value']} {c['units']}")
+    return ex
 
 
 def rve_build_output(pnc, d, failures):
@@ -260,6 +277,7 @@ def main():
             ("fit.schema.json", "fit",
              run_json(a.pnc, ["fit", "--data", "d.csv", "--out", "card.h5", "--no-plots"], d)),
             ("card-show.schema.json", "card show", run_json(a.pnc, ["card", "show", "card.h5"], d)),
+            ("card-export.schema.json", "card export", None),
             ("material-drive.schema.json", "material drive",
              run_json(a.pnc, ["material", "drive", "card.h5", "--path", str(drive), "--out",
                               "drive.csv", "--no-plot"], d)),
@@ -271,6 +289,9 @@ def main():
              run_json(a.pnc, ["gimp", "run", str(plate), "--out", "gimp2", "--quiet", "--no-plot",
                               "--max-steps", "5"], d)),
         ]
+        shown = next(doc for _, lbl, doc in outputs if lbl == "card show")
+        outputs = [(n, lbl, card_export_output(a.pnc, d, shown, failures) if doc is None else doc)
+                   for n, lbl, doc in outputs]
         # D281: energies and reactions per metre of thickness in 2-D, and the keys say so
         for label, doc in ((lbl, doc) for _, lbl, doc in outputs if lbl.startswith("gimp run")):
             plane = doc["dimension"] == 2
