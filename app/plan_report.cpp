@@ -25,9 +25,11 @@ std::string some_ids(const std::vector<std::string>& ids, std::size_t n = 6) {
   return t;
 }
 
-/// "id", or for a Slurm unit "id (job J: message)": where to look and why it stopped.
+/// "id", or for a Slurm unit "id (job J: message)" ("id: message" when the message names the
+/// job): where to look and why it stopped.
 std::string unit_note(const std::string& id, const rve::UnitStatus& s) {
   if (s.job_id.empty()) return id;
+  if (s.message.find("job " + s.job_id + " ") != std::string::npos) return id + ": " + s.message;
   return fmt::format("{} (job {}{})", id, s.job_id, s.message.empty() ? "" : ": " + s.message);
 }
 
@@ -122,7 +124,7 @@ std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
   // the first failure that is not the final unit's (which only names what it missed)
   std::string first = failed.empty() ? "" : failed.front();
   for (const auto& f : failed)
-    if (f.rfind(final_unit + " ", 0) != 0 && f != final_unit) {
+    if (f != final_unit && f.rfind(final_unit + " ", 0) != 0 && f.rfind(final_unit + ":", 0) != 0) {
       first = f;
       break;
     }

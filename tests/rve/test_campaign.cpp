@@ -345,8 +345,7 @@ TEST(RveCampaign, StatusOfAnEndedSlurmPlanWritesTheStoppedReport) {
   ASSERT_NE(banner, std::string::npos) << md;
   EXPECT_LT(banner, md.find("What was run")) << md; // first
   // the first failure that is not the fit's: b, whose job ended without a report
-  EXPECT_NE(md.find("2 unit(s) failed, first b (job 42: job 42 ended without a report"),
-            std::string::npos)
+  EXPECT_NE(md.find("2 unit(s) failed, first b: job 42 ended without a report"), std::string::npos)
       << md;
   EXPECT_NE(md.find("1 of 4 units done"), std::string::npos) << md;
   EXPECT_NE(md.find("fit (job 43: the fit needs a/u_2"), std::string::npos) << md;
@@ -400,4 +399,40 @@ TEST(RveCampaign, SlurmPeerCheckAcceptsOnlyProcessesOfOurJob) {
     ::kill(p, SIGKILL);
     ::waitpid(p, nullptr, 0);
   }
+}
+
+// D300: `pnc characterize --executor slurm --wait` whose jobs end without the fit (here no job
+// ever runs: stand-ins for sbatch and scontrol accept the jobs, squeue shows none) leaves the
+// stopped report before its error, with every unit's job and the command with --resume.
+TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
+  const auto d = scratch("pnc_test_campaign_slurm_wait");
+  const auto bin = d / "bin";
+  fs::create_directories(bin);
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"sbatch", "echo 77"},
+                                   {"scontrol", "exit 0"},
+                                   {"squeue", "exit 0"}}) {
+    std::ofstream(bin / name) << "#!/bin/sh\n" << text << "\n";
+    fs::permissions(bin / name, fs::perms::owner_all);
+  }
+  std::ofstream(d / "r.json") << R"({"name": "tiny-wait", "seed": 7, "build": {"chains": 8},
+    "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},
+    "run": {"replicas": 1}})";
+  const std::string out = (d / "out").string();
+  const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
+                          " --no-plots --out " + out + " --executor slurm --wait";
+  const auto r = pnc::test::run_command("PATH=" + bin.string() +
+                                        ":\"$PATH\" PNC_SLURM_POLL_SECONDS=1 " + cmd + " 2>&1");
+  EXPECT_EQ(r.code, 1) << r.out;
+  const auto page = r.out.find("report (stopped early): " + out + "/report.html");
+  EXPECT_NE(page, std::string::npos) << r.out;
+  EXPECT_LT(page, r.out.find("pnc: error:")) << r.out; // the page, then the run's own error
+  const std::string md = slurp(fs::path(out) / "report.md");
+  const auto banner = md.find("Did not finish: ");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("with 0 of 3 units done"), std::string::npos) << md;
+  EXPECT_NE(md.find("replica_1/case_2: job 77 ended without a report"), std::string::npos) << md;
+  EXPECT_NE(md.find("fit: job 77 ended without a report"), std::string::npos) << md;
+  EXPECT_NE(md.find("`" + cmd + " --resume`"), std::string::npos) << md;
+  fs::remove_all(d);
 }
