@@ -7,8 +7,10 @@
 // missing.
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/slurm.hpp"
+#include "stopped_report.hpp"
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -63,10 +65,41 @@ void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
 int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::string& title,
                        const std::function<int()>& body);
 
+/// The state of every unit of a plan, by unit id.
+using UnitStates = std::map<std::string, rve::UnitStatus>;
+/// The states as recorded in DIR/state (the local executor's view).
+UnitStates recorded_states(const std::string& dir, const rve::Plan& p);
+/// The states as Slurm sees them (rve::effective_status: a queued or running unit whose job
+/// left the queue failed); `have_queue` false (and one warning line) when squeue cannot answer,
+/// then the states as recorded.
+UnitStates slurm_states(const std::string& dir, const rve::Plan& p, bool& have_queue);
+/// The title of a plan's report: "pnc characterize: RECIPE-NAME", else "pnc COMMAND: DIR".
+std::string plan_report_title(const std::string& dir, const rve::Plan& p);
+
+/// The short report of a planned run that stopped early (stopped_report.hpp) in `d.dir`: the
+/// units done (their outputs), failed and not finished (a Slurm unit with its job id and
+/// message); `stop` gives the reason, the resume command and the tone. Prints one line naming
+/// the page; returns its path, or "" when it could not be written (one warning line).
+std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+                                      const UnitStates& states, const std::string& title,
+                                      RunStop stop);
+/// The same with the recorded states, `reason`, `failure` and this command with --resume.
+std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+                                      const std::string& title, const std::string& reason,
+                                      bool failure);
+/// `pnc status DIR` of a Slurm plan (decision D300): when `final_unit` is not done and no unit
+/// is queued or running any more, writes the stopped report in `dir` (the reason: the first
+/// failed unit; the resume command: the plan's recorded command line with --resume) and
+/// returns its path; else "" and nothing is written.
+std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
+                                    const UnitStates& states, const std::string& final_unit);
+
 /// The Slurm executor for a planned command: submits what is not done (spec overridden by
 /// `o`), prints the jobs; without --wait returns 0 at once (with --json the submission on
 /// stdout); with --wait polls the unit states until the final unit ended and returns
-/// `conclude(failed)`. `default_prefix` names the jobs when --job-name is not given.
+/// `conclude(failed)`; when that throws because the final unit is not done, the run folder
+/// first gets the stopped report (write_plan_stopped_report, decision D300). `default_prefix` names
+/// the jobs when --job-name is not given.
 int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
                    const SlurmOptions& o, const std::string& default_prefix,
                    const std::function<int(const std::vector<std::string>&)>& conclude);

@@ -231,8 +231,10 @@ int run_status(const std::string& dir, bool json) {
   std::string table = fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", "unit", "state", "job",
                                   "seconds", "queue / message / log");
   const std::string me = rve::host_name();
+  UnitStates states;
   for (const auto& u : p.units) {
     rve::UnitStatus s = rve::effective_status(dir, u.id, have_queue ? &q : nullptr);
+    states[u.id] = s;
     // a local unit that is "running" in a process that is gone ended without a report
     if (s.state == rve::UnitState::running && s.job_id.empty() && s.host == me && s.pid > 0 &&
         ::kill(static_cast<pid_t>(s.pid), 0) != 0 && errno == ESRCH) {
@@ -260,6 +262,8 @@ int run_status(const std::string& dir, bool json) {
   for (const char* k : {"done", "running", "queued", "pending", "failed"})
     if (count[k]) sum += fmt::format("{}{} {}", sum.empty() ? "" : ", ", count[k], k);
   std::cerr << table << fmt::format("pnc status {}: {} unit(s): {}\n", dir, p.units.size(), sum);
+  // a Slurm plan whose jobs all ended without its final unit: the run's page says so (D300)
+  if (slurm && !p.units.empty()) ended_slurm_plan_report(dir, p, states, p.units.back().id);
   if (json)
     std::cout << nlohmann::json{{"command", "status"}, {"dir", dir}, {"units", units}}.dump()
               << std::endl;
@@ -349,50 +353,6 @@ void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
                    d.dir));
 }
 
-namespace {
-/// "a, b, c" of at most `n` ids, then "and K more".
-std::string some_ids(const std::vector<std::string>& ids, std::size_t n = 6) {
-  std::string t;
-  for (std::size_t i = 0; i < ids.size() && i < n; ++i)
-    t += (i ? ", " : "") + ids[i];
-  if (ids.size() > n) t += fmt::format(" and {} more", ids.size() - n);
-  return t;
-}
-
-void write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p, const std::string& title,
-                               const std::string& reason, bool failure) {
-  std::vector<std::string> done, failed, open;
-  RunStop stop;
-  for (const auto& u : p.units) {
-    const rve::UnitState st = rve::read_status(d.dir, u.id).state;
-    if (st == rve::UnitState::done) {
-      done.push_back(u.id);
-      if (!u.outputs.empty() && stop.valid.size() < 8)
-        stop.valid.push_back(
-            fmt::format("unit `{}` (done): `{}`", u.id, fmt::join(u.outputs, "`, `")));
-    } else {
-      (st == rve::UnitState::failed ? failed : open).push_back(u.id);
-    }
-  }
-  if (done.size() > stop.valid.size())
-    stop.valid.push_back(
-        fmt::format("{} finished unit(s) in all: {}", done.size(), some_ids(done)));
-  stop.reason = reason;
-  stop.where = fmt::format("with {} of {} units done{}{}", done.size(), p.units.size(),
-                           failed.empty() ? "" : "; failed: " + some_ids(failed),
-                           open.empty() ? "" : "; not finished: " + some_ids(open));
-  stop.resume = resume_command(); // finished units are kept and not run again
-  stop.failure = failure;
-  const std::string html = try_write_stopped_report(
-      d.dir, title, stop,
-      {{"command", "`" + command_line() + "`"},
-       {"run folder", "`" + d.dir + "`"},
-       {"unit states", "`pnc status " + d.dir + "` shows every unit and its log"}});
-  if (!html.empty())
-    std::cerr << "pnc " << d.command << ": report (stopped early): " << html << "\n";
-}
-} // namespace
-
 int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::string& title,
                        const std::function<int()>& body) {
   try {
@@ -443,7 +403,20 @@ int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
   std::vector<std::string> failed;
   const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
   wait_for_slurm(d, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
-  return conclude(failed);
+  try {
+    return conclude(failed);
+  } catch (const pnc::Error& e) { // the final unit did not run: its page was not written
+    if (rve::read_status(d.dir, d.final_unit).state != rve::UnitState::done) {
+      bool have_queue = false;
+      RunStop stop;
+      stop.reason = e.what();
+      stop.resume = resume_command(); // finished units are kept and not submitted again
+      stop.failure = true;
+      write_plan_stopped_report(d, p, slurm_states(d.dir, p, have_queue),
+                                plan_report_title(d.dir, p), stop);
+    }
+    throw;
+  }
 }
 
 int run_characterize(const CharacterizeArgs& a) {
@@ -474,7 +447,11 @@ int run_characterize(const CharacterizeArgs& a) {
   // on disk, and follows this command's options (--no-plots) rather than the first run's
   if (a.resume) rve::clear_status(a.out, "fit");
   const nlohmann::json params = {
-      {"recipe", a.recipe}, {"no_plots", a.no_plots}, {"executor", a.executor}, {"jobs", jobs}};
+      {"recipe", a.recipe},
+      {"no_plots", a.no_plots},
+      {"executor", a.executor},
+      {"jobs", jobs},
+      {"command_line", command_line()}}; // pnc status offers it with --resume (D300)
   const rve::Plan p = rve::characterize_plan(r, ranks, eq_ranks, params);
   rve::write_plan(a.out, p);
   if (a.executor == "slurm") return run_slurm(a, r, p);

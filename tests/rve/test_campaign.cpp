@@ -276,6 +276,95 @@ TEST(RveCampaign, RunUnitAndStatusCommandsOnAPlanWithoutWork) {
   EXPECT_NE(r.out.find("Lost atoms"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lammps.log"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("1 failed"), std::string::npos) << r.out;
+  // a local plan: its driver writes its own page (D297); pnc status writes none
+  EXPECT_FALSE(fs::exists(d / "report.md"));
+  EXPECT_EQ(r.out.find("report (stopped early)"), std::string::npos) << r.out;
+  fs::remove_all(d);
+}
+
+namespace {
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+} // namespace
+
+// D300: `pnc status` on a Slurm plan whose jobs ended without its final unit (a unit cancelled,
+// the join unit failed naming what it missed) writes the stopped report: the units done, failed
+// (job id, message) and not finished, the plan's command with --resume; while a unit is still
+// queued it writes nothing. The state files are written as the Slurm units write them; a
+// stand-in squeue on PATH says which jobs are alive.
+TEST(RveCampaign, StatusOfAnEndedSlurmPlanWritesTheStoppedReport) {
+  const auto d = scratch("pnc_test_campaign_slurm_report");
+  const auto bin = d / "bin";
+  fs::create_directories(bin);
+  Plan p = toy_plan();
+  const std::string made =
+      "pnc characterize r.json --out " + (d / "run").string() + " --executor slurm";
+  p.parameters["command_line"] = made;
+  const std::string dir = (d / "run").string();
+  fs::create_directories(dir);
+  write_plan(dir, p);
+  UnitStatus s;
+  s.state = UnitState::done;
+  s.job_id = "41_0";
+  write_status(dir, "a/u_1", s);
+  s.state = UnitState::pending; // stopped by scancel's SIGTERM: pending again
+  s.job_id = "41_1";
+  s.message = "stopped by SIGTERM at a checkpoint";
+  write_status(dir, "a/u_2", s);
+  s.job_id = "42";
+  s.state = UnitState::queued; // its job is in the queue (the stand-in squeue lists it)
+  s.message = "";
+  write_status(dir, "b", s);
+  s.state = UnitState::failed;
+  s.job_id = "43";
+  s.message = "the fit needs a/u_2, which is not done";
+  write_status(dir, "fit", s);
+  const auto squeue = bin / "squeue";
+  std::ofstream(squeue) << "#!/bin/sh\necho '42|PENDING|Dependency'\n";
+  fs::permissions(squeue, fs::perms::owner_all);
+  const std::string status =
+      "PATH=" + bin.string() + ":\"$PATH\" " + std::string(PNC_EXE) + " status " + dir + " 2>&1";
+  // b is still queued: no page
+  auto r = pnc::test::run_command(status);
+  EXPECT_EQ(r.code, 1) << r.out; // a unit failed
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "report.md")) << r.out;
+  EXPECT_EQ(r.out.find("report (stopped early)"), std::string::npos) << r.out;
+
+  // b's job left the queue without a report: every unit ended, the fit not done
+  std::ofstream(squeue) << "#!/bin/sh\nexit 0\n";
+  fs::permissions(squeue, fs::perms::owner_all);
+  r = pnc::test::run_command(status);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("report (stopped early): " + dir + "/report.html"), std::string::npos)
+      << r.out;
+  ASSERT_TRUE(fs::exists(fs::path(dir) / "report.html"));
+  const std::string md = slurp(fs::path(dir) / "report.md");
+  const auto banner = md.find("Did not finish: ");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md; // first
+  // the first failure that is not the fit's: b, whose job ended without a report
+  EXPECT_NE(md.find("2 unit(s) failed, first b: job 42 ended without a report"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("1 of 4 units done"), std::string::npos) << md;
+  EXPECT_NE(md.find("fit (job 43: the fit needs a/u_2"), std::string::npos) << md;
+  EXPECT_NE(md.find("not finished: a/u_2 (job 41_1: stopped by SIGTERM"), std::string::npos) << md;
+  EXPECT_NE(md.find("unit `a/u_1` (done): `a1`"), std::string::npos) << md;
+  EXPECT_NE(md.find("`" + made + " --resume`"), std::string::npos) << md;
+
+  // done: status refreshes nothing once the final unit is done
+  fs::remove(fs::path(dir) / "report.md");
+  fs::remove(fs::path(dir) / "report.html");
+  for (const char* id : {"a/u_2", "b", "fit"}) {
+    UnitStatus ok;
+    ok.state = UnitState::done;
+    ok.job_id = "50";
+    write_status(dir, id, ok);
+  }
+  r = pnc::test::run_command(status);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "report.md")) << r.out;
   fs::remove_all(d);
 }
 
@@ -310,4 +399,40 @@ TEST(RveCampaign, SlurmPeerCheckAcceptsOnlyProcessesOfOurJob) {
     ::kill(p, SIGKILL);
     ::waitpid(p, nullptr, 0);
   }
+}
+
+// D300: `pnc characterize --executor slurm --wait` whose jobs end without the fit (here no job
+// ever runs: stand-ins for sbatch and scontrol accept the jobs, squeue shows none) leaves the
+// stopped report before its error, with every unit's job and the command with --resume.
+TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
+  const auto d = scratch("pnc_test_campaign_slurm_wait");
+  const auto bin = d / "bin";
+  fs::create_directories(bin);
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"sbatch", "echo 77"},
+                                   {"scontrol", "exit 0"},
+                                   {"squeue", "exit 0"}}) {
+    std::ofstream(bin / name) << "#!/bin/sh\n" << text << "\n";
+    fs::permissions(bin / name, fs::perms::owner_all);
+  }
+  std::ofstream(d / "r.json") << R"({"name": "tiny-wait", "seed": 7, "build": {"chains": 8},
+    "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},
+    "run": {"replicas": 1}})";
+  const std::string out = (d / "out").string();
+  const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
+                          " --no-plots --out " + out + " --executor slurm --wait";
+  const auto r = pnc::test::run_command("PATH=" + bin.string() +
+                                        ":\"$PATH\" PNC_SLURM_POLL_SECONDS=1 " + cmd + " 2>&1");
+  EXPECT_EQ(r.code, 1) << r.out;
+  const auto page = r.out.find("report (stopped early): " + out + "/report.html");
+  EXPECT_NE(page, std::string::npos) << r.out;
+  EXPECT_LT(page, r.out.find("pnc: error:")) << r.out; // the page, then the run's own error
+  const std::string md = slurp(fs::path(out) / "report.md");
+  const auto banner = md.find("Did not finish: ");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("with 0 of 3 units done"), std::string::npos) << md;
+  EXPECT_NE(md.find("replica_1/case_2: job 77 ended without a report"), std::string::npos) << md;
+  EXPECT_NE(md.find("fit: job 77 ended without a report"), std::string::npos) << md;
+  EXPECT_NE(md.find("`" + cmd + " --resume`"), std::string::npos) << md;
+  fs::remove_all(d);
 }

@@ -4,8 +4,9 @@
 //     gives bitwise equal cases.h5 datasets and the same card (constants, errors, verdict):
 //     the units run the same code on the same inputs with the same seeds and rank counts;
 //  2. a case unit cancelled with scancel while it runs is reported (its job id, why), the other
-//     units keep going, the fit says which unit is missing, and --resume submits only what is
-//     not done and finishes the campaign;
+//     units keep going, the fit says which unit is missing, pnc status then writes the stopped
+//     report (D300), and --resume submits only what is not done, finishes the campaign and
+//     replaces that page with the full report;
 //  3. `pnc thermo ti` through Slurm gives the numbers of a local run.
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
 #include "pnc/core/hdf5_io.hpp"
@@ -233,6 +234,21 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   const auto status = run_command(std::string(PNC_EXE) + " status " + out + " 2>&1");
   EXPECT_EQ(status.code, 1); // a unit failed
   EXPECT_NE(status.out.find(job), std::string::npos) << status.out;
+  // every job ended without the fit (submitted without --wait): pnc status wrote the stopped
+  // report (D300): the banner first, the cancelled unit with its job id, the resume command
+  EXPECT_NE(status.out.find("report (stopped early): " + out + "/report.html"), std::string::npos)
+      << status.out;
+  EXPECT_TRUE(fs::exists(fs::path(out) / "report.html"));
+  const std::string stopped = slurp(fs::path(out) / "report.md");
+  const auto banner = stopped.find("Did not finish: ");
+  ASSERT_NE(banner, std::string::npos) << stopped;
+  EXPECT_LT(banner, stopped.find("What was run")) << stopped;
+  EXPECT_NE(stopped.find("with 2 of 4 units done"), std::string::npos)
+      << stopped; // the equilibration and case 6
+  EXPECT_TRUE(stopped.find("replica_1/case_2 (job " + job) != std::string::npos ||
+              stopped.find("replica_1/case_2: job " + job) != std::string::npos)
+      << stopped;
+  EXPECT_NE(stopped.find("`" + cmd + " --json --resume`"), std::string::npos) << stopped;
   const std::string eq_job = unit_of(st, "replica_1/equilibrate")["job_id"];
   const std::string c6_job = unit_of(st, "replica_1/case_6")["job_id"];
 
@@ -248,6 +264,10 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   EXPECT_NE(unit_of(st2, "replica_1/case_2")["job_id"], job);
   EXPECT_TRUE(fs::exists(fs::path(out) / "cases.h5"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "card.h5"));
+  // the resumed run's full report replaced the stopped one
+  const std::string full = slurp(fs::path(out) / "report.md");
+  EXPECT_EQ(full.find("Did not finish"), std::string::npos) << full.substr(0, 600);
+  EXPECT_NE(full, stopped);
   // every job ran the user's template, rendered per group
   EXPECT_NE(slurp(fs::path(out) / "slurm" / "fit.sbatch").find("#SBATCH --comment=fit"),
             std::string::npos);

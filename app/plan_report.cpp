@@ -1,0 +1,146 @@
+// The stopped report of a planned command (pnc characterize, pnc thermo ti) that did not
+// finish: on the local executor (run_local_reported), on the Slurm executor after --wait, and
+// from `pnc status DIR` once the Slurm jobs of the plan ended without its final unit
+// (decisions D297, D300; docs/rve.md "Slurm").
+#include "campaign_driver.hpp"
+#include "run_control.hpp"
+#include "stopped_report.hpp"
+
+#include "pnc/core/error.hpp"
+#include "pnc/rve/characterize.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+namespace pnc::app {
+
+namespace {
+/// "a, b, c" of at most `n` ids, then "and K more".
+std::string some_ids(const std::vector<std::string>& ids, std::size_t n = 6) {
+  std::string t;
+  for (std::size_t i = 0; i < ids.size() && i < n; ++i)
+    t += (i ? ", " : "") + ids[i];
+  if (ids.size() > n) t += fmt::format(" and {} more", ids.size() - n);
+  return t;
+}
+
+/// "id", or for a Slurm unit "id (job J: message)" ("id: message" when the message names the
+/// job): where to look and why it stopped.
+std::string unit_note(const std::string& id, const rve::UnitStatus& s) {
+  if (s.job_id.empty()) return id;
+  if (s.message.find("job " + s.job_id + " ") != std::string::npos) return id + ": " + s.message;
+  return fmt::format("{} (job {}{})", id, s.job_id, s.message.empty() ? "" : ": " + s.message);
+}
+
+const rve::UnitStatus& status_of(const UnitStates& states, const std::string& id) {
+  static const rve::UnitStatus pending;
+  const auto it = states.find(id);
+  return it == states.end() ? pending : it->second;
+}
+} // namespace
+
+UnitStates recorded_states(const std::string& dir, const rve::Plan& p) {
+  UnitStates s;
+  for (const auto& u : p.units)
+    s[u.id] = rve::read_status(dir, u.id);
+  return s;
+}
+
+UnitStates slurm_states(const std::string& dir, const rve::Plan& p, bool& have_queue) {
+  std::map<std::string, std::string> q;
+  have_queue = false;
+  try {
+    q = rve::slurm_queue();
+    have_queue = true;
+  } catch (const pnc::InputError& e) {
+    std::cerr << "pnc: warning: " << e.what() << "; states as recorded\n";
+  }
+  UnitStates s;
+  for (const auto& u : p.units)
+    s[u.id] = rve::effective_status(dir, u.id, have_queue ? &q : nullptr);
+  return s;
+}
+
+std::string plan_report_title(const std::string& dir, const rve::Plan& p) {
+  if (p.command == "characterize") try {
+      return "pnc characterize: " + rve::read_run_recipe(dir).name;
+    } catch (const std::exception&) { // the page names the folder instead
+    }
+  return "pnc " + p.command + ": " + dir;
+}
+
+std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+                                      const UnitStates& states, const std::string& title,
+                                      RunStop stop) {
+  std::vector<std::string> done, failed, open;
+  for (const auto& u : p.units) {
+    const rve::UnitStatus& s = status_of(states, u.id);
+    if (s.state == rve::UnitState::done) {
+      done.push_back(u.id);
+      if (!u.outputs.empty() && stop.valid.size() < 8)
+        stop.valid.push_back(
+            fmt::format("unit `{}` (done): `{}`", u.id, fmt::join(u.outputs, "`, `")));
+    } else {
+      (s.state == rve::UnitState::failed ? failed : open).push_back(unit_note(u.id, s));
+    }
+  }
+  if (done.size() > stop.valid.size())
+    stop.valid.push_back(
+        fmt::format("{} finished unit(s) in all: {}", done.size(), some_ids(done)));
+  stop.where = fmt::format("with {} of {} units done{}{}", done.size(), p.units.size(),
+                           failed.empty() ? "" : "; failed: " + some_ids(failed),
+                           open.empty() ? "" : "; not finished: " + some_ids(open));
+  const std::string html = try_write_stopped_report(
+      d.dir, title, stop,
+      {{"command", "`" + p.parameters.value("command_line", command_line()) + "`"},
+       {"run folder", "`" + d.dir + "`"},
+       {"unit states", "`pnc status " + d.dir + "` shows every unit and its log"}});
+  if (!html.empty())
+    std::cerr << "pnc " << d.command << ": report (stopped early): " << html << "\n";
+  return html;
+}
+
+std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+                                      const std::string& title, const std::string& reason,
+                                      bool failure) {
+  RunStop stop;
+  stop.reason = reason;
+  stop.resume = resume_command(); // finished units are kept and not run again
+  stop.failure = failure;
+  return write_plan_stopped_report(d, p, recorded_states(d.dir, p), title, stop);
+}
+
+std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
+                                    const UnitStates& states, const std::string& final_unit) {
+  if (status_of(states, final_unit).state == rve::UnitState::done) return "";
+  std::vector<std::string> failed;
+  for (const auto& u : p.units) {
+    const rve::UnitStatus& s = status_of(states, u.id);
+    if (s.state == rve::UnitState::queued || s.state == rve::UnitState::running) return "";
+    if (s.state == rve::UnitState::failed) failed.push_back(unit_note(u.id, s));
+  }
+  RunStop stop;
+  // the first failure that is not the final unit's (which only names what it missed)
+  std::string first = failed.empty() ? "" : failed.front();
+  for (const auto& f : failed)
+    if (f != final_unit && f.rfind(final_unit + " ", 0) != 0 && f.rfind(final_unit + ":", 0) != 0) {
+      first = f;
+      break;
+    }
+  stop.reason = failed.empty()
+                    ? fmt::format("the Slurm jobs ended before the {} unit ran", final_unit)
+                    : fmt::format("{} unit(s) failed, first {}", failed.size(), first);
+  stop.failure = !failed.empty();
+  // the command that made the folder (recorded in its plan) continues it with --resume
+  std::string cmd = p.parameters.value("command_line", std::string());
+  if (!cmd.empty() && (" " + cmd + " ").find(" --resume ") == std::string::npos) cmd += " --resume";
+  stop.resume = cmd;
+  if (cmd.empty())
+    stop.instead = "Run the command that made this folder again with `--resume`: the finished "
+                   "units are kept and only the others are submitted.";
+  return write_plan_stopped_report({"status", dir, final_unit, false}, p, states,
+                                   plan_report_title(dir, p), stop);
+}
+
+} // namespace pnc::app
