@@ -115,19 +115,17 @@ std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
                                     const UnitStates& states, const std::string& final_unit) {
   if (status_of(states, final_unit).state == rve::UnitState::done) return "";
   std::vector<std::string> failed;
+  std::string
+      first; // the first failure that is not the final unit's (it only names what it missed)
   for (const auto& u : p.units) {
     const rve::UnitStatus& s = status_of(states, u.id);
     if (s.state == rve::UnitState::queued || s.state == rve::UnitState::running) return "";
-    if (s.state == rve::UnitState::failed) failed.push_back(unit_note(u.id, s));
+    if (s.state != rve::UnitState::failed) continue;
+    failed.push_back(unit_note(u.id, s));
+    if (first.empty() && u.id != final_unit) first = failed.back();
   }
+  if (first.empty() && !failed.empty()) first = failed.front();
   RunStop stop;
-  // the first failure that is not the final unit's (which only names what it missed)
-  std::string first = failed.empty() ? "" : failed.front();
-  for (const auto& f : failed)
-    if (f != final_unit && f.rfind(final_unit + " ", 0) != 0 && f.rfind(final_unit + ":", 0) != 0) {
-      first = f;
-      break;
-    }
   stop.reason = failed.empty()
                     ? fmt::format("the Slurm jobs ended before the {} unit ran", final_unit)
                     : fmt::format("{} unit(s) failed, first {}", failed.size(), first);

@@ -1,4 +1,5 @@
 // `pnc gimp run` end to end: --json on stdout, exit codes, bad input naming the key.
+#include "common/declarations_check.hpp"
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
 
@@ -204,26 +205,15 @@ TEST(GimpCli, SimulationFailureLeavesAReportSayingWhyAndWhere) {
 // entry (the rules derived from the declared ranges and SI units), Markdown tables, and the
 // TOML list of one dimension with its defaults.
 TEST(GimpCli, ParametersPrintsTheDeclarations) {
-  const std::string exe = PNC_EXE;
-  Result r = sh(exe + " gimp parameters --format json");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(r.out);
-  std::map<std::string, std::string> rules;
-  for (const auto& s : j.at("sections"))
-    for (const auto& p : s.at("parameters"))
-      rules[p.at("name").get<std::string>()] = p.at("rule").get<std::string>();
+  const std::string cmd = std::string(PNC_EXE) + " gimp parameters";
+  const auto rules = pnc::test::declared_rules(cmd);
   EXPECT_EQ(rules.at("time.cfl"), "must be a number in (0, 1]");
   EXPECT_EQ(rules.at("grid.cell_size"), "must be a number > 0 m");
   EXPECT_EQ(rules.at("materials[].density"), "must be a number > 0 kg/m^3");
   EXPECT_EQ(rules.at("cracks[].growth.Gc"), "must be a number > 0 J/m^2");
   EXPECT_EQ(rules.count("loads.tractions[].traction"), 1u);
-  r = sh(exe + " gimp parameters");
-  ASSERT_EQ(r.code, 0);
-  EXPECT_NE(r.out.find("#### `bodies[]` (shape = \"particles\")"), std::string::npos) << r.out;
-  r = sh(exe + " gimp parameters --format toml --dimension 3");
-  ASSERT_EQ(r.code, 0);
-  EXPECT_NE(r.out.find("\ncfl = 0.5\n"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("exactly 3 elements"), std::string::npos) << r.out;
-  r = sh(exe + " gimp parameters --dimension 4 2>&1");
-  EXPECT_NE(r.code, 0);
+  pnc::test::expect_prints(cmd, "#### `bodies[]` (shape = \"particles\")");
+  pnc::test::expect_prints(cmd + " --format toml --dimension 3", "\ncfl = 0.5\n");
+  pnc::test::expect_prints(cmd + " --format toml --dimension 3", "exactly 3 elements");
+  EXPECT_NE(sh(cmd + " --dimension 4 2>&1").code, 0);
 }

@@ -1,5 +1,6 @@
 // `pnc gimp couple` end to end (docs/escm.md): the Case I example in short mode, --json on stdout,
 // bad input exits with 1 and names the key before LAMMPS starts.
+#include "common/declarations_check.hpp"
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
 
@@ -159,27 +160,16 @@ TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
 // every section and entry (the rules derived from the declared ranges and units), Markdown
 // tables (the generated region of docs/escm.md) and the TOML list of the defaults.
 TEST(EscmCli, CoupleParametersPrintsTheDeclarations) {
-  const std::string exe = PNC_EXE;
-  Result r = sh(exe + " gimp couple-parameters --format json");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(r.out);
-  std::map<std::string, std::string> rules;
-  for (const auto& s : j.at("sections"))
-    for (const auto& p : s.at("parameters"))
-      rules[p.at("name").get<std::string>()] = p.at("rule").get<std::string>();
+  const std::string cmd = std::string(PNC_EXE) + " gimp couple-parameters";
+  const auto rules = pnc::test::declared_rules(cmd);
   EXPECT_EQ(rules.at("md_timestep_fs"), "must be a number in [0.0001, 20] fs");
   EXPECT_EQ(rules.at("crack.Gc"), "must be a number in (0, 1000) J/m^2");
   EXPECT_EQ(rules.at("lj.epsilon"), "must be a number > 0 kcal/mol");
   EXPECT_EQ(rules.at("md.density"), "must be a number in [0.05, 3] g/cm^3");
   EXPECT_EQ(rules.count("md.forcefield.cutoff_sigma"), 1u);
-  r = sh(exe + " gimp couple-parameters");
-  ASSERT_EQ(r.code, 0);
-  EXPECT_NE(r.out.find("#### `md.forcefield`"), std::string::npos) << r.out;
-  r = sh(exe + " gimp couple-parameters --format toml");
-  ASSERT_EQ(r.code, 0);
-  EXPECT_NE(r.out.find("\nsubsteps = 20\n"), std::string::npos) << r.out;
-  r = sh(exe + " gimp couple-parameters --format yaml 2>&1");
-  EXPECT_NE(r.code, 0);
+  pnc::test::expect_prints(cmd, "#### `md.forcefield`");
+  pnc::test::expect_prints(cmd + " --format toml", "\nsubsteps = 20\n");
+  EXPECT_NE(sh(cmd + " --format yaml 2>&1").code, 0);
 }
 
 // The MD region kinds come from a registry keyed by md.type (docs/escm.md "Code layout",
