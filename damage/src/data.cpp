@@ -18,8 +18,6 @@ const char* kStrainCols[6] = {"e11", "e22", "e33", "g23", "g13", "g12"};
 const char* kStressCols[6] = {"s11", "s22", "s33", "s23", "s13", "s12"};
 const char* kStderrCols[6] = {"sd11", "sd22", "sd33", "sd23", "sd13", "sd12"};
 constexpr double kMPa = 1e6;
-const char* kCaseRule =
-    "deformation case must be an integer 1..6 (1-3 extension x1..x3, 4-6 shear 2-3, 1-3, 1-2)";
 const char* kStrainUnitsRule =
     "the strain needs the attribute units = \"1 (engineering shear)\" (dimensionless)";
 
@@ -79,7 +77,8 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
     const std::string where = "case (line " + std::to_string(t.line_numbers[r]) + ")";
     std::ostringstream v;
     v << c;
-    if (c != std::floor(c) || c < 1 || c > 6) fail(path, where, v.str(), kCaseRule);
+    if (c != std::floor(c) || !(std::fabs(c) < 1e9) || !is_deformation_case(static_cast<int>(c)))
+      fail(path, where, v.str(), deformation_case_rule());
     rows_of[static_cast<int>(c)].push_back(r);
     if (has_sd) {
       for (int i = 0; i < 6; ++i)
@@ -125,9 +124,10 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
     try {
       id = std::stoi(idtxt);
     } catch (...) {
-      fail(path, "/" + name, idtxt, "group name must be case_<n> with n in 1..6");
+      fail(path, "/" + name, idtxt,
+           "group name must be case_<n> with n a case id: " + deformation_case_rule());
     }
-    if (id < 1 || id > 6) fail(path, "/" + name, idtxt, kCaseRule);
+    if (!is_deformation_case(id)) fail(path, "/" + name, idtxt, deformation_case_rule());
     if (d.find(id)) fail(path, "/" + name, idtxt, "two groups name the same case");
     CaseCurve c;
     c.id = id;

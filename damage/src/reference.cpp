@@ -46,31 +46,6 @@ NdmParameters dissertation_parameters(Model m) {
   return p;
 }
 
-const DeformationCase& deformation_case(int id, const std::string& source) {
-  static const DeformationCase cases[6] = {
-      {1, "extension x1 (x2, x3 held)", 0, {0, 1, 2}, 0},
-      {2, "extension x2 (x1, x3 held)", 1, {0, 1, 2}, 1},
-      {3, "extension x3 (x1, x2 held)", 2, {0, 1, 2}, 2},
-      {4, "simple shear 2-3", 3, {3}, 1},
-      {5, "simple shear 1-3", 4, {4}, 2},
-      {6, "simple shear 1-2", 5, {5}, 1},
-  };
-  if (id < 1 || id > 6)
-    fail(source, "case", std::to_string(id),
-         "deformation case must be 1..6 (1-3 extension x1..x3, 4-6 shear 2-3, 1-3, 1-2)");
-  return cases[id - 1];
-}
-
-Voigt case_strain(int id, double amount) {
-  Voigt e = Voigt::Zero();
-  e[deformation_case(id).driven] = amount;
-  return e;
-}
-
-std::vector<int> model_cases(Model m) {
-  return m == Model::pnc ? std::vector<int>{1, 2, 3, 4, 5, 6} : std::vector<int>{2, 6};
-}
-
 } // namespace pnc::damage
 
 #include <limits>

@@ -1,6 +1,8 @@
 // Stepwise strain-controlled deformation driver (units real inside, Pa outside).
 #include "pnc/rve/deform.hpp"
 
+#include "pnc/damage/cases.hpp"
+
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -25,14 +27,42 @@ namespace pnc::rve {
 namespace fs = std::filesystem;
 using PathM = Eigen::Matrix<double, Eigen::Dynamic, 6>;
 
-int case_voigt(int case_id) {
-  if (case_id < 1 || case_id > 6)
-    fail("<deform>", "case", std::to_string(case_id), "must be 1..6 (docs/theory.md section 2.1)");
-  return case_id - 1; // 1..3 -> 11,22,33; 4 -> 23; 5 -> 13; 6 -> 12
+std::string box_change(const std::vector<double>& ref, const Eigen::Matrix3d& F,
+                       const std::string& source) {
+  if (ref.size() != 9)
+    fail(source, "reference box", std::to_string(ref.size()) + " values",
+         "must hold xlo ylo zlo xhi yhi zhi xy xz yz");
+  // D316: F upper triangular keeps the LAMMPS box form (edges a = (Lx,0,0), b = (xy,Ly,0),
+  // c = (xz,yz,Lz)); the new edges are F a, F b, F c, each length about its centre.
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::isfinite(F(i, i)) && F(i, i) > 0))
+      fail(source, fmt::format("F({},{})", i + 1, i + 1), fmt::format("{}", F(i, i)),
+           "the stretches of a deformation gradient must be finite and > 0");
+    for (int j = 0; j < i; ++j)
+      if (F(i, j) != 0.0)
+        fail(source, fmt::format("F({},{})", i + 1, j + 1), fmt::format("{}", F(i, j)),
+             "a deformation of the LAMMPS box must be upper triangular (box tilts xy, xz, yz)");
+  }
+  const double L[3] = {ref[3] - ref[0], ref[4] - ref[1], ref[5] - ref[2]};
+  std::string args;
+  for (int a = 0; a < 3; ++a) { // a length F leaves as it is is not named: it stays exact
+    if (F(a, a) == 1.0) continue;
+    const double centre = 0.5 * (ref[a] + ref[a + 3]), half = 0.5 * L[a] * F(a, a);
+    args += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], centre - half, centre + half);
+  }
+  const double xy = ref[6], xz = ref[7], yz = ref[8];
+  const double tilt[3] = {F(0, 0) * xy + F(0, 1) * L[1],                // xy of F b
+                          F(0, 0) * xz + F(0, 1) * yz + F(0, 2) * L[2], // xz of F c
+                          F(1, 1) * yz + F(1, 2) * L[2]};               // yz of F c
+  const double before[3] = {xy, xz, yz};
+  static const char* const names[3] = {"xy", "xz", "yz"};
+  for (int k = 2; k >= 0; --k) // yz, xz, xy: the order the shear cases always used (one each)
+    if (tilt[k] != before[k]) args += fmt::format(" {} final {:.15g}", names[k], tilt[k]);
+  return args.empty() ? "" : "change_box all" + args + " remap units box";
 }
 
 void DeformSpec::validate(const std::string& source) const {
-  case_voigt(case_id);
+  damage::deformation_case(case_id, source);
   if (!(std::isfinite(strain_max) && strain_max != 0.0 && std::fabs(strain_max) <= 0.5))
     fail(source, "deform.strain_max", fmt::format("{}", strain_max),
          "must be non-zero with |strain_max| <= 0.5");
@@ -274,8 +304,9 @@ void static_row(Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv, Eigen
 
 void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   using clock = std::chrono::steady_clock;
-  const int voigt = case_voigt(spec.case_id);
-  const bool shear = voigt >= 3;
+  const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
+  const int voigt = dc.driven;
+  const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
   Checkpoint c;
   c.r.case_id = spec.case_id;
   if (resume && fs::exists(ckpt_path(dir))) {
@@ -287,7 +318,7 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
       fail(prev_state(dir, c.r.rows_done), "", "", "the checkpoint names a missing restart file");
   } else {
     read_state(l, spec, spec.start_state);
-    if (shear) l.cmd("change_box all triclinic");
+    if (tilted) l.cmd("change_box all triclinic");
     double lo[3], hi[3], xy, yz, xz;
     l.box(lo, hi, xy, yz, xz);
     c.ref_box = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], xy, xz, yz};
@@ -305,8 +336,6 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     c.r.rows_done = 0;
     write_checkpoint(dir, spec, c);
   }
-  const auto& B = c.ref_box;
-  const double L0[3] = {B[3] - B[0], B[4] - B[1], B[5] - B[2]};
   const auto t_start = clock::now();
   const int first = c.r.rows_done;
   for (int k = first; k <= spec.steps; ++k) {
@@ -314,19 +343,10 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     read_state(l, spec, prev_state(dir, k));
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
-    // Apply F_k to the reference box (lateral dimensions held), remapping the atoms.
-    if (!shear) {
-      const int a = voigt;
-      const double centre = 0.5 * (B[a] + B[a + 3]), half = 0.5 * L0[a] * (1.0 + t);
-      l.cmd(fmt::format("change_box all {} final {:.15g} {:.15g} remap units box", "xyz"[a],
-                        centre - half, centre + half));
-    } else if (voigt == 3) {
-      l.cmd(fmt::format("change_box all yz final {:.15g} remap units box", B[8] + t * L0[2]));
-    } else if (voigt == 4) {
-      l.cmd(fmt::format("change_box all xz final {:.15g} remap units box", B[7] + t * L0[2]));
-    } else {
-      l.cmd(fmt::format("change_box all xy final {:.15g} remap units box", B[6] + t * L0[1]));
-    }
+    // Apply F(t) of the case to the reference box, remapping the atoms (D316).
+    const std::string change =
+        box_change(c.ref_box, damage::deformation_gradient(dc, t), ckpt_path(dir));
+    if (!change.empty()) l.cmd(change);
     static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
     static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
     Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
@@ -388,7 +408,7 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
       th[2] = block_mean_se(col[13], spec.blocks).first; // V
       th[3] = block_mean_se(col[14], spec.blocks).first; // density
     }
-    strain[voigt] = t;
+    strain = damage::case_strain(spec.case_id, t).transpose();
     l.cmd("write_restart " + lammps_path(state_path(dir, k), "--out"));
     append_row(c.r.strain, strain);
     append_row(c.r.stress_virial, sv);

@@ -7,6 +7,7 @@
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/parameters.hpp"
+#include "pnc/damage/cases.hpp"
 
 #include <limits>
 #include <memory>
@@ -168,7 +169,8 @@ void declare_equilibrate(Parameters& p, Recipe& r, bool kg, const std::string& a
 void declare_deform(Parameters& p, Recipe& r) {
   auto& d = r.deform;
   p.section("deform", "the deformation cases (docs/theory.md section 2.1)");
-  p.integers("cases", r.cases, 1, 6, 1, std::numeric_limits<std::size_t>::max(), "",
+  p.integers("cases", r.cases, 1, static_cast<int>(damage::deformation_cases().size()), 1,
+             std::numeric_limits<std::size_t>::max(), "",
              "case ids: 1-3 extension along x1..x3, 4-6 shear 2-3, 1-3, 1-2")
       .remark("models pnc and kg_platelet default to [1, 2, 3, 4, 5, 6]; models pp and kg "
               "need an extension case (D12l)");

@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/damage/cases.hpp"
 #include "pnc/damage/data.hpp"
 
 #include <fmt/format.h>
@@ -145,7 +146,7 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
   for (std::size_t ci = 0; ci < ncases; ++ci) {
     CombinedCase cc;
     cc.id = results[0][ci].case_id;
-    cc.voigt = case_voigt(cc.id);
+    cc.voigt = damage::deformation_case(cc.id).driven;
     const Eigen::Index first = subtract ? 1 : 0;
     const Eigen::Index n = results[0][ci].rows_done - first;
     for (int rep = 0; rep < nrep; ++rep) {

@@ -3,6 +3,7 @@
 // its closed form, the block-length check, Monte Carlo coverage of the between-replica
 // standard error of a fitted slope, the reference-state error propagation against Monte
 // Carlo, and smoothing that must not shrink an error.
+#include "pnc/damage/cases.hpp"
 #include "pnc/rve/replicas.hpp"
 #include "pnc/rve/statistics.hpp"
 
@@ -54,7 +55,7 @@ CaseResult synthetic_case(int id, const std::vector<double>& s, const std::vecto
   c.strain = PathM::Zero(n, 6);
   c.stress_total = PathM::Zero(n, 6);
   c.stress_total_se = PathM::Constant(n, 6, 1.0);
-  const int v = case_voigt(id);
+  const int v = pnc::damage::deformation_case(id).driven;
   for (Eigen::Index k = 0; k < n; ++k) {
     c.strain(k, v) = static_cast<double>(k) * h;
     c.stress_total(k, v) = s[static_cast<std::size_t>(k)];

@@ -1,6 +1,7 @@
 #pragma once
 // pnc/damage/reference.hpp: the dissertation's tabulated NDM constants (Tables 6.6-6.11,
 // Nair 2010), converted to SI (Pa), with the choices documented in docs/decisions.md D9.
+#include "pnc/damage/cases.hpp" // the deformation cases, formerly declared here
 #include "pnc/damage/ndm.hpp"
 
 namespace pnc::damage {
@@ -14,23 +15,6 @@ namespace pnc::damage {
 ///      printed per row: diagonal 2 B1 = -0.405 (row "2B2", sigma22), off-diagonal B2 = -0.304
 ///      (row "B1", sigma11), B4 = -0.757 (Table 6.11), alpha = 0.941 (decision D9).
 NdmParameters dissertation_parameters(Model m);
-
-/// Deformation cases of docs/theory.md §2.1 (numbered as there):
-/// 1-3 extension along x1..x3 with the lateral dimensions held, 4-6 simple shear 2-3, 1-3,
-/// 1-2. For a case and an amount t (strain or engineering shear), the small-strain tensor
-/// in engineering Voigt form.
-struct DeformationCase {
-  int id;
-  const char* name;
-  int driven;              ///< Voigt index 0..5 of the imposed strain component
-  std::vector<int> active; ///< stress components the model makes non-zero
-  int damage_mode;         ///< D index driven (docs/theory.md §2.1, D12): 0=D1, 1=D2, 2=D3
-};
-/// Throws pnc::InputError (naming `source`) for an id outside 1..6.
-const DeformationCase& deformation_case(int id, const std::string& source = "<case>");
-Voigt case_strain(int id, double amount);
-/// The cases a model is characterised with: pnc 1..6, pp 2 and 6.
-std::vector<int> model_cases(Model m);
 
 } // namespace pnc::damage
 

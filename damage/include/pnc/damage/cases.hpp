@@ -1,0 +1,48 @@
+#pragma once
+// pnc/damage/cases.hpp: the deformation cases, one registry row per case (docs/theory.md
+// section 2.1; decision D316). Everything that needs to know a case (the MD driver in rve/
+// that deforms the box, the fit's labels and active components, the synthetic data, the
+// readers' id checks and their messages) reads it from here, so a new case is one row.
+//
+// A case is driven by a load parameter t (dimensionless: a strain for extension, an
+// engineering shear for shear). Its deformation gradient is F(t) = I + t G with G a constant
+// 3x3 matrix (`gradient`), imposed on the reference box; the small-strain tensor of F in
+// engineering Voigt form (order 11, 22, 33, 23, 13, 12) is `case_strain`.
+#include "pnc/damage/ndm.hpp"
+
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace pnc::damage {
+
+struct DeformationCase {
+  int id;                  ///< 1-based id used in files (cases.h5 /case_<id>, CSV `case`)
+  const char* name;        ///< words for reports, e.g. "simple shear 1-2"
+  int driven;              ///< Voigt index 0..5 of the imposed strain component
+  std::vector<int> active; ///< stress components (Voigt 0..5) the model makes non-zero
+  int damage_mode;         ///< D index driven (docs/theory.md §2.1, D12): 0=D1, 1=D2, 2=D3
+  /// dF/dt, dimensionless; upper triangular (the LAMMPS box tilts xy, xz, yz are the
+  /// entries (0,1), (0,2), (1,2)): extension along a is e_a e_a, simple shear a-b is e_a e_b
+  Eigen::Matrix3d gradient;
+};
+
+/// Every registered case, in id order.
+const std::vector<DeformationCase>& deformation_cases();
+/// The case with this id; throws pnc::InputError naming `source`, the value and the
+/// registered ids for any other id.
+const DeformationCase& deformation_case(int id, const std::string& source = "<case>");
+/// true when `id` names a registered case.
+bool is_deformation_case(int id);
+/// "deformation case must be one of 1..6 (1 extension x1 ..., ...)": the rule readers print.
+std::string deformation_case_rule();
+
+/// F(t) = I + t G of a case (dimensionless).
+Eigen::Matrix3d deformation_gradient(const DeformationCase& c, double t);
+/// The small-strain tensor sym(F - I) of case `id` at load t in engineering Voigt form.
+Voigt case_strain(int id, double amount);
+/// The cases a model is characterised with: pnc 1..6, pp 2 and 6.
+std::vector<int> model_cases(Model m);
+
+} // namespace pnc::damage
