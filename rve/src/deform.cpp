@@ -1,5 +1,6 @@
 // Stepwise strain-controlled deformation driver (units real inside, Pa outside).
 #include "pnc/rve/deform.hpp"
+#include "pnc/rve/box.hpp"
 
 #include "pnc/damage/cases.hpp"
 
@@ -26,40 +27,6 @@ namespace pnc::rve {
 
 namespace fs = std::filesystem;
 using PathM = Eigen::Matrix<double, Eigen::Dynamic, 6>;
-
-std::string box_change(const std::vector<double>& ref, const Eigen::Matrix3d& F,
-                       const std::string& source) {
-  if (ref.size() != 9)
-    fail(source, "reference box", std::to_string(ref.size()) + " values",
-         "must hold xlo ylo zlo xhi yhi zhi xy xz yz");
-  // D316: F upper triangular keeps the LAMMPS box form (edges a = (Lx,0,0), b = (xy,Ly,0),
-  // c = (xz,yz,Lz)); the new edges are F a, F b, F c, each length about its centre.
-  for (int i = 0; i < 3; ++i) {
-    if (!(std::isfinite(F(i, i)) && F(i, i) > 0))
-      fail(source, fmt::format("F({},{})", i + 1, i + 1), fmt::format("{}", F(i, i)),
-           "the stretches of a deformation gradient must be finite and > 0");
-    for (int j = 0; j < i; ++j)
-      if (F(i, j) != 0.0)
-        fail(source, fmt::format("F({},{})", i + 1, j + 1), fmt::format("{}", F(i, j)),
-             "a deformation of the LAMMPS box must be upper triangular (box tilts xy, xz, yz)");
-  }
-  const double L[3] = {ref[3] - ref[0], ref[4] - ref[1], ref[5] - ref[2]};
-  std::string args;
-  for (int a = 0; a < 3; ++a) { // a length F leaves as it is is not named: it stays exact
-    if (F(a, a) == 1.0) continue;
-    const double centre = 0.5 * (ref[a] + ref[a + 3]), half = 0.5 * L[a] * F(a, a);
-    args += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], centre - half, centre + half);
-  }
-  const double xy = ref[6], xz = ref[7], yz = ref[8];
-  const double tilt[3] = {F(0, 0) * xy + F(0, 1) * L[1],                // xy of F b
-                          F(0, 0) * xz + F(0, 1) * yz + F(0, 2) * L[2], // xz of F c
-                          F(1, 1) * yz + F(1, 2) * L[2]};               // yz of F c
-  const double before[3] = {xy, xz, yz};
-  static const char* const names[3] = {"xy", "xz", "yz"};
-  for (int k = 2; k >= 0; --k) // yz, xz, xy: the order the shear cases always used (one each)
-    if (tilt[k] != before[k]) args += fmt::format(" {} final {:.15g}", names[k], tilt[k]);
-  return args.empty() ? "" : "change_box all" + args + " remap units box";
-}
 
 void DeformSpec::validate(const std::string& source) const {
   damage::deformation_case(case_id, source);
@@ -306,6 +273,10 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
   using clock = std::chrono::steady_clock;
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   const int voigt = dc.driven;
+  // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
+  if (!dc.gradient.isUpperTriangular(0.0))
+    fail("<deformation cases>", "case " + std::to_string(dc.id), dc.name,
+         "the gradient of a deformation case must be upper triangular (D316)");
   const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
   Checkpoint c;
   c.r.case_id = spec.case_id;
@@ -344,8 +315,8 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
     // Apply F(t) of the case to the reference box, remapping the atoms (D316).
-    const std::string change =
-        box_change(c.ref_box, damage::deformation_gradient(dc, t), ckpt_path(dir));
+    const std::string change = box_change(LmpBox::from_vector(c.ref_box, ckpt_path(dir)),
+                                          damage::deformation_gradient(dc, t), ckpt_path(dir));
     if (!change.empty()) l.cmd(change);
     static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
     static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz

@@ -1,6 +1,8 @@
 // Equilibration protocol (docs/theory.md §3.3, D19), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
+#include "pnc/rve/box.hpp"
+
 #include "equilibrate_detail.hpp"
 
 #include "pnc/rve/clay.hpp"
@@ -148,13 +150,14 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
     l.box(lo, hi, xy, yz, xz);
     const double ratio = vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
     const double f = with_clay ? std::sqrt(ratio) : std::cbrt(ratio);
-    std::string cb = "change_box all";
-    for (int a = 0; a < 3; ++a) {
-      const double fa = (with_clay && a == 0) ? 1.0 : f;
-      const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * fa;
-      cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
-    }
-    l.cmd(cb + " remap units box");
+    LmpBox box;
+    box.lo = {lo[0], lo[1], lo[2]};
+    box.hi = {hi[0], hi[1], hi[2]};
+    box.xy = xy, box.xz = xz, box.yz = yz;
+    Eigen::Matrix3d F = f * Eigen::Matrix3d::Identity();
+    if (with_clay) F(0, 0) = 1.0; // x1 held
+    const std::string cmd = box_change(box, F, "<equilibrate>");
+    if (!cmd.empty()) l.cmd(cmd);
     how = fmt::format(
         "NPT at {:.1f} atm{} for {} steps (mean density of the second half {:.4f} "
         "g/cm3), box set to its mean volume {:.1f} A^3, then NVT (Langevin) for {} steps",

@@ -1,6 +1,8 @@
 // Phase check stage (units real inside, SI in phase.h5): decisions D125-D129.
 #include "pnc/rve/phase_check.hpp"
 
+#include "pnc/rve/box.hpp"
+
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -85,19 +87,18 @@ Hold hold(Lammps& l, const PhaseCheckInput& in, char kind, double strain, long s
   read_state(l, in);
   double lo[3], hi[3], xy, yz, xz;
   l.box(lo, hi, xy, yz, xz);
+  LmpBox box;
+  box.lo = {lo[0], lo[1], lo[2]};
+  box.hi = {hi[0], hi[1], hi[2]};
+  box.xy = xy, box.xz = xz, box.yz = yz;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (kind == 's') {
     l.cmd("change_box all triclinic");
-    l.cmd(fmt::format("change_box all xy final {:.15g} remap units box",
-                      xy + strain * (hi[1] - lo[1])));
+    F(0, 1) = strain; // simple shear 1-2: xy += gamma Ly
   } else {
-    const double f = std::cbrt(1.0 + strain);
-    std::string cb = "change_box all";
-    for (int a = 0; a < 3; ++a) {
-      const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * f;
-      cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
-    }
-    l.cmd(cb + " remap units box");
+    F *= std::cbrt(1.0 + strain); // isotropic volumetric strain
   }
+  l.cmd(box_change(box, F, "<phase check>"));
   l.cmd("fix pnc_nve all nve");
   l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
                     in.temperature, in.damp_fs, seed));

@@ -6,6 +6,7 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/rve/box.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/runner.hpp"
@@ -131,15 +132,12 @@ void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std:
     double lo[3], hi[3], xy, yz, xz;
     l.box(lo, hi, xy, yz, xz);
     const double f = std::cbrt(vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])));
-    std::string cb = "change_box all";
-    for (int a = 0; a < 3; ++a) {
-      const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]) * f;
-      cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c - h, c + h);
-    }
-    if (xy != 0 || xz != 0 || yz != 0)
-      cb += fmt::format(" xy final {:.15g} xz final {:.15g} yz final {:.15g}", xy * f, xz * f,
-                        yz * f);
-    l.cmd(cb + " remap units box");
+    LmpBox box; // D123: iso scaling, the tilts with the lengths
+    box.lo = {lo[0], lo[1], lo[2]};
+    box.hi = {hi[0], hi[1], hi[2]};
+    box.xy = xy, box.xz = xz, box.yz = yz;
+    const std::string cmd = box_change(box, f * Eigen::Matrix3d::Identity(), "<npt stage>");
+    if (!cmd.empty()) l.cmd(cmd);
     how += fmt::format(", NPT (iso) at {:.1f} atm; mean density of the second half {:.4f} g/cm3, "
                        "box set to its mean volume {:.1f} A^3",
                        s.pressure_atm, mean_of(rows, 4, rows.size() / 2), vmean);

@@ -1,6 +1,8 @@
 // Thermodynamic integration engine and the polymer free energy of deformation (units real).
 #include "pnc/thermo/ti.hpp"
 
+#include "pnc/rve/box.hpp"
+
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -308,34 +310,24 @@ LambdaIntegral collect(const Quadrature& q, const std::vector<PointJob>& jobs, d
 
 std::vector<std::string> deform_commands(const DeformState& st, const double lo[3],
                                          const double hi[3], double xy, double yz, double xz) {
-  Eigen::Matrix3d H; // columns: box vectors a, b, c (LAMMPS: a = (lx,0,0), b = (xy,ly,0), ...)
-  H << hi[0] - lo[0], xy, xz, 0, hi[1] - lo[1], yz, 0, 0, hi[2] - lo[2];
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (st.kind == "vol")
     F *= 1 + st.strain; // volumetric F = (1+a) I (docs/theory.md §4.2, D63)
   else if (st.kind == "dev")
-    // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2)
+    // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2); not upper triangular: the
+    // box is F H rotated to the LAMMPS form (rve::box_change, D63)
     F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity());
   else if (st.kind != "ref")
     fail("<ti>", "state", st.kind, "must be ref, vol or dev");
   std::vector<std::string> out;
   if (st.kind == "ref") return out;
-  // F H = Q R with R upper triangular and positive diagonal: the rotated box Q^T F H = R is
-  // LAMMPS's form; remap keeps fractional coordinates, i.e. x -> R H^-1 x = Q^T F x (D63).
-  Eigen::HouseholderQR<Eigen::Matrix3d> qr(F * H);
-  Eigen::Matrix3d R = qr.matrixQR().triangularView<Eigen::Upper>();
-  for (int i = 0; i < 3; ++i)
-    if (R(i, i) < 0) R.row(i) *= -1;
-  const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
   if (st.kind == "dev") out.push_back("change_box all triclinic");
-  std::string cb = "change_box all";
-  for (int a = 0; a < 3; ++a)
-    cb += fmt::format(" {} final {:.15g} {:.15g}", "xyz"[a], c[a] - 0.5 * R(a, a),
-                      c[a] + 0.5 * R(a, a));
-  if (st.kind == "dev")
-    cb += fmt::format(" xy final {:.15g} xz final {:.15g} yz final {:.15g}", R(0, 1), R(0, 2),
-                      R(1, 2));
-  out.push_back(cb + " remap units box");
+  rve::LmpBox box;
+  box.lo = {lo[0], lo[1], lo[2]};
+  box.hi = {hi[0], hi[1], hi[2]};
+  box.xy = xy, box.xz = xz, box.yz = yz;
+  const std::string cmd = rve::box_change(box, F, "<ti state " + st.id + ">");
+  if (!cmd.empty()) out.push_back(cmd);
   return out;
 }
 

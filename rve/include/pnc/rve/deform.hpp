@@ -103,13 +103,4 @@ moving_average(const Eigen::Matrix<double, Eigen::Dynamic, 6>& m, int points);
 /// Mean and block-averaged standard error of a series.
 std::pair<double, double> block_mean_se(const std::vector<double>& x, int blocks);
 
-/// The LAMMPS command that takes the reference box `ref` (Angstrom: xlo, ylo, zlo, xhi, yhi,
-/// zhi, xy, xz, yz, as CaseResult's checkpoint keeps it) to F ref, with the atoms remapped: each
-/// edge length scaled about its centre by F(a,a), the tilts of the edges F b and F c. A length
-/// or tilt F leaves unchanged is not named (it keeps its exact value); "" when F = I. F
-/// (dimensionless) must be upper triangular with positive diagonal: InputError naming
-/// `source`, the entry and the rule otherwise (decision D316).
-std::string box_change(const std::vector<double>& ref, const Eigen::Matrix3d& F,
-                       const std::string& source = "<deformation gradient>");
-
 } // namespace pnc::rve
