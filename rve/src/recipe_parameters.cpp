@@ -4,6 +4,7 @@
 // are generated from that printout (decisions D230-D232). Units: LAMMPS real (A, fs, kcal/mol,
 // g/mol, atm, K).
 #include "pnc/rve/recipe.hpp"
+#include "pnc/rve/slurm_parameters.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/parameters.hpp"

@@ -1,6 +1,7 @@
 // The Slurm executor: job arrays per group, afterok/afterany dependencies, held submission,
 // queue checks (slurm.hpp, decisions D243-D245).
 #include "pnc/rve/slurm.hpp"
+#include "pnc/rve/slurm_parameters.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"

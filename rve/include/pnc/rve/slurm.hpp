@@ -24,10 +24,6 @@
 #include <string>
 #include <vector>
 
-namespace pnc {
-class Parameters;
-}
-
 namespace pnc::rve {
 
 /// Recipe section "slurm" (all optional; CLI options override): where and how long the jobs
@@ -45,13 +41,6 @@ struct SlurmSpec {
 };
 SlurmSpec parse_slurm_spec(const nlohmann::json& j, const std::string& source);
 nlohmann::json slurm_spec_json(const SlurmSpec& s);
-
-/// Declares the optional section "slurm" of an input on the parameter layer (parameters.hpp),
-/// bound to `s` (`s.given`: the input has it): partition, account, time (a Slurm time limit),
-/// template (a file path); with `ranks` also ranks, equilibrate_ranks and mpi (pnc characterize;
-/// `pnc thermo ti` runs one rank per unit, D288). `text` says what the section is. One
-/// declaration for every planned command (D301).
-void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks);
 
 /// The built-in job-script template (docs/cluster.md shows it).
 const std::string& default_sbatch_template();

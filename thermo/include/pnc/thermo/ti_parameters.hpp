@@ -8,7 +8,7 @@
 // strains dimensionless. The optional section "slurm" is the one of a `pnc characterize` recipe
 // without the rank keys (rve::declare_slurm_section; one rank per (state, lambda) unit, D288).
 // An option given on the command line overrides the file's key (override_ti_input, D301).
-#include "pnc/rve/slurm.hpp"
+#include "pnc/rve/slurm_parameters.hpp"
 #include "pnc/thermo/ti.hpp"
 
 #include <nlohmann/json.hpp>
