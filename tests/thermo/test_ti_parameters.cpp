@@ -246,3 +246,25 @@ TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTh
   EXPECT_FALSE(fs::exists(d / "c" / "ti_spec.json"));
   fs::remove_all(d);
 }
+
+// `pnc thermo ti-parameters` prints the declarations: JSON with every key (the 23 of
+// kEveryKey), a TOML template that reads back to the defaults, and refuses an unknown format.
+TEST(ThermoTiInput, TiParametersPrintsEveryKey) {
+  const std::string exe(PNC_EXE);
+  auto r = pnc::test::run_command(exe + " thermo ti-parameters --format json");
+  ASSERT_EQ(r.code, 0);
+  const auto j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(j.is_object());
+  std::set<std::string> names;
+  for (const auto& s : j["sections"])
+    for (const auto& p : s["parameters"])
+      names.insert(p["name"].get<std::string>()); // the dotted path
+  EXPECT_EQ(names.size(), 23u);
+  for (const char* k : {"equil_steps", "dhdl", "executor", "slurm.time", "slurm.template"})
+    EXPECT_EQ(names.count(k), 1u) << k;
+  r = pnc::test::run_command(exe + " thermo ti-parameters --format toml");
+  ASSERT_EQ(r.code, 0);
+  expect_same(pnc::thermo::parse_ti_input(pnc::parse_toml(r.out, "t.toml"), "t.toml"), TiInput{});
+  r = pnc::test::run_command(exe + " thermo ti-parameters --format yaml 2>/dev/null");
+  EXPECT_NE(r.code, 0);
+}
