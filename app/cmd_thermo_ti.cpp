@@ -524,7 +524,8 @@ void register_thermo_ti(CLI::App* th, Action& action) {
   // D301: every declared key has its option (get_option throws at start-up otherwise); the
   // ones given explicitly override the file
   std::vector<std::pair<std::string, CLI::Option*>> keyed;
-  for (const auto& prm : thermo::ti_input_parameters().parameters())
+  const Parameters declared = thermo::ti_input_parameters();
+  for (const auto& prm : declared.parameters())
     keyed.emplace_back(prm.path, ti->get_option(thermo::ti_option_of(prm.path)));
   ti->callback([ta, keyed, &action] {
     for (const auto& [key, opt] : keyed)

@@ -138,7 +138,8 @@ TEST(ThermoTiInput, AFileWithEveryKeyReadsBackFieldByField) {
   expect_same(in, every_key_input());
   EXPECT_TRUE(in.slurm.given);
   std::set<std::string> options;
-  for (const auto& p : pnc::thermo::ti_input_parameters().parameters())
+  const pnc::Parameters declared = pnc::thermo::ti_input_parameters();
+  for (const auto& p : declared.parameters())
     EXPECT_TRUE(options.insert(pnc::thermo::ti_option_of(p.path)).second) << p.path;
   EXPECT_EQ(options.size(), 23u); // 19 TI keys + 4 slurm keys: kEveryKey sets each
 }
