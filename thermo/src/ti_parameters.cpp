@@ -24,7 +24,7 @@ constexpr std::size_t kMaxStates = 1000;
 void declare_ti(Parameters& p, TiInput& in) {
   auto& s = in.spec;
   p.string("rule", s.rule,
-           {{"gauss", "Gauss-Legendre nodes (Table 6.1 with 3 points)"},
+           {{"gauss", "Gauss-Legendre nodes; Table 6.1 with 3 points"},
             {"trapezoid", "equally spaced nodes including lambda = 0 and 1"}},
            "quadrature rule over lambda (D61)");
   p.integer("points", s.points, 1, 64, "", "quadrature points (lambda nodes) per state");
@@ -60,7 +60,7 @@ void declare_ti(Parameters& p, TiInput& in) {
   p.integer("jobs", s.jobs, 1, 64, "", "lambda points run at the same time (local executor)");
   p.string("executor", in.executor,
            {{"local", "children of this process, jobs at a time"},
-            {"slurm", "one Slurm job array, the analysis after it (docs/cluster.md)"}},
+            {"slurm", "one Slurm job array, then the analysis; docs/cluster.md"}},
            "who runs the (state, lambda) units");
 }
 
