@@ -518,7 +518,7 @@ void register_thermo_ti(CLI::App* th, Action& action) {
                  "Who runs the (state, lambda) units: local (children of this process, --jobs at "
                  "a time) or slurm (one job array, the analysis after it; docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}));
-  add_slurm_options(ti, ta->slurm, false);
+  add_slurm_options(ti, ta->slurm, "the input file");
   ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
   ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
   // D301: every declared key has its option (get_option throws at start-up otherwise); the
