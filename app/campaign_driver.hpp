@@ -38,9 +38,10 @@ struct SlurmOptions {
   std::string partition, account, time, sbatch_template, job_name;
   bool wait = false;
 };
-/// Adds those options to `cmd`; `recipe`: an option not given comes from the recipe's "slurm"
-/// section first (pnc characterize).
-void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe);
+/// Adds those options to `cmd`; `file` (e.g. "the recipe", "the input file"; "" none): an
+/// option not given comes from that file's "slurm" section first (pnc characterize, pnc thermo
+/// ti --input; D301).
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& file);
 
 /// What the driver of a planned command knows about its run.
 struct PlanDriver {

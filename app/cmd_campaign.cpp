@@ -293,10 +293,11 @@ int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int(
   }
 }
 
-void add_slurm_options(CLI::App* cmd, SlurmOptions& o, bool recipe) {
-  const std::string from = recipe ? "the recipe's slurm." : "";
+void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& file) {
+  const std::string from = file + "'s slurm.";
   const auto dflt = [&](const std::string& key, const std::string& otherwise) {
-    return " (default: " + (recipe ? from + key + ", else " : std::string()) + otherwise + ")";
+    return " (default: " + (!file.empty() ? from + key + ", else " : std::string()) + otherwise +
+           ")";
   };
   cmd->add_flag("--wait", o.wait,
                 "slurm: wait until the last unit ends, printing every unit's change, then report "

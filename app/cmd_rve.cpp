@@ -261,7 +261,7 @@ void register_rve(CLI::App& app, Action& action) {
                  "Who runs the units: local (children of this process, --jobs at a time) or "
                  "slurm (sbatch job arrays with dependencies; docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}));
-  add_slurm_options(ch, ca->slurm, true);
+  add_slurm_options(ch, ca->slurm, "the recipe");
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });

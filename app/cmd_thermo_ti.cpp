@@ -11,6 +11,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -21,6 +22,7 @@
 #include "pnc/rve/executor.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/ti.hpp"
+#include "pnc/thermo/ti_parameters.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -42,7 +44,9 @@ namespace fs = std::filesystem;
 const char* const kCommand = "thermo ti";
 
 struct TiArgs {
-  thermo::TiSpec spec;
+  thermo::TiSpec spec; ///< the options' values (a file's keys where not given: resolve_input)
+  std::string input;   ///< --input: a TI input file (thermo/ti_parameters.hpp), "" none
+  std::vector<std::string> given; ///< the declared keys whose option was given (D301)
   std::string from, restart, out, vol = "0,0.00125,0.0025,0.00375,0.005",
                                   dev = "0,0.00125,0.0025,0.00375,0.005";
   bool demo = false, resume = false, json = false, no_plots = false;
@@ -350,10 +354,28 @@ int conclude_ti(const TiArgs& a, const rve::Plan& p, const std::vector<std::stri
   return 0;
 }
 
+/// D301: the TI settings of this run: the --input file's keys (defaults without one), each
+/// key whose option was given explicitly taken from the command line instead.
+thermo::TiInput resolve_input(const TiArgs& a) {
+  thermo::TiInput cli;
+  cli.spec = a.spec;
+  cli.spec.vol = parse_list(a.vol, "--vol");
+  cli.spec.dev = parse_list(a.dev, "--dev");
+  cli.executor = a.executor;
+  cli.slurm.partition = a.slurm.partition;
+  cli.slurm.account = a.slurm.account;
+  cli.slurm.time = a.slurm.time;
+  cli.slurm.template_path = a.slurm.sbatch_template;
+  thermo::TiInput in = a.input.empty() ? thermo::TiInput{} : thermo::read_ti_input(a.input);
+  thermo::override_ti_input(in, cli, a.given);
+  in.spec.validate(a.input.empty() ? "<command line>" : a.input + " with the command line");
+  return in;
+}
+
 int run_thermo_ti(TiArgs a) {
-  a.spec.vol = parse_list(a.vol, "--vol");
-  a.spec.dev = parse_list(a.dev, "--dev");
-  a.spec.validate("<command line>");
+  const thermo::TiInput in = resolve_input(a);
+  a.spec = in.spec;
+  a.executor = in.executor;
   const RunDirLock lock(a.out, command_line()); // one process per run directory
   start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept
@@ -385,15 +407,21 @@ int run_thermo_ti(TiArgs a) {
                                  {"executor", a.executor},
                                  {"jobs", a.spec.jobs},
                                  {"command_line", command_line()},
+                                 // D302: --resume reads the same file again
+                                 {"input", a.input.empty() ? "" : fs::absolute(a.input).string()},
                                  {"started_s", started}};
   const rve::Plan p = ti_plan(a.spec, a.out, params);
   sync_point_states(a.out, a.spec);
   rve::clear_status(a.out, "analysis"); // the analysis runs again on every --resume (seconds)
   rve::write_plan(a.out, p);
-  if (a.executor == "slurm")
+  if (a.executor == "slurm") { // the file's slurm section, the options merged in (D301)
+    SlurmOptions o;
+    o.wait = a.slurm.wait;
+    o.job_name = a.slurm.job_name;
     return run_plan_slurm(
-        {kCommand, a.out, "analysis", a.json}, p, rve::SlurmSpec{}, a.slurm, job_prefix_of("ti"),
+        {kCommand, a.out, "analysis", a.json}, p, in.slurm, o, job_prefix_of("ti"),
         [&](const std::vector<std::string>& failed) { return conclude_ti(a, p, failed, {}); });
+  }
   std::cerr << fmt::format("pnc thermo ti: {} unit(s), {} at a time; states in {}/state, pnc "
                            "status {} shows them\n",
                            p.units.size(), a.spec.jobs, a.out, a.out);
@@ -406,10 +434,33 @@ int run_thermo_ti(TiArgs a) {
       });
 }
 
+/// `pnc thermo ti-parameters`: the declared keys of the TI input (thermo/src/ti_parameters.cpp)
+/// as Markdown tables (the generated region of docs/thermo.md), JSON or a commented TOML
+/// template with the defaults.
+int run_ti_parameters(const std::string& format) {
+  const Parameters p = thermo::ti_input_parameters();
+  if (format == "toml")
+    std::cout << p.to_toml();
+  else if (format == "json")
+    std::cout << p.to_json().dump(2) << "\n";
+  else
+    std::cout << p.to_markdown(4);
+  return 0;
+}
+
 } // namespace
 
 void register_thermo_ti(CLI::App* th, Action& action) {
   register_plan_command(kCommand, ti_unit_main);
+  auto format = std::make_shared<std::string>("markdown");
+  auto* tp = th->add_subcommand(
+      "ti-parameters", "Print every key of a `pnc thermo ti --input` file: type, default, range, "
+                       "unit, meaning");
+  tp->add_option("--format", *format,
+                 "markdown (tables, default), json or toml (a commented template with the "
+                 "defaults; pnc thermo ti --input reads it)")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+  tp->callback([format, &action] { action = [format] { return run_ti_parameters(*format); }; });
   auto ta = std::make_shared<TiArgs>();
   auto* ti = th->add_subcommand(
       "ti", "Thermodynamic integration of the LJ coupling over deformation states -> ti.h5");
@@ -417,6 +468,10 @@ void register_thermo_ti(CLI::App* th, Action& action) {
   ti->add_option("--restart", ta->restart, "Equilibrated LAMMPS restart (default PP force field)");
   ti->add_flag("--demo", ta->demo, "Build and equilibrate the demo RVE (600 beads) under OUT/rve");
   ti->add_option("--out", ta->out, "Output directory")->required();
+  ti->add_option("--input", ta->input,
+                 "TI input file (.toml or .json; its keys: pnc thermo ti-parameters): the "
+                 "settings below and a slurm section; an option given here overrides the "
+                 "file's key (D301)");
   ti->add_option("--rule", ta->spec.rule, "Quadrature: gauss (default) or trapezoid")
       ->check(CLI::IsMember({"gauss", "trapezoid"}));
   ti->add_option("--points", ta->spec.points, "Quadrature points (default 3, Table 6.1)")
@@ -463,10 +518,20 @@ void register_thermo_ti(CLI::App* th, Action& action) {
                  "Who runs the (state, lambda) units: local (children of this process, --jobs at "
                  "a time) or slurm (one job array, the analysis after it; docs/cluster.md)")
       ->check(CLI::IsMember({"local", "slurm"}));
-  add_slurm_options(ti, ta->slurm, false);
+  add_slurm_options(ti, ta->slurm, "the input file");
   ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
   ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
-  ti->callback([ta, &action] { action = [ta] { return run_thermo_ti(*ta); }; });
+  // D301: every declared key has its option (get_option throws at start-up otherwise); the
+  // ones given explicitly override the file
+  std::vector<std::pair<std::string, CLI::Option*>> keyed;
+  const Parameters declared = thermo::ti_input_parameters();
+  for (const auto& prm : declared.parameters())
+    keyed.emplace_back(prm.path, ti->get_option(thermo::ti_option_of(prm.path)));
+  ti->callback([ta, keyed, &action] {
+    for (const auto& [key, opt] : keyed)
+      if (opt->count() > 0) ta->given.push_back(key);
+    action = [ta] { return run_thermo_ti(*ta); };
+  });
 }
 
 } // namespace pnc::app

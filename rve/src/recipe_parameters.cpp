@@ -4,6 +4,7 @@
 // are generated from that printout (decisions D230-D232). Units: LAMMPS real (A, fs, kcal/mol,
 // g/mol, atm, K).
 #include "pnc/rve/recipe.hpp"
+#include "pnc/rve/slurm_parameters.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/parameters.hpp"
@@ -257,42 +258,12 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
             "independent replicas: own build seed, own equilibration, every case (D130)");
 }
 
-// A string key of the slurm section checked by SlurmSpec::validate (its wording and field).
-ParamCheck slurm_check(std::string SlurmSpec::*member) {
-  return [member](const nlohmann::json& v, const std::string& source, const std::string&) {
-    SlurmSpec s;
-    s.*member = v.get<std::string>();
-    s.validate(source);
-  };
-}
-
 void declare_slurm(Parameters& p, Recipe& r) {
-  auto& s = r.slurm;
-  p.optional_section(
-      "slurm", s.given,
-      "the Slurm executor (docs/cluster.md, D245): where and how long the unit jobs run; "
-      "the command-line options override it; in the expanded recipe only when given");
-  const std::string name = "a name: 1 to 64 letters, digits, '_', '.', '-', not starting with '-'";
-  p.string("partition", s.partition, {}, "sbatch --partition of the unit jobs")
-      .also(name, slurm_check(&SlurmSpec::partition))
-      .no_default("the cluster's default partition");
-  p.string("account", s.account, {}, "sbatch --account of the unit jobs")
-      .also(name, slurm_check(&SlurmSpec::account))
-      .no_default("the user's default account");
-  p.string("time", s.time, {}, "time limit per unit job")
-      .also("a Slurm time limit: minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS",
-            slurm_check(&SlurmSpec::time))
-      .no_default("the partition's default");
-  p.integer("ranks", s.ranks, 1, 4096, "", "MPI ranks per case unit under Slurm")
-      .no_default("pnc characterize --ranks, else 1");
-  p.integer("equilibrate_ranks", s.equilibrate_ranks, 1, 4096, "",
-            "MPI ranks per equilibration and phase-check unit under Slurm")
-      .no_default("slurm.ranks");
-  p.string("template", s.template_path, {}, "the job-script template file (docs/cluster.md)")
-      .no_default("the built-in template");
-  p.string("mpi", s.mpi, {}, "srun's MPI plugin (--mpi) for units on more than one rank")
-      .also(name, slurm_check(&SlurmSpec::mpi))
-      .omit_when_default();
+  declare_slurm_section(p, r.slurm,
+                        "the Slurm executor (docs/cluster.md, D245): where and how long the unit "
+                        "jobs run; the command-line options override it; in the expanded recipe "
+                        "only when given",
+                        true);
 }
 
 } // namespace

@@ -1,9 +1,11 @@
 // The Slurm executor: job arrays per group, afterok/afterany dependencies, held submission,
 // queue checks (slurm.hpp, decisions D243-D245).
 #include "pnc/rve/slurm.hpp"
+#include "pnc/rve/slurm_parameters.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/subprocess.hpp"
 
 #include <fmt/format.h>
@@ -98,6 +100,45 @@ SlurmSpec parse_slurm_spec(const nlohmann::json& j, const std::string& source) {
   }
   s.validate(source);
   return s;
+}
+
+namespace {
+// A string key of the slurm section checked by SlurmSpec::validate (its wording and field).
+ParamCheck slurm_check(std::string SlurmSpec::*member) {
+  return [member](const nlohmann::json& v, const std::string& source, const std::string&) {
+    SlurmSpec s;
+    s.*member = v.get<std::string>();
+    s.validate(source);
+  };
+}
+} // namespace
+
+void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks) {
+  p.optional_section("slurm", s.given, text);
+  const std::string name = "a name: 1 to 64 letters, digits, '_', '.', '-', not starting with '-'";
+  p.string("partition", s.partition, {}, "sbatch --partition of the unit jobs")
+      .also(name, slurm_check(&SlurmSpec::partition))
+      .no_default("the cluster's default partition");
+  p.string("account", s.account, {}, "sbatch --account of the unit jobs")
+      .also(name, slurm_check(&SlurmSpec::account))
+      .no_default("the user's default account");
+  p.string("time", s.time, {}, "time limit per unit job")
+      .also("a Slurm time limit: minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS",
+            slurm_check(&SlurmSpec::time))
+      .no_default("the partition's default");
+  if (ranks) {
+    p.integer("ranks", s.ranks, 1, 4096, "", "MPI ranks per case unit under Slurm")
+        .no_default("pnc characterize --ranks, else 1");
+    p.integer("equilibrate_ranks", s.equilibrate_ranks, 1, 4096, "",
+              "MPI ranks per equilibration and phase-check unit under Slurm")
+        .no_default("slurm.ranks");
+  }
+  p.string("template", s.template_path, {}, "the job-script template file (docs/cluster.md)")
+      .no_default("the built-in template");
+  if (ranks)
+    p.string("mpi", s.mpi, {}, "srun's MPI plugin (--mpi) for units on more than one rank")
+        .also(name, slurm_check(&SlurmSpec::mpi))
+        .omit_when_default();
 }
 
 nlohmann::json slurm_spec_json(const SlurmSpec& s) {

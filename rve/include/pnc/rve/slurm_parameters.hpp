@@ -1,0 +1,22 @@
+#pragma once
+// pnc/rve/slurm_parameters.hpp: the "slurm" section of an input file declared once on the
+// parameter layer (pnc/core/parameters.hpp) for every planned command: a `pnc characterize`
+// recipe and a `pnc thermo ti --input` file (decisions D245, D301; docs/cluster.md).
+#include "pnc/rve/slurm.hpp"
+
+#include <string>
+
+namespace pnc {
+class Parameters;
+}
+
+namespace pnc::rve {
+
+/// Declares the optional section "slurm" bound to `s` (`s.given`: the input has it):
+/// partition, account, time (a Slurm time limit), template (a job-script file path); with
+/// `ranks` also ranks, equilibrate_ranks and mpi (pnc characterize; `pnc thermo ti` runs one
+/// rank per unit, D288). Values are checked by SlurmSpec::validate's rules. `text` says what
+/// the section is.
+void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks);
+
+} // namespace pnc::rve
