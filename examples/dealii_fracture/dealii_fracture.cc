@@ -2422,7 +2422,7 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
     j["report"] = std::string("failed: ") + e.what();
   }
   if (json)
-    std::cout << si_summary(j).dump(2) << std::endl; // SI keys (D299); j stays in mm for the report
+    std::cout << si_summary(j).dump() << std::endl; // one line (docs/formats.md), SI keys (D299)
   else
     std::cout << "peak load " << j["peak_load"] << " at displacement " << j["displacement_at_peak"]
               << ", dissipated energy " << j["dissipated_energy"] << " (" << j["units"]
