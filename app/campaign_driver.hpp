@@ -95,11 +95,19 @@ std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
 std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
                                     const UnitStates& states, const std::string& final_unit);
 
+/// Ctrl-C or SIGTERM (`sig`) while `--wait` follows the Slurm jobs of a plan (decision D306):
+/// the jobs keep running (nothing is cancelled). Writes the stopped report in `d.dir` with the
+/// unit states at that moment (squeue), saying that only the waiting stopped, how to follow
+/// the jobs (`pnc status DIR`) and how to cancel them (`scancel` with the live job ids); prints
+/// one line saying the same; returns the exit code 128 + `sig`.
+int slurm_wait_interrupted(const PlanDriver& d, const rve::Plan& p, int sig);
+
 /// The Slurm executor for a planned command: submits what is not done (spec overridden by
 /// `o`), prints the jobs; without --wait returns 0 at once (with --json the submission on
 /// stdout); with --wait polls the unit states until the final unit ended and returns
 /// `conclude(failed)`; when that throws because the final unit is not done, the run folder
-/// first gets the stopped report (write_plan_stopped_report, decision D300). `default_prefix` names
+/// first gets the stopped report (write_plan_stopped_report, decision D300); a signal during
+/// the wait ends it with slurm_wait_interrupted() (D306). `default_prefix` names
 /// the jobs when --job-name is not given.
 int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
                    const SlurmOptions& o, const std::string& default_prefix,

@@ -403,7 +403,11 @@ int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
   }
   std::vector<std::string> failed;
   const char* poll = std::getenv("PNC_SLURM_POLL_SECONDS");
-  wait_for_slurm(d, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
+  try {
+    wait_for_slurm(d, p, failed, poll && std::atoi(poll) > 0 ? std::atoi(poll) : 10);
+  } catch (const pnc::Interrupted& e) { // only the waiting stops: the jobs keep running (D306)
+    return slurm_wait_interrupted(d, p, e.signal() > 0 ? e.signal() : SIGINT);
+  }
   try {
     return conclude(failed);
   } catch (const pnc::Error& e) { // the final unit did not run: its page was not written

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 
 namespace pnc::app {
@@ -139,6 +140,40 @@ std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
                    "units are kept and only the others are submitted.";
   return write_plan_stopped_report({"status", dir, final_unit, false}, p, states,
                                    plan_report_title(dir, p), stop);
+}
+
+int slurm_wait_interrupted(const PlanDriver& d, const rve::Plan& p, int sig) {
+  bool have_queue = false;
+  const UnitStates states = slurm_states(d.dir, p, have_queue);
+  std::vector<std::string> jobs; // the live jobs, an array once by its id (scancel takes it whole)
+  for (const auto& u : p.units) {
+    const rve::UnitStatus& s = status_of(states, u.id);
+    if (s.job_id.empty() ||
+        (s.state != rve::UnitState::queued && s.state != rve::UnitState::running))
+      continue;
+    const std::string job = s.job_id.substr(0, s.job_id.find('_'));
+    if (std::find(jobs.begin(), jobs.end(), job) == jobs.end()) jobs.push_back(job);
+  }
+  // D306: only the waiting stops; the jobs are the user's, cancelled only by the user
+  const std::string ids = fmt::format("{}", fmt::join(jobs, " "));
+  const std::string follow = fmt::format("`pnc status {}`", d.dir);
+  RunStop stop;
+  stop.reason = signal_reason(sig) + " while waiting: only the waiting stopped, the Slurm jobs " +
+                "keep running";
+  stop.failure = false;
+  stop.instead = fmt::format(
+      "The Slurm jobs of this run were not cancelled{}. Follow them with {}: when the {} unit "
+      "ends, its job writes the full report over this page; when the jobs end without it, {} "
+      "rewrites this page with the command that continues the run. {}",
+      jobs.empty() ? "" : " (jobs " + ids + ")", follow, d.final_unit, follow,
+      jobs.empty() ? "No job of the run is queued or running any more."
+                   : "To stop the jobs too, cancel them with `scancel " + ids + "`.");
+  write_plan_stopped_report(d, p, states, plan_report_title(d.dir, p), stop);
+  std::cerr << fmt::format("pnc: interrupted by {}: stopped waiting; the Slurm jobs keep running: "
+                           "follow them with pnc status {}{}\n",
+                           signal_name(sig), d.dir,
+                           jobs.empty() ? "" : ", cancel them with scancel " + ids);
+  return pnc::exit_code::stopped_by_signal(sig);
 }
 
 } // namespace pnc::app

@@ -66,6 +66,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <nlohmann/json.hpp>
+#include <pnc/core/units.hpp>
 #include <pnc/fe_material/material.hpp>
 
 #include <algorithm>
@@ -2242,19 +2243,23 @@ template <int dim> nlohmann::json FractureProblem<dim>::summary() const {
   const std::size_t peak = peak_record(records);
   const auto& last = records.back();
   const bool peak_inside = peak + 1 < records.size();
+  // SI keys ending with their unit (D299, D307): the records are in mm, N/mm (2-D, per mm of
+  // thickness) or N, mJ/mm or mJ; forces and energies in 2-D stay per unit thickness (per m)
+  const DemoUnits u = demo_units(dim);
+  const std::string F = u.force_key, E = u.energy_key;
+  constexpr double m_per_mm = pnc::units::m_per_mm;
   j["dimension"] = dim;
   j["geometry"] = prm.geometry;
-  j["units"] = dim == 2 ? "mm, MPa, force N/mm (per mm of thickness), energy mJ/mm"
-                        : "mm, MPa, force N, energy mJ";
-  j["peak_load"] = records[peak].force;
-  j["displacement_at_peak"] = records[peak].load;
+  j["peak_load" + F] = records[peak].force * u.force_to_si;
+  j["displacement_at_peak_m"] = records[peak].load * m_per_mm;
   j["peak_is_interior"] = peak_inside; // false: the force still rose at the end of the path
-  j["final_displacement"] = last.load;
-  j["final_load"] = last.force;
-  j["external_work"] = last.work;
-  j["elastic_energy"] = last.elastic;
-  j["dissipated_energy"] = last.dissipated;
-  j["work_minus_elastic_energy"] = last.work - last.elastic; // = dissipated on a fixed mesh
+  j["final_displacement_m"] = last.load * m_per_mm;
+  j["final_load" + F] = last.force * u.force_to_si;
+  j["external_work" + E] = last.work * u.energy_to_si;
+  j["elastic_energy" + E] = last.elastic * u.energy_to_si;
+  j["dissipated_energy" + E] = last.dissipated * u.energy_to_si;
+  j["work_minus_elastic_energy" + E] = // = dissipated on a fixed mesh
+      (last.work - last.elastic) * u.energy_to_si;
   j["max_fracture"] = last.max_fracture;
   j["final_load_over_peak"] = records[peak].force != 0 ? last.force / records[peak].force : 0.0;
   j["control"] = prm.control;
@@ -2269,7 +2274,7 @@ template <int dim> nlohmann::json FractureProblem<dim>::summary() const {
     j["impl_ex_tolerance"] = prm.implex_tolerance;
     j["impl_ex_max_error"] = implex_max_error;
     j["impl_ex_rejected_steps"] = implex_rejected;
-    j["impl_ex_negative_dissipation"] = implex_negative;
+    j["impl_ex_negative_dissipation" + E] = implex_negative * u.energy_to_si;
   }
   if (n_modes == 3) {
     j["stability_limit_damage"] = {D_star[0] > 1 ? -1.0 : D_star[0],
@@ -2291,7 +2296,7 @@ template <int dim> nlohmann::json FractureProblem<dim>::summary() const {
   j["dofs"] = dof_handler.n_dofs();
   j["cells"] = triangulation.n_active_cells();
   j["regularisation"] = prm.regularisation;
-  if (prm.regularisation == "nonlocal") j["nonlocal_length_mm"] = prm.length;
+  if (prm.regularisation == "nonlocal") j["nonlocal_length_m"] = prm.length * m_per_mm;
   j["timing"] = {
       {"assembly_s", timing.assembly},
       {"plugin_s", timing.plugin},
@@ -2422,11 +2427,16 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
     j["report"] = std::string("failed: ") + e.what();
   }
   if (json)
-    std::cout << si_summary(j).dump(2) << std::endl; // SI keys (D299); j stays in mm for the report
-  else
-    std::cout << "peak load " << j["peak_load"] << " at displacement " << j["displacement_at_peak"]
-              << ", dissipated energy " << j["dissipated_energy"] << " (" << j["units"]
-              << "); outputs in " << p.directory << " (report.html)\n";
+    std::cout << j.dump() << std::endl; // one line (docs/formats.md), SI keys (D299, D307)
+  else {
+    const DemoUnits u = demo_units(dim); // the demo's own units, as its report (D307)
+    std::cout << "peak load " << j.value("peak_load" + u.force_key, 0.0) / u.force_to_si << " "
+              << u.force << " at displacement "
+              << j.value("displacement_at_peak_m", 0.0) / pnc::units::m_per_mm
+              << " mm, dissipated energy "
+              << j.value("dissipated_energy" + u.energy_key, 0.0) / u.energy_to_si << " "
+              << u.energy << "; outputs in " << p.directory << " (report.html)\n";
+  }
   return fp.finished ? 0 : 2;
 }
 } // namespace

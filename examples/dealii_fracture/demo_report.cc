@@ -4,6 +4,7 @@
 #include "demo_report.h"
 
 #include <pnc/core/html_page.hpp>
+#include <pnc/core/units.hpp>
 #include <pnc/core/version.hpp>
 
 #include <fmt/format.h>
@@ -32,17 +33,26 @@ bool stop_fraction_reached(const nlohmann::json& s, double stop_fraction) {
          std::abs(s.value("final_load_over_peak", 1.0)) < stop_fraction;
 }
 
-struct Units {
-  std::string force, energy;
-};
-Units units_of(const nlohmann::json& s) {
-  return s.value("dimension", 2) == 2 ? Units{"N/mm", "mJ/mm"} : Units{"N", "mJ"};
+DemoUnits units_of(const nlohmann::json& s) {
+  return demo_units(s.value("dimension", 2));
+}
+
+// The summary's SI values in the page's units (D307): `key_m` in mm; `name` + the force or
+// energy key suffix in N/mm or N, mJ/mm or mJ. 0 when the key is absent.
+double mm(const nlohmann::json& s, const std::string& key_m) {
+  return s.value(key_m, 0.0) / pnc::units::m_per_mm;
+}
+double force(const nlohmann::json& s, const DemoUnits& u, const std::string& name) {
+  return s.value(name + u.force_key, 0.0) / u.force_to_si;
+}
+double energy(const nlohmann::json& s, const DemoUnits& u, const std::string& name) {
+  return s.value(name + u.energy_key, 0.0) / u.energy_to_si;
 }
 
 // The warnings of a run, each with what it means.
 std::vector<std::string> warnings_of(const ReportInput& in) {
   const auto& s = in.summary;
-  const Units u = units_of(s);
+  const DemoUnits u = units_of(s);
   std::vector<std::string> w;
   if (!s.value("finished", false))
     w.push_back("The run stopped before the end of its load path: " +
@@ -66,7 +76,7 @@ std::vector<std::string> warnings_of(const ReportInput& in) {
                               "(UMFPACK).",
                               fb));
   }
-  if (const double neg = s.value("impl_ex_negative_dissipation", 0.0); neg < 0)
+  if (const double neg = energy(s, u, "impl_ex_negative_dissipation"); neg < 0)
     w.push_back(fmt::format("IMPL-EX: negative point-wise dissipation summed to {:.4g} {} "
                             "(the extrapolated history overshot).",
                             neg, u.energy));
@@ -98,19 +108,18 @@ std::vector<std::string> next_steps(const ReportInput& in) {
 
 void key_numbers(pnc::html::Page& page, const ReportInput& in) {
   const auto& s = in.summary;
-  const Units u = units_of(s);
+  const DemoUnits u = units_of(s);
   std::vector<std::pair<std::string, std::string>> k;
   k.push_back(
       {"peak force",
-       fmt::format("{:.6g} {} at u = {:.6g} mm{}", s.value("peak_load", 0.0), u.force,
-                   s.value("displacement_at_peak", 0.0),
+       fmt::format("{:.6g} {} at u = {:.6g} mm{}", force(s, u, "peak_load"), u.force,
+                   mm(s, "displacement_at_peak_m"),
                    s.value("peak_is_interior", false) ? "" : " (last step: a lower bound)")});
-  k.push_back(
-      {"last step", fmt::format("u = {:.6g} mm, F = {:.6g} {} ({:.3g} % of the peak)",
-                                s.value("final_displacement", 0.0), s.value("final_load", 0.0),
-                                u.force, 100 * s.value("final_load_over_peak", 0.0))});
-  const double W = s.value("external_work", 0.0), Psi = s.value("elastic_energy", 0.0),
-               D = s.value("dissipated_energy", 0.0);
+  k.push_back({"last step", fmt::format("u = {:.6g} mm, F = {:.6g} {} ({:.3g} % of the peak)",
+                                        mm(s, "final_displacement_m"), force(s, u, "final_load"),
+                                        u.force, 100 * s.value("final_load_over_peak", 0.0))});
+  const double W = energy(s, u, "external_work"), Psi = energy(s, u, "elastic_energy"),
+               D = energy(s, u, "dissipated_energy");
   k.push_back({"dissipated energy", fmt::format("{:.6g} {} (summed point by point)", D, u.energy)});
   k.push_back({"external work W, elastic energy Ψ",
                fmt::format("W = {:.6g} {}, Ψ = {:.6g} {}", W, u.energy, Psi, u.energy)});
@@ -160,8 +169,8 @@ void key_numbers(pnc::html::Page& page, const ReportInput& in) {
 } // namespace
 
 std::string stop_text(const nlohmann::json& s, double stop_fraction) {
-  const std::string at = fmt::format("step {}, u = {:.4g} mm", s.value("steps", 0u),
-                                     s.value("final_displacement", 0.0));
+  const std::string at =
+      fmt::format("step {}, u = {:.4g} mm", s.value("steps", 0u), mm(s, "final_displacement_m"));
   if (!s.value("finished", false))
     return "stopped early (" + at + "): " + s.value("stop_reason", std::string("no reason"));
   if (stop_fraction_reached(s, stop_fraction))
@@ -211,8 +220,8 @@ std::string write_report(const ReportInput& in) {
         fmt::format("control {}, integration {}, fracture closure {}, regularisation {}{}",
                     s.value("control", std::string()), s.value("integration", std::string()),
                     s.value("fracture", std::string()), s.value("regularisation", std::string()),
-                    s.contains("nonlocal_length_mm")
-                        ? fmt::format(" (length {:.3g} mm)", s["nonlocal_length_mm"].get<double>())
+                    s.contains("nonlocal_length_m")
+                        ? fmt::format(" (length {:.3g} mm)", mm(s, "nonlocal_length_m"))
                         : std::string())},
        {"output", "`" + in.directory + "`"},
        {"software", pnc::version_string() + ", deal.II " + in.dealii_version},
@@ -253,41 +262,16 @@ std::string write_report(const ReportInput& in) {
   return page.write_report(dir.string());
 }
 
-nlohmann::json si_summary(const nlohmann::json& summary) {
-  // The demo computes in mm, MPa, N/mm (2-D) or N (3-D), mJ/mm or mJ; pnc/core/units.hpp has no
-  // millimetre constants, so they are named here once.
-  constexpr double m_per_mm = 1e-3;            // length
-  constexpr double n_per_m_per_n_per_mm = 1e3; // 2-D force per thickness: N/mm -> N/m
-  constexpr double j_per_m_per_mj_per_mm = 1;  // 2-D energy per thickness: mJ/mm = J/m
-  constexpr double j_per_mj = 1e-3;            // 3-D energy
-  const bool plane = summary.value("dimension", 2) == 2;
-  const std::string force = plane ? "_N_per_m" : "_N", energy = plane ? "_J_per_m" : "_J";
-  const double to_force = plane ? n_per_m_per_n_per_mm : 1.0,
-               to_energy = plane ? j_per_m_per_mj_per_mm : j_per_mj;
-  struct Rule {
-    const char* old_key;
-    std::string new_key;
-    double factor;
-  };
-  const Rule rules[] = {
-      {"peak_load", "peak_load" + force, to_force},
-      {"final_load", "final_load" + force, to_force},
-      {"displacement_at_peak", "displacement_at_peak_m", m_per_mm},
-      {"final_displacement", "final_displacement_m", m_per_mm},
-      {"external_work", "external_work" + energy, to_energy},
-      {"elastic_energy", "elastic_energy" + energy, to_energy},
-      {"dissipated_energy", "dissipated_energy" + energy, to_energy},
-      {"work_minus_elastic_energy", "work_minus_elastic_energy" + energy, to_energy},
-      {"impl_ex_negative_dissipation", "impl_ex_negative_dissipation" + energy, to_energy},
-      {"nonlocal_length_mm", "nonlocal_length_m", m_per_mm}};
-  nlohmann::json out = summary;
-  out.erase("units");
-  for (const auto& r : rules)
-    if (summary.contains(r.old_key)) {
-      out.erase(r.old_key);
-      out[r.new_key] = summary.at(r.old_key).get<double>() * r.factor;
-    }
-  return out;
+DemoUnits demo_units(int dim) {
+  // the demo computes in mm, N/mm (2-D, per mm of thickness) or N, mJ/mm or mJ (D299, D307)
+  if (dim == 2)
+    return {"N/mm",
+            "mJ/mm",
+            "_N_per_m",
+            "_J_per_m",
+            1 / pnc::units::m_per_mm,
+            pnc::units::joule_per_mj / pnc::units::m_per_mm};
+  return {"N", "mJ", "_N", "_J", 1.0, pnc::units::joule_per_mj};
 }
 
 } // namespace pncdemo

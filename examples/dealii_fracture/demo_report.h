@@ -5,7 +5,10 @@
 // page writer pnc::html::Page (core/include/pnc/core/html_page.hpp; docs/formats.md "Run reports").
 // No deal.II here: the page is built from the run's JSON summary (FractureProblem::summary()).
 //
-// Units: lengths and displacements in mm, forces in N/mm of thickness (2-D plane strain) or N
+// Units: the summary is SI, each key ending with its unit (D299, D307): lengths and
+// displacements `_m`, forces `_N_per_m` (2-D plane strain, per metre of thickness) or `_N` (3-D),
+// energies `_J_per_m` or `_J`, times `_s`. The page shows the demo's working units, converted
+// where it prints them: lengths and displacements in mm, forces in N/mm of thickness (2-D) or N
 // (3-D), energies in mJ/mm (2-D) or mJ (3-D), times in s.
 #ifndef PNC_EXAMPLES_DEALII_FRACTURE_DEMO_REPORT_H
 #define PNC_EXAMPLES_DEALII_FRACTURE_DEMO_REPORT_H
@@ -17,6 +20,17 @@
 
 namespace pncdemo {
 
+/// The demo's working units (it computes in mm, MPa, N/mm or N, mJ/mm or mJ) and their SI keys
+/// and factors (pnc/core/units.hpp; D299, D307). Lengths: `_m`, pnc::units::m_per_mm.
+struct DemoUnits {
+  std::string force, energy;         ///< "N/mm", "mJ/mm" (2-D) or "N", "mJ" (3-D)
+  std::string force_key, energy_key; ///< the SI key suffixes: "_N_per_m", "_J_per_m" or "_N", "_J"
+  double force_to_si = 1;            ///< N/mm -> N/m (1e3) in 2-D; 1 (N) in 3-D
+  double energy_to_si = 1;           ///< mJ/mm -> J/m (1) in 2-D; mJ -> J (1e-3) in 3-D
+};
+/// The units of a `dim`-D run (2 or 3).
+DemoUnits demo_units(int dim);
+
 struct ReportInput {
   std::string command;                ///< the command line as run
   std::string parameter_file;         ///< the .prm read (empty: the defaults)
@@ -27,7 +41,7 @@ struct ReportInput {
   std::string dealii_version;         ///< deal.II's DEAL_II_PACKAGE_VERSION
   std::string loading;                ///< Loading/Path and Step in words (mm)
   double stop_fraction = 0;           ///< Loading/Stop force fraction (0: none)
-  /// FractureProblem::summary() plus "material" (its source) and "platelet_angle_deg".
+  /// FractureProblem::summary() (SI keys) plus "material" (its source) and "platelet_angle_deg".
   nlohmann::json summary;
   double wall_s = 0, plot_s = 0; ///< the whole run and the plotting share (s)
   std::string png;               ///< the force-displacement figure; empty when not drawn
@@ -42,13 +56,6 @@ struct ReportInput {
 /// force-displacement figure): the end of the load path, the force below the stop fraction of
 /// the peak, or the reason it stopped early.
 std::string stop_text(const nlohmann::json& summary, double stop_fraction);
-
-/// The `--json` object the demo prints (D299): `summary` (FractureProblem::summary() plus the
-/// run's entries, in mm, MPa, N/mm or N, mJ/mm or mJ) with every dimensional value in SI under
-/// a key that ends with its unit: lengths and displacements `_m`; in 2-D (per metre of
-/// thickness) forces `_N_per_m` and energies `_J_per_m`, in 3-D `_N` and `_J`. The `units`
-/// string is dropped (the keys say it); dimensionless entries and `_s` times are copied.
-nlohmann::json si_summary(const nlohmann::json& summary);
 
 /// Writes `in.directory`/report.html and report.md (atomically) and returns the HTML path.
 /// Throws pnc::InputError naming the path when a file cannot be written.

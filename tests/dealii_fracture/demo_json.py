@@ -2,9 +2,10 @@
 """The demo's --json is SI and matches docs/schemas/dealii-demo.schema.json (D299).
 
 Runs `dealii_fracture short.prm --json` (2-D single-edge notch, ~2 s) and the same specimen as
-an elastic 3-D slab on one coarse mesh (~1 s) into a fresh temporary directory, validates the
-printed objects against the schema (python3-jsonschema; the schema forbids undocumented keys
-and the other dimension's keys), checks the unit rule of tests/docs/json_schemas.py on the
+an elastic 3-D slab on one coarse mesh (~1 s) into a fresh temporary directory, checks that
+each prints its object as one line on stdout (docs/formats.md), validates the printed objects
+against the schema (python3-jsonschema; the schema forbids undocumented keys and the other
+dimension's keys), checks the unit rule of tests/docs/json_schemas.py on the
 schema, and checks the SI values against the runs' own force_displacement.csv, which stays in
 mm, N/mm and mJ/mm (2-D) or N and mJ (3-D): 1 N/mm = 1000 N/m, 1 mm = 1e-3 m, 1 mJ/mm = 1 J/m,
 1 mJ = 1e-3 J; in 3-D also W = F u / 2 of the linear elastic slab in J. A document with a 3-D
@@ -31,6 +32,10 @@ def run(demo, prm, card, out, sets):
     r = subprocess.run(args, capture_output=True, text=True, timeout=240)
     if r.returncode != 0:
         sys.exit(f"demo_json: {' '.join(args)} exited {r.returncode}:\n{r.stderr}")
+    # docs/formats.md: every --json object is one line on stdout
+    if r.stdout.count("\n") != 1 or not r.stdout.endswith("\n"):
+        sys.exit(f"demo_json: {' '.join(args)} printed {r.stdout.count(chr(10))} lines on "
+                 f"stdout, not one JSON line:\n{r.stdout[:400]}")
     with open(pathlib.Path(out, "force_displacement.csv"), newline="") as f:
         return json.loads(r.stdout), list(csv.DictReader(f))
 

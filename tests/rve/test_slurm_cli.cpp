@@ -7,12 +7,16 @@
 //     units keep going, the fit says which unit is missing, pnc status then writes the stopped
 //     report (D300), and --resume submits only what is not done, finishes the campaign and
 //     replaces that page with the full report;
-//  3. `pnc thermo ti` through Slurm gives the numbers of a local run.
+//  3. Ctrl-C while --wait follows the jobs ends only the waiting (D306): exit code 130, the
+//     stopped report names the live jobs, `scancel` and `pnc status`, and the jobs are still
+//     in the queue;
+//  4. `pnc thermo ti` through Slurm gives the numbers of a local run.
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/campaign.hpp"
 
 #include "common/run_command.hpp"
+#include "common/spawn.hpp"
 #ifdef PNC_HAVE_THERMO
 #include "../thermo/tiny_polymer.hpp"
 #endif
@@ -22,6 +26,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -285,6 +290,73 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
     }
   EXPECT_GE(rendered, 5); // equilibrate, cases (2 + the resubmitted one), fit twice
   fs::remove_all(d);
+}
+
+TEST(RveSlurm, SigintWhileWaitingLeavesTheJobsAndTheStoppedReport) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_sigwait";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  auto recipe = nlohmann::json::parse(tiny);
+  recipe["name"] = "tiny-sigwait";
+  recipe["run"]["replicas"] = 1;
+  recipe["phase_check"]["enabled"] = false;
+  std::ofstream(d / "r.json") << recipe.dump();
+  const std::string out = (d / "out").string(), err = (d / "err.txt").string();
+  // the jobs this test leaves running are cancelled at its end, whatever happened
+  struct Cancel {
+    std::string out;
+    ~Cancel() {
+      const auto st = status_json(out);
+      if (!st.is_object()) return;
+      for (const auto& u : st["units"]) {
+        const std::string j = u.value("job_id", std::string());
+        if (!j.empty()) run_command("scancel " + j.substr(0, j.find('_')) + " 2>/dev/null");
+      }
+    }
+  } cancel{out};
+  const pid_t pid = pnc::test::spawn(std::string(PNC_EXE) + " characterize " +
+                                     (d / "r.json").string() + " --no-plots --out " + out +
+                                     " --executor slurm --wait --job-name sigwait-test 2>" + err);
+  // the jobs are submitted and the wait has polled once: the fit (afterany) is queued
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "pnc: unit fit: queued (job ", 60)) << slurp(err);
+  ::kill(pid, SIGINT);
+  const auto e = pnc::test::wait_for(pid, 30);
+  ASSERT_TRUE(e.ended) << "still waiting 30 s after SIGINT";
+  const std::string msg = slurp(err);
+  EXPECT_EQ(e.code, 128 + SIGINT) << msg;
+  EXPECT_NE(msg.find("pnc: interrupted by SIGINT: stopped waiting; the Slurm jobs keep running"),
+            std::string::npos)
+      << msg;
+  // nothing was cancelled: the fit's job waits in the queue for the others
+  const auto st = status_json(out);
+  ASSERT_TRUE(st.is_object());
+  const std::string fit_job = unit_of(st, "fit")["job_id"];
+  ASSERT_FALSE(fit_job.empty()) << st.dump();
+  EXPECT_NE(unit_of(st, "fit")["state"], "failed") << st.dump();
+  EXPECT_NE(run_command("squeue -h -j " + fit_job + " -o %i").out.find(fit_job), std::string::npos)
+      << "the fit's job left the queue";
+  // the page: the banner first, in words, the unit states, the live jobs with scancel, pnc status
+  const std::string md = slurp(fs::path(out) / "report.md");
+  const auto banner = md.find("Did not finish: interrupted by SIGINT while waiting: only the "
+                              "waiting stopped, the Slurm jobs keep running");
+  ASSERT_NE(banner, std::string::npos) << md;
+  EXPECT_LT(banner, md.find("What was run")) << md;
+  EXPECT_NE(md.find("of 4 units done"), std::string::npos) << md;
+  EXPECT_NE(md.find("fit (job " + fit_job), std::string::npos) << md;
+  const auto sc = md.find("`scancel ");
+  ASSERT_NE(sc, std::string::npos) << md;
+  const std::string scancel = md.substr(sc, md.find('`', sc + 1) - sc);
+  EXPECT_NE((scancel + " ").find(" " + fit_job + " "), std::string::npos) << scancel;
+  for (const auto& u : st["units"]) // every live job is named, an array by its id
+    if (u["state"] == "queued" || u["state"] == "running") {
+      const std::string j = u["job_id"];
+      EXPECT_NE((scancel + " ").find(" " + j.substr(0, j.find('_')) + " "), std::string::npos)
+          << u.dump() << scancel;
+    }
+  EXPECT_NE(md.find("`pnc status " + out + "`"), std::string::npos) << md;
+  EXPECT_EQ(md.find("--resume"), std::string::npos) << md; // D306: not offered while jobs live
 }
 
 // `pnc thermo ti --executor slurm` (decisions D285-D288): the (state, lambda) units as one job

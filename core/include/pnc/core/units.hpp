@@ -15,6 +15,8 @@ inline constexpr double pa_per_atm = 101325.0;    ///< Pa/atm (exact)
 inline constexpr double m_per_angstrom = 1e-10;   ///< m/A
 inline constexpr double m3_per_angstrom3 = 1e-30; ///< m^3/A^3
 inline constexpr double m2_per_angstrom2 = 1e-20; ///< m^2/A^2
+inline constexpr double m_per_mm = 1e-3;          ///< m/mm (the deal.II demo's lengths)
+inline constexpr double joule_per_mj = 1e-3;      ///< J/mJ (the deal.II demo's energies)
 
 /// One kcal/mol (per molecule) in J.
 inline constexpr double joule_per_kcal_mol = joule_per_kcal / avogadro;
