@@ -1276,7 +1276,7 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   // per point, then the chunk's element matrices while its tangents are still in cache.
   //
   // The plugin calls of a chunk are ONE call of the plugin's batched entry (ABI 1.2,
-  // pnc_material_integrate_batch, D260-D264; 'Material/Entry = batched', the default): the
+  // pnc_material_integrate_batch, D260-D262; 'Material/Entry = batched', the default): the
   // chunk's 64 x 4 (2-D) or 64 x 8 (3-D) points are gathered into structure-of-arrays blocks,
   // integrated, and scattered back, and then each point is finished (stress in MPa, the
   // composed tangent) exactly as after a point call. The chunk is the unit because it is

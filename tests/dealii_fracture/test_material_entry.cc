@@ -1,5 +1,5 @@
 // tests/dealii_fracture/test_material_entry.cc: the plugin entry of the tutorial's Newton
-// assembly (examples/dealii_fracture, 'Material/Entry', D311-D313). The batched entry (ABI 1.2)
+// assembly (examples/dealii_fracture, 'Material/Entry', D311, D312). The batched entry (ABI 1.2)
 // gives the point entry's numbers bit for bit (D260-D262), so the whole run must be the same
 // to the last bit either way: the force-displacement records, the energies, the summary, the
 // solution and every point's history. A failed point is reported the same way by both.
