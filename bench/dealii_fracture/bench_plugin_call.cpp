@@ -7,7 +7,8 @@
 // The plugin is loaded at run time as the demo loads it (dlopen; default: the one built
 // here). Plane-strain strain increments of the size seen in the demo: below the damage onset
 // (elastic point) and past it with a loading mode (damaging point, tangent with the
-// damage-growth term); 2,000,000 calls each, stress + consistent tangent. The steady clock's
+// damage-growth term); 2,000,000 calls each, stress + consistent tangent, then the same
+// points through the batched entry in batches of 256 (D311). The steady clock's
 // own cost is printed too (the demo reads it once per 64 cells). Output: one JSON object,
 // nanoseconds per call.
 #include <pnc/fe_material/material.hpp>
@@ -17,6 +18,7 @@
 #include <array>
 #include <chrono>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +57,35 @@ int main(int argc, char** argv) {
         sink += sg[1];
       }
       j[name]["ns_per_call_with_tangent"] = 1e9 * seconds_since(t0) / n;
+      // The same points through the batched entry (ABI 1.2), in batches of 256: the 64 cells
+      // x 4 points of one chunk of the demo's 2-D assembly (D311).
+      const std::size_t nb = 256, ns = s0.size();
+      std::vector<double> be0(6 * nb, 0.0), bde(6 * nb), bs0(ns * nb), bs1(ns * nb), bsg(6 * nb),
+          bK(36 * nb);
+      for (std::size_t p = 0; p < nb; ++p) {
+        for (std::size_t k = 0; k < 6; ++k)
+          bde[k * nb + p] = de[k];
+        for (std::size_t k = 0; k < ns; ++k)
+          bs0[k * nb + p] = s0[k];
+      }
+      pnc_material_point_soa b;
+      pnc_material_point_soa_init(&b);
+      b.tangent_request = PNC_MATERIAL_TANGENT_CONSISTENT;
+      b.ld = nb;
+      b.strain0 = be0.data();
+      b.dstrain = bde.data();
+      b.state0 = bs0.data();
+      b.state1 = bs1.data();
+      b.stress = bsg.data();
+      b.tangent = bK.data();
+      const std::size_t batches = static_cast<std::size_t>(n) / nb;
+      const auto t1 = Clock::now();
+      for (std::size_t i = 0; i < batches; ++i) {
+        if (mat.try_integrate_batch(nb, &b) != PNC_MATERIAL_OK)
+          throw std::runtime_error("the batched entry refused a batch");
+        sink += bsg[nb];
+      }
+      j[name]["ns_per_point_batched_256_with_tangent"] = 1e9 * seconds_since(t1) / (batches * nb);
     }
     const auto t0 = Clock::now();
     for (int i = 0; i < n; ++i)

@@ -146,6 +146,12 @@ void declare_parameters(ParameterHandler& prm) {
                     "Rotation of the platelet (the law's x1 axis) about x3, degrees, applied on "
                     "top of the card's platelet rotation: the platelet x1 axis points along "
                     "(cos a, sin a, 0).");
+  prm.declare_entry("Entry", "batched", Patterns::Selection("batched|point"),
+                    "How the Newton assembly calls the plugin (D311, D312). batched: one call of "
+                    "the batched entry (ABI 1.2, pnc_material_integrate_batch) per chunk of 64 "
+                    "cells; point: one call of the point entry per quadrature point. The results "
+                    "are bit for bit the same (ctest dealii_fracture.material_entry); a plugin "
+                    "older than ABI 1.2 is called per point either way.");
   prm.leave_subsection();
 
   prm.enter_subsection("Geometry");
@@ -345,6 +351,7 @@ Params read_parameters(ParameterHandler& prm) {
   p.card = prm.get("Card");
   p.constants_json = prm.get("Constants JSON");
   p.platelet_angle = prm.get_double("Platelet angle");
+  p.material_entry = prm.get("Entry");
   prm.leave_subsection();
   prm.enter_subsection("Geometry");
   p.dim = static_cast<unsigned>(prm.get_integer("Dimension"));
@@ -1268,102 +1275,198 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   // Cells go in chunks: first the material of every point of a chunk (plugin calls and, if
   // composed, the composition), timed as one block so that reading the clock costs nothing
   // per point, then the chunk's element matrices while its tangents are still in cache.
+  //
+  // The plugin calls of a chunk are ONE call of the plugin's batched entry (ABI 1.2,
+  // pnc_material_integrate_batch, D260-D262; 'Material/Entry = batched', the default): the
+  // chunk's 64 x 4 (2-D) or 64 x 8 (3-D) points are gathered into structure-of-arrays blocks,
+  // integrated, and scattered back, and then each point is finished (stress in MPa, the
+  // composed tangent) exactly as after a point call. The chunk is the unit because it is
+  // already there (the tangents stay in cache) and a few hundred points are enough to amortise
+  // the call (D311). The batched entry gives the point entry's numbers bit for bit, so the
+  // run is the same to the last bit with 'Entry = point' (D312; ctest
+  // dealii_fracture.material_entry). The other plugin calls of the assembly (stretch and
+  // damage_slope above: finite differences of a few points that are loading) and the
+  // one-off calls (setup_law, secant_of, extrapolate) stay point calls.
   constexpr std::size_t kChunk = 64;
   std::vector<Tangent36> Kchunk(kChunk * nq);
   std::vector<typename DoFHandler<dim>::active_cell_iterator> chunk;
   chunk.reserve(kChunk);
+  // A failed point is named (cell, quadrature point) with the plugin's message of the point
+  // entry; the Newton iteration then fails and the step is cut (D312).
+  auto report_failure = [&](std::size_t x, const char* msg) {
+    if (!prm.quiet)
+      std::cerr << "  plugin: cell " << x / nq << ", quadrature point " << x % nq << ": " << msg
+                << "\n";
+  };
+  // The point entry at point x (index cell * nq + q): writes state_new, the stress sig (Pa)
+  // and, for the plain law, the consistent tangent K (Pa); false (reported) if it failed.
+  auto point_entry = [&](std::size_t x, Voigt6& sig, Tangent36& K) {
+    PointHistory& h = history[x];
+    Voigt6 deps;
+    for (int v = 0; v < 6; ++v)
+      deps[v] = h.eps_bar[v] - h.eps_bar_old[v];
+    if (material.try_integrate(h.state_old.data(), h.state_new.data(), h.eps_bar_old.data(),
+                               deps.data(), sig.data(), composed ? nullptr : K.data(), err,
+                               sizeof err) != PNC_MATERIAL_OK) {
+      report_failure(x, err);
+      return false;
+    }
+    return true;
+  };
+  // The rest of the law at point x once the plugin has written state_new, sig and (plain law)
+  // K: the stress in MPa and, composed, the tangent built from the law's pieces.
+  auto finish_point = [&](std::size_t x, const Voigt6& sig, Tangent36& K) {
+    PointHistory& h = history[x];
+    if (!composed) {
+      for (int v = 0; v < 6; ++v)
+        h.sigma[v] = sig[v] * kPaToMPa;
+    } else if (impl_ex) {
+      // IMPL-EX (D110): the plugin call was the implicit update of kappa from the
+      // current eps_bar (kept in state_new, committed with the step); the stress and the
+      // tangent use the extrapolated secant, fixed during the step, so the step is linear.
+      K = h.S_ex;
+      for (int i = 0; i < 6; ++i) {
+        double s = 0;
+        for (int j = 0; j < 6; ++j)
+          s += K[6 * i + j] * h.eps[j];
+        h.sigma[i] = s;
+      }
+      has_H[x] = 0;
+    } else {
+      double omega = 0;
+      K = secant_of(h.state_new.data(), &omega);
+      const double keep = 1 - omega;
+      const bool floored = keep <= prm.residual_stiffness * (1 + 1e-12);
+      for (int i = 0; i < 6; ++i) {
+        double s = 0;
+        for (int j = 0; j < 6; ++j)
+          s += K[6 * i + j] * h.eps[j];
+        h.sigma[i] = s;
+      }
+      Tangent36 H{};
+      bool any = false;
+      for (int m = 0; m < 3; ++m) {
+        const double k0 = h.state_old[kappa_at[m]], k1 = h.state_new[kappa_at[m]];
+        if (k1 <= onset) continue; // D' = 0 below onset, no fracture either
+        bool loading = k1 > k0;
+        double lam = 0;
+        Voigt6 g{};
+        if (loading || predictor) {
+          stretch(h.eps_bar, m, lam, g);
+          loading = loading || lam >= k0 * (1 - 1e-9);
+        }
+        if (!loading) continue;
+        const double dD = h.state_new[damage_at[m]] < D_cap[m] ? damage_slope(m, k1) : 0.0;
+        const double dkeep = (k1 > kappa_cap[m] && !floored) ? -1.0 / prm.softening_stretch : 0;
+        if (dD == 0 && dkeep == 0) continue;
+        Voigt6 a{};
+        for (int i = 0; i < 6; ++i) {
+          double me = 0;
+          for (int j = 0; j < 6; ++j)
+            me += M[m][6 * i + j] * h.eps[j];
+          a[i] = keep * dD * me + dkeep * h.sigma[i]; // d(keep)/dk S eps = -sigma / s
+        }
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j)
+            H[6 * i + j] += a[i] * g[j];
+        any = true;
+      }
+      has_H[x] = 0;
+      if (any) {
+        if (exact_nonlocal && candidate[x]) {
+          Hq[x] = H;
+          has_H[x] = 1;
+        } else {
+          for (int i = 0; i < 36; ++i)
+            K[i] += H[i];
+        }
+      }
+    }
+    for (int v = 0; v < 6; ++v)
+      if (!std::isfinite(h.sigma[v])) ok = false;
+    if (check_symmetry && tangent_symmetric) {
+      double big = 0, asym = 0;
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) {
+          big = std::max(big, std::abs(K[6 * i + j]));
+          asym = std::max(asym, std::abs(K[6 * i + j] - K[6 * j + i]));
+        }
+      if (asym > 1e-12 * big || has_H[x]) tangent_symmetric = false;
+    }
+  };
   auto material_of_cell = [&](const typename DoFHandler<dim>::active_cell_iterator& cell,
                               Tangent36* Kq) {
     const std::size_t base = cell->active_cell_index() * nq;
     for (unsigned q = 0; q < nq && ok; ++q) {
-      PointHistory& h = history[base + q];
-      Voigt6 deps, sig;
-      for (int v = 0; v < 6; ++v)
-        deps[v] = h.eps_bar[v] - h.eps_bar_old[v];
-      Tangent36& K = Kq[q];
-      if (material.try_integrate(h.state_old.data(), h.state_new.data(), h.eps_bar_old.data(),
-                                 deps.data(), sig.data(), composed ? nullptr : K.data(), err,
-                                 sizeof err) != PNC_MATERIAL_OK) {
-        if (!prm.quiet) std::cerr << "  plugin: " << err << "\n";
+      Voigt6 sig;
+      if (!point_entry(base + q, sig, Kq[q])) {
         ok = false;
         break;
       }
-      if (!composed) {
-        for (int v = 0; v < 6; ++v)
-          h.sigma[v] = sig[v] * kPaToMPa;
-      } else if (impl_ex) {
-        // IMPL-EX (D110): the plugin call above is the implicit update of kappa from the
-        // current eps_bar (kept in state_new, committed with the step); the stress and the
-        // tangent use the extrapolated secant, fixed during the step, so the step is linear.
-        K = h.S_ex;
-        for (int i = 0; i < 6; ++i) {
-          double s = 0;
-          for (int j = 0; j < 6; ++j)
-            s += K[6 * i + j] * h.eps[j];
-          h.sigma[i] = s;
-        }
-        has_H[base + q] = 0;
-      } else {
-        double omega = 0;
-        K = secant_of(h.state_new.data(), &omega);
-        const double keep = 1 - omega;
-        const bool floored = keep <= prm.residual_stiffness * (1 + 1e-12);
-        for (int i = 0; i < 6; ++i) {
-          double s = 0;
-          for (int j = 0; j < 6; ++j)
-            s += K[6 * i + j] * h.eps[j];
-          h.sigma[i] = s;
-        }
-        Tangent36 H{};
-        bool any = false;
-        for (int m = 0; m < 3; ++m) {
-          const double k0 = h.state_old[kappa_at[m]], k1 = h.state_new[kappa_at[m]];
-          if (k1 <= onset) continue; // D' = 0 below onset, no fracture either
-          bool loading = k1 > k0;
-          double lam = 0;
-          Voigt6 g{};
-          if (loading || predictor) {
-            stretch(h.eps_bar, m, lam, g);
-            loading = loading || lam >= k0 * (1 - 1e-9);
-          }
-          if (!loading) continue;
-          const double dD = h.state_new[damage_at[m]] < D_cap[m] ? damage_slope(m, k1) : 0.0;
-          const double dkeep = (k1 > kappa_cap[m] && !floored) ? -1.0 / prm.softening_stretch : 0;
-          if (dD == 0 && dkeep == 0) continue;
-          Voigt6 a{};
-          for (int i = 0; i < 6; ++i) {
-            double me = 0;
-            for (int j = 0; j < 6; ++j)
-              me += M[m][6 * i + j] * h.eps[j];
-            a[i] = keep * dD * me + dkeep * h.sigma[i]; // d(keep)/dk S eps = -sigma / s
-          }
-          for (int i = 0; i < 6; ++i)
-            for (int j = 0; j < 6; ++j)
-              H[6 * i + j] += a[i] * g[j];
-          any = true;
-        }
-        has_H[base + q] = 0;
-        if (any) {
-          if (exact_nonlocal && candidate[base + q]) {
-            Hq[base + q] = H;
-            has_H[base + q] = 1;
-          } else {
-            for (int i = 0; i < 36; ++i)
-              K[i] += H[i];
-          }
-        }
+      finish_point(base + q, sig, Kq[q]);
+    }
+  };
+  // The batched entry (ABI 1.2; D311, D312): the points of the cells chunk[0..n_cells) gathered
+  // into component blocks (component k of batch point p at k * ld + p), one plugin call,
+  // then each point scattered back and finished in the order of the point entry. Only the
+  // points before the first failed one are scattered (the point entry stops there too, so
+  // the history is the same); that point is then run through the point entry, whose message
+  // is the one reported. A batch the plugin refuses as a whole goes point by point.
+  const bool batched = prm.material_entry == "batched" && material.has_batch();
+  const std::size_t ld = batched ? kChunk * nq : 0;
+  const auto ns = static_cast<std::size_t>(n_state);
+  std::vector<double> b_e0(6 * ld), b_de(6 * ld), b_s0(ns * ld), b_s1(ns * ld), b_sig(6 * ld),
+      b_K(composed ? 0 : 36 * ld);
+  auto material_of_chunk = [&](std::size_t n_cells, Tangent36* Kq) {
+    const std::size_t n = n_cells * nq;
+    for (std::size_t p = 0; p < n; ++p) {
+      const PointHistory& h = history[chunk[p / nq]->active_cell_index() * nq + p % nq];
+      for (std::size_t k = 0; k < 6; ++k) {
+        b_e0[k * ld + p] = h.eps_bar_old[k];
+        b_de[k * ld + p] = h.eps_bar[k] - h.eps_bar_old[k];
       }
-      for (int v = 0; v < 6; ++v)
-        if (!std::isfinite(h.sigma[v])) ok = false;
-      if (check_symmetry && tangent_symmetric) {
-        double big = 0, asym = 0;
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) {
-            big = std::max(big, std::abs(K[6 * i + j]));
-            asym = std::max(asym, std::abs(K[6 * i + j] - K[6 * j + i]));
-          }
-        if (asym > 1e-12 * big || has_H[base + q]) tangent_symmetric = false;
-      }
+      for (std::size_t k = 0; k < ns; ++k)
+        b_s0[k * ld + p] = h.state_old[k];
+    }
+    pnc_material_point_soa b;
+    pnc_material_point_soa_init(&b);
+    b.tangent_request = composed ? PNC_MATERIAL_TANGENT_NONE : PNC_MATERIAL_TANGENT_CONSISTENT;
+    b.ld = ld;
+    b.strain0 = b_e0.data();
+    b.dstrain = b_de.data();
+    b.state0 = b_s0.data();
+    b.state1 = b_s1.data(); // not in place: a failed batch leaves state_new as it was
+    b.stress = b_sig.data();
+    b.tangent = composed ? nullptr : b_K.data();
+    b.err = err;
+    b.err_len = sizeof err;
+    const int rc = material.try_integrate_batch(n, &b);
+    ++timing.batched_calls;
+    if (rc != PNC_MATERIAL_OK && b.n_failed == 0) { // refused as a whole: the point entry
+      for (std::size_t i = 0; i < n_cells && ok; ++i)
+        material_of_cell(chunk[i], &Kq[i * nq]);
+      return;
+    }
+    const std::size_t good = rc == PNC_MATERIAL_OK ? n : std::min(b.first_failed, n);
+    for (std::size_t p = 0; p < good && ok; ++p) {
+      const std::size_t x = chunk[p / nq]->active_cell_index() * nq + p % nq;
+      PointHistory& h = history[x];
+      for (std::size_t k = 0; k < ns; ++k)
+        h.state_new[k] = b_s1[k * ld + p];
+      Voigt6 sig;
+      for (std::size_t k = 0; k < 6; ++k)
+        sig[k] = b_sig[k * ld + p];
+      if (!composed)
+        for (std::size_t k = 0; k < 36; ++k)
+          Kq[p][k] = b_K[k * ld + p];
+      finish_point(x, sig, Kq[p]);
+    }
+    if (ok && good < n) {
+      const std::size_t x = chunk[good / nq]->active_cell_index() * nq + good % nq;
+      Voigt6 sig;
+      if (point_entry(x, sig, Kq[good]))
+        report_failure(x, "the batched entry refused this point and the point entry did not");
+      ok = false;
     }
   };
   auto assemble_cell = [&](const typename DoFHandler<dim>::active_cell_iterator& cell,
@@ -1422,8 +1525,11 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
     for (; it != dof_handler.end() && chunk.size() < kChunk; ++it)
       chunk.push_back(it);
     const auto tp = Clock::now();
-    for (std::size_t i = 0; i < chunk.size() && ok; ++i)
-      material_of_cell(chunk[i], &Kchunk[i * nq]);
+    if (batched)
+      material_of_chunk(chunk.size(), Kchunk.data());
+    else
+      for (std::size_t i = 0; i < chunk.size() && ok; ++i)
+        material_of_cell(chunk[i], &Kchunk[i * nq]);
     plugin_time += seconds_since(tp);
     if (!ok) break;
     for (std::size_t i = 0; i < chunk.size(); ++i)

@@ -59,9 +59,10 @@ inline double seconds_since(Clock::time_point t0) {
 struct Params {
   // Material
   std::string plugin = PNC_MATERIAL_PLUGIN_PATH;
-  std::string card;           // HDF5 card, read inside the plugin
-  std::string constants_json; // output of `pnc card show CARD --json` (fallback route)
-  double platelet_angle = 0;  // degrees, rotation of the platelet about x3
+  std::string card;                       // HDF5 card, read inside the plugin
+  std::string constants_json;             // output of `pnc card show CARD --json` (fallback route)
+  double platelet_angle = 0;              // degrees, rotation of the platelet about x3
+  std::string material_entry = "batched"; // | point: the assembly's plugin entry (D311)
   // Geometry
   unsigned dim = 2;
   std::string geometry = "single-edge-notch"; // | compact-tension | bar
@@ -184,6 +185,8 @@ struct Timing {
   // `solve`), systems solved, Krylov iterations, CG/GMRES choices, fallbacks to UMFPACK.
   double solver_setup = 0;
   unsigned linear_solves = 0, krylov_iterations = 0, cg_solves = 0, fallbacks = 0;
+  // Calls of the plugin's batched entry in the assembly ('Material/Entry = batched', D311).
+  unsigned batched_calls = 0;
 };
 
 /// The linear solver of every Newton iteration (D250-D252): UMFPACK, or a Krylov method (CG
