@@ -2,9 +2,10 @@
 """ctest docs.no_dangling_refs: the repository cites nothing a reader cannot follow.
 
 Fails (exit 1, one line per finding: file, line, what, the rule) when a tracked text file
-  * refers to an issue tracker ("issue #15", "issues #5, #6", "(issue 7)", a bare "#16",
-    "the issue asks", "from the issue") instead of saying what is meant;
-  * names a file outside the repository (../shared/..., /work/..., a PDF, a dissertation file)
+  * refers to an issue tracker (the word issue followed by a number or a hash-number, a bare
+    hash-number, or a phrase pointing at what an issue asks) instead of saying what is meant;
+  * names a file outside the repository (a path into a parent folder or into the machine's
+    work area, a PDF, the source dissertation)
     or a path into the repository's folders (rve/src/x.cpp, tests/install/x.sh, ...) that does
     not exist (from the root, from the citing file's folder, or as <lib>/<header>);
 or when a Markdown file (README.md, docs/**/*.md and every other tracked *.md) has a relative
