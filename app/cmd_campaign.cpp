@@ -14,7 +14,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
-#include "pnc/rve/lammps_server.hpp"
+#include "pnc/md/lammps_server.hpp"
 #include "pnc/rve/slurm.hpp"
 
 #include <CLI/CLI.hpp>
@@ -62,7 +62,7 @@ namespace {
 /// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
 /// Returns false on those follower ranks.
 bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
-  const rve::LauncherInfo li = rve::launcher_from_environment();
+  const md::LauncherInfo li = md::launcher_from_environment();
   if (li.rank > 0) return false;
   ranks = cli_ranks > 0 ? cli_ranks : li.size;
   jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);

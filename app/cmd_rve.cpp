@@ -15,13 +15,13 @@
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/moduli.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/characterize.hpp"
-#include "pnc/rve/lammps_server.hpp"
+#include "pnc/md/lammps_server.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replica_trend.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -42,7 +42,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct BuildArgs {
-  rve::BuildSpec spec;
+  md::BuildSpec spec;
   rve::ClaySpec clay;
   bool with_clay = false;
   std::string out;
@@ -50,16 +50,16 @@ struct BuildArgs {
 };
 
 int run_rve_build(const BuildArgs& a) {
-  const rve::PolymerForceField ff;
+  const md::PolymerForceField ff;
   a.spec.validate("<command line>");
   if (a.with_clay) a.clay.validate("<command line>");
   make_output_directory(a.out);
   rve::CompositeInfo ci;
-  const rve::System s =
-      a.with_clay ? rve::build_composite(a.spec, ff, a.clay, &ci) : rve::build_polymer(a.spec, ff);
+  const md::System s =
+      a.with_clay ? rve::build_composite(a.spec, ff, a.clay, &ci) : md::build_polymer(a.spec, ff);
   const std::string data = (fs::path(a.out) / "rve.data").string();
   const std::string rec = (fs::path(a.out) / "build.h5").string();
-  rve::write_data_file(data, s,
+  md::write_data_file(data, s,
                        a.with_clay ? "coarse-grained polypropylene + montmorillonite RVE"
                                    : "coarse-grained polypropylene RVE");
   write_build_record(rec, s, a.spec, ff, "{}");
@@ -68,10 +68,10 @@ int run_rve_build(const BuildArgs& a) {
       "# force field of docs/theory.md sections 3.1 (+ 3.2 for the clay), units real "
       "(decisions D13, D14, D23)\n";
   for (const auto& c :
-       a.with_clay ? rve::composite_forcefield_commands(ff) : rve::polymer_forcefield_commands(ff))
+       a.with_clay ? rve::composite_forcefield_commands(ff) : md::polymer_forcefield_commands(ff))
     cmds += c + "\n";
   write_text_atomically(ffin, cmds);
-  const double dmin = rve::min_nonbonded_distance(s);
+  const double dmin = md::min_nonbonded_distance(s);
   const auto L = s.length();
   std::cerr << fmt::format("pnc rve build: {} chains x {} beads, {} particles, box {:.3f} x {:.3f} "
                            "x {:.3f} A, density {:.4f} g/cm3, min non-bonded distance {:.3f} A\n",
@@ -114,9 +114,9 @@ struct LammpsArgs {
 
 /// Runs a LAMMPS input file in a supervised child (the same runner as every stage).
 int run_rve_lammps(const LammpsArgs& a) {
-  const rve::LauncherInfo li = rve::launcher_from_environment();
+  const md::LauncherInfo li = md::launcher_from_environment();
   if (li.rank > 0) return 0; // under mpirun: rank 0 runs the input on all K ranks
-  rve::StageSpec s{"lammps " + a.input, a.log.empty() ? "log.lammps" : a.log, {}};
+  md::StageSpec s{"lammps " + a.input, a.log.empty() ? "log.lammps" : a.log, {}};
   s.ranks = a.ranks > 0 ? a.ranks : li.size;
   for (const auto& v : a.vars) {
     const auto eq = v.find('=');
@@ -126,8 +126,8 @@ int run_rve_lammps(const LammpsArgs& a) {
   }
   if (!fs::is_regular_file(a.input)) fail(a.input, "INPUT", a.input, "no such LAMMPS input file");
   const std::string in = fs::absolute(a.input).string();
-  const auto o = rve::run_stage(s, [in](rve::Lammps& l) { l.file(in); });
-  if (!o.ok) rve::throw_stage_failure(o, "input " + a.input); // ToolError: exit code 7
+  const auto o = md::run_stage(s, [in](md::Lammps& l) { l.file(in); });
+  if (!o.ok) md::throw_stage_failure(o, "input " + a.input); // ToolError: exit code 7
   std::cerr << fmt::format("pnc rve lammps: {} finished in {:.2f} s on {} rank(s) (log {})\n",
                            a.input, o.seconds, s.ranks, s.log_path);
   return 0;

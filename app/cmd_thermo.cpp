@@ -18,7 +18,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/persistence.hpp"

@@ -16,7 +16,7 @@
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/executor.hpp"
@@ -63,7 +63,7 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
   if (!a.restart.empty()) {
     if (!fs::is_regular_file(a.restart))
       fail(a.restart, "--restart", a.restart, "no such LAMMPS restart file");
-    return {a.restart, rve::polymer_forcefield_commands({})};
+    return {a.restart, md::polymer_forcefield_commands({})};
   }
   if (!a.from.empty()) {
     const std::string rp = (fs::path(a.from) / "recipe.json").string();
@@ -80,7 +80,7 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
       fail(rp, "system", r.system.input_file,
            "thermo ti works on the built-in polymer force field; a run of your own system "
            "(recipe \"system\", docs/rve.md) is not supported yet");
-    return {rs, rve::polymer_forcefield_commands(r.ff)};
+    return {rs, md::polymer_forcefield_commands(r.ff)};
   }
   // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve
   const rve::Recipe r = rve::parse_recipe(rve::preset_json("demo"), "preset demo");
@@ -90,15 +90,15 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
   if (!(a.resume && fs::exists(data))) {
     std::cerr << fmt::format("pnc thermo ti [demo RVE] building {} chains x {} beads\n",
                              r.build.chains, r.build.beads_per_chain);
-    const rve::System s = rve::build_polymer(r.build, r.ff);
-    rve::write_data_file(data, s, "pnc thermo ti demo");
+    const md::System s = md::build_polymer(r.build, r.ff);
+    md::write_data_file(data, s, "pnc thermo ti demo");
   }
   std::cerr << "pnc thermo ti [demo RVE] equilibrating (recipe demo)\n";
   const auto e = rve::equilibrate(data, r.ff, r.equilibrate, (d / "equilibrate").string(), a.resume,
                                   rve::expanded_json(r).dump(), false);
   std::cerr << fmt::format("  equilibrated: density {:.4f} g/cm3, P {:.0f} atm\n", e.density,
                            e.pressure_total);
-  return {e.restart, rve::polymer_forcefield_commands(r.ff)};
+  return {e.restart, md::polymer_forcefield_commands(r.ff)};
 }
 
 nlohmann::json spec_json(const thermo::TiSpec& s) {

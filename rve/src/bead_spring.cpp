@@ -95,7 +95,7 @@ double BeadSpringForceField::stress_unit_pa() const {
 }
 
 double BeadSpringForceField::reduced_density(double g_cm3) const {
-  return g_cm3 * avogadro_per_A3_cm3 / bead_mass * sigma * sigma * sigma;
+  return g_cm3 * md::avogadro_per_A3_cm3 / bead_mass * sigma * sigma * sigma;
 }
 
 void BeadSpringForceField::validate(const std::string& source) const {
@@ -152,23 +152,23 @@ double bead_spring_bond_energy(const BeadSpringForceField& ff, double r) {
   return e;
 }
 
-System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff) {
+md::System build_bead_spring(const md::BuildSpec& spec, const BeadSpringForceField& ff) {
   spec.validate("<build>");
   ff.validate("<build>");
-  System s;
+  md::System s;
   s.type_mass = {ff.bead_mass};
   s.bond_types = 1;
   s.angle_types = 0;
   s.dihedral_types = 0;
   const double V =
-      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
+      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * md::avogadro_per_A3_cm3);
   const double L = std::cbrt(V);
   s.hi = {L, L, L};
   grow_bead_spring_chains(s, spec, ff, 0.0);
   return s;
 }
 
-void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringForceField& ff,
+void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec, const BeadSpringForceField& ff,
                              double obstacle_min_distance) {
   const double b = ff.bond_length();
   if (!(spec.min_distance < b))
@@ -244,7 +244,7 @@ void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringF
     }
 }
 
-double min_unbonded_distance(const System& s) {
+double min_unbonded_distance(const md::System& s) {
   const double L = s.hi[0] - s.lo[0];
   // cells of min(L/3, 10 A): distances below the cell width are exact, larger ones bounded below
   Cells cells(L, std::max(std::min(L / 3.0, 10.0), 1e-3));
@@ -262,7 +262,7 @@ double min_unbonded_distance(const System& s) {
   return std::sqrt(best);
 }
 
-void write_bead_spring_record(const std::string& path, const System& s, const BuildSpec& spec,
+void write_bead_spring_record(const std::string& path, const md::System& s, const md::BuildSpec& spec,
                               const BeadSpringForceField& ff, const std::string& recipe_json) {
   AtomicOutput out(path);
   {

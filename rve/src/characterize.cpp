@@ -7,8 +7,8 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/rve/clay.hpp"
-#include "pnc/rve/runner.hpp"
-#include "pnc/rve/stage_stop.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/md/stage_stop.hpp"
 
 #include <fmt/format.h>
 
@@ -54,7 +54,7 @@ std::vector<std::string> model_forcefield_commands(const Recipe& r) {
   if (r.model == "pnc") return composite_forcefield_commands(r.ff);
   if (r.model == "kg") return bead_spring_commands(r.kg);
   if (r.model == "kg_platelet") return kg_platelet_commands(r.kg, r.platelet);
-  return polymer_forcefield_commands(r.ff);
+  return md::polymer_forcefield_commands(r.ff);
 }
 
 /// Build and equilibration of one replica in `rdir` (its own seeds: replica_build_seed).
@@ -76,11 +76,11 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
     PlateletInfo pi;
-    const System s = r.model == "pnc"           ? build_composite(r.build, r.ff, r.clay, &ci)
+    const md::System s = r.model == "pnc"           ? build_composite(r.build, r.ff, r.clay, &ci)
                      : r.model == "kg"          ? build_bead_spring(r.build, r.kg)
                      : r.model == "kg_platelet" ? build_kg_platelet(r.build, r.kg, r.platelet, &pi)
-                                                : build_polymer(r.build, r.ff);
-    write_data_file(ro.data_file, s, "pnc characterize " + r.name);
+                                                : md::build_polymer(r.build, r.ff);
+    md::write_data_file(ro.data_file, s, "pnc characterize " + r.name);
     if (r.model == "kg_platelet") { // decision D170: what was built, next to build.h5
       const double dmin = min_polymer_platelet_distance(s);
       write_text_atomically((bdir / "platelet.json").string(),
@@ -95,7 +95,7 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
     if (r.model == "kg" || r.model == "kg_platelet")
       write_bead_spring_record(ro.build_record, s, r.build, r.kg, recipe_text);
     else
-      write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
+      md::write_build_record(ro.build_record, s, r.build, r.ff, recipe_text);
     if (r.model == "pnc") {
       const nlohmann::json cj = {
           {"cells_a", r.clay.cells_a},
@@ -128,7 +128,7 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                              s.x.size(), s.length()[0],
                              r.model == "kg" || r.model == "kg_platelet"
                                  ? min_unbonded_distance(s)
-                                 : min_nonbonded_distance(s));
+                                 : md::min_nonbonded_distance(s));
   } else {
     std::cerr << "pnc characterize [build] done (resumed)\n";
   }
@@ -245,12 +245,12 @@ nlohmann::json run_case_unit(const Recipe& r, const std::string& dir, const std:
   }
   std::cerr << fmt::format("pnc characterize [{}] {} MPI rank(s); LAMMPS log {}/lammps.log\n", name,
                            ranks, cdir);
-  const StageOutcome o = run_stage(case_stage(d, cdir, ranks), case_body(d, cdir, true));
+  const md::StageOutcome o = md::run_stage(case_stage(d, cdir, ranks), case_body(d, cdir, true));
   pnc::throw_if_stopped(fmt::format("{} stopped; its checkpoint is kept", name));
   if (!o.ok) {
     std::cerr << fmt::format("pnc characterize [{}] FAILED: {} (log {})\n", name, o.error,
                              o.log_path);
-    throw_stage_failure(o, "stage " + name); // ToolError with LAMMPS's message: exit code 7
+    md::throw_stage_failure(o, "stage " + name); // ToolError with LAMMPS's message: exit code 7
   }
   std::cerr << fmt::format("pnc characterize [{}] finished in {:.1f} s\n", name, o.seconds);
   return {{"resumed", false}};

@@ -65,7 +65,7 @@ std::vector<ClaySite> clay_unit_cell() {
   return out;
 }
 
-std::array<double, 2> ClayForceField::lj(int ti, int tj, const PolymerForceField& pff) const {
+std::array<double, 2> ClayForceField::lj(int ti, int tj, const md::PolymerForceField& pff) const {
   if (ti > tj) std::swap(ti, tj);
   if (ti == type_H || tj == type_H) return {1.0, 0.0};
   if (ti == type_C && tj == type_C) return {pff.sigma, pff.epsilon};
@@ -267,7 +267,7 @@ void ClaySpec::validate(const std::string& source) const {
     fail(source, "clay.gap_x", fmt::format("{}", gap_x), "must be in (0, 200) A");
 }
 
-std::array<double, 3> composite_box(const BuildSpec& spec, const PolymerForceField& ff,
+std::array<double, 3> composite_box(const md::BuildSpec& spec, const md::PolymerForceField& ff,
                                     const ClaySpec& clay, const std::string& source) {
   const ClayLattice lat;
   const double length = clay.cells_a * lat.a, width = clay.cells_b * lat.b;
@@ -279,7 +279,7 @@ std::array<double, 3> composite_box(const BuildSpec& spec, const PolymerForceFie
   }
   const double thick = (zmax - zmin) * lat.c * std::sin(lat.beta_deg * pi / 180);
   const double vpoly =
-      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * avogadro_per_A3_cm3);
+      spec.chains * spec.beads_per_chain * ff.bead_mass / (spec.density * md::avogadro_per_A3_cm3);
   const double Lx = length + clay.gap_x;
   const double Lyz = std::sqrt((vpoly + length * width * thick) / Lx);
   if (Lyz < width + clay.gap_x)
@@ -295,14 +295,14 @@ std::array<double, 3> composite_box(const BuildSpec& spec, const PolymerForceFie
   return {Lx, Lyz, Lyz};
 }
 
-System build_composite(const BuildSpec& spec, const PolymerForceField& ff, const ClaySpec& clay,
+md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff, const ClaySpec& clay,
                        CompositeInfo* info) {
   spec.validate("<build>");
   ff.validate("<build>");
   clay.validate("<build>");
   const auto L = composite_box(spec, ff, clay, "<build>");
   const Platelet p = build_platelet(clay.cells_a, clay.cells_b);
-  System s;
+  md::System s;
   s.hi = L;
   s.type_mass = {ff.bead_mass, clay_type_mass(type_Si), clay_type_mass(type_Al),
                  clay_type_mass(type_O), clay_type_mass(type_H)};
@@ -311,7 +311,7 @@ System build_composite(const BuildSpec& spec, const PolymerForceField& ff, const
     s.type.push_back(p.type[i]);
     s.mol.push_back(spec.chains + 1);
   }
-  grow_chains(s, spec, ff, clay.min_distance);
+  md::grow_chains(s, spec, ff, clay.min_distance);
   s.bonds.insert(s.bonds.end(), p.bonds.begin(), p.bonds.end());
   s.angles.insert(s.angles.end(), p.angles.begin(), p.angles.end());
   s.dihedrals.insert(s.dihedrals.end(), p.dihedrals.begin(), p.dihedrals.end());
@@ -336,7 +336,7 @@ System build_composite(const BuildSpec& spec, const PolymerForceField& ff, const
   return s;
 }
 
-double min_polymer_clay_distance(const System& s) {
+double min_polymer_clay_distance(const md::System& s) {
   double best = 1e300;
   std::vector<std::size_t> clay;
   for (std::size_t i = 0; i < s.x.size(); ++i)
@@ -351,7 +351,7 @@ double min_polymer_clay_distance(const System& s) {
   return best;
 }
 
-std::vector<std::string> composite_forcefield_commands(const PolymerForceField& ff,
+std::vector<std::string> composite_forcefield_commands(const md::PolymerForceField& ff,
                                                        const ClayForceField& c) {
   std::vector<std::string> cmds;
   double rmax = ff.cutoff();

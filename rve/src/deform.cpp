@@ -1,6 +1,6 @@
 // Stepwise strain-controlled deformation driver (units real inside, Pa outside).
 #include "pnc/rve/deform.hpp"
-#include "pnc/rve/box.hpp"
+#include "pnc/md/box.hpp"
 
 #include "pnc/damage/cases.hpp"
 
@@ -9,10 +9,10 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/stage_stop.hpp"
-#include "pnc/rve/statistics.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/stage_stop.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <fmt/format.h>
 
@@ -57,32 +57,6 @@ void DeformSpec::validate(const std::string& source) const {
   if (seed < 1 || seed > 900000000)
     fail(source, "deform.seed", std::to_string(seed), "must be in 1..900000000 (LAMMPS seeds)");
   if (start_state.empty()) fail(source, "deform.start_state", "", "must name a restart file");
-}
-
-std::pair<double, double> block_mean_se(const std::vector<double>& x, int blocks) {
-  const std::size_t n = x.size();
-  double mean = 0;
-  for (double v : x)
-    mean += v;
-  mean /= static_cast<double>(n);
-  const std::size_t nb = std::min<std::size_t>(static_cast<std::size_t>(blocks), n);
-  if (nb < 2) return {mean, std::nan("")};
-  const std::size_t per = n / nb; // trailing remainder samples only enter the mean
-  std::vector<double> bm(nb, 0.0);
-  for (std::size_t b = 0; b < nb; ++b) {
-    for (std::size_t i = 0; i < per; ++i)
-      bm[b] += x[b * per + i];
-    bm[b] /= static_cast<double>(per);
-  }
-  double m = 0;
-  for (double v : bm)
-    m += v;
-  m /= static_cast<double>(nb);
-  double var = 0;
-  for (double v : bm)
-    var += (v - m) * (v - m);
-  var /= static_cast<double>(nb - 1);
-  return {mean, std::sqrt(var / static_cast<double>(nb))};
 }
 
 PathM moving_average(const PathM& m, int points) {
@@ -235,19 +209,19 @@ template <class M> void append_row(M& m, const Eigen::RowVectorXd& row) {
   m.row(m.rows() - 1) = row;
 }
 
-void read_state(Lammps& l, const DeformSpec& spec, const std::string& file) {
+void read_state(md::Lammps& l, const DeformSpec& spec, const std::string& file) {
   l.cmd("clear");
   l.cmd("units real");
   l.cmd("atom_style " + spec.atom_style);
-  l.cmd("read_restart " + lammps_path(file, "restart"));
+  l.cmd("read_restart " + md::lammps_path(file, "restart"));
   l.cmds(spec.force_field);
 }
 
 /// Static row (decision D120): no velocities, optional minimisation of the atom positions at
 /// the fixed (remapped) box, then the stress of `run 0`. With zero velocities the kinetic term
 /// vanishes, so the total and the virial stress agree.
-void static_row(Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv, Eigen::RowVectorXd& st,
-                Eigen::RowVectorXd& th) {
+void static_row(md::Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv,
+                Eigen::RowVectorXd& st, Eigen::RowVectorXd& th) {
   l.cmd("velocity all set 0.0 0.0 0.0");
   l.cmd("compute pnc_pv all pressure NULL virial");
   l.cmd("thermo_style custom step temp pe press vol density pxx pyy pzz pxy pxz pyz "
@@ -260,8 +234,8 @@ void static_row(Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv, Eigen
   l.cmd("run 0");
   static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
   for (int v = 0; v < 6; ++v) {
-    sv[v] = -l.compute_value("pnc_pv", lmp_of_voigt[v]) * pa_per_atm;
-    st[v] = -l.compute_value("thermo_press", lmp_of_voigt[v]) * pa_per_atm;
+    sv[v] = -l.compute_value("pnc_pv", lmp_of_voigt[v]) * md::pa_per_atm;
+    st[v] = -l.compute_value("thermo_press", lmp_of_voigt[v]) * md::pa_per_atm;
   }
   th[0] = l.thermo("temp");
   th[1] = l.thermo("pe");
@@ -269,7 +243,7 @@ void static_row(Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv, Eigen
   th[3] = l.thermo("density");
 }
 
-void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
+void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   using clock = std::chrono::steady_clock;
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   const int voigt = dc.driven;
@@ -290,10 +264,8 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
   } else {
     read_state(l, spec, spec.start_state);
     if (tilted) l.cmd("change_box all triclinic");
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    c.ref_box = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], xy, xz, yz};
-    l.cmd("write_restart " + lammps_path(prev_state(dir, 0), "--out"));
+    c.ref_box = l.box().to_vector();
+    l.cmd("write_restart " + md::lammps_path(prev_state(dir, 0), "--out"));
     c.r.strain.resize(0, 6);
     c.r.stress_virial.resize(0, 6);
     c.r.stress_virial_se.resize(0, 6);
@@ -315,8 +287,8 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
     // Apply F(t) of the case to the reference box, remapping the atoms (D316).
-    const std::string change = box_change(LmpBox::from_vector(c.ref_box, ckpt_path(dir)),
-                                          damage::deformation_gradient(dc, t), ckpt_path(dir));
+    const std::string change = md::box_change(md::LmpBox::from_vector(c.ref_box, ckpt_path(dir)),
+                                              damage::deformation_gradient(dc, t), ckpt_path(dir));
     if (!change.empty()) l.cmd(change);
     static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
     static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
@@ -363,24 +335,24 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
       const double dt_sample = spec.timestep_fs * spec.sample_every; // fs between samples
       for (int v = 0; v < 6; ++v) {
         // decision D132: block errors checked against the autocorrelation time
-        const HoldEstimate h1 = checked_block_se(col[lmp_of_voigt[v]], spec.blocks);
-        const HoldEstimate h2 = checked_block_se(col[6 + lmp_of_voigt[v]], spec.blocks);
-        sv[v] = -h1.mean * pa_per_atm;
-        svse[v] = h1.se * pa_per_atm;
-        st[v] = -h2.mean * pa_per_atm;
-        stse[v] = h2.se * pa_per_atm;
+        const md::HoldEstimate h1 = md::checked_block_se(col[lmp_of_voigt[v]], spec.blocks);
+        const md::HoldEstimate h2 = md::checked_block_se(col[6 + lmp_of_voigt[v]], spec.blocks);
+        sv[v] = -h1.mean * md::pa_per_atm;
+        svse[v] = h1.se * md::pa_per_atm;
+        st[v] = -h2.mean * md::pa_per_atm;
+        stse[v] = h2.se * md::pa_per_atm;
         tv[v] = h1.tau_int * dt_sample;
         tt[v] = h2.tau_int * dt_sample;
         iv[v] = h1.blocks_ok ? 0.0 : 1.0;
         it[v] = h2.blocks_ok ? 0.0 : 1.0;
       }
-      th[0] = block_mean_se(col[12], spec.blocks).first; // T
-      th[1] = block_mean_se(col[15], spec.blocks).first; // PE
-      th[2] = block_mean_se(col[13], spec.blocks).first; // V
-      th[3] = block_mean_se(col[14], spec.blocks).first; // density
+      th[0] = md::block_mean_se(col[12], spec.blocks).first; // T
+      th[1] = md::block_mean_se(col[15], spec.blocks).first; // PE
+      th[2] = md::block_mean_se(col[13], spec.blocks).first; // V
+      th[3] = md::block_mean_se(col[14], spec.blocks).first; // density
     }
     strain = damage::case_strain(spec.case_id, t).transpose();
-    l.cmd("write_restart " + lammps_path(state_path(dir, k), "--out"));
+    l.cmd("write_restart " + md::lammps_path(state_path(dir, k), "--out"));
     append_row(c.r.strain, strain);
     append_row(c.r.stress_virial, sv);
     append_row(c.r.stress_virial_se, svse);
@@ -417,26 +389,26 @@ void case_child(Lammps& l, const DeformSpec& spec, const std::string& dir, bool 
 
 } // namespace
 
-StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks) {
-  StageSpec s;
+md::StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks) {
+  md::StageSpec s;
   s.ranks = ranks;
   s.name = fmt::format("case {}", spec.case_id);
   s.log_path = (fs::path(dir) / "lammps.log").string();
   return s;
 }
 
-StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume) {
+md::StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume) {
   spec.validate("<deform>");
   // paths that reach LAMMPS commands: refused here, in the parent, if they cannot be quoted
-  lammps_path(spec.start_state, "restart");
-  lammps_path(prev_state(dir, 0), "--out");
+  md::lammps_path(spec.start_state, "restart");
+  md::lammps_path(prev_state(dir, 0), "--out");
   make_output_directory(dir);
-  return stoppable([spec, dir, resume](Lammps& l) { case_child(l, spec, dir, resume); });
+  return md::stoppable([spec, dir, resume](md::Lammps& l) { case_child(l, spec, dir, resume); });
 }
 
-StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
+md::StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume) {
   auto body = case_body(spec, dir, resume);
-  StageOutcome o = run_stage(case_stage(spec, dir), body);
+  md::StageOutcome o = md::run_stage(case_stage(spec, dir), body);
   pnc::throw_if_stopped(
       fmt::format("case {} stopped; its checkpoint {} is kept", spec.case_id, ckpt_path(dir)));
   return o;

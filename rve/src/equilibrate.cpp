@@ -1,13 +1,13 @@
 // Equilibration protocol (docs/theory.md §3.3, D19), one child process per stage. Units real.
 #include "pnc/rve/equilibrate.hpp"
 
-#include "pnc/rve/box.hpp"
+#include "pnc/md/box.hpp"
 
 #include "equilibrate_detail.hpp"
 
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/stage_stop.hpp"
 #include "pnc/rve/clay.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/stage_stop.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -126,7 +126,7 @@ double void_fraction(const std::vector<double>& x, const double lo[3], const dou
 
 using namespace eqdetail;
 
-void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
+void eqdetail::final_stage(md::Lammps& l, const std::vector<std::string>& ffcmds,
                            const EquilibrateSpec& s, const std::string& dir,
                            const std::string& from_restart, bool with_clay, double cutoff,
                            double sig, const std::string& recipe_json) {
@@ -146,17 +146,12 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
     run_chunks(l, s.npt_steps, 10, tn);
     l.cmd("unfix pnc_npt");
     const double vmean = tn.mean(5, tn.rows.size() / 2);
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    const double ratio = vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+    const md::LmpBox box = l.box();
+    const double ratio = vmean / box.volume();
     const double f = with_clay ? std::sqrt(ratio) : std::cbrt(ratio);
-    LmpBox box;
-    box.lo = {lo[0], lo[1], lo[2]};
-    box.hi = {hi[0], hi[1], hi[2]};
-    box.xy = xy, box.xz = xz, box.yz = yz;
     Eigen::Matrix3d F = f * Eigen::Matrix3d::Identity();
     if (with_clay) F(0, 0) = 1.0; // x1 held
-    const std::string cmd = box_change(box, F, "<equilibrate>");
+    const std::string cmd = md::box_change(box, F, "<equilibrate>");
     if (!cmd.empty()) l.cmd(cmd);
     how = fmt::format(
         "NPT at {:.1f} atm{} for {} steps (mean density of the second half {:.4f} "
@@ -173,10 +168,9 @@ void eqdetail::final_stage(Lammps& l, const std::vector<std::string>& ffcmds,
   l.cmd("unfix pnc_lan");
   l.cmd("unfix pnc_nve");
   const double dmin = min_pair_distance(l, cutoff, mob);
-  double lo[3], hi[3], xy, yz, xz;
-  l.box(lo, hi, xy, yz, xz);
-  const double vf = void_fraction(l.gather("x", 3), lo, hi, sig, 1.0);
-  l.cmd("write_restart " + lammps_path(p(dir, "final", ".restart"), "--out"));
+  const md::LmpBox box = l.box();
+  const double vf = void_fraction(l.gather("x", 3), box.lo.data(), box.hi.data(), sig, 1.0);
+  l.cmd("write_restart " + md::lammps_path(p(dir, "final", ".restart"), "--out"));
   // P over chunks: standard error from the chunk means
   double m = tf.mean(2), var = 0;
   for (const auto& r : tf.rows)
@@ -246,27 +240,27 @@ EquilibratedState read_equilibrated(const std::string& dir) {
   return e;
 }
 
-EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
+EquilibratedState equilibrate(const std::string& data_file, const md::PolymerForceField& ff,
                               const EquilibrateSpec& s, const std::string& dir, bool resume,
                               const std::string& recipe_json, bool with_clay, int ranks) {
   s.validate("<equilibrate>");
   // paths that reach LAMMPS commands: refused here, in the parent, if they cannot be quoted
-  lammps_path(data_file, "data file");
-  lammps_path(p(dir, "final", ".restart"), "--out");
+  md::lammps_path(data_file, "data file");
+  md::lammps_path(p(dir, "final", ".restart"), "--out");
   make_output_directory(dir);
   const double sig = ff.sigma;
   const std::vector<std::string> ffcmds =
-      with_clay ? composite_forcefield_commands(ff) : polymer_forcefield_commands(ff);
+      with_clay ? composite_forcefield_commands(ff) : md::polymer_forcefield_commands(ff);
   // the atoms that move while the clay is frozen, and the pairs the push-off criterion checks
   const std::string mob = with_clay ? "pnc_poly" : "all";
-  auto stage = [&](const std::string& name, const StageBody& body) {
+  auto stage = [&](const std::string& name, const md::StageBody& body) {
     run_equilibration_stage(dir, name, body, resume, ranks);
   };
 
-  stage("pushoff", [&](Lammps& l) {
+  stage("pushoff", [&](md::Lammps& l) {
     l.cmd("units real");
     l.cmd("atom_style molecular");
-    l.cmd("read_data " + lammps_path(data_file, "data file"));
+    l.cmd("read_data " + md::lammps_path(data_file, "data file"));
     l.cmds(ffcmds);
     l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
     l.cmd("pair_coeff * * 0.0");
@@ -295,7 +289,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
       if (d >= target) break;
     }
     const bool met = d >= target;
-    l.cmd("write_restart " + lammps_path(p(dir, "pushoff", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
     write_stage(p(dir, "pushoff", ".h5"), "pushoff",
                 fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
                             "{} round(s) of {} steps{}",
@@ -305,7 +299,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                 t, recipe_json);
   });
 
-  stage("hot", [&](Lammps& l) {
+  stage("hot", [&](md::Lammps& l) {
     read_state(l, ffcmds, s, p(dir, "pushoff", ".restart"));
     if (with_clay) l.cmd("fix pnc_frz pnc_clay setforce 0.0 0.0 0.0");
     l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
@@ -325,7 +319,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
     l.cmd("unfix pnc_lim");
     l.cmd("fix pnc_nve " + mob + " nve");
     run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t, false, temp);
-    l.cmd("write_restart " + lammps_path(p(dir, "hot", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "hot", ".restart"), "--out"));
     write_stage(p(dir, "hot", ".h5"), "hot",
                 fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T{} of the second "
                             "half {:.1f} K",
@@ -335,7 +329,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
   });
 
   if (with_clay)
-    stage("clay", [&](Lammps& l) {
+    stage("clay", [&](md::Lammps& l) {
       read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
       // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the
       // clay relaxes in its field
@@ -355,7 +349,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                         s.temperature, s.damp_fs, s.seed + 7));
       Trace t;
       run_chunks(l, s.clay_steps, 5, t);
-      l.cmd("write_restart " + lammps_path(p(dir, "clay", ".restart"), "--out"));
+      l.cmd("write_restart " + md::lammps_path(p(dir, "clay", ".restart"), "--out"));
       write_stage(p(dir, "clay", ".h5"), "clay",
                   fmt::format("polymer fixed; clay minimised (PE {:.1f} -> {:.1f} kcal/mol), then "
                               "{} steps NVE (limit 0.05 A/step) + Langevin {:.0f} K on the clay",
@@ -363,14 +357,14 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
                   t, recipe_json);
     });
 
-  stage("cool", [&](Lammps& l) {
+  stage("cool", [&](md::Lammps& l) {
     read_state(l, ffcmds, s, p(dir, with_clay ? "clay" : "hot", ".restart"));
     l.cmd("fix pnc_nve all nve");
     l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {}", s.hot_temperature,
                       s.temperature, s.damp_fs, s.seed + 3));
     Trace t;
     run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
-    l.cmd("write_restart " + lammps_path(p(dir, "cool", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "cool", ".restart"), "--out"));
     write_stage(
         p(dir, "cool", ".h5"), "cool",
         fmt::format("Langevin ramp {:.0f} -> {:.0f} K over {} steps; final chunk T {:.1f} K",
@@ -379,7 +373,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
         t, recipe_json);
   });
 
-  stage("langevin", [&](Lammps& l) {
+  stage("langevin", [&](md::Lammps& l) {
     read_state(l, ffcmds, s, p(dir, "cool", ".restart"));
     l.cmd("fix pnc_nve all nve");
     l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
@@ -395,7 +389,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
         if (rel < s.steady_tolerance) break;
       }
     }
-    l.cmd("write_restart " + lammps_path(p(dir, "langevin", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "langevin", ".restart"), "--out"));
     write_stage(
         p(dir, "langevin", ".h5"), "langevin",
         fmt::format("{} chunk(s) of {} steps at {:.0f} K; relative change of mean PE "
@@ -406,7 +400,7 @@ EquilibratedState equilibrate(const std::string& data_file, const PolymerForceFi
         t, recipe_json);
   });
 
-  stage("final", [&](Lammps& l) {
+  stage("final", [&](md::Lammps& l) {
     final_stage(l, ffcmds, s, dir, p(dir, "langevin", ".restart"), with_clay, ff.cutoff(), sig,
                 recipe_json);
   });

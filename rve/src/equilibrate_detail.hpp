@@ -2,15 +2,15 @@
 // Helpers shared by the equilibration protocols (equilibrate.cpp: polymer and composite;
 // equilibrate_glass.cpp: the bead-spring glass). Private to rve/src. Units real.
 #include "pnc/rve/equilibrate.hpp"
-#include "pnc/rve/lammps_path.hpp"
+#include "pnc/md/lammps_path.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/runner.hpp"
-#include "pnc/rve/stage_stop.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/md/stage_stop.hpp"
 
 #include <fmt/format.h>
 
@@ -39,7 +39,7 @@ struct Trace {
   }
 };
 
-inline void define_measures(Lammps& l) {
+inline void define_measures(md::Lammps& l) {
   l.cmd("compute pnc_pv all pressure NULL virial");
   l.cmd("variable pnc_rho equal density");
   l.cmd("variable pnc_vol equal vol");
@@ -50,7 +50,7 @@ inline void define_measures(Lammps& l) {
 /// `whole_ramp`: thermostat ramps (Tstart -> Tstop) span all chunks (run ... start/stop),
 /// not each chunk; assumes the timestep counter is 0 at the call. `temp`: the temperature
 /// compute traced (thermo_temp = all atoms; a group's when part of the system is frozen).
-inline void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false,
+inline void run_chunks(md::Lammps& l, long steps, int chunks, Trace& t, bool whole_ramp = false,
                        const std::string& temp = "thermo_temp") {
   if (steps <= 0) return;
   long chunk = std::max<long>(10, (steps / chunks) / 10 * 10);
@@ -72,18 +72,18 @@ inline void run_chunks(Lammps& l, long steps, int chunks, Trace& t, bool whole_r
   l.cmd("unfix pnc_avg");
 }
 
-inline void read_state(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
+inline void read_state(md::Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
                        const std::string& restart) {
   l.cmd("units real");
   l.cmd("atom_style molecular");
-  l.cmd("read_restart " + lammps_path(restart, "restart"));
+  l.cmd("read_restart " + md::lammps_path(restart, "restart"));
   l.cmds(ffcmds);
   l.cmd("reset_timestep 0");
   l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
   define_measures(l);
 }
 
-inline double min_pair_distance(Lammps& l, double cutoff, const std::string& group = "all") {
+inline double min_pair_distance(md::Lammps& l, double cutoff, const std::string& group = "all") {
   // neighbour pairs within the pair cutoff (excluded 1-2/1-3/1-4 pairs are not listed)
   l.cmd("compute pnc_pl " + group + " pair/local dist");
   l.cmd("compute pnc_dmin all reduce min c_pnc_pl");
@@ -132,7 +132,7 @@ inline void write_stage(const std::string& path, const std::string& stage,
 /// half, NVT (Langevin) for final_steps, then the measurement written to `dir`/final.h5 and the
 /// state to `dir`/final.restart. `cutoff` (A) bounds the reported smallest pair distance, `sig`
 /// (A) is the void-fraction probe radius. Defined in equilibrate.cpp.
-void final_stage(Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
+void final_stage(md::Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
                  const std::string& dir, const std::string& from_restart, bool with_clay,
                  double cutoff, double sig, const std::string& recipe_json);
 
@@ -140,7 +140,7 @@ void final_stage(Lammps& l, const std::vector<std::string>& ffcmds, const Equili
 /// results exist), then prints the end criterion the stage wrote to `<dir>/<name>.h5`.
 /// Throws (throw_stage_failure: pnc::ToolError with LAMMPS's message) when the stage fails.
 inline void run_equilibration_stage(const std::string& dir, const std::string& name,
-                                    const StageBody& body, bool resume, int ranks) {
+                                    const md::StageBody& body, bool resume, int ranks) {
   namespace fs = std::filesystem;
   if (resume && fs::exists(p(dir, name, ".h5")) && fs::exists(p(dir, name, ".restart"))) {
     std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
@@ -148,10 +148,10 @@ inline void run_equilibration_stage(const std::string& dir, const std::string& n
   }
   std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name, p(dir, name, ".log"))
             << std::flush;
-  const StageOutcome o =
-      run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, stoppable(body));
+  const md::StageOutcome o =
+      md::run_stage({"equilibrate/" + name, p(dir, name, ".log"), {}, ranks}, md::stoppable(body));
   pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
-  if (!o.ok) throw_stage_failure(o, "stage equilibrate/" + name);
+  if (!o.ok) md::throw_stage_failure(o, "stage equilibrate/" + name);
   const std::string crit =
       h5::File(p(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion");
   std::cerr << fmt::format("  equilibrate/{}: {} ({:.1f} s)\n", name, crit, o.seconds);

@@ -2,7 +2,7 @@
 // Units real. Decision D137.
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/platelet.hpp"
-#include "pnc/rve/stage_stop.hpp"
+#include "pnc/md/stage_stop.hpp"
 
 #include "equilibrate_detail.hpp"
 
@@ -47,8 +47,8 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
                                     const PlateletSpec* platelet) {
   check_glass_protocol(s, "<equilibrate>");
   ff.validate("<equilibrate>");
-  lammps_path(data_file, "data file");
-  lammps_path(p(dir, "final", ".restart"), "--out");
+  md::lammps_path(data_file, "data file");
+  md::lammps_path(p(dir, "final", ".restart"), "--out");
   make_output_directory(dir);
   const double sig = ff.sigma;
   const std::vector<std::string> ffcmds =
@@ -62,16 +62,16 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
   };
   const std::string adapt_pair = platelet ? "pair soft a 1 1" : "pair soft a * *";
   const double tu = ff.temperature_unit(), tau = ff.tau_fs();
-  auto stage = [&](const std::string& name, const StageBody& body) {
+  auto stage = [&](const std::string& name, const md::StageBody& body) {
     run_equilibration_stage(dir, name, body, resume, ranks);
   };
 
   // 1. soft push-off at the melt temperature: the built walk has overlapping beads of
   // different chains; FENE bonds (built at 0.97 sigma < R0) hold the chains together
-  stage("pushoff", [&](Lammps& l) {
+  stage("pushoff", [&](md::Lammps& l) {
     l.cmd("units real");
     l.cmd("atom_style molecular");
-    l.cmd("read_data " + lammps_path(data_file, "data file"));
+    l.cmd("read_data " + md::lammps_path(data_file, "data file"));
     l.cmds(ffcmds);
     l.cmds(soft_pairs(0.0));
     l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
@@ -99,7 +99,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
       if (d >= target) break;
     }
     const bool met = d >= target;
-    l.cmd("write_restart " + lammps_path(p(dir, "pushoff", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
     write_stage(p(dir, "pushoff", ".h5"), "pushoff",
                 fmt::format("min unbonded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
                             "{} round(s) of {} steps{}",
@@ -110,7 +110,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
   });
 
   // 2. melt: LJ on, minimisation, then Langevin at hot_temperature at the build density
-  stage("melt", [&](Lammps& l) {
+  stage("melt", [&](md::Lammps& l) {
     read_state(l, ffcmds, s, p(dir, "pushoff", ".restart"));
     l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
     l.cmd("reset_timestep 0");
@@ -124,7 +124,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     l.cmd("unfix pnc_lim");
     l.cmd("fix pnc_nve all nve");
     run_chunks(l, s.hot_steps - 1000, 10, t);
-    l.cmd("write_restart " + lammps_path(p(dir, "melt", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "melt", ".restart"), "--out"));
     write_stage(p(dir, "melt", ".h5"), "melt",
                 fmt::format("{} steps ({:.0f} tau) Langevin at {:.0f} K (T* = {:.2f}) at the "
                             "build density; mean T of the second half {:.1f} K, P {:.0f} atm",
@@ -135,7 +135,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
   });
 
   // 3. quench: Nose-Hoover NPT at pressure_atm, T ramped hot_temperature -> temperature
-  stage("quench", [&](Lammps& l) {
+  stage("quench", [&](md::Lammps& l) {
     read_state(l, ffcmds, s, p(dir, "melt", ".restart"));
     l.cmd(fmt::format("fix pnc_npt all npt temp {0:.10g} {1:.10g} {2:.10g} iso {3:.10g} {3:.10g} "
                       "{4:.10g}",
@@ -143,7 +143,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     Trace t;
     run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
     const double time_tau = static_cast<double>(s.cool_steps) * s.timestep_fs / tau;
-    l.cmd("write_restart " + lammps_path(p(dir, "quench", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(p(dir, "quench", ".restart"), "--out"));
     write_stage(
         p(dir, "quench", ".h5"), "quench",
         fmt::format("NPT at {:.1f} atm, T ramped {:.0f} -> {:.0f} K (T* {:.2f} -> {:.2f}) over {} "
@@ -159,7 +159,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
   });
 
   // 4. glass hold at (temperature, pressure_atm), box at the mean volume, NVT, measurement
-  stage("final", [&](Lammps& l) {
+  stage("final", [&](md::Lammps& l) {
     final_stage(l, ffcmds, s, dir, p(dir, "quench", ".restart"), false, ff.cutoff(), sig,
                 recipe_json);
   });

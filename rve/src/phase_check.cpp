@@ -1,7 +1,7 @@
 // Phase check stage (units real inside, SI in phase.h5): decisions D125-D129.
 #include "pnc/rve/phase_check.hpp"
 
-#include "pnc/rve/box.hpp"
+#include "pnc/md/box.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -9,11 +9,11 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/stage_stop.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/stage_stop.hpp"
 
 #include <fmt/format.h>
 
@@ -54,11 +54,11 @@ std::string h5_path(const std::string& dir) {
   return (fs::path(dir) / "phase.h5").string();
 }
 
-void read_state(Lammps& l, const PhaseCheckInput& in) {
+void read_state(md::Lammps& l, const PhaseCheckInput& in) {
   l.cmd("clear");
   l.cmd("units real");
   l.cmd("atom_style " + in.atom_style);
-  l.cmd("read_restart " + lammps_path(in.start_state, "restart"));
+  l.cmd("read_restart " + md::lammps_path(in.start_state, "restart"));
   l.cmds(in.force_field);
   l.cmd("reset_timestep 0");
   l.cmd(fmt::format("timestep {:.10g}", in.timestep_fs));
@@ -74,23 +74,17 @@ struct Hold {
   double void_first = kNaN, void_last = kNaN;
 };
 
-double voids(Lammps& l, double probe) {
-  double lo[3], hi[3], xy, yz, xz;
-  l.box(lo, hi, xy, yz, xz);
-  return void_fraction(l.gather("x", 3), lo, hi, probe, 1.0);
+double voids(md::Lammps& l, double probe) {
+  const md::LmpBox box = l.box();
+  return void_fraction(l.gather("x", 3), box.lo.data(), box.hi.data(), probe, 1.0);
 }
 
 /// A deformation-case hold (NVE + Langevin zero yes + momentum) from the start state with
 /// the box strained: kind 's' simple shear xy = gamma, 'v' isotropic volumetric strain.
-Hold hold(Lammps& l, const PhaseCheckInput& in, char kind, double strain, long steps,
+Hold hold(md::Lammps& l, const PhaseCheckInput& in, char kind, double strain, long steps,
           std::uint64_t seed, bool with_voids) {
   read_state(l, in);
-  double lo[3], hi[3], xy, yz, xz;
-  l.box(lo, hi, xy, yz, xz);
-  LmpBox box;
-  box.lo = {lo[0], lo[1], lo[2]};
-  box.hi = {hi[0], hi[1], hi[2]};
-  box.xy = xy, box.xz = xz, box.yz = yz;
+  const md::LmpBox box = l.box();
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (kind == 's') {
     l.cmd("change_box all triclinic");
@@ -98,7 +92,7 @@ Hold hold(Lammps& l, const PhaseCheckInput& in, char kind, double strain, long s
   } else {
     F *= std::cbrt(1.0 + strain); // isotropic volumetric strain
   }
-  l.cmd(box_change(box, F, "<phase check>"));
+  l.cmd(md::box_change(box, F, "<phase check>"));
   l.cmd("fix pnc_nve all nve");
   l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2} zero yes",
                     in.temperature, in.damp_fs, seed));
@@ -125,12 +119,10 @@ Hold hold(Lammps& l, const PhaseCheckInput& in, char kind, double strain, long s
   return h;
 }
 
-void autocorrelation_run(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
+void autocorrelation_run(md::Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
                          PhaseCheckResult& r, AcfEstimate& acf) {
   read_state(l, in);
-  double lo[3], hi[3], xy, yz, xz;
-  l.box(lo, hi, xy, yz, xz);
-  r.volume_m3 = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) * units::m3_per_angstrom3;
+  r.volume_m3 = l.box().volume() * units::m3_per_angstrom3;
   // decision D125: re-thermalise at the deformation temperature, then NVE (no thermostat
   // perturbs the dynamics whose correlation is measured)
   l.cmd("fix pnc_nve all nve");
@@ -150,7 +142,7 @@ void autocorrelation_run(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInp
   std::vector<double> temp;
   for (long i = 0; i < rows; ++i) {
     for (int c = 0; c < 3; ++c)
-      comp[c].push_back(l.fix_value("pnc_acf", static_cast<int>(i), c) * pa_per_atm);
+      comp[c].push_back(l.fix_value("pnc_acf", static_cast<int>(i), c) * md::pa_per_atm);
     temp.push_back(l.fix_value("pnc_acf", static_cast<int>(i), 3));
   }
   auto mean = [](const std::vector<double>& x) {
@@ -280,7 +272,7 @@ void write_phase_h5(const std::string& path, const PhaseCheckSpec& s, const Phas
   out.commit();
 }
 
-void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
+void phase_child(md::Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
                  const std::string& dir) {
   PhaseCheckResult r;
   AcfEstimate acf;
@@ -290,23 +282,23 @@ void phase_child(Lammps& l, const PhaseCheckSpec& s, const PhaseCheckInput& in,
   const Hold sm = hold(l, in, 's', -s.shear_strain, in.hold_steps, in.seed + 2, false);
   const MeanSe a = hold_mean_se(part(sp.pxy, 0.5, 1.0)), b = hold_mean_se(part(sm.pxy, 0.5, 1.0));
   // sigma = -P: G = (sigma(+) - sigma(-)) / (2 gamma)
-  r.G_hold_Pa = -(a.mean - b.mean) * pa_per_atm / (2 * s.shear_strain);
-  r.G_hold_se_Pa = std::hypot(a.se, b.se) * pa_per_atm / (2 * s.shear_strain);
+  r.G_hold_Pa = -(a.mean - b.mean) * md::pa_per_atm / (2 * s.shear_strain);
+  r.G_hold_se_Pa = std::hypot(a.se, b.se) * md::pa_per_atm / (2 * s.shear_strain);
   // decision D127: volume pair, K = -dP/dlnV
   const Hold vp = hold(l, in, 'v', s.bulk_strain, in.hold_steps, in.seed + 3, false);
   const Hold vm = hold(l, in, 'v', -s.bulk_strain, in.hold_steps, in.seed + 4, false);
   const MeanSe c = hold_mean_se(part(vp.p, 0.5, 1.0)), d = hold_mean_se(part(vm.p, 0.5, 1.0));
   const double dlnv = std::log((1 + s.bulk_strain) / (1 - s.bulk_strain));
-  r.K_Pa = -(c.mean - d.mean) * pa_per_atm / dlnv;
-  r.K_se_Pa = std::hypot(c.se, d.se) * pa_per_atm / dlnv;
+  r.K_Pa = -(c.mean - d.mean) * md::pa_per_atm / dlnv;
+  r.K_se_Pa = std::hypot(c.se, d.se) * md::pa_per_atm / dlnv;
   // decision D129: cavitation hold
   const Hold cv = hold(l, in, 'v', s.cavitation_strain, s.cavitation_steps, in.seed + 5, true);
   const MeanSe p1 = hold_mean_se(part(cv.p, 0.25, 0.5)), p2 = hold_mean_se(part(cv.p, 0.75, 1.0));
   r.cav_strain = s.cavitation_strain;
-  r.cav_P_first_Pa = p1.mean * pa_per_atm;
-  r.cav_P_first_se_Pa = p1.se * pa_per_atm;
-  r.cav_P_last_Pa = p2.mean * pa_per_atm;
-  r.cav_P_last_se_Pa = p2.se * pa_per_atm;
+  r.cav_P_first_Pa = p1.mean * md::pa_per_atm;
+  r.cav_P_first_se_Pa = p1.se * md::pa_per_atm;
+  r.cav_P_last_Pa = p2.mean * md::pa_per_atm;
+  r.cav_P_last_se_Pa = p2.se * md::pa_per_atm;
   r.cav_void_first = cv.void_first;
   r.cav_void_last = cv.void_last;
   const bool void_grows = cv.void_last - cv.void_first > kCavitationVoidGrowth;
@@ -380,7 +372,7 @@ PhaseCheckResult read_phase_check(const std::string& dir) {
 PhaseCheckResult run_phase_check(const PhaseCheckSpec& spec, const PhaseCheckInput& in,
                                  const std::string& dir, bool resume, int ranks) {
   spec.validate("<phase_check>");
-  lammps_path(in.start_state, "restart");
+  md::lammps_path(in.start_state, "restart");
   make_output_directory(dir);
   if (resume && fs::exists(h5_path(dir))) {
     std::cerr << "  phase check: done (resumed)\n";
@@ -388,11 +380,11 @@ PhaseCheckResult run_phase_check(const PhaseCheckSpec& spec, const PhaseCheckInp
   }
   const std::string log = (fs::path(dir) / "phase.log").string();
   std::cerr << fmt::format("  phase check: running (log {})\n", log) << std::flush;
-  const StageOutcome o =
-      run_stage({"phase check", log, {}, ranks},
-                stoppable([spec, in, dir](Lammps& l) { phase_child(l, spec, in, dir); }));
+  const md::StageOutcome o = md::run_stage(
+      {"phase check", log, {}, ranks},
+      md::stoppable([spec, in, dir](md::Lammps& l) { phase_child(l, spec, in, dir); }));
   pnc::throw_if_stopped("the phase check stopped; rerun with --resume to repeat it");
-  if (!o.ok) throw_stage_failure(o, "stage phase check");
+  if (!o.ok) md::throw_stage_failure(o, "stage phase check");
   PhaseCheckResult r = read_phase_check(dir);
   std::cerr << fmt::format("  phase check: {} ({:.1f} s)\n  {}\n", r.phase, o.seconds, r.summary);
   return r;

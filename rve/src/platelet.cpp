@@ -42,14 +42,14 @@ void PlateletSpec::validate(const std::string& source) const {
         "sigma; polymer bead to platelet bead at the build");
 }
 
-double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
+double kg_platelet_box(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                        const PlateletSpec& p) {
   const double n = static_cast<double>(spec.chains) * spec.beads_per_chain +
                    static_cast<double>(p.layers) * p.beads_side * p.beads_side;
-  return std::cbrt(n * ff.bead_mass / (spec.density * avogadro_per_A3_cm3));
+  return std::cbrt(n * ff.bead_mass / (spec.density * md::avogadro_per_A3_cm3));
 }
 
-void check_kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
+void check_kg_platelet_box(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                            const PlateletSpec& p, const std::string& source) {
   const double L = kg_platelet_box(spec, ff, p);
   const double a = p.spacing_sigma * ff.sigma;
@@ -72,9 +72,9 @@ void check_kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff
                      L, 2 * rc));
 }
 
-System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff, const Vec& centre,
+md::System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff, const Vec& centre,
                       int mol) {
-  System s;
+  md::System s;
   const double a = p.spacing_sigma * ff.sigma;
   const int n = p.beads_side, m = p.layers;
   const double h = 0.5 * (n - 1) * a, t = 0.5 * (m - 1) * a;
@@ -106,20 +106,20 @@ System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff, con
   return s;
 }
 
-System build_kg_platelet(const BuildSpec& spec, const BeadSpringForceField& ff,
+md::System build_kg_platelet(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                          const PlateletSpec& p, PlateletInfo* info) {
   spec.validate("<build>");
   ff.validate("<build>");
   p.validate("<build>");
   check_kg_platelet_box(spec, ff, p, "<build>");
   const double L = kg_platelet_box(spec, ff, p);
-  System s = build_platelet(p, ff, {0.5 * L, 0.5 * L, 0.5 * L}, spec.chains + 1);
+  md::System s = build_platelet(p, ff, {0.5 * L, 0.5 * L, 0.5 * L}, spec.chains + 1);
   s.hi = {L, L, L};
   s.type_mass = {ff.bead_mass, ff.bead_mass};
   s.bond_types = 3;
   s.angle_types = 0;
   s.dihedral_types = 0;
-  const System plate = s;
+  const md::System plate = s;
   grow_bead_spring_chains(s, spec, ff, p.min_distance_sigma * ff.sigma);
   if (info) {
     const double a = p.spacing_sigma * ff.sigma;
@@ -136,7 +136,7 @@ System build_kg_platelet(const BuildSpec& spec, const BeadSpringForceField& ff,
   return s;
 }
 
-double platelet_omega_bound(const System& plate, const PlateletSpec& p,
+double platelet_omega_bound(const md::System& plate, const PlateletSpec& p,
                             const BeadSpringForceField& ff) {
   // K in kcal/mol/A^2; k = 2 K the bond's spring constant; m in g/mol; omega in 1/fs:
   // kcal/mol/A^2 / (g/mol) = 4184 J / (1e-3 kg) / 1e-20 m^2 = 4.184e26 s^-2 = 4.184e-4 fs^-2
@@ -160,7 +160,7 @@ double platelet_omega_bound(const System& plate, const PlateletSpec& p,
   return std::sqrt(2.0 * lmax / ff.bead_mass * per_fs2);
 }
 
-double min_polymer_platelet_distance(const System& s) {
+double min_polymer_platelet_distance(const md::System& s) {
   double best = std::numeric_limits<double>::infinity();
   std::vector<std::size_t> plate;
   for (std::size_t i = 0; i < s.x.size(); ++i)

@@ -153,7 +153,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   const double bead_mass = kg ? r.kg.bead_mass : r.ff.bead_mass;
   const double cutoff = kg ? r.kg.cutoff() : r.ff.cutoff();
   double L = std::cbrt(r.build.chains * r.build.beads_per_chain * bead_mass /
-                       (r.build.density * avogadro_per_A3_cm3));
+                       (r.build.density * md::avogadro_per_A3_cm3));
   if (user) return r; // LAMMPS checks the user's box against the cutoffs
   if (r.model == "kg_platelet") {
     check_platelet_recipe(r, source); // platelet.hpp: box, cutoffs, timesteps (D172, D173)

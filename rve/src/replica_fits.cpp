@@ -44,14 +44,14 @@ ReplicaFits fit_replicas(const CombinedCases& c, const damage::FitOptions& optio
     std::vector<double> x;
     for (const auto& v : out.values)
       if (std::isfinite(v[i])) x.push_back(v[i]);
-    const ReplicaEstimate e = replica_mean_se(x);
+    const md::ReplicaEstimate e = md::replica_mean_se(x);
     out.mean.push_back(e.mean);
     out.se.push_back(e.se);
   }
   int worked = 0;
   for (const auto& v : out.values)
     worked += std::isfinite(v[0]) ? 1 : 0;
-  out.coverage_factor = worked >= 2 ? rve::coverage_factor(worked - 1) : std::nan("");
+  out.coverage_factor = worked >= 2 ? md::coverage_factor(worked - 1) : std::nan("");
   return out;
 }
 

@@ -2,7 +2,7 @@
 #include "pnc/rve/replica_trend.hpp"
 
 #include "pnc/damage/ndm.hpp"
-#include "pnc/rve/statistics.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <fmt/format.h>
 
@@ -66,11 +66,11 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     }
     double pmin = 1;
     for (int m = 0; m < 4; ++m) {
-      const ReplicaEstimate r = replica_mean_se(coef[m]);
+      const md::ReplicaEstimate r = md::replica_mean_se(coef[m]);
       tc.mean[m] = r.mean;
       tc.se[m] = r.se;
       tc.t[m] = r.se > 0 ? r.mean / r.se : (r.mean == 0 ? 0.0 : INFINITY);
-      const double p = 2 * (1 - student_t_cdf(std::fabs(tc.t[m]), c.replicas - 1));
+      const double p = 2 * (1 - md::student_t_cdf(std::fabs(tc.t[m]), c.replicas - 1));
       pmin = std::min(pmin, p);
     }
     tc.p = std::min(1.0, 4 * pmin);

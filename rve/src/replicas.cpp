@@ -71,7 +71,7 @@ std::vector<Eigen::Index> slope_rows(const PathM& strain, int voigt) {
   return rows;
 }
 
-SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, double se_common,
+md::SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, double se_common,
                   int voigt) {
   const auto rows = slope_rows(strain, voigt);
   const auto n = static_cast<Eigen::Index>(rows.size());
@@ -85,7 +85,7 @@ SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, dou
     y[i] = stress(rows[i], voigt);
     if (with_se) s[i] = std::max((*se)(rows[i], voigt), 1e-300);
   }
-  return slope_through_origin(t, y, s, std::isfinite(se_common) ? se_common : 0.0);
+  return md::slope_through_origin(t, y, s, std::isfinite(se_common) ? se_common : 0.0);
 }
 
 /// stress_definition of cases.h5: the stress, reference, smoothing and error model in words.
@@ -184,7 +184,7 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
       if (subtract) {
         // decision D131: independent part per point, the reference error common to all
         PathM indep = chosen(r, results[0][ci], true).middleRows(first, n);
-        const SlopeFit f =
+        const md::SlopeFit f =
             slope_of(cc.strain, cc.stress, &indep, out.reference_se[0][cc.voigt], cc.voigt);
         cc.slope = f.slope;
         cc.slope_se = f.se;
@@ -199,7 +199,7 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
           std::vector<double> v;
           for (int rep = 0; rep < nrep; ++rep)
             v.push_back(cc.replica_stress[rep](k, j));
-          const ReplicaEstimate e = replica_mean_se(v);
+          const md::ReplicaEstimate e = md::replica_mean_se(v);
           cc.stress(k, j) = e.mean;
           var(k, j) = e.sd * e.sd;
         }
@@ -219,16 +219,16 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
           std::vector<double> v;
           for (int rep = 0; rep < nrep; ++rep)
             v.push_back(out.reference[rep][j]);
-          cc.reference_stderr[j] = replica_mean_se(v).se;
+          cc.reference_stderr[j] = md::replica_mean_se(v).se;
         }
       if (subtract) {
         for (int rep = 0; rep < nrep; ++rep)
           cc.replica_slopes.push_back(
               slope_of(cc.strain, cc.replica_stress[rep], nullptr, 0.0, cc.voigt).slope);
-        const ReplicaEstimate e = replica_mean_se(cc.replica_slopes);
+        const md::ReplicaEstimate e = md::replica_mean_se(cc.replica_slopes);
         cc.slope = e.mean;
         cc.slope_se = e.se;
-        cc.slope_coverage_factor = coverage_factor(nrep - 1);
+        cc.slope_coverage_factor = md::coverage_factor(nrep - 1);
       }
     }
     if (!subtract) cc.slope = cc.slope_se = std::nan("");

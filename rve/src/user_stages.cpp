@@ -6,11 +6,11 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/box.hpp"
+#include "pnc/md/box.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/md/stage_stop.hpp"
 #include "pnc/rve/equilibrate.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/runner.hpp"
-#include "pnc/rve/stage_stop.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <fmt/format.h>
@@ -39,18 +39,18 @@ std::string stage_name(std::size_t i, const UserStage& s) {
 
 /// Reads the state (data file or restart) and issues the force field: the same commands in
 /// every stage and case (DeformSpec::force_field), decision D122.
-void load(Lammps& l, const UserSystem& u, const std::string& file, bool restart) {
+void load(md::Lammps& l, const UserSystem& u, const std::string& file, bool restart) {
   l.cmd("units real");
   l.cmd("atom_style " + u.atom_style);
   if (restart) {
-    l.cmd("read_restart " + lammps_path(file, "restart"));
+    l.cmd("read_restart " + md::lammps_path(file, "restart"));
   } else {
     // styles first, so that Coeffs sections of the data file can be read
     for (const auto& c : u.forcefield)
       for (const char* st :
            {"pair_style", "bond_style", "angle_style", "dihedral_style", "improper_style"})
         if (c.rfind(std::string(st) + " ", 0) == 0) l.cmd(c);
-    l.cmd("read_data " + lammps_path(file, "data file"));
+    l.cmd("read_data " + md::lammps_path(file, "data file"));
   }
   l.cmds(u.forcefield);
   l.cmd("reset_timestep 0");
@@ -88,8 +88,9 @@ double mean_of(const Rows& r, int c, std::size_t from) {
   return s / static_cast<double>(r.size() - from);
 }
 
-void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std::string& restart,
-                   const std::string& h5path, const std::string& name, const std::string& rj) {
+void dynamic_stage(md::Lammps& l, const UserStage& s, std::uint64_t seed,
+                   const std::string& restart, const std::string& h5path, const std::string& name,
+                   const std::string& rj) {
   l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
   l.cmd("run 0");
   const double t0 = l.thermo("temp");
@@ -129,14 +130,9 @@ void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std:
     l.cmd("unfix pnc_npt");
     // decision D123: the state handed on has the mean volume of the second half (iso scaling)
     const double vmean = mean_of(rows, 5, rows.size() / 2);
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    const double f = std::cbrt(vmean / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])));
-    LmpBox box; // D123: iso scaling, the tilts with the lengths
-    box.lo = {lo[0], lo[1], lo[2]};
-    box.hi = {hi[0], hi[1], hi[2]};
-    box.xy = xy, box.xz = xz, box.yz = yz;
-    const std::string cmd = box_change(box, f * Eigen::Matrix3d::Identity(), "<npt stage>");
+    const md::LmpBox box = l.box(); // D123: iso scaling, the tilts with the lengths
+    const double f = std::cbrt(vmean / box.volume());
+    const std::string cmd = md::box_change(box, f * Eigen::Matrix3d::Identity(), "<npt stage>");
     if (!cmd.empty()) l.cmd(cmd);
     how += fmt::format(", NPT (iso) at {:.1f} atm; mean density of the second half {:.4f} g/cm3, "
                        "box set to its mean volume {:.1f} A^3",
@@ -147,11 +143,11 @@ void dynamic_stage(Lammps& l, const UserStage& s, std::uint64_t seed, const std:
   how += fmt::format("; second half: T {:.1f} K, P {:.0f} atm (total){}",
                      mean_of(rows, 0, rows.size() / 2), mean_of(rows, 2, rows.size() / 2),
                      created ? "; velocities created at the start" : "");
-  l.cmd("write_restart " + lammps_path(restart, "--out"));
+  l.cmd("write_restart " + md::lammps_path(restart, "--out"));
   write_h5(h5path, name, how, rows, rj);
 }
 
-void minimize_stage(Lammps& l, const UserStage& s, const std::string& restart,
+void minimize_stage(md::Lammps& l, const UserStage& s, const std::string& restart,
                     const std::string& h5path, const std::string& name, const std::string& rj) {
   l.cmd("run 0");
   const double e0 = l.thermo("pe");
@@ -159,7 +155,7 @@ void minimize_stage(Lammps& l, const UserStage& s, const std::string& restart,
   l.cmd(fmt::format("minimize 0.0 {:.10g} {} {}", s.ftol, s.max_iterations, 10 * s.max_iterations));
   l.cmd("run 0");
   const double e1 = l.thermo("pe"), fn = l.thermo("fnorm");
-  l.cmd("write_restart " + lammps_path(restart, "--out"));
+  l.cmd("write_restart " + md::lammps_path(restart, "--out"));
   write_h5(h5path, name,
            fmt::format("energy minimisation at fixed box (cg, ftol {:g} kcal/mol/A): PE {:.6g} -> "
                        "{:.6g} kcal/mol, force norm {:.3g} kcal/mol/A{}",
@@ -169,12 +165,13 @@ void minimize_stage(Lammps& l, const UserStage& s, const std::string& restart,
 
 /// Smallest distance between two atoms (bonded pairs included; minimum image in an orthogonal
 /// periodic box); NaN for a triclinic box or more than 20000 atoms (not measured).
-double min_distance(Lammps& l) {
-  double lo[3], hi[3], xy, yz, xz;
-  l.box(lo, hi, xy, yz, xz);
+double min_distance(md::Lammps& l) {
+  const md::LmpBox box = l.box();
+  const auto& lo = box.lo;
+  const auto& hi = box.hi;
   const auto x = l.gather("x", 3);
   const std::size_t n = x.size() / 3;
-  if (xy != 0 || xz != 0 || yz != 0 || n > 20000 || n < 2)
+  if (box.xy != 0 || box.xz != 0 || box.yz != 0 || n > 20000 || n < 2)
     return std::numeric_limits<double>::quiet_NaN();
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i)
@@ -196,11 +193,11 @@ double min_distance(Lammps& l) {
 EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input,
                                    const std::string& dir, bool resume,
                                    const std::string& recipe_json, std::uint64_t seed, int ranks) {
-  lammps_path(input, u.is_restart ? "restart" : "data file");
-  lammps_path(in_dir(dir, "final", ".restart"), "--out");
+  md::lammps_path(input, u.is_restart ? "restart" : "data file");
+  md::lammps_path(in_dir(dir, "final", ".restart"), "--out");
   make_output_directory(dir);
   std::vector<std::string> names;
-  auto stage = [&](const std::string& name, const StageBody& body) {
+  auto stage = [&](const std::string& name, const md::StageBody& body) {
     if (resume && fs::exists(in_dir(dir, name, ".h5")) &&
         fs::exists(in_dir(dir, name, ".restart"))) {
       std::cerr << fmt::format("  equilibrate/{}: done (resumed)\n", name);
@@ -209,10 +206,10 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
     std::cerr << fmt::format("  equilibrate/{}: running (log {})\n", name,
                              in_dir(dir, name, ".log"))
               << std::flush;
-    const StageOutcome o =
-        run_stage({"equilibrate/" + name, in_dir(dir, name, ".log"), {}, ranks}, stoppable(body));
+    const md::StageOutcome o = md::run_stage(
+        {"equilibrate/" + name, in_dir(dir, name, ".log"), {}, ranks}, md::stoppable(body));
     pnc::throw_if_stopped("stage equilibrate/" + name + " stopped; the finished stages are kept");
-    if (!o.ok) throw_stage_failure(o, "stage equilibrate/" + name);
+    if (!o.ok) md::throw_stage_failure(o, "stage equilibrate/" + name);
     std::cerr << fmt::format(
         "  equilibrate/{}: {} ({:.1f} s)\n", name,
         h5::File(in_dir(dir, name, ".h5"), h5::File::Mode::read).read_string("/criterion"),
@@ -225,7 +222,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
     const std::string name = stage_name(i, s);
     const std::string rs = in_dir(dir, name, ".restart"), hp = in_dir(dir, name, ".h5");
     const std::uint64_t sd = seed * 1000 + 10 * (i + 1);
-    stage(name, [&, s, name, rs, hp, sd, from, from_restart](Lammps& l) {
+    stage(name, [&, s, name, rs, hp, sd, from, from_restart](md::Lammps& l) {
       load(l, u, from, from_restart);
       if (s.kind == "minimize")
         minimize_stage(l, s, rs, hp, name, recipe_json);
@@ -241,7 +238,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
   for (std::size_t i = 0; i < u.stages.size(); ++i)
     if (u.stages[i].kind != "minimize") last_dyn = in_dir(dir, names[i], ".h5");
   if (!last_dyn.empty() && u.stages.back().kind == "minimize") last_dyn.clear();
-  stage("final", [&](Lammps& l) {
+  stage("final", [&](md::Lammps& l) {
     load(l, u, from, from_restart);
     l.cmd("run 0");
     double pt = l.thermo("press"), pv = l.compute_value("pnc_pv"), T = l.thermo("temp"), se = 0;
@@ -261,7 +258,7 @@ EquilibratedState equilibrate_user(const UserSystem& u, const std::string& input
                         k, fs::path(last_dyn).stem().string());
     }
     const double dmin = min_distance(l);
-    l.cmd("write_restart " + lammps_path(in_dir(dir, "final", ".restart"), "--out"));
+    l.cmd("write_restart " + md::lammps_path(in_dir(dir, "final", ".restart"), "--out"));
     const std::string crit = fmt::format(
         "{}; density {:.4f} g/cm3, P {:.1f} +- {:.1f} atm (total), {:.1f} atm (virial only), T "
         "{:.1f} K, smallest atom distance {:.3f} A",

@@ -6,7 +6,7 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +14,7 @@
 #include <filesystem>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 using V3 = std::array<double, 3>;
 
 namespace {

@@ -6,7 +6,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
-#include "pnc/rve/private_channel.hpp"
+#include "pnc/md/private_channel.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/slurm.hpp"
 
@@ -26,6 +26,7 @@
 
 namespace fs = std::filesystem;
 using namespace pnc::rve;
+using namespace pnc::md;
 
 namespace {
 

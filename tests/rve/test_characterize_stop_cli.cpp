@@ -1,4 +1,4 @@
-// pnc characterize interrupted (app/run_control.hpp, rve/stage_stop.hpp): SIGINT to the parent
+// pnc characterize interrupted (app/run_control.hpp, md/stage_stop.hpp): SIGINT to the parent
 // alone stops it while its case children run: they end too (no orphan keeps the run directory's
 // lock), the exit code is 128 + SIGINT with one line naming the command that continues the run,
 // every finished strain step stays in the case checkpoints, and --resume continues from them

@@ -3,9 +3,9 @@
 // fractions and the polymer-clay minimum distance.
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/runner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@
 #include <random>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 using V3 = std::array<double, 3>;
 
 namespace {
@@ -353,10 +354,10 @@ TEST(RveClay, EquilibrationFreezesTheClayThenThePolymer) {
       l.cmd("atom_style molecular");
       l.cmd("read_restart " + (fs::path(dir) / (std::string(st) + ".restart")).string());
       l.cmd("run 0");
-      double lo[3], hi[3], xy, yz, xz;
-      l.box(lo, hi, xy, yz, xz);
+      const auto b = l.box();
       h.write_vector(std::string("/x_") + st, l.gather("x", 3));
-      h.write_vector(std::string("/box_") + st, {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]});
+      h.write_vector(std::string("/box_") + st,
+                     {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]});
     }
   });
   ASSERT_TRUE(out.ok) << out.error;

@@ -2,7 +2,7 @@
 // no bead overlaps after the push-off, density/pressure/void measure reported; NVT keeps the
 // build density; resume skips finished stages.
 #include "pnc/core/hdf5_io.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <filesystem>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 namespace fs = std::filesystem;
 
 namespace {

@@ -8,10 +8,10 @@
 // carries no shear stress at the end of the hold.
 // `pnc recipe show demo_glass` (JSON and TOML) reads back as the preset.
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/rve/bead_spring.hpp"
-#include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/runner.hpp"
 
 #include "common/run_command.hpp"
 
@@ -25,6 +25,7 @@
 
 namespace fs = std::filesystem;
 using namespace pnc::rve;
+using namespace pnc::md;
 
 namespace {
 
@@ -76,9 +77,8 @@ Relaxation shear_relaxation(const std::string& restart, double T, double gamma, 
       l.cmd("run 100");
       s0 += l.fix_value("avg", 0) / 10;
     }
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    l.cmd(fmt::format("change_box all xy final {:.12g} remap units box", gamma * (hi[1] - lo[1])));
+    l.cmd(
+        fmt::format("change_box all xy final {:.12g} remap units box", gamma * l.box().length(1)));
     std::vector<double> c;
     for (int k = 0; k < 40; ++k) {
       l.cmd("run 100");

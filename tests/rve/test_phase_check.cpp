@@ -10,6 +10,7 @@
 #include <random>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 
 namespace {
 /// Exact discretisation of an OU process: stationary start, variance s2, phi per sample.

@@ -3,7 +3,7 @@
 // G(t) decays within ~1 LJ time) and an FCC crystal at 10 K (solid; its K from the volume pair
 // and G from the shear pair against T = 0 lattice sums with the same cutoff).
 #include "pnc/core/units.hpp"
-#include "pnc/rve/forcefield.hpp"
+#include "pnc/md/forcefield.hpp"
 #include "pnc/rve/phase_check.hpp"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <filesystem>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 namespace fs = std::filesystem;
 
 namespace {

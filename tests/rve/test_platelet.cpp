@@ -13,6 +13,7 @@
 #include <cmath>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 using json = nlohmann::json;
 
 namespace {

@@ -17,12 +17,12 @@
 //    share of the strain is ~ 0), so C11 > C22 and C33 > C22.
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/units.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/deform.hpp"
-#include "pnc/rve/lammps_path.hpp"
 #include "pnc/rve/platelet.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/runner.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -33,6 +33,7 @@
 
 namespace fs = std::filesystem;
 using namespace pnc::rve;
+using namespace pnc::md;
 
 namespace {
 
@@ -69,12 +70,11 @@ Shape measure(const std::string& restart, const Recipe& r, const fs::path& dir,
         l.cmd("atom_style molecular");
         l.cmd("read_restart " + lammps_path(restart, "restart"));
         l.cmds(kg_platelet_commands(r.kg, r.platelet));
-        double lo[3], hi[3], xy, yz, xz;
-        l.box(lo, hi, xy, yz, xz);
+        const auto b = l.box();
         const auto x = l.gather("x", 3);
         pnc::h5::File h(res, pnc::h5::File::Mode::truncate);
         h.write_vector("/x", x);
-        h.write_vector("/box", {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], xy, xz, yz});
+        h.write_vector("/box", {b.length(0), b.length(1), b.length(2), b.xy, b.xz, b.yz});
       });
   EXPECT_TRUE(out.ok) << out.error;
   pnc::h5::File h(res, pnc::h5::File::Mode::read);

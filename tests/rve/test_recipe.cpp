@@ -9,6 +9,7 @@
 #include <fstream>
 
 using namespace pnc::rve;
+using namespace pnc::md;
 using json = nlohmann::json;
 
 namespace {

@@ -8,7 +8,7 @@
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/reference.hpp"
 #include "pnc/rve/replica_trend.hpp"
-#include "pnc/rve/statistics.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <gtest/gtest.h>
 

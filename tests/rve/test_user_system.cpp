@@ -23,6 +23,7 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace pnc::rve;
+using namespace pnc::md;
 
 namespace {
 

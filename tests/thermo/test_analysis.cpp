@@ -191,10 +191,14 @@ TEST(ThermoBending, DiscreteChainStiffness) {
 // The box after deform_commands: the metric H'^T H' equals (F H)^T (F H) (same box up to
 // a rotation) and the volume is det F V0.
 TEST(ThermoDeform, DeviatoricBoxIsRotatedFH) {
-  const double lo[3] = {-1, 0, 2}, hi[3] = {19, 21, 24};
+  pnc::md::LmpBox box;
+  box.lo = {-1, 0, 2};
+  box.hi = {19, 21, 24};
+  const auto& lo = box.lo;
+  const auto& hi = box.hi;
   for (const std::string kind : {"vol", "dev"}) {
     const double s = 5e-3;
-    const auto cmds = deform_commands({kind, s, "x"}, lo, hi, 0, 0, 0);
+    const auto cmds = deform_commands({kind, s, "x"}, box);
     ASSERT_FALSE(cmds.empty());
     // parse "x final a b y final ... [xy final v xz final v yz final v]"
     std::istringstream in(cmds.back());

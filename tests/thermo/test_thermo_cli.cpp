@@ -4,9 +4,9 @@
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
 
-#include "pnc/rve/builder.hpp"
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/builder.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <fmt/format.h>
 

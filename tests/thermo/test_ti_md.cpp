@@ -3,9 +3,9 @@
 // polymer, and the bending analysis on a chain of known stiffness. Small systems, short runs.
 #include "pnc/core/error.hpp"
 #include "pnc/core/units.hpp"
-#include "pnc/rve/builder.hpp"
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/builder.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/thermo/persistence.hpp"
 #include "pnc/thermo/ti.hpp"
 
@@ -24,7 +24,7 @@
 
 using namespace pnc::thermo;
 namespace fs = std::filesystem;
-namespace rve = pnc::rve;
+namespace md = pnc::md;
 
 namespace {
 
@@ -35,7 +35,7 @@ fs::path tmpdir(const std::string& tag) {
   return d;
 }
 
-double fix_scalar(rve::Lammps& l, const char* id) {
+double fix_scalar(md::Lammps& l, const char* id) {
   auto* p = static_cast<double*>(
       lammps_extract_fix(l.handle(), id, LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR, 0, 0));
   if (!p) throw std::runtime_error("no scalar");
@@ -49,7 +49,7 @@ double fix_scalar(rve::Lammps& l, const char* id) {
 LambdaSystem einstein(int n, double k0, double k1, double T) {
   LambdaSystem sys;
   auto k = [=](double l) { return k0 + l * (k1 - k0); };
-  sys.setup = [=](rve::Lammps& l, double lambda, std::uint64_t seed) {
+  sys.setup = [=](md::Lammps& l, double lambda, std::uint64_t seed) {
     l.cmd("units real");
     l.cmd("atom_style atomic");
     l.cmd("region pnc_b block 0 40 0 40 0 40");
@@ -64,7 +64,7 @@ LambdaSystem einstein(int n, double k0, double k1, double T) {
     l.cmd(fmt::format("fix pnc_sp all spring/self {:.15g}", k(lambda)));
     l.cmd("thermo 100000");
   };
-  sys.sample = [=](rve::Lammps& l, double lambda, double lp, double ln) {
+  sys.sample = [=](md::Lammps& l, double lambda, double lp, double ln) {
     const double e = fix_scalar(l, "pnc_sp");
     LambdaSample s;
     s.dhdl = (k1 - k0) / k(lambda) * e;
@@ -157,7 +157,7 @@ TEST(ThermoTi, TiAgreesWithFepBetweenAdjacentLambdas) {
   const LjPath p;
   LambdaSystem sys = lj_sampling(p, 1e-4);
   const double T = 300;
-  sys.setup = [p, T](rve::Lammps& l, double lambda, std::uint64_t seed) {
+  sys.setup = [p, T](md::Lammps& l, double lambda, std::uint64_t seed) {
     l.cmd("units real");
     l.cmd("atom_style atomic");
     l.cmd("lattice fcc 6.4");
@@ -238,7 +238,7 @@ TEST(ThermoTi, PolymerDhdlMatchesLammpsFiniteDifferenceAndStatesHaveDetFVolume) 
     j.h5 = (d / (st.id + ".h5")).string();
     j.label = st.id;
     j.seed = 9;
-    point_jobs.push_back({j, polymer_system(spec, st, rs, rve::polymer_forcefield_commands({}))});
+    point_jobs.push_back({j, polymer_system(spec, st, rs, md::polymer_forcefield_commands({}))});
   }
   run_points(spec.sampling, point_jobs, false, 2, nullptr);
   std::map<std::string, PointResult> r;
@@ -320,7 +320,7 @@ TEST(ThermoTi, LammpsErrorIsReportedWithItsMessage) {
   try {
     run_points(
         spec.sampling,
-        {{j, polymer_system(spec, {"ref", 0, "ref"}, bogus, rve::polymer_forcefield_commands({}))}},
+        {{j, polymer_system(spec, {"ref", 0, "ref"}, bogus, md::polymer_forcefield_commands({}))}},
         false, 1, nullptr);
     FAIL() << "no error";
   } catch (const pnc::ToolError& e) {

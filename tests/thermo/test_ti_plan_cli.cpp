@@ -6,7 +6,7 @@
 #include "common/spawn.hpp"
 
 #include "pnc/core/hdf5_io.hpp"
-#include "pnc/rve/forcefield.hpp"
+#include "pnc/md/forcefield.hpp"
 #include "pnc/thermo/ti.hpp"
 
 #include "tiny_polymer.hpp"
@@ -90,7 +90,7 @@ TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
   spec.sampling.prod_steps = 60;
   spec.sampling.sample_every = 10;
   spec.sampling.blocks = 3;
-  const auto lib = pnc::thermo::run_ti(spec, rs, pnc::rve::polymer_forcefield_commands({}),
+  const auto lib = pnc::thermo::run_ti(spec, rs, pnc::md::polymer_forcefield_commands({}),
                                        (d / "lib").string(), false, "", nullptr);
   const auto nl = ti_numbers(lib.h5);
   ASSERT_EQ(n1.size(), 2u);

@@ -8,8 +8,8 @@
 //             one run (in 5 pieces) with fix vector of the pair energy and pair virial
 // and prints the overheads relative to t_plain. Units: LAMMPS real.
 // usage: bench_thermo RESTART [steps=10000] [every=100, the TI default] [repetitions=3]
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/thermo/ti.hpp"
 
 #include <fmt/format.h>
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   const long steps = argc > 2 ? std::atol(argv[2]) : 10000;
   const int every = argc > 3 ? std::atoi(argv[3]) : 100;
   const int reps = argc > 4 ? std::atoi(argv[4]) : 3;
-  const auto o = pnc::rve::run_stage({"bench", "bench_thermo.log", {}}, [&](pnc::rve::Lammps& l) {
+  const auto o = pnc::md::run_stage({"bench", "bench_thermo.log", {}}, [&](pnc::md::Lammps& l) {
     using clk = std::chrono::steady_clock;
     auto secs = [](clk::time_point a) {
       return std::chrono::duration<double>(clk::now() - a).count();
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     pnc::thermo::TiSpec spec;
     spec.dhdl_method = "pairs";
     const auto sys = pnc::thermo::polymer_system(spec, {"ref", 0, "ref"}, restart,
-                                                 pnc::rve::polymer_forcefield_commands({}));
+                                                 pnc::md::polymer_forcefield_commands({}));
     const auto vir = pnc::thermo::lj_sampling(spec.path, spec.fd_h, "virial");
     sys.setup(l, 0.5, 7);
     l.cmd("timestep 0.5");

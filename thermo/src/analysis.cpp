@@ -2,7 +2,7 @@
 #include "pnc/thermo/analysis.hpp"
 
 #include "pnc/core/error.hpp"
-#include "pnc/rve/deform.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -92,7 +92,7 @@ Estimate integrate(const Quadrature& q, const std::vector<double>& means,
 Estimate block_mean(const std::vector<double>& x, int blocks) {
   if (x.empty()) fail("<block average>", "samples", "0", "needs at least one sample");
   // the same estimator as the deformation driver's stress points (NaN s.e. below 2 blocks)
-  const auto [mean, se] = rve::block_mean_se(x, std::max(blocks, 0));
+  const auto [mean, se] = md::block_mean_se(x, std::max(blocks, 0));
   Estimate e;
   e.value = mean;
   e.se = se;

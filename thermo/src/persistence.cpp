@@ -9,8 +9,8 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/runner.hpp"
-#include "pnc/rve/stage_stop.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/md/stage_stop.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -101,7 +101,7 @@ Geometry chain_geometry(const PersistenceSpec& s) {
   return g;
 }
 
-void setup_chain(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g) {
+void setup_chain(md::Lammps& l, const PersistenceSpec& s, const Geometry& g) {
   const int n = s.beads;
   l.cmd("units real");
   l.cmd("atom_style molecular");
@@ -116,7 +116,7 @@ void setup_chain(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g) {
   for (const auto& p : g.x)
     l.cmd(fmt::format("create_atoms 1 single {:.12g} {:.12g} {:.12g} units box", p[0], p[1], p[2]));
   if (s.chain == "pp") {
-    l.cmds(rve::polymer_forcefield_commands(s.ff));
+    l.cmds(md::polymer_forcefield_commands(s.ff));
   } else {
     l.cmd("pair_style zero 3.0");
     l.cmd("pair_coeff * *");
@@ -153,7 +153,7 @@ RateFiles rate_files(const std::string& dir, std::size_t i) {
           (fs::path(dir) / fmt::format("rate_{}.log", i)).string()};
 }
 
-void rate_child(rve::Lammps& l, const PersistenceSpec& s, const Geometry& g, double rate,
+void rate_child(md::Lammps& l, const PersistenceSpec& s, const Geometry& g, double rate,
                 std::uint64_t seed, const std::string& out) {
   const auto t0 = std::chrono::steady_clock::now();
   setup_chain(l, s, g);
@@ -275,12 +275,12 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
     if (!have) {
       const double rate = spec.rates[i];
       const std::uint64_t seed = spec.seed * 100 + i * 2;
-      const auto o = rve::run_stage({fmt::format("bending rate {}", rate), rf.log, {}},
-                                    rve::stoppable([&spec, &g, rate, seed, &rf](rve::Lammps& l) {
+      const auto o = md::run_stage({fmt::format("bending rate {}", rate), rf.log, {}},
+                                    md::stoppable([&spec, &g, rate, seed, &rf](md::Lammps& l) {
                                       rate_child(l, spec, g, rate, seed, rf.h5);
                                     }));
       pnc::throw_if_stopped(fmt::format("bending rate {} stopped; finished rates are kept", rate));
-      if (!o.ok) rve::throw_stage_failure(o, fmt::format("bending rate {} A/fs", rate));
+      if (!o.ok) md::throw_stage_failure(o, fmt::format("bending rate {} A/fs", rate));
       ++ran;
     }
     res.rates.push_back(read_rate(rf.h5));

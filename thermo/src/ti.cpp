@@ -1,7 +1,7 @@
 // Thermodynamic integration engine and the polymer free energy of deformation (units real).
 #include "pnc/thermo/ti.hpp"
 
-#include "pnc/rve/box.hpp"
+#include "pnc/md/box.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -9,9 +9,9 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/runner.hpp"
-#include "pnc/rve/stage_stop.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/md/stage_stop.hpp"
 
 #include <lammps/library.h>
 
@@ -143,8 +143,7 @@ void write_point(const std::string& path, const PointJob& j, const PointResult& 
   out.commit();
 }
 
-void point_child(rve::Lammps& l, const SamplingSpec& s, const LambdaSystem& sys,
-                 const PointJob& j) {
+void point_child(md::Lammps& l, const SamplingSpec& s, const LambdaSystem& sys, const PointJob& j) {
   const auto t0 = std::chrono::steady_clock::now();
   sys.setup(l, j.lambda, j.seed);
   l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
@@ -229,20 +228,19 @@ void run_points(const SamplingSpec& s,
   const auto t0 = std::chrono::steady_clock::now();
   jobs = std::max(1, jobs);
   for (std::size_t b = 0; b < pending.size(); b += static_cast<std::size_t>(jobs)) {
-    std::vector<std::pair<rve::StageSpec, rve::StageBody>> stages;
+    std::vector<std::pair<md::StageSpec, md::StageBody>> stages;
     for (std::size_t i = b; i < std::min(pending.size(), b + static_cast<std::size_t>(jobs)); ++i) {
       const PointJob j = pending[i]->first;
       const LambdaSystem sys = pending[i]->second;
       make_output_directory(fs::path(j.h5).parent_path().string());
-      rve::StageSpec spec{j.label, log_of(j.h5), {}};
+      md::StageSpec spec{j.label, log_of(j.h5), {}};
       stages.push_back(
-          {spec, rve::stoppable([s, sys, j](rve::Lammps& l) { point_child(l, s, sys, j); })});
+          {spec, md::stoppable([s, sys, j](md::Lammps& l) { point_child(l, s, sys, j); })});
     }
-    const auto outcomes = rve::run_stages(stages, jobs);
+    const auto outcomes = md::run_stages(stages, jobs);
     pnc::throw_if_stopped("the running lambda points stopped; finished points are kept");
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
-      if (!outcomes[i].ok)
-        rve::throw_stage_failure(outcomes[i], "lambda point " + outcomes[i].name);
+      if (!outcomes[i].ok) md::throw_stage_failure(outcomes[i], "lambda point " + outcomes[i].name);
       ++done;
       const double el = seconds_since(t0);
       const int left = total - done;
@@ -308,25 +306,20 @@ LambdaIntegral collect(const Quadrature& q, const std::vector<PointJob>& jobs, d
 
 // ------------------------------------------------------------------------------------------
 
-std::vector<std::string> deform_commands(const DeformState& st, const double lo[3],
-                                         const double hi[3], double xy, double yz, double xz) {
+std::vector<std::string> deform_commands(const DeformState& st, const md::LmpBox& box) {
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (st.kind == "vol")
     F *= 1 + st.strain; // volumetric F = (1+a) I (docs/theory.md §4.2, D63)
   else if (st.kind == "dev")
     // deviatoric F = I + b (1 - delta_ij) (docs/theory.md §4.2); not upper triangular: the
-    // box is F H rotated to the LAMMPS form (rve::box_change, D63)
+    // box is F H rotated to the LAMMPS form (md::box_change, D63)
     F += st.strain * (Eigen::Matrix3d::Ones() - Eigen::Matrix3d::Identity());
   else if (st.kind != "ref")
     fail("<ti>", "state", st.kind, "must be ref, vol or dev");
   std::vector<std::string> out;
   if (st.kind == "ref") return out;
   if (st.kind == "dev") out.push_back("change_box all triclinic");
-  rve::LmpBox box;
-  box.lo = {lo[0], lo[1], lo[2]};
-  box.hi = {hi[0], hi[1], hi[2]};
-  box.xy = xy, box.xz = xz, box.yz = yz;
-  const std::string cmd = rve::box_change(box, F, "<ti state " + st.id + ">");
+  const std::string cmd = md::box_change(box, F, "<ti state " + st.id + ">");
   if (!cmd.empty()) out.push_back(cmd);
   return out;
 }

@@ -5,8 +5,8 @@
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/units.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <lammps/library.h>
 
@@ -51,7 +51,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     fail("<ti>", "dhdl_method", method, "must be \"virial\" or \"pairs\"");
   LambdaSystem sys;
   auto coeff = [p](double l) { return lj_coeff(p, l); };
-  auto distances = [](rve::Lammps& l) {
+  auto distances = [](md::Lammps& l) {
     if (!l.handle())
       fail("<ti>", "ranks", "", "the TI samplers need LAMMPS inside the stage child (1 rank)");
     auto* rows = static_cast<int*>(
@@ -62,7 +62,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     if (n > 0 && !d) fail("<lammps>", "compute pair/local", "", "no distance vector");
     return std::pair<const double*, long>{d, n};
   };
-  sys.sample = [=](rve::Lammps& l, double lambda, double lp, double ln) {
+  sys.sample = [=](md::Lammps& l, double lambda, double lp, double ln) {
     const auto [d, n] = distances(l);
     const PairSums s = lj_sums(d, n, lambda, p);
     LambdaSample out;
@@ -72,7 +72,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     out.du_next = std::isfinite(ln) ? lj_energy_sum(d, n, ln, p) - s.u : std::nan("");
     return out;
   };
-  sys.checks = [=](rve::Lammps& l, double lambda) {
+  sys.checks = [=](md::Lammps& l, double lambda) {
     std::map<std::string, double> c;
     l.cmd("run 0");
     const double e0 = l.thermo("evdwl");
@@ -116,7 +116,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     return c;
   };
   if (method == "virial")
-    sys.production = [p](rve::Lammps& l, double lambda, double lp, double ln, long steps,
+    sys.production = [p](md::Lammps& l, double lambda, double lp, double ln, long steps,
                          int every) {
       l.cmd("compute pnc_epair all pair lj/cut evdwl");
       l.cmd("compute pnc_ppair all pressure NULL pair");
@@ -166,21 +166,19 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
 
 LambdaSystem polymer_system(const TiSpec& spec, const DeformState& st, const std::string& restart,
                             const std::vector<std::string>& ff) {
-  rve::lammps_path(restart, "restart"); // refused here, in the parent, if it cannot be quoted
+  md::lammps_path(restart, "restart"); // refused here, in the parent, if it cannot be quoted
   LambdaSystem sys = lj_sampling(spec.path, spec.fd_h, spec.dhdl_method);
   const LjPath p = spec.path;
   const double T = spec.sampling.temperature, damp = spec.damp_fs;
   const std::string style = spec.atom_style;
-  sys.setup = [=](rve::Lammps& l, double lambda, std::uint64_t seed) {
+  sys.setup = [=](md::Lammps& l, double lambda, std::uint64_t seed) {
     l.cmd("units real");
     l.cmd("atom_style " + style);
-    l.cmd("read_restart " + rve::lammps_path(restart, "restart"));
+    l.cmd("read_restart " + md::lammps_path(restart, "restart"));
     l.cmds(ff);
     l.cmd(fmt::format("pair_style lj/cut {:.15g}", p.cutoff)); // D62: fixed cut-off
     l.cmd("pair_modify shift no tail no");
-    double lo[3], hi[3], xy, yz, xz;
-    l.box(lo, hi, xy, yz, xz);
-    l.cmds(deform_commands(st, lo, hi, xy, yz, xz));
+    l.cmds(deform_commands(st, l.box()));
     l.cmd(lj_coeff(p, lambda));
     l.cmd("reset_timestep 0");
     l.cmd("fix pnc_nve all nve");

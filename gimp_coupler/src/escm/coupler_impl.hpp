@@ -94,9 +94,7 @@ struct Coupler::Impl {
   void langevin_fixes();
 
   // escm_state.cpp: checkpoint and restore
-  void check_local() const;
-  // LAMMPS image flags (32-bit imageint): 10 bits per axis, offset 512.
-  static constexpr int img_max = 512, img_bits = 10, img_mask = 1023;
+  // per-atom arrays by id (md/atoms.hpp: unpacked image flags, every atom local)
   std::vector<double> gather(const char* name, int count) const;
   void scatter(const char* name, const std::vector<double>& v) const;
   void apply_atoms(const std::vector<double>& x, const std::vector<double>& v,

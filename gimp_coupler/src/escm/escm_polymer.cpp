@@ -4,9 +4,10 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/units.hpp"
-#include "pnc/rve/builder.hpp"
-#include "pnc/rve/lammps_path.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/atoms.hpp"
+#include "pnc/md/builder.hpp"
+#include "pnc/md/lammps_path.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <lammps/library.h>
 
@@ -33,9 +34,9 @@ std::string num(double v) {
   return s.str();
 }
 
-/// Unwrapped positions (A) of all atoms by id, from x and the packed image flags (LAMMPS
-/// smallbig: 10 bits per axis, offset 512).
-std::vector<Vec> unwrapped(pnc::rve::Lammps& L) {
+/// Unwrapped positions (A) of all atoms by id, from x and the packed image flags
+/// (md::ImageFlags).
+std::vector<Vec> unwrapped(pnc::md::Lammps& L) {
   void* h = L.handle();
   const int n = static_cast<int>(lammps_get_natoms(h));
   std::vector<double> x(static_cast<std::size_t>(n) * 3);
@@ -50,13 +51,11 @@ std::vector<Vec> unwrapped(pnc::rve::Lammps& L) {
   lammps_extract_box(h, lo, hi, &xy, &yz, &xz, per, &changed);
   std::vector<Vec> u(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    const auto im = static_cast<unsigned>(img[static_cast<std::size_t>(i)]);
-    const int f[3] = {static_cast<int>(im & 1023u) - 512,
-                      static_cast<int>((im >> 10) & 1023u) - 512, static_cast<int>(im >> 20) - 512};
+    const auto f = pnc::md::ImageFlags::unpack(img[static_cast<std::size_t>(i)]);
     for (int a = 0; a < 3; ++a)
       u[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] =
           x[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(a)] +
-          (per[a] ? f[a] * (hi[a] - lo[a]) : 0.0);
+          (per[a] ? f[static_cast<std::size_t>(a)] * (hi[a] - lo[a]) : 0.0);
   }
   return u;
 }
@@ -96,13 +95,13 @@ void read_positions(const std::string& path, std::vector<Vec>& u,
 
 std::vector<std::string> header(const std::string& boundary, const std::string& data) {
   return {"units real", "atom_style molecular", "boundary " + boundary,
-          "read_data " + pnc::rve::lammps_path(data, "data file")};
+          "read_data " + pnc::md::lammps_path(data, "data file")};
 }
 
-void run(const pnc::rve::StageSpec& st, const pnc::rve::StageBody& body) {
-  const auto out = pnc::rve::run_stage(st, body);
+void run(const pnc::md::StageSpec& st, const pnc::md::StageBody& body) {
+  const auto out = pnc::md::run_stage(st, body);
   if (!out.ok) // ToolError with LAMMPS's message and the stage log: exit code 7
-    pnc::rve::throw_stage_failure(out, "escm polymer stage " + st.name);
+    pnc::md::throw_stage_failure(out, "escm polymer stage " + st.name);
 }
 
 /// The steps of build_polymer_block (escm_polymer.hpp), in order: grow(), relax(), cut_block(),
@@ -114,14 +113,14 @@ struct BlockBuilder {
   void grow(const std::string& dir);
   /// 2. Periodic relaxation and elastic constants (D101, D102), in a child process.
   void relax();
-  void relax_stage(pnc::rve::Lammps& L, const std::string& out) const;
+  void relax_stage(pnc::md::Lammps& L, const std::string& out) const;
   /// 3. Cut at the x/y faces and, in neumann mode, between SVC and free atoms (D103); the weak
   /// interface (D114).
   void cut_block();
   /// 4. Free-surface minimisation with the SVC atoms held (D104), repeated until the zones
   /// hold (D107).
   void surface();
-  void surface_stage(pnc::rve::Lammps& L, const std::string& out) const;
+  void surface_stage(pnc::md::Lammps& L, const std::string& out) const;
   /// D105: bead count of every SVC/IVC cell.
   void count_cells();
   PolymerBlock finish();
@@ -147,9 +146,9 @@ struct BlockBuilder {
   const std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
   std::string dabs; ///< the run directory, absolute
   PolymerBlock b;
-  pnc::rve::BuildSpec bs;
+  pnc::md::BuildSpec bs;
   double per_cell = 0.0; ///< expected beads per cell (D105)
-  pnc::rve::System s;
+  pnc::md::System s;
   std::string build_data, cut_data;
   std::vector<std::string> ffc, weak; ///< force field; the weak interface's pair (D114)
   std::vector<Vec> u;                 ///< relaxed positions, unwrapped
@@ -166,7 +165,7 @@ void BlockBuilder::grow(const std::string& dir) {
   namespace fs = std::filesystem;
   pnc::make_output_directory(dir);
   dabs = fs::absolute(dir).string();
-  pnc::rve::lammps_path(dabs + "/polymer_block.data", "--out"); // refused here if unquotable
+  pnc::md::lammps_path(dabs + "/polymer_block.data", "--out"); // refused here if unquotable
   sp.ff.validate(src);
   if (sp.density > 0) bs.density = sp.density;
   if (sp.beads_per_chain > 0) bs.beads_per_chain = sp.beads_per_chain;
@@ -191,18 +190,18 @@ void BlockBuilder::grow(const std::string& dir) {
   s.lo = {0, 0, 0};
   s.hi = {sp.nbx * sp.cell_A, sp.nby * sp.cell_A, sp.slab_A};
   s.type_mass = {sp.ff.bead_mass};
-  const double nbead = bs.density * pnc::rve::avogadro_per_A3_cm3 / sp.ff.bead_mass * s.volume();
+  const double nbead = bs.density * pnc::md::avogadro_per_A3_cm3 / sp.ff.bead_mass * s.volume();
   bs.chains = std::max(1, static_cast<int>(std::lround(nbead / bs.beads_per_chain)));
   bs.validate(src);
-  pnc::rve::grow_chains(s, bs, sp.ff, 0.0);
+  pnc::md::grow_chains(s, bs, sp.ff, 0.0);
   b.chains = bs.chains;
   b.atoms = static_cast<int>(s.x.size());
   build_data = dabs + "/polymer_build.data";
-  pnc::rve::write_data_file(build_data, s, "ESCM polymer block, as built");
-  ffc = pnc::rve::polymer_forcefield_commands(sp.ff);
+  pnc::md::write_data_file(build_data, s, "ESCM polymer block, as built");
+  ffc = pnc::md::polymer_forcefield_commands(sp.ff);
 }
 
-void BlockBuilder::relax_stage(pnc::rve::Lammps& L, const std::string& out) const {
+void BlockBuilder::relax_stage(pnc::md::Lammps& L, const std::string& out) const {
   L.cmds(header("p p p", build_data));
   L.cmds(ffc);
   L.cmd("pair_modify shift yes"); // D107: continuous energy for the line searches
@@ -226,11 +225,10 @@ void BlockBuilder::relax_stage(pnc::rve::Lammps& L, const std::string& out) cons
           "minimize 0 1e-8 1000 10000", "unfix escm_br"});
   std::map<std::string, double> vals;
   const std::vector<Vec> uu = unwrapped(L);
-  double lo[3], hi[3], xy, yz, xz;
-  L.box(lo, hi, xy, yz, xz);
+  const pnc::md::LmpBox box = L.box();
   for (int a = 0; a < 3; ++a) {
-    vals[std::string("lo") + "xyz"[a]] = lo[a];
-    vals[std::string("L") + "xyz"[a]] = hi[a] - lo[a];
+    vals[std::string("lo") + "xyz"[a]] = box.lo[static_cast<std::size_t>(a)];
+    vals[std::string("L") + "xyz"[a]] = box.length(a);
   }
   vals["pxx"] = L.thermo("pxx");
   vals["pyy"] = L.thermo("pyy");
@@ -250,7 +248,7 @@ void BlockBuilder::relax_stage(pnc::rve::Lammps& L, const std::string& out) cons
       for (int a = 0; a < 3; ++a)
         vals[std::string("C") + "xyz"[a] + ax] =
             (sig[0][static_cast<std::size_t>(a)] - sig[1][static_cast<std::size_t>(a)]) / (2 * d) *
-            pnc::rve::pa_per_atm;
+            pnc::md::pa_per_atm;
     }
   }
   write_positions(out, uu, vals);
@@ -260,7 +258,7 @@ void BlockBuilder::relax() {
   const std::string relax_out = dabs + "/polymer_relax.txt";
   const auto tr = std::chrono::steady_clock::now();
   run({"polymer/relax", dabs + "/polymer_relax.log", {}, 1},
-      [&](pnc::rve::Lammps& L) { relax_stage(L, relax_out); });
+      [&](pnc::md::Lammps& L) { relax_stage(L, relax_out); });
   b.relax_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count();
   read_positions(relax_out, u, v);
   if (u.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
@@ -409,10 +407,10 @@ void BlockBuilder::cut_block() {
   for (std::size_t i = 0; i < u.size(); ++i)
     s.x[i] = w[i];
   cut_data = dabs + "/polymer_cut.data";
-  pnc::rve::write_data_file(cut_data, s, "ESCM polymer block, faces cut");
+  pnc::md::write_data_file(cut_data, s, "ESCM polymer block, faces cut");
 }
 
-void BlockBuilder::surface_stage(pnc::rve::Lammps& L, const std::string& out) const {
+void BlockBuilder::surface_stage(pnc::md::Lammps& L, const std::string& out) const {
   L.cmds(header("s s p", cut_data));
   L.cmds(ffc);
   L.cmds(weak);
@@ -449,7 +447,7 @@ void BlockBuilder::surface() {
         dabs + (pass == 1 ? std::string("/polymer_surface.log")
                           : "/polymer_surface_" + std::to_string(pass) + ".log");
     run({"polymer/surface", surf_log, {}, 1},
-        [&](pnc::rve::Lammps& L) { surface_stage(L, surf_out); });
+        [&](pnc::md::Lammps& L) { surface_stage(L, surf_out); });
     std::map<std::string, double> v2;
     read_positions(surf_out, u2, v2);
     if (u2.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
@@ -473,7 +471,7 @@ void BlockBuilder::surface() {
     cut_interface(up1);
     set_types(up1);
     if (pass == 4) break; // reported (moved_zone_last); the coupler still runs
-    pnc::rve::write_data_file(cut_data, s, "ESCM polymer block, faces cut, re-zoned");
+    pnc::md::write_data_file(cut_data, s, "ESCM polymer block, faces cut, re-zoned");
   }
   b.surface_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
 }
@@ -512,7 +510,7 @@ void BlockBuilder::count_cells() {
 
 PolymerBlock BlockBuilder::finish() {
   b.data_file = dabs + "/polymer_block.data";
-  pnc::rve::write_data_file(b.data_file, s, "ESCM polymer block, relaxed, boundary s s p");
+  pnc::md::write_data_file(b.data_file, s, "ESCM polymer block, relaxed, boundary s s p");
   b.md_setup = header("s s p", b.data_file);
   b.md_setup.insert(b.md_setup.end(), ffc.begin(), ffc.end());
   b.md_setup.insert(b.md_setup.end(), weak.begin(), weak.end());
@@ -523,8 +521,8 @@ PolymerBlock BlockBuilder::finish() {
 } // namespace
 
 double expected_beads_per_cell(const PolymerBlockSpec& sp) {
-  const double rho = sp.density > 0 ? sp.density : pnc::rve::BuildSpec{}.density;
-  return rho * pnc::rve::avogadro_per_A3_cm3 / sp.ff.bead_mass * sp.cell_A * sp.cell_A * sp.slab_A;
+  const double rho = sp.density > 0 ? sp.density : pnc::md::BuildSpec{}.density;
+  return rho * pnc::md::avogadro_per_A3_cm3 / sp.ff.bead_mass * sp.cell_A * sp.cell_A * sp.slab_A;
 }
 
 PolymerBlock build_polymer_block(const PolymerBlockSpec& sp, const std::string& dir,

@@ -2,61 +2,20 @@
 // "Checkpoint and resume").
 #include "coupler_impl.hpp"
 
+#include "pnc/md/atoms.hpp"
+
 #include <stdexcept>
 
 namespace pnc::gimp::escm {
 
-// Per-atom arrays by id - 1 straight from the local arrays (one MPI rank: every atom is
-// local; lammps_scatter_atoms goes through the atom map, which can name a ghost copy).
-
-void Coupler::Impl::check_local() const {
-  if (lammps_extract_setting(lmp, "nlocal") != natoms)
-    throw std::runtime_error("escm: checkpoints need all atoms on one MPI rank");
-  if (lammps_extract_setting(lmp, "imageint") != 4)
-    throw std::runtime_error("escm: checkpoints need LAMMPS with 32-bit image flags");
-}
-
+// Per-atom arrays by id - 1 straight from the local arrays (md/atoms.hpp: one MPI rank;
+// lammps_scatter_atoms goes through the atom map, which can name a ghost copy).
 std::vector<double> Coupler::Impl::gather(const char* name, int count) const {
-  check_local();
-  const int nlocal = natoms;
-  auto* id = static_cast<lmp_tag*>(lammps_extract_atom(lmp, "id"));
-  std::vector<double> out(static_cast<std::size_t>(natoms) * static_cast<std::size_t>(count));
-  const std::string n = name;
-  for (int i = 0; i < nlocal; ++i) {
-    const std::size_t o = static_cast<std::size_t>(id[i] - 1) * static_cast<std::size_t>(count);
-    if (n == "image") {
-      const int im = static_cast<int*>(lammps_extract_atom(lmp, "image"))[i];
-      out[o] = (im & img_mask) - img_max;
-      out[o + 1] = ((im >> img_bits) & img_mask) - img_max;
-      out[o + 2] = (im >> (2 * img_bits)) - img_max;
-    } else if (n == "type") {
-      out[o] = static_cast<int*>(lammps_extract_atom(lmp, "type"))[i];
-    } else {
-      auto** a = static_cast<double**>(lammps_extract_atom(lmp, name));
-      for (int c = 0; c < count; ++c)
-        out[o + static_cast<std::size_t>(c)] = a[i][c];
-    }
-  }
-  return out;
+  return md::gather_local(lmp, name, count);
 }
 
 void Coupler::Impl::scatter(const char* name, const std::vector<double>& v) const {
-  check_local();
-  auto* id = static_cast<lmp_tag*>(lammps_extract_atom(lmp, "id"));
-  const std::string n = name;
-  for (int i = 0; i < natoms; ++i) {
-    const std::size_t o = static_cast<std::size_t>(id[i] - 1) * 3;
-    if (n == "image") {
-      static_cast<int*>(lammps_extract_atom(lmp, "image"))[i] =
-          (static_cast<int>(v[o]) + img_max) |
-          ((static_cast<int>(v[o + 1]) + img_max) << img_bits) |
-          ((static_cast<int>(v[o + 2]) + img_max) << (2 * img_bits));
-    } else {
-      auto** a = static_cast<double**>(lammps_extract_atom(lmp, name));
-      for (int c = 0; c < 3; ++c)
-        a[i][c] = v[o + static_cast<std::size_t>(c)];
-    }
-  }
+  md::scatter_local(lmp, name, v);
 }
 
 // Puts atoms into LAMMPS and makes a restart point: x, v, image; new Langevin fixes

@@ -1,5 +1,5 @@
 // The coarse-grained polypropylene MD region (md.type "polymer"; escm_polymer.hpp,
-// docs/escm.md "Polymer MD region", D100-D107, D114). Compiled when rve/ is built.
+// docs/escm.md "Polymer MD region", D100-D107, D114). 
 #include "md_region.hpp"
 
 #include "pnc/core/atomic_file.hpp"

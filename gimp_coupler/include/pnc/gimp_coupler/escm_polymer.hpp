@@ -3,10 +3,10 @@
 // coupled runs (the source's ESCM cases; docs/escm.md "Polymer MD region"; decisions D100-D108).
 //
 // A thin polymer slab, periodic in z, with free x/y surfaces, aligned with the continuum grid:
-//  1. chains grown with the rve/ builder (pnc::rve::grow_chains, force field
-//     pnc::rve::PolymerForceField with its defaults) in a periodic box of nbx x nby cells of
+//  1. chains grown with the md/ builder (pnc::md::grow_chains, force field
+//     pnc::md::PolymerForceField with its defaults) in a periodic box of nbx x nby cells of
 //     `cell_A` and thickness `slab_A` at `density` (D100);
-//  2. stage "polymer/relax" (a child process, pnc::rve::run_stage): minimisation, optional
+//  2. stage "polymer/relax" (a child process, pnc::md::run_stage): minimisation, optional
 //     NPT anneal at `temperature` cooled to 1 K (`anneal_ps`), box relaxation towards zero
 //     stress (x, y coupled; z free; bounded, D107); the continuum cell size is the relaxed
 //     box length / cells (D101); the static relaxed elastic constants C11, C22, C12, C21 from
@@ -24,7 +24,7 @@
 // the coupler, D93): with the jump at r_c the CG line searches stop far from a minimum (D107).
 // Units: LAMMPS real (Angstrom, g/mol, kcal/mol, K) in and out of LAMMPS; elastic constants Pa,
 // density kg/m^3, cell size m.
-#include "pnc/rve/forcefield.hpp"
+#include "pnc/md/forcefield.hpp"
 
 #include <cstdint>
 #include <string>
@@ -38,8 +38,8 @@ struct PolymerBlockSpec {
   bool neumann = true;              ///< D103: cut SVC-free bonded terms (neumann mode)
   double cell_A = 6.0;              ///< cell size at the build density, A
   double slab_A = 16.0;             ///< slab thickness at the build density, A
-  double density = -1;              ///< build density g/cm^3 (< 0: rve::BuildSpec default)
-  int beads_per_chain = -1;         ///< < 0: rve::BuildSpec default
+  double density = -1;              ///< build density g/cm^3 (< 0: md::BuildSpec default)
+  int beads_per_chain = -1;         ///< < 0: md::BuildSpec default
   std::uint64_t seed = 1;           ///< builder and velocity seed
   double temperature = 300.0;       ///< K, NPT anneal temperature (if anneal_ps > 0)
   double anneal_ps = 0.0;           ///< NPT anneal at T (half) then cooled to 1 K (half)
@@ -47,7 +47,7 @@ struct PolymerBlockSpec {
   int min_beads_per_cell = 4;       ///< D105
   double strain_probe = 1e-2;       ///< D102
   bool measure_elastic = true;      ///< D102 (else elastic constants given by the user)
-  pnc::rve::PolymerForceField ff;   ///< rve/ defaults (sigma, epsilon, cutoff_sigma overridable)
+  pnc::md::PolymerForceField ff;   ///< md/ defaults (sigma, epsilon, cutoff_sigma overridable)
   /// Cases II/III (D114): >= 0 puts a weak interface on the line y = interface_row x h across
   /// the whole block: no bonded term crosses it (cut, like the faces) and the beads above it
   /// are atom type 2 with LJ epsilon x interface_fraction to type 1 (the same sigma).

@@ -16,7 +16,7 @@
 // The mapping onto real units (sigma, epsilon, mass) and the resulting T, tau and stress
 // scale are decision D135: sigma = 5 A, epsilon / k_B = 400 K, m = 80 g/mol.
 #include "pnc/core/units.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
 
 #include <string>
@@ -74,21 +74,21 @@ double bead_spring_bond_energy(const BeadSpringForceField& ff, double r);
 /// spec.max_chain_restarts failures the build fails with an InputError naming density and
 /// min_distance. mt19937_64 seeded with spec.seed (top 53 bits to doubles): deterministic.
 /// Atoms type 1, molecules 1..chains, bonds type 1, no angles or dihedrals.
-System build_bead_spring(const BuildSpec& spec, const BeadSpringForceField& ff);
+md::System build_bead_spring(const md::BuildSpec& spec, const BeadSpringForceField& ff);
 
 /// The random walk of build_bead_spring into `s`, whose box (cubic) is set and whose atoms (e.g.
 /// the platelet of platelet.hpp) are obstacles no bead centre may approach closer than
 /// `obstacle_min_distance` (A). The chains are appended: type 1, molecules 1..chains, bond type 1.
 /// build_bead_spring is this on an empty box (identical beads for a given seed).
-void grow_bead_spring_chains(System& s, const BuildSpec& spec, const BeadSpringForceField& ff,
+void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec, const BeadSpringForceField& ff,
                              double obstacle_min_distance);
 
 /// Smallest minimum-image distance (A) between beads that are not bonded (1-2) neighbours.
-double min_unbonded_distance(const System& s);
+double min_unbonded_distance(const md::System& s);
 
 /// HDF5 record of the build (spec, force field with its reduced-unit mapping, counts,
 /// positions, box, measured density and smallest distances). Written atomically.
-void write_bead_spring_record(const std::string& path, const System& s, const BuildSpec& spec,
+void write_bead_spring_record(const std::string& path, const md::System& s, const md::BuildSpec& spec,
                               const BeadSpringForceField& ff, const std::string& recipe_json);
 
 /// The glass protocol's rules on an EquilibrateSpec (on top of EquilibrateSpec::validate):

@@ -24,8 +24,8 @@
 //   multi/harmonic A1 = 2V (energy as printed, no force); pair lj/cut with the cross terms of
 //   Table 6.5 as given (no mixing), per-pair cutoff cutoff_sigma * sigma_ij; H has eps = 0.
 //   No charges, no Coulomb (none are listed).
-#include "pnc/rve/builder.hpp"
-#include "pnc/rve/forcefield.hpp"
+#include "pnc/md/builder.hpp"
+#include "pnc/md/forcefield.hpp"
 
 #include <array>
 #include <string>
@@ -76,7 +76,7 @@ struct ClayForceField {
       Si_Al{4.053, 0.04};
   double cutoff_sigma = 2.5; ///< per-pair LJ cutoff in units of sigma_ij
   /// {sigma, eps} of a type pair (types ClayAtomType; C-C from the polymer force field).
-  std::array<double, 2> lj(int ti, int tj, const PolymerForceField& pff) const;
+  std::array<double, 2> lj(int ti, int tj, const md::PolymerForceField& pff) const;
 };
 
 /// Element masses (g/mol) of the types 2..5.
@@ -123,20 +123,20 @@ struct CompositeInfo {
 /// Box for the composite: Lx = length + gap_x, Ly = Lz with Lx Ly Lz = polymer volume at
 /// `spec.density` + platelet bounding volume. Throws InputError (fields clay.*) when the
 /// platelet does not fit.
-std::array<double, 3> composite_box(const BuildSpec& spec, const PolymerForceField& ff,
+std::array<double, 3> composite_box(const md::BuildSpec& spec, const md::PolymerForceField& ff,
                                     const ClaySpec& clay, const std::string& source);
 
 /// Platelet centred in the box (clay atoms first, molecule chains + 1), then the chains
 /// grown around it (no bead closer than clay.min_distance to a clay atom).
-System build_composite(const BuildSpec& spec, const PolymerForceField& ff, const ClaySpec& clay,
+md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff, const ClaySpec& clay,
                        CompositeInfo* info = nullptr);
 
 /// Smallest minimum-image distance between a polymer bead (type 1) and a clay atom.
-double min_polymer_clay_distance(const System& s);
+double min_polymer_clay_distance(const md::System& s);
 
 /// LAMMPS commands for the composite (5 atom types, 5 bond, 7 angle, 2 dihedral types),
 /// plus the groups pnc_clay (types 2-5) and pnc_poly (type 1).
-std::vector<std::string> composite_forcefield_commands(const PolymerForceField& ff,
+std::vector<std::string> composite_forcefield_commands(const md::PolymerForceField& ff,
                                                        const ClayForceField& cff = {});
 
 } // namespace pnc::rve

@@ -27,7 +27,7 @@
 //   * the state is written (restart k), then checkpoint.h5 is replaced atomically with all
 //     finished steps, then the restart of step k-1 is removed. A kill at any moment leaves
 //     a consistent checkpoint; `resume` continues after its last finished step.
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <Eigen/Dense>
 
@@ -88,10 +88,10 @@ struct CaseResult {
 /// Runs (or resumes, when `resume` and `dir`/checkpoint.h5 exists) one case in a child
 /// process; results in `dir`/checkpoint.h5, LAMMPS log in `dir`/lammps.log. The child prints
 /// one progress line per strain step on stderr (case, step, strain, stress, ETA).
-StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume);
+md::StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume);
 /// The body that run_case runs in the child (exposed for run_stages / --jobs).
-StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume);
-StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks = 1);
+md::StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume);
+md::StageSpec case_stage(const DeformSpec& spec, const std::string& dir, int ranks = 1);
 
 /// Reads `dir`/checkpoint.h5. Throws InputError when absent or malformed.
 CaseResult read_case(const std::string& dir);
@@ -99,8 +99,5 @@ CaseResult read_case(const std::string& dir);
 /// Centred moving average over `points` (odd) rows, window truncated at the ends.
 Eigen::Matrix<double, Eigen::Dynamic, 6>
 moving_average(const Eigen::Matrix<double, Eigen::Dynamic, 6>& m, int points);
-
-/// Mean and block-averaged standard error of a series.
-std::pair<double, double> block_mean_se(const std::vector<double>& x, int blocks);
 
 } // namespace pnc::rve

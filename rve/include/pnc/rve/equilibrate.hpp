@@ -23,8 +23,8 @@
 //             the last NVT hold), void fraction (fraction of the points of a 1 A grid farther
 //             than sigma from every bead centre), minimum non-excluded pair distance.
 // A stage whose `.h5` exists is skipped on resume.
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <cstdint>
 #include <string>
@@ -76,7 +76,7 @@ struct EquilibratedState {
 /// with the polymer fixed; cool/langevin/final move everything, and the NPT barostat acts on
 /// x2 and x3 only (coupled), x1 (along the platelet) keeps its build length (decision D24).
 /// `ranks`: MPI ranks of LAMMPS per stage (StageSpec::ranks).
-EquilibratedState equilibrate(const std::string& data_file, const PolymerForceField& ff,
+EquilibratedState equilibrate(const std::string& data_file, const md::PolymerForceField& ff,
                               const EquilibrateSpec& spec, const std::string& dir, bool resume,
                               const std::string& recipe_json, bool with_clay = false,
                               int ranks = 1);

@@ -31,7 +31,7 @@
 // "relaxes within a hold". G(t) = G_eq + G_acf(t) for a solid in a fixed box (the stress
 // autocorrelation of a solid decays to zero; its equilibrium modulus G_eq is what the step
 // pair measures), so G_hold + G_acf(0.5 ps) is the short-time plateau.
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/runner.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -19,7 +19,7 @@
 // sigma_wp = sigma_wp_sigma sigma, cut at cutoff_sigma sigma_wp (the adhesion, so that the
 // interface can open: debonding). Why bonds, not a rigid body (fix rigid): decision D171.
 #include "pnc/rve/bead_spring.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -47,13 +47,13 @@ struct PlateletSpec {
 
 /// The cubic box edge (A) of the composite: (polymer beads + platelet beads) x bead_mass at
 /// spec.density (decision D172: every bead, polymer or platelet, counts at the build density).
-double kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
+double kg_platelet_box(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                        const PlateletSpec& p);
 /// The rules of D172 on the box: platelet edge <= 3/4 of the box edge and leaving >= 2 sigma of
 /// polymer between the platelet and its periodic image; thickness <= box / 2; the box edge >
 /// twice the largest LJ cutoff. Throws an InputError naming `source` and field
 /// "platelet.beads_side" (or "build.chains").
-void check_kg_platelet_box(const BuildSpec& spec, const BeadSpringForceField& ff,
+void check_kg_platelet_box(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                            const PlateletSpec& p, const std::string& source);
 
 struct PlateletInfo {
@@ -66,23 +66,23 @@ struct PlateletInfo {
 
 /// The platelet alone (atoms 0..n-1 of the result, type 2, molecule `mol`, bonds types 2, 3),
 /// centred at `centre` (A). Positions unwrapped.
-System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff,
+md::System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff,
                       const std::array<double, 3>& centre, int mol);
 /// The composite: the platelet at the box centre, then the chains grown around it (the random
 /// walk of build_bead_spring, a trial bead also rejected when closer than min_distance_sigma
 /// sigma to a platelet bead). Deterministic for a given spec.
-System build_kg_platelet(const BuildSpec& spec, const BeadSpringForceField& ff,
+md::System build_kg_platelet(const md::BuildSpec& spec, const BeadSpringForceField& ff,
                          const PlateletSpec& p, PlateletInfo* info = nullptr);
 
 /// Upper bound of the angular frequencies (1/fs) of the platelet's bond network with its
 /// beads of mass ff.bead_mass: omega^2 <= 2 max_i lambda_max(sum over i's bonds of k e e^T) / m
 /// with k = 2 K (the stiffness matrix of a bond, k e e^T (x) [[1,-1],[-1,1]], is <= 2 its
 /// diagonal blocks). Decision D173: omega_bound x timestep <= 1 (Verlet is stable below 2).
-double platelet_omega_bound(const System& platelet, const PlateletSpec& p,
+double platelet_omega_bound(const md::System& platelet, const PlateletSpec& p,
                             const BeadSpringForceField& ff);
 /// Smallest minimum-image distance (A) between a polymer bead (type 1) and a platelet bead
 /// (type 2).
-double min_polymer_platelet_distance(const System& s);
+double min_polymer_platelet_distance(const md::System& s);
 
 /// LAMMPS commands of the composite (re-issued after every read_restart): LJ between all types
 /// with the platelet-polymer pair's own coefficients, platelet pairs excluded, bond_style

@@ -14,7 +14,7 @@
 // template, the Markdown tables of docs/rve.md). Every key is optional; unknown keys are
 // errors. Errors name the file, the field (dotted path), the value and the rule.
 #include "pnc/rve/bead_spring.hpp"
-#include "pnc/rve/builder.hpp"
+#include "pnc/md/builder.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
@@ -39,9 +39,9 @@ struct Recipe {
   /// bead_spring.hpp; fitted with the pure-polymer NDM) or "kg_platelet" (the glass with one
   /// stiff platelet, platelet.hpp; fitted with the nanocomposite NDM, decision D175)
   std::string model = "pp";
-  BuildSpec build;
+  md::BuildSpec build;
   ClaySpec clay; ///< used when model == "pnc"
-  PolymerForceField ff;
+  md::PolymerForceField ff;
   BeadSpringForceField kg; ///< models "kg" and "kg_platelet": their "forcefield" section
   PlateletSpec platelet;   ///< model "kg_platelet" (the glass with a platelet, decision D170)
   EquilibrateSpec equilibrate;

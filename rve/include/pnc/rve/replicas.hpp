@@ -17,7 +17,7 @@
 // A moving average (analysis.moving_average > 1) is stored for display only (D133).
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/statistics.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -23,14 +23,14 @@
 // is reported too. EI(rate) is fitted by a straight line (weighted) and extrapolated to zero rate,
 // with a 95 % confidence interval (Student t, n-2 dof); xi_p = EI / (kB T) (docs/theory.md §4.5).
 //
-// Chains: "pp" -- the coarse-grained polypropylene of docs/theory.md §3.1 (rve/forcefield.hpp),
+// Chains: "pp" -- the coarse-grained polypropylene of docs/theory.md §3.1 (md/forcefield.hpp),
 // built as the all-trans planar zigzag in the xz plane; "harmonic" -- a straight chain
 // with `angle harmonic` E = K (theta - 180 deg)^2 and harmonic bonds, no torsion and no
 // pair forces, whose bending stiffness is known by construction (validation; D68):
 // bend angle phi = pi - theta, E = (k_theta/2) phi^2 with k_theta = 2 K, continuum limit
 // EI = k_theta l0, xi_p = k_theta l0 / (kB T); for a finite chain the exact small-deflection
 // answer of this loading is discrete_bending_stiffness().
-#include "pnc/rve/forcefield.hpp"
+#include "pnc/md/forcefield.hpp"
 #include "pnc/thermo/analysis.hpp"
 
 #include <cstdint>
@@ -57,7 +57,7 @@ struct PersistenceSpec {
   double temperature = 300;
   double damp_fs = 100;
   std::uint64_t seed = 1;
-  rve::PolymerForceField ff; ///< the "pp" chain's force field
+  md::PolymerForceField ff; ///< the "pp" chain's force field
   void validate(const std::string& source) const;
 };
 

@@ -7,7 +7,7 @@
 //
 //   Delta A = A(1) - A(0) = int_0^1 < dH/dlambda >_lambda dlambda
 //
-// Every lambda point runs in its own supervised LAMMPS child (pnc::rve::run_stage, so a
+// Every lambda point runs in its own supervised LAMMPS child (pnc::md::run_stage, so a
 // LAMMPS error is reported with LAMMPS's own message): the system is set up at fixed lambda,
 // equilibrated for `equil_steps`, then `prod_steps` are run in chunks of `sample_every`
 // steps and one sample is taken after each chunk. A sample holds dH/dlambda, the lambda-
@@ -25,8 +25,8 @@
 //   du/dl = 4 (eps1-eps0) [(s/r)^12 - (s/r)^6] + 4 eps (sig1-sig0) (12 s^11/r^12 - 6 s^5/r^6)
 // and is checked once per point, after equilibration, against a central finite difference
 // of LAMMPS's own pair energy (evdwl at lambda -+ h on the same configuration).
-#include "pnc/rve/forcefield.hpp"
-#include "pnc/rve/runner.hpp"
+#include "pnc/md/forcefield.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/thermo/analysis.hpp"
 
 #include <cstdint>
@@ -41,11 +41,11 @@ namespace pnc::thermo {
 /// eps1 = 0.498 ("J/mol", read kJ/mol like D13, here in kcal/mol), sig0 = 0.95 A,
 /// sig1 = 2.95 A; cut-off 2.5 sig1 at every lambda (D62).
 struct LjPath {
-  double eps0 = 0.0498 * rve::kcal_per_kJ; ///< kcal/mol
-  double eps1 = 0.498 * rve::kcal_per_kJ;  ///< kcal/mol
-  double sig0 = 0.95;                      ///< A
-  double sig1 = 2.95;                      ///< A
-  double cutoff = 2.5 * 2.95;              ///< A, fixed
+  double eps0 = 0.0498 * md::kcal_per_kJ; ///< kcal/mol
+  double eps1 = 0.498 * md::kcal_per_kJ;  ///< kcal/mol
+  double sig0 = 0.95;                     ///< A
+  double sig1 = 2.95;                     ///< A
+  double cutoff = 2.5 * 2.95;             ///< A, fixed
   double eps(double l) const { return eps0 * (1 - l) + eps1 * l; }
   double sig(double l) const { return sig0 * (1 - l) + sig1 * l; }
   void validate(const std::string& source) const;
@@ -75,17 +75,17 @@ struct LambdaSample {
 struct LambdaSystem {
   /// Builds/reads the system and sets it to `lambda`, with its integrator and thermostat
   /// (the timestep is set by the engine afterwards).
-  std::function<void(rve::Lammps&, double lambda, std::uint64_t seed)> setup;
+  std::function<void(md::Lammps&, double lambda, std::uint64_t seed)> setup;
   /// One sample at the current step.
-  std::function<LambdaSample(rve::Lammps&, double lambda, double lambda_prev, double lambda_next)>
+  std::function<LambdaSample(md::Lammps&, double lambda, double lambda_prev, double lambda_next)>
       sample;
   /// Optional, once after equilibration: named scalars stored with the point (e.g. the
   /// finite-difference check, the volume). May run `run 0`; must leave lambda as it was.
-  std::function<std::map<std::string, double>(rve::Lammps&, double lambda)> checks;
+  std::function<std::map<std::string, double>(md::Lammps&, double lambda)> checks;
   /// Optional: the whole production phase in one go (`steps` steps, one sample every `every`
   /// steps, returned in order). When set, it replaces the chunked runs + `sample` (which
   /// cost a `run` call per sample).
-  std::function<std::vector<LambdaSample>(rve::Lammps&, double lambda, double lambda_prev,
+  std::function<std::vector<LambdaSample>(md::Lammps&, double lambda, double lambda_prev,
                                           double lambda_next, long steps, int every)>
       production;
 };
@@ -131,7 +131,7 @@ struct PointJob {
 
 /// Runs every job whose file is missing (or all when !resume), `jobs` at a time, each in its
 /// own child with its LAMMPS log `<h5 without .h5>.log`; `progress` after each batch.
-/// Throws on the first failed point (rve::throw_stage_failure: pnc::ToolError with LAMMPS's
+/// Throws on the first failed point (md::throw_stage_failure: pnc::ToolError with LAMMPS's
 /// message; finished points stay).
 void run_points(const SamplingSpec& s,
                 const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
@@ -155,12 +155,10 @@ struct DeformState {
   std::string id; ///< directory name, e.g. "vol_0.00125"
 };
 
-/// LAMMPS commands applying F of `st` to the current box (lo, hi, tilts; LAMMPS order
-/// xy, yz, xz) with affine remap. A non-triclinic F is turned into LAMMPS's upper-triangular
-/// form by a rigid rotation (QR of F H), which changes no free energy (D63). Adds
-/// "change_box all triclinic" first for "dev".
-std::vector<std::string> deform_commands(const DeformState& st, const double lo[3],
-                                         const double hi[3], double xy, double yz, double xz);
+/// LAMMPS commands applying F of `st` to the current box `box` (Angstrom) with affine remap. A
+/// non-triclinic F is turned into LAMMPS's upper-triangular form by a rigid rotation (QR of F H),
+/// which changes no free energy (D63). Adds "change_box all triclinic" first for "dev".
+std::vector<std::string> deform_commands(const DeformState& st, const md::LmpBox& box);
 
 struct TiSpec {
   LjPath path;

@@ -1,0 +1,131 @@
+#pragma once
+// pnc/md/runner.hpp: run LAMMPS stages in supervised child processes.
+//
+// Units: whatever the stage's commands set; every stage pnc writes uses LAMMPS `real`.
+//
+// The Debian LAMMPS library has no C++ exceptions: a LAMMPS error calls exit() in the
+// process that hosts LAMMPS. So every stage runs in a child created by fork(); the child
+// opens LAMMPS with `-log <stage log> -screen none -nocite`, runs the stage body, writes its
+// result files atomically, and _exit(0)s. The parent waits and, when the child did not exit
+// with 0, reports the last "ERROR..." line of the stage log (LAMMPS's own message) plus the
+// "Last command:" line, or the pnc error the body threw (kept in `<log>.pnc-error` with its
+// kind and parts, rebuilt in the parent), or the signal that killed it. The parent never loads
+// LAMMPS state and always survives. throw_stage_failure() turns a failed outcome into the
+// error of its kind (core/error.hpp): LAMMPS ending the stage is a pnc::ToolError.
+//
+// The parent must not have initialised MPI (the child does, through lammps_open_no_mpi).
+#include "pnc/md/box.hpp"
+
+#include <exception>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pnc::md {
+
+/// A LAMMPS instance inside a stage child: in the child's own process (1 rank), or the
+/// LAMMPS server on K ranks (lammps_server.hpp) behind the same calls. `cmd` runs one
+/// command; a LAMMPS error in it terminates the child (or the server; then the next call
+/// throws with LAMMPS's ERROR line from the log), and the parent reports it from the log.
+class Lammps {
+public:
+  explicit Lammps(void* handle) : h_(handle) {}
+  /// Remote instance: `fd` is the connected socket to the server's rank 0; `log_path` is the
+  /// server's LAMMPS log (for the error message when the server ends).
+  Lammps(int fd, std::string log_path) : fd_(fd), log_(std::move(log_path)) {}
+  ~Lammps();
+  Lammps(const Lammps&) = delete;
+  Lammps& operator=(const Lammps&) = delete;
+  /// From now on every command (and `file` as `include PATH`) is also appended to the LAMMPS
+  /// input file `path`, each line written before LAMMPS runs it (so the command that stopped
+  /// LAMMPS is its last line); `header` (comment lines) starts the file. Returns false (and
+  /// records nothing) when the file cannot be created; a symbolic link there is refused.
+  bool record_input(const std::string& path, const std::string& header);
+  void cmd(const std::string& command);
+  void cmds(const std::vector<std::string>& commands);
+  /// Runs a LAMMPS input file (lammps_file).
+  void file(const std::string& path);
+  double thermo(const char* keyword);
+  /// nullptr for a remote instance.
+  void* handle() const { return h_; }
+  long natoms();
+  /// Element of a global vector (i) or array (i, j) of a fix; throws if absent.
+  double fix_value(const std::string& id, int i, int j = -1);
+  /// Element of a compute's global vector; global scalar when i < 0.
+  double compute_value(const std::string& id, int i = -1);
+  /// Gathers a per-atom double quantity ("x", "v", "f") ordered by atom id, count per atom.
+  std::vector<double> gather(const std::string& name, int count);
+  /// The current simulation box (Angstrom in `real` units).
+  LmpBox box();
+  /// Remote: asks the server to close LAMMPS and end; no-op in-process.
+  void quit();
+
+private:
+  /// Remote call: sends the request, returns the answer's doubles; `found` (if given) gets
+  /// whether the server found the fix/compute.
+  std::vector<double> call(char op, const std::string& text, int i = 0, int j = 0,
+                           bool* found = nullptr);
+  void record(const std::string& line);
+  void* h_ = nullptr;
+  int fd_ = -1;
+  std::string log_;
+  int input_fd_ = -1; ///< record_input's file, or -1
+};
+
+struct StageSpec {
+  std::string name;                    ///< for messages, e.g. "equilibrate/hot"
+  std::string log_path;                ///< LAMMPS log of this stage (overwritten)
+  std::vector<std::string> extra_args; ///< extra LAMMPS command-line args, e.g. {"-sf","opt"}
+  /// MPI ranks of LAMMPS for this stage. 1: LAMMPS inside the stage child. K > 1: the child
+  /// starts `mpirun -np K pnc_lammps_server` (lammps_server.hpp) and drives it; the mpirun's
+  /// own output goes to `<log_path>.mpirun`.
+  int ranks = 1;
+};
+
+struct StageOutcome {
+  std::string name;
+  bool ok = false;
+  int exit_code = 0; ///< child exit status (when it exited)
+  int signal = 0;    ///< signal that killed the child, 0 if none
+  std::string error; ///< LAMMPS's ERROR line (+ last command) or the pnc error, if !ok
+  std::string log_path;
+  std::string input_path; ///< its in.<name> (stage_input_path) when the child wrote one, else ""
+  double seconds = 0;
+  /// The pnc error (InputError, SimulationError, ToolError; any other exception as a
+  /// std::runtime_error) the stage body threw in the child, rebuilt in the parent; null when
+  /// LAMMPS or a signal ended the child.
+  std::exception_ptr child_error;
+};
+
+using StageBody = std::function<void(Lammps&)>;
+
+/// `in.<name>` next to the stage's log (characters other than letters, digits, '.', '-' and
+/// '_' in the name become '_'): the LAMMPS input every stage leaves, the commands pnc sent in
+/// the order LAMMPS ran them, rerunnable with plain `lmp -in` from the directory its header
+/// names (docs/decisions/rve.md D247).
+std::string stage_input_path(const StageSpec& spec);
+
+/// Runs `body` in a child process with its own LAMMPS instance; blocks until it ends.
+StageOutcome run_stage(const StageSpec& spec, const StageBody& body);
+
+/// Runs stages concurrently, at most `jobs` at a time (one child each). Outcomes in input order.
+std::vector<StageOutcome> run_stages(const std::vector<std::pair<StageSpec, StageBody>>& stages,
+                                     int jobs);
+
+/// Throws the error a failed stage stands for; `stage` names it for the user ("stage
+/// equilibrate/hot", "lambda point ref_0.5"), `note` (may be empty) is added to the message.
+///  - LAMMPS (or a signal) ended the child: pnc::ToolError("LAMMPS", "running <stage>",
+///    LAMMPS's ERROR line + last command, the stage log) - exit code 7;
+///  - the body threw a pnc::InputError: InputError(log, stage, "", its message) - exit code 1;
+///  - a pnc::SimulationError: the same error, its entity prefixed by the stage - exit code 6;
+///  - a pnc::ToolError (e.g. mpirun did not start the server): that error, the stage added to
+///    what pnc was doing - exit code 7;
+///  - anything else: std::runtime_error naming the stage and log (a bug) - exit code 2.
+[[noreturn]] void throw_stage_failure(const StageOutcome& o, const std::string& stage,
+                                      const std::string& note = "");
+
+/// The last "ERROR" line of a LAMMPS log with the following "Last command:" line, or "".
+std::string last_lammps_error(const std::string& log_path);
+
+} // namespace pnc::md
