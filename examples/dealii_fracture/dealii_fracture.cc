@@ -2188,7 +2188,8 @@ template <int dim> bool FractureProblem<dim>::run() {
   auto stop = [&](const std::string& why) {
     stop_reason = why;
     if (!prm.quiet) std::cerr << stop_reason << "\n";
-    write_csv();
+    // the files only when the run writes outputs (it made the directory above), as at the end
+    if (prm.vtu_every > 0 || prm.plot) write_csv();
     return false;
   };
   // Book a converged step: work, dissipation, commit, record, refinement, output.
