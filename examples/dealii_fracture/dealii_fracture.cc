@@ -66,6 +66,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <nlohmann/json.hpp>
+#include <pnc/core/atomic_file.hpp>
 #include <pnc/core/units.hpp>
 #include <pnc/fe_material/material.hpp>
 
@@ -1993,7 +1994,32 @@ template <int dim> void FractureProblem<dim>::refine() {
 }
 
 // @sect4{Output}
+//
+// The files are SI (D317, D318): the demo computes in mm, MPa, N/mm or N, mJ/mm or mJ and
+// converts where it writes, with the factors of demo_units() (D307). The VTU mesh is written in
+// m by scaling the patches DataOut builds (their corner points, and the mapped points when a
+// patch carries them), which leaves the triangulation and the solution untouched.
+namespace {
+template <int dim> class DataOutSI : public DataOut<dim> {
+public:
+  /// Multiplies every point of the built patches by `factor` (mm -> m).
+  void scale_points(double factor) {
+    for (auto& patch : this->patches) {
+      for (auto& v : patch.vertices)
+        v *= factor;
+      if (!patch.points_are_available) continue;
+      const unsigned rows = patch.data.n_rows(), cols = patch.data.n_cols();
+      for (unsigned r = rows - dim; r < rows; ++r) // the coordinates are the last dim rows
+        for (unsigned c = 0; c < cols; ++c)
+          patch.data(r, c) = static_cast<float>(patch.data(r, c) * factor);
+    }
+  }
+};
+} // namespace
+
 template <int dim> void FractureProblem<dim>::output(unsigned step) const {
+  const DemoUnits su = demo_units(dim);
+  constexpr double m_per_mm = pnc::units::m_per_mm;
   const unsigned nq = quadrature.size();
   const std::size_t nc = triangulation.n_active_cells();
   const std::vector<std::string> vn{"11", "22", "33", "23", "13", "12"};
@@ -2005,52 +2031,58 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
       for (int k = 0; k < n_modes; ++k)
         D[k][c] += static_cast<float>(h.state_old[damage_at[k]] / nq);
       for (int v = 0; v < 6; ++v) {
-        S[v][c] += static_cast<float>(h.sigma[v] / nq);
+        S[v][c] += static_cast<float>(h.sigma[v] * su.stress_to_si / nq);
         E[v][c] += static_cast<float>(h.eps[v] / nq);
       }
     }
-  DataOut<dim> out;
+  Vector<double> u_m(solution); // the displacement in m
+  u_m *= m_per_mm;
+  DataOutSI<dim> out;
   out.attach_dof_handler(dof_handler);
-  // Units in the names (D236, D277): after the last '_', "1" for dimensionless; the strains are
-  // engineering strains (shear components 23, 13, 12 are gamma = 2 eps).
-  std::vector<std::string> names(dim, "displacement_mm");
+  // Units in the names (D236, D277, D318): SI, the unit after the last '_', "1" for
+  // dimensionless; the strains are engineering strains (shear components 23, 13, 12 are
+  // gamma = 2 eps).
+  std::vector<std::string> names(dim, "displacement_m");
   std::vector<DataComponentInterpretation::DataComponentInterpretation> interp(
       dim, DataComponentInterpretation::component_is_part_of_vector);
-  out.add_data_vector(solution, names, DataOut<dim>::type_dof_data, interp);
+  out.add_data_vector(u_m, names, DataOut<dim>::type_dof_data, interp);
   for (int k = 0; k < n_modes; ++k)
     out.add_data_vector(D[k], "D" + std::to_string(k + 1) + "_1", DataOut<dim>::type_cell_data);
   for (int v = 0; v < 6; ++v) {
-    out.add_data_vector(S[v], "stress_" + vn[v] + "_MPa", DataOut<dim>::type_cell_data);
+    out.add_data_vector(S[v], "stress_" + vn[v] + "_Pa", DataOut<dim>::type_cell_data);
     out.add_data_vector(E[v], "strain_" + vn[v] + "_1", DataOut<dim>::type_cell_data);
   }
   out.build_patches();
+  out.scale_points(m_per_mm);
   DataOutBase::VtkFlags flags;
   flags.compression_level = DataOutBase::VtkFlags::best_speed;
   out.set_flags(flags);
   std::ostringstream name;
   name << "solution-" << std::setw(4) << std::setfill('0') << step << ".vtu";
-  // Field data (D236): the step index and the physical load of the frame, unit in the name
-  // (the controlled displacement in mm, the generalised force in N/mm in 2-D, N in 3-D), and
-  // the String array "units" listing name=unit of every array (the format of pnc/core/vtu.hpp).
+  // Field data (D236, D318): the step index and the physical load of the frame, SI unit in
+  // the name (the controlled displacement in m, the generalised force in N/m of thickness in
+  // 2-D, N in 3-D), and the String array "units" listing name=unit of every array (the format
+  // of pnc/core/vtu.hpp).
   std::ostringstream vtu;
   out.write_vtu(vtu);
   std::string text = vtu.str();
   std::ostringstream fd;
   fd << std::setprecision(17) << "<FieldData>\n";
-  auto scalar = [&](const char* n, double v) {
+  auto scalar = [&](const std::string& n, double v) {
     fd << "<DataArray type=\"Float64\" Name=\"" << n
        << "\" NumberOfTuples=\"1\" format=\"ascii\">\n"
        << v << "\n</DataArray>\n";
   };
+  const std::string force = "force" + su.force_key; // force_N_per_m or force_N
   scalar("step_index", step);
-  scalar("displacement_mm", current_load);
-  scalar(dim == 2 ? "force_N_per_mm" : "force_N", records.empty() ? 0.0 : records.back().force);
-  std::vector<std::string> units{"step_index=index", "displacement_mm=mm",
-                                 dim == 2 ? "force_N_per_mm=N/mm" : "force_N=N", "Points=mm"};
+  scalar("displacement_m", current_load * m_per_mm);
+  scalar(force, records.empty() ? 0.0 : records.back().force * su.force_to_si);
+  std::vector<std::string> units{"step_index=index", "displacement_m=m",
+                                 force + "=" + (dim == 2 ? "N/m" : "N"), "Points=m"};
   for (int k = 0; k < n_modes; ++k)
     units.push_back("D" + std::to_string(k + 1) + "_1=1");
   for (int v = 0; v < 6; ++v) {
-    units.push_back("stress_" + vn[v] + "_MPa=MPa");
+    units.push_back("stress_" + vn[v] + "_Pa=Pa");
     units.push_back("strain_" + vn[v] + "_1=1");
   }
   fd << "<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" << units.size()
@@ -2063,29 +2095,35 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   fd << "</Array>\n</FieldData>\n";
   const auto at = text.find("<UnstructuredGrid>");
   if (at != std::string::npos) text.insert(text.find('\n', at) + 1, fd.str());
-  std::ofstream f(prm.directory + "/" + name.str());
-  f << text;
+  pnc::write_text_atomically(prm.directory + "/" + name.str(), text);
   // The PVD timestep is the step index: the load goes back through a snap-back and ParaView
   // sorts the frames by timestep.
   pvd.emplace_back(static_cast<double>(step), name.str());
-  std::ofstream pf(prm.directory + "/solution.pvd");
+  std::ostringstream pf;
   DataOutBase::write_pvd_record(pf, pvd);
+  pnc::write_text_atomically(prm.directory + "/solution.pvd", pf.str());
 }
 
+// The CSV files in SI (D317): headers end with their unit (docs/formats.md "JSON output"),
+// values are the working units times the factors of demo_units(); dimensionless columns and
+// counts carry no suffix. Each file is written atomically.
 template <int dim> void FractureProblem<dim>::write_csv() const {
+  const DemoUnits su = demo_units(dim);
+  constexpr double m_per_mm = pnc::units::m_per_mm;
   {
     // The damage map of the last converged state (cell centres, cell-averaged D_k), for the
     // plot script; the VTU files hold the same and more.
-    std::ofstream d(prm.directory + "/damage_final.csv");
-    d << "x_mm,y_mm,z_mm,h_mm";
+    std::ostringstream d;
+    d << "x_m,y_m,z_m,h_m";
     for (int k = 0; k < n_modes; ++k)
       d << ",D" << k + 1;
     d << ",omega\n";
     const unsigned nq = quadrature.size();
     for (const auto& cell : triangulation.active_cell_iterators()) {
       const auto c = cell->center();
-      d << c[0] << ',' << c[1] << ',' << (dim == 3 ? c[dim - 1] : 0.0) << ','
-        << cell->minimum_vertex_distance();
+      d << c[0] * m_per_mm << ',' << c[1] * m_per_mm << ','
+        << (dim == 3 ? c[dim - 1] * m_per_mm : 0.0) << ','
+        << cell->minimum_vertex_distance() * m_per_mm;
       for (int k = 0; k < n_modes; ++k) {
         double s = 0;
         for (unsigned q = 0; q < nq; ++q)
@@ -2100,20 +2138,23 @@ template <int dim> void FractureProblem<dim>::write_csv() const {
       }
       d << ',' << om << '\n';
     }
+    pnc::write_text_atomically(prm.directory + "/damage_final.csv", d.str());
   }
-  std::ofstream f(prm.directory + "/force_displacement.csv");
-  const std::string fu = dim == 2 ? "N_per_mm" : "N", eu = dim == 2 ? "mJ_per_mm" : "mJ";
-  f << "step,displacement_mm,force_" << fu << ",external_work_" << eu << ",elastic_energy_" << eu
-    << ",dissipated_" << eu << ",work_minus_elastic_" << eu
+  std::ostringstream f;
+  const std::string fu = su.force_key, eu = su.energy_key; // _N_per_m, _J_per_m or _N, _J
+  f << "step,displacement_m,force" << fu << ",external_work" << eu << ",elastic_energy" << eu
+    << ",dissipated" << eu << ",work_minus_elastic" << eu
     << ",max_damage,max_fracture,newton_iterations,cuts,dofs,control\n";
   f << std::setprecision(10);
   for (std::size_t i = 0; i < records.size(); ++i) {
     const auto& r = records[i];
-    f << i << ',' << r.load << ',' << r.force << ',' << r.work << ',' << r.elastic << ','
-      << r.dissipated << ',' << r.work - r.elastic << ',' << r.max_damage << ',' << r.max_fracture
-      << ',' << r.iterations << ',' << r.cuts << ',' << r.dofs << ','
-      << (r.dissipation_control ? "dissipation" : "displacement") << '\n';
+    f << i << ',' << r.load * m_per_mm << ',' << r.force * su.force_to_si << ','
+      << r.work * su.energy_to_si << ',' << r.elastic * su.energy_to_si << ','
+      << r.dissipated * su.energy_to_si << ',' << (r.work - r.elastic) * su.energy_to_si << ','
+      << r.max_damage << ',' << r.max_fracture << ',' << r.iterations << ',' << r.cuts << ','
+      << r.dofs << ',' << (r.dissipation_control ? "dissipation" : "displacement") << '\n';
   }
+  pnc::write_text_atomically(prm.directory + "/force_displacement.csv", f.str());
 }
 
 // @sect4{The load path}
@@ -2147,7 +2188,8 @@ template <int dim> bool FractureProblem<dim>::run() {
   auto stop = [&](const std::string& why) {
     stop_reason = why;
     if (!prm.quiet) std::cerr << stop_reason << "\n";
-    write_csv();
+    // the files only when the run writes outputs (it made the directory above), as at the end
+    if (prm.vtu_every > 0 || prm.plot) write_csv();
     return false;
   };
   // Book a converged step: work, dissipation, commit, record, refinement, output.

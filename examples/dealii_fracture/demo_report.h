@@ -14,6 +14,7 @@
 #define PNC_EXAMPLES_DEALII_FRACTURE_DEMO_REPORT_H
 
 #include <nlohmann/json.hpp>
+#include <pnc/core/units.hpp>
 
 #include <string>
 #include <vector>
@@ -27,6 +28,8 @@ struct DemoUnits {
   std::string force_key, energy_key; ///< the SI key suffixes: "_N_per_m", "_J_per_m" or "_N", "_J"
   double force_to_si = 1;            ///< N/mm -> N/m (1e3) in 2-D; 1 (N) in 3-D
   double energy_to_si = 1;           ///< mJ/mm -> J/m (1) in 2-D; mJ -> J (1e-3) in 3-D
+  /// MPa = N/mm^2 -> Pa: 1 / m_per_mm^2 = 1e6 (the VTU stresses, D318)
+  double stress_to_si = 1 / (pnc::units::m_per_mm * pnc::units::m_per_mm);
 };
 /// The units of a `dim`-D run (2 or 3).
 DemoUnits demo_units(int dim);

@@ -8,8 +8,10 @@ The force panel of the first CSV is annotated: the peak force, the first step un
 dissipation (arc-length) control (column `control`) with every dissipation-controlled step
 marked, and the last step with TEXT (where and why the run stopped; the program passes it;
 D276).
-Units from the CSV column names: force in N/mm of thickness and energy in mJ/mm in 2-D (plane
-strain), N and mJ in 3-D; displacement in mm. Needs matplotlib (/usr/bin/python3 has it)."""
+The CSV files are SI, each column's unit at the end of its name (D317): displacement_m, force in
+N/m of thickness and energy in J/m in 2-D (plane strain), N and J in 3-D; damage_final.csv has
+x_m, y_m, z_m, h_m. The figures show the demo's working units, as its report does (D307, D317):
+mm, N/mm and mJ/mm in 2-D, N and mJ in 3-D. Needs matplotlib (/usr/bin/python3 has it)."""
 import csv
 import os
 import sys
@@ -19,23 +21,38 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-UNITS = {"N_per_mm": "N/mm", "N": "N", "mJ_per_mm": "mJ/mm", "mJ": "mJ"}
+# The SI unit suffix of a CSV column -> the unit the figure shows and the factor from SI to it
+# (D317): 1 m = 1e3 mm, 1 N/m = 1e-3 N/mm, 1 J/m = 1 mJ/mm, 1 J = 1e3 mJ.
+SHOWN = {"m": ("mm", 1e3), "N_per_m": ("N/mm", 1e-3), "N": ("N", 1.0),
+         "J_per_m": ("mJ/mm", 1.0), "J": ("mJ", 1e3)}
+
+
+def column(path, keys, prefix):
+    """The column whose name is PREFIX + an SI unit of SHOWN: (name, shown unit, factor)."""
+    for k in keys:
+        if k.startswith(prefix) and k[len(prefix):] in SHOWN:
+            return (k,) + SHOWN[k[len(prefix):]]
+    sys.exit("plot_force_displacement.py: %s: no column %s<unit> with unit one of %s (SI "
+             "headers, D317); the header is %s" % (path, prefix, ", ".join(SHOWN), ",".join(keys)))
 
 
 def read(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    keys = rows[0].keys()
-    fk = next(k for k in keys if k.startswith("force_"))
-    dk = next(k for k in keys if k.startswith("dissipated_"))
+    if not rows:
+        sys.exit("plot_force_displacement.py: %s: no rows" % path)
+    keys = list(rows[0].keys())
+    uk, _, to_mm = column(path, keys, "displacement_")
+    fk, fu, to_f = column(path, keys, "force_")
+    dk, du, to_d = column(path, keys, "dissipated_")
     return {
-        "u": [float(r["displacement_mm"]) for r in rows],
-        "f": [float(r[fk]) for r in rows],
-        "d": [float(r[dk]) for r in rows],
+        "u": [to_mm * float(r[uk]) for r in rows],
+        "f": [to_f * float(r[fk]) for r in rows],
+        "d": [to_d * float(r[dk]) for r in rows],
         "control": [r.get("control", "displacement") for r in rows],
-        "fu": UNITS.get(fk[len("force_"):], fk[len("force_"):]),
-        "du": UNITS.get(dk[len("dissipated_"):], dk[len("dissipated_"):]),
-        "per_thickness": fk.endswith("_per_mm"),
+        "fu": fu,
+        "du": du,
+        "per_thickness": fk.endswith("_per_m"),
     }
 
 
@@ -123,9 +140,11 @@ def damage_map(path, png):
     if not rows:
         return
     dk = [k for k in rows[0] if k.startswith("D")]
-    x = [float(r["x_mm"]) for r in rows]
-    y = [float(r["y_mm"]) for r in rows]
-    h = [float(r["h_mm"]) for r in rows]
+    keys = list(rows[0].keys())
+    to_mm = [column(path, keys, c + "_")[2] for c in ("x", "y", "h")]
+    x = [to_mm[0] * float(r["x_m"]) for r in rows]
+    y = [to_mm[1] * float(r["y_m"]) for r in rows]
+    h = [to_mm[2] * float(r["h_m"]) for r in rows]
     fields = [("max_k D_k", [max(float(r[k]) for k in dk) for r in rows], None)]
     if "omega" in rows[0] and max(float(r["omega"]) for r in rows) > 0:
         fields.append(("fracture variable ω", [float(r["omega"]) for r in rows], (0, 1)))

@@ -1,23 +1,35 @@
 #!/usr/bin/env python3
-"""The demo's --json is SI and matches docs/schemas/dealii-demo.schema.json (D299).
+"""The demo's --json, CSV files and VTU frames are SI (D299, D317, D318).
 
 Runs `dealii_fracture short.prm --json` (2-D single-edge notch, ~2 s) and the same specimen as
 an elastic 3-D slab on one coarse mesh (~1 s) into a fresh temporary directory, checks that
 each prints its object as one line on stdout (docs/formats.md), validates the printed objects
 against the schema (python3-jsonschema; the schema forbids undocumented keys and the other
-dimension's keys), checks the unit rule of tests/docs/json_schemas.py on the
-schema, and checks the SI values against the runs' own force_displacement.csv, which stays in
-mm, N/mm and mJ/mm (2-D) or N and mJ (3-D): 1 N/mm = 1000 N/m, 1 mm = 1e-3 m, 1 mJ/mm = 1 J/m,
-1 mJ = 1e-3 J; in 3-D also W = F u / 2 of the linear elastic slab in J. A document with a 3-D
-key, without a required key or with the old `units` string must be refused.
+dimension's keys), checks the unit rule of tests/docs/json_schemas.py on the schema, and
+checks the runs' files:
+- force_displacement.csv and damage_final.csv: every header ends with its SI unit (_m;
+  _N_per_m, _J_per_m in 2-D; _N, _J in 3-D) or is one of the dimensionless columns and counts;
+- the CSV's peak and final force, displacement, dissipated energy and work equal the JSON's
+  (independently converted from the demo's mm, N/mm, mJ/mm) to the CSV's 10 digits;
+- with --vtu (python3-vtk9; a frame every step): the last frame's arrays are named with their
+  unit, Points=m, its points span the specimen (Width x Height (x Thickness) of the .prm in mm
+  times 1e-3), its field data equal the CSV row of its step, the loaded edge's displacement_m
+  is the controlled displacement (the clamped edge's 0), its cells are damage_final.csv's rows
+  (centres in m, D1), and the stresses in Pa
+  integrate to the force: sum over cells of stress_22_Pa x cell size = F x Height (the
+  equilibrium of the linear field y / Height, up to the Newton tolerance);
+- in 3-D also W = F u / 2 of the linear elastic slab in J.
+A document with a 3-D key, without a required key or with the old `units` string must be
+refused.
 
-Usage: demo_json.py --root SOURCE_DIR --demo PATH_TO_dealii_fracture --card CARD.h5
+Usage: demo_json.py --root SOURCE_DIR --demo PATH_TO_dealii_fracture --card CARD.h5 [--vtu]
 """
 import argparse
 import copy
 import csv
 import json
 import pathlib
+import re
 import subprocess
 import sys
 import tempfile
@@ -26,7 +38,7 @@ import tempfile
 def run(demo, prm, card, out, sets):
     """dealii_fracture PRM --json with the card, into OUT: (the printed object, its CSV rows)."""
     args = [demo, prm, "--json", "--set", f"Material/Card={card}", "--set",
-            f"Output/Directory={out}", "--set", "Output/Plot=false"]
+            f"Output/Directory={out}", "--set", "Output/Plot=false", "--set", "Output/VTU every=1"]
     for x in sets:
         args += ["--set", x]
     r = subprocess.run(args, capture_output=True, text=True, timeout=240)
@@ -40,11 +52,118 @@ def run(demo, prm, card, out, sets):
         return json.loads(r.stdout), list(csv.DictReader(f))
 
 
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def prm_number(path, entry):
+    """The number of 'set ENTRY = x' in a .prm (the first one), or None."""
+    for line in pathlib.Path(path).read_text().splitlines():
+        m = re.match(r"\s*set\s+%s\s*=\s*([-+0-9.eE]+)" % re.escape(entry), line)
+        if m:
+            return float(m.group(1))
+    return None
+
+
+# The CSV columns without a unit: dimensionless numbers, counts and words (D317).
+PLAIN = {"step", "max_damage", "max_fracture", "newton_iterations", "cuts", "dofs", "control",
+         "omega"}
+
+
+def header_problems(name, header, dim):
+    """Columns of HEADER not named by the SI rule of a DIM-D run."""
+    suffix = r"_(m|N_per_m|J_per_m)" if dim == 2 else r"_(m|N|J)"
+    return [f"{dim}-D {name}: column {c!r} has no SI unit suffix ({suffix}$) and is not "
+            f"dimensionless" for c in header
+            if not (c in PLAIN or re.fullmatch(r"D[1-3]", c) or re.search(suffix + "$", c))]
+
+
+def frame_problems(out, dim, rows, cells, box_m, close):
+    """The last VTU frame of OUT against the CSV ROWS and CELLS (damage_final.csv) and the
+    specimen BOX_M."""
+    import xml.etree.ElementTree as ET
+    import vtk
+    fails = []
+    sets = ET.parse(pathlib.Path(out, "solution.pvd")).getroot().findall("./Collection/DataSet")
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(pathlib.Path(out, sets[-1].get("file"))))
+    r.Update()
+    g = r.GetOutput()
+    fd, pd = g.GetFieldData(), g.GetPointData()
+    ua = fd.GetAbstractArray("units")
+    units = dict(ua.GetValue(k).split("=", 1) for k in range(ua.GetNumberOfValues()))
+    fk = "force_N_per_m" if dim == 2 else "force_N"
+    want = {"Points": "m", "displacement_m": "m", fk: "N/m" if dim == 2 else "N",
+            "stress_22_Pa": "Pa", "D1_1": "1", "strain_22_1": "1"}
+    for name, unit in want.items():
+        if units.get(name) != unit:
+            fails.append(f"{dim}-D frame: units[{name}] = {units.get(name)}, not {unit}")
+    b = g.GetBounds()
+    for k, span in enumerate(box_m):
+        # float32 coordinates: 6e-8 relative
+        close(f"{dim}-D frame: extent along x{k + 1} (m)", b[2 * k + 1] - b[2 * k], span, 1e-6)
+    step = int(fd.GetArray("step_index").GetTuple1(0))
+    row = rows[step]
+    close(f"{dim}-D frame step {step}: displacement_m", fd.GetArray("displacement_m").GetTuple1(0),
+          float(row["displacement_m"]), 1e-9)
+    F = fd.GetArray(fk).GetTuple1(0)
+    close(f"{dim}-D frame step {step}: {fk}", F, float(row[fk]), 1e-9)
+    u, s = pd.GetArray("displacement_m"), pd.GetArray("stress_22_Pa")
+    if u is None or s is None:
+        return fails + [f"{dim}-D frame: no displacement_m or stress_22_Pa point array"]
+    # the loaded edge (largest x2) moves by the controlled displacement, the bottom edge not
+    pts = g.GetPoints()
+    y = [pts.GetPoint(i)[1] for i in range(g.GetNumberOfPoints())]
+    top = [u.GetComponent(i, 1) for i in range(len(y)) if y[i] > b[3] - 1e-6 * box_m[1]]
+    bottom = [u.GetComponent(i, 1) for i in range(len(y)) if y[i] < b[2] + 1e-6 * box_m[1]]
+    u_load = fd.GetArray("displacement_m").GetTuple1(0)
+    for v in (min(top), max(top)):  # float32 values: 6e-8 relative
+        close(f"{dim}-D frame: displacement_m along x2 on the loaded edge", v, u_load, 1e-6)
+    if max(abs(v) for v in bottom) > 1e-6 * abs(u_load):
+        fails.append(f"{dim}-D frame: the clamped edge moves: {max(abs(v) for v in bottom)} m")
+    # the last frame is the last step (VTU every 1): its cells are damage_final.csv's rows, in
+    # the same order (active cells), the centres to the CSV's 6 digits, D1 to float32
+    if step == len(rows) - 1:
+        if len(cells) != g.GetNumberOfCells():
+            fails.append(f"{dim}-D: {len(cells)} rows in damage_final.csv, "
+                         f"{g.GetNumberOfCells()} cells in the last frame")
+        d1 = pd.GetArray("D1_1")
+        for c in range(min(len(cells), g.GetNumberOfCells())):
+            cb = g.GetCell(c).GetBounds()
+            for k, x in enumerate("xyz"[:dim]):
+                mid = 0.5 * (cb[2 * k] + cb[2 * k + 1])
+                if abs(float(cells[c][x + "_m"]) - mid) > 1e-5 * box_m[k]:
+                    fails.append(f"{dim}-D damage_final.csv row {c}: {x}_m = "
+                                 f"{cells[c][x + '_m']}, the frame's cell centre is {mid} m")
+                    break
+            dv = d1.GetTuple1(g.GetCell(c).GetPointId(0))
+            if abs(float(cells[c]["D1"]) - dv) > 1e-5:
+                fails.append(f"{dim}-D damage_final.csv row {c}: D1 {cells[c]['D1']}, frame {dv}")
+    else:
+        fails.append(f"{dim}-D: the last frame is step {step}, not the last step {len(rows) - 1}")
+    # each cell is a patch of its own (its points carry its averaged stress): the cell size
+    # from its bounds (axis-parallel cells), the stress at its first point
+    total = 0.0
+    for c in range(g.GetNumberOfCells()):
+        cb = g.GetCell(c).GetBounds()
+        size = 1.0
+        for k in range(dim):
+            size *= cb[2 * k + 1] - cb[2 * k]
+        total += s.GetTuple1(g.GetCell(c).GetPointId(0)) * size
+    # Newton: |residual| <= 1e-8 |f_int|, times |y/H| <= sqrt(dofs) ~ 1e2 over F; float32
+    # stresses and points 1e-7: 1e-4 relative
+    close(f"{dim}-D frame: sum of stress_22_Pa x cell size / Height (= {fk})",
+          total / box_m[1], F, 1e-4)
+    return fails
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--root", required=True)
     ap.add_argument("--demo", required=True)
     ap.add_argument("--card", required=True)
+    ap.add_argument("--vtu", action="store_true", help="check the VTU frames (python3-vtk9)")
     a = ap.parse_args()
     root = pathlib.Path(a.root).resolve()
     sys.path.insert(0, str(root / "tests" / "docs"))
@@ -59,13 +178,26 @@ def main():
     elastic_3d = ["Geometry/Dimension=3", "Mesh/Global refinements=0", "Mesh/Adaptive=false",
                   "Regularisation/Type=none", "Loading/Path=0, 0.1"]
     v = Draft202012Validator(schema)
-    with tempfile.TemporaryDirectory(prefix="pnc_demo_json_") as d:
-        runs = {2: run(a.demo, short, a.card, f"{d}/out2", []),
-                3: run(a.demo, short, a.card, f"{d}/out3", elastic_3d)}
+    # the specimen in m: Width x Height (x Thickness) of short.prm in mm (the 3-D thickness is
+    # the default of parameters.prm), 1 mm = 1e-3 m
+    w, h = prm_number(short, "Width"), prm_number(short, "Height")
+    t = prm_number(root / "examples" / "dealii_fracture" / "parameters.prm", "Thickness")
+    boxes = {2: [1e-3 * w, 1e-3 * h], 3: [1e-3 * w, 1e-3 * h, 1e-3 * t]}
 
     def close(label, got, want, tol=1e-5):
         if abs(got - want) > tol * max(abs(want), 1e-30):
-            failures.append(f"{label}: {got} in the JSON, {want} expected")
+            failures.append(f"{label}: {got}, {want} expected")
+
+    with tempfile.TemporaryDirectory(prefix="pnc_demo_json_") as d:
+        runs = {2: run(a.demo, short, a.card, f"{d}/out2", []),
+                3: run(a.demo, short, a.card, f"{d}/out3", elastic_3d)}
+        for dim, (doc, rows) in runs.items():
+            out = f"{d}/out{dim}"
+            failures.extend(header_problems("force_displacement.csv", rows[0].keys(), dim))
+            cells = read_csv(pathlib.Path(out, "damage_final.csv"))
+            failures.extend(header_problems("damage_final.csv", cells[0].keys(), dim))
+            if a.vtu:
+                failures.extend(frame_problems(out, dim, rows, cells, boxes[dim], close))
 
     for dim, (doc, rows) in runs.items():
         failures += [f"{dim}-D: {'/'.join(map(str, e.absolute_path))}: {e.message}"
@@ -73,23 +205,22 @@ def main():
         if doc.get("dimension") != dim:
             failures.append(f"the {dim}-D run reports dimension {doc.get('dimension')}")
             continue
-        # the SI numbers are the CSV's (mm; N/mm and mJ/mm in 2-D, N and mJ in 3-D) times the
-        # unit factors: 1 N/mm = 1e3 N/m, 1 mJ/mm = 1 J/m, 1 mJ = 1e-3 J, 1 mm = 1e-3 m
-        fu, eu = ("N_per_mm", "mJ_per_mm") if dim == 2 else ("N", "mJ")
+        # the CSV (SI since D317, 10 significant digits: 5e-10 relative) holds the JSON's
+        # numbers, which summary() converts from the demo's mm, N/mm, mJ/mm on its own
         fk, ek = ("N_per_m", "J_per_m") if dim == 2 else ("N", "J")
-        to_f, to_e = (1e3, 1.0) if dim == 2 else (1.0, 1e-3)
-        force = [float(x["force_" + fu]) for x in rows]
+        force = [float(x["force_" + fk]) for x in rows]
         peak = max(range(len(rows)), key=lambda i: abs(force[i]))
-        close(f"peak_load_{fk}", doc[f"peak_load_{fk}"], to_f * force[peak])
-        close("displacement_at_peak_m", doc["displacement_at_peak_m"],
-              1e-3 * float(rows[peak]["displacement_mm"]))
-        close(f"final_load_{fk}", doc[f"final_load_{fk}"], to_f * force[-1])
-        close("final_displacement_m", doc["final_displacement_m"],
-              1e-3 * float(rows[-1]["displacement_mm"]))
-        close(f"dissipated_energy_{ek}", doc[f"dissipated_energy_{ek}"],
-              to_e * float(rows[-1]["dissipated_" + eu]))
-        close(f"external_work_{ek}", doc[f"external_work_{ek}"],
-              to_e * float(rows[-1]["external_work_" + eu]))
+        tol = 1e-9
+        close(f"CSV peak force_{fk}", force[peak], doc[f"peak_load_{fk}"], tol)
+        close("CSV displacement_m at the peak", float(rows[peak]["displacement_m"]),
+              doc["displacement_at_peak_m"], tol)
+        close(f"CSV final force_{fk}", force[-1], doc[f"final_load_{fk}"], tol)
+        close("CSV final displacement_m", float(rows[-1]["displacement_m"]),
+              doc["final_displacement_m"], tol)
+        close(f"CSV final dissipated_{ek}", float(rows[-1]["dissipated_" + ek]),
+              doc[f"dissipated_energy_{ek}"], tol)
+        close(f"CSV final external_work_{ek}", float(rows[-1]["external_work_" + ek]),
+              doc[f"external_work_{ek}"], tol)
         if dim == 3:
             # linear elastic slab: the work is F u / 2 in SI (N x m = J), and all of it stored
             w = 0.5 * doc["final_load_N"] * doc["final_displacement_m"]

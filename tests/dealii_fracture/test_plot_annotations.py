@@ -3,13 +3,14 @@
 
     /usr/bin/python3 test_plot_annotations.py EXAMPLE_DIR   # examples/dealii_fracture
 
-Writes two small force_displacement.csv files in a fresh temporary directory (a run through
-its peak with dissipation-controlled steps from step 4, and a run whose force still rises at
-the end), draws them with EXAMPLE_DIR/plot_force_displacement.py and checks the figure: the
-peak is marked with the largest force of the CSV, the first dissipation-controlled step is
-pointed at, the last step carries the --stop text, the axis labels carry the units per unit
-thickness, and no title or label holds a decision-record code (D followed by two or more
-digits). Exit code 0 when all holds. Needs matplotlib (/usr/bin/python3 has it).
+Writes two small force_displacement.csv files in SI (D317) in a fresh temporary directory (a
+run through its peak with dissipation-controlled steps from step 4, and a run whose force still
+rises at the end), draws them with EXAMPLE_DIR/plot_force_displacement.py and checks the
+figure, drawn in mm and N/mm (D317): the peak is marked with the largest force of the CSV, the
+first dissipation-controlled step is pointed at, the last step carries the --stop text, the
+axis labels carry the units per unit thickness, and no title or label holds a decision-record
+code (D followed by two or more digits). A CSV with the old millimetre header is refused
+naming the file. Exit code 0 when all holds. Needs matplotlib (/usr/bin/python3 has it).
 """
 import importlib.util
 import os
@@ -23,16 +24,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HEAD = ("step,displacement_mm,force_N_per_mm,external_work_mJ_per_mm,elastic_energy_mJ_per_mm,"
-        "dissipated_mJ_per_mm,work_minus_elastic_mJ_per_mm,max_damage,max_fracture,"
+# The demo's SI header of a 2-D run; the figure shows mm and N/mm (D317).
+HEAD = ("step,displacement_m,force_N_per_m,external_work_J_per_m,elastic_energy_J_per_m,"
+        "dissipated_J_per_m,work_minus_elastic_J_per_m,max_damage,max_fracture,"
         "newton_iterations,cuts,dofs,control\n")
 
 
-def write(path, rows):
+def write(path, rows, head=HEAD):
+    """ROWS of (u in mm, F in N/mm, control) written in SI: 1 mm = 1e-3 m, 1 N/mm = 1e3 N/m."""
     with open(path, "w") as f:
-        f.write(HEAD)
+        f.write(head)
         for i, (u, F, mode) in enumerate(rows):
-            f.write("%d,%g,%g,0,0,%g,0,0,0,1,0,100,%s\n" % (i, u, F, 0.1 * i, mode))
+            f.write("%d,%.10g,%.10g,0,0,%g,0,0,0,1,0,100,%s\n" % (i, 1e-3 * u, 1e3 * F, 0.1 * i,
+                                                                 mode))
 
 
 def main():
@@ -84,6 +88,15 @@ def main():
             fails.append("a rising curve must not claim a peak: %s" % texts)
         if any(t.startswith("switch") for t in texts):
             fails.append("no switch without dissipation control: %s" % texts)
+        plt.close("all")
+        # a CSV with the old millimetre header is refused, naming the file and the column
+        write(csv1, [(0, 0, d), (0.1, 50, d)], HEAD.replace("_m,", "_mm,"))
+        try:
+            mod.main(["plot", csv1, os.path.join(work, "fd3.png")])
+            fails.append("a CSV with displacement_mm was plotted")
+        except SystemExit as e:
+            if csv1 not in str(e) or "displacement_" not in str(e):
+                fails.append("the refusal names the file and the column: %s" % e)
     finally:
         shutil.rmtree(work)
     for f in fails:

@@ -33,10 +33,10 @@ std::vector<std::string> split(const std::string& line) {
   return f;
 }
 
-// The row of the largest |force| of force_displacement.csv: force and displacement.
+// The row of the largest |force| of force_displacement.csv (SI, D317): force and displacement.
 struct Peak {
   double force = 0, u = 0;
-  std::string unit; // the column's unit suffix, e.g. N_per_mm
+  std::string unit; // the column's unit suffix: N_per_m (2-D) or N (3-D)
 };
 Peak csv_peak(const std::string& path) {
   std::ifstream f(path);
@@ -50,9 +50,9 @@ Peak csv_peak(const std::string& path) {
       fk = static_cast<int>(i);
       p.unit = head[i].substr(6);
     }
-    if (head[i] == "displacement_mm") uk = static_cast<int>(i);
+    if (head[i] == "displacement_m") uk = static_cast<int>(i);
   }
-  if (fk < 0 || uk < 0) throw std::runtime_error(path + ": no force_* or displacement_mm column");
+  if (fk < 0 || uk < 0) throw std::runtime_error(path + ": no force_* or displacement_m column");
   while (std::getline(f, line)) {
     const auto r = split(line);
     const double F = std::stod(r.at(fk));
@@ -86,18 +86,22 @@ TEST_F(DemoReport, PageStandsAloneWithThePeakOfTheCsv) {
   ASSERT_TRUE(fs::exists(p("report.md"))) << "and its twin report.md";
   const std::string html = pnc::test::read_file(p("report.html"));
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
-  // the peak force and its displacement, as the CSV has them (10 digits); the page prints 6
+  // the peak force and its displacement, as the CSV has them (SI, 10 digits); the page shows
+  // the demo's units (D307): 1 N/m = 1e-3 N/mm (2-D), N (3-D), 1 m = 1e3 mm. It prints 6
   // significant digits, so they agree to half a unit in the 6th digit: relative 5e-6
   const Peak peak = csv_peak(p("force_displacement.csv"));
   ASSERT_GT(std::abs(peak.force), 0.0) << "the short demo loads the specimen";
+  ASSERT_TRUE(peak.unit == "N_per_m" || peak.unit == "N") << peak.unit;
+  const double F_page = peak.unit == "N_per_m" ? 1e-3 * peak.force : peak.force;
+  const double u_page = 1e3 * peak.u;
   std::string rest;
   const double F = fact_number(html, "peak force", rest);
   ASSERT_FALSE(std::isnan(F)) << "a 'peak force' row with a number";
-  EXPECT_NEAR(F, peak.force, 5e-6 * std::abs(peak.force));
-  EXPECT_EQ(rest.rfind(peak.unit == "N_per_mm" ? " N/mm at u = " : " N at u = ", 0), 0u) << rest;
+  EXPECT_NEAR(F, F_page, 5e-6 * std::abs(F_page));
+  EXPECT_EQ(rest.rfind(peak.unit == "N_per_m" ? " N/mm at u = " : " N at u = ", 0), 0u) << rest;
   const auto u_at = html.find("at u = ", html.find("<th>peak force</th>"));
   ASSERT_NE(u_at, std::string::npos);
-  EXPECT_NEAR(std::strtod(html.c_str() + u_at + 7, nullptr), peak.u, 5e-6 * std::abs(peak.u));
+  EXPECT_NEAR(std::strtod(html.c_str() + u_at + 7, nullptr), u_page, 5e-6 * std::abs(u_page));
   // what was run, the verdict, the warnings and the advice are there
   for (const char* s : {"What was run", "What to do next", "Key numbers", "Warnings",
                         "dissipated energy", "Newton iterations", "wall time", "short.prm"})
