@@ -2,7 +2,7 @@
 // integration, persistence length by steered bending, free energy from the stress work
 // (docs/theory.md section 4). Units: LAMMPS real (kcal/mol, A, fs, K) inside thermo/; moduli in Pa
 // and EI also in N m^2 where named.
-#include "checks.hpp"
+#include "cli_parameters.hpp"
 #include "plot.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
@@ -22,8 +22,10 @@
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/persistence.hpp"
+#include "pnc/thermo/persistence_parameters.hpp"
 #include "pnc/thermo/ti.hpp"
 #include "pnc/thermo/work.hpp"
+#include "pnc/thermo/work_parameters.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -69,10 +71,7 @@ void print_progress(const std::string& what, int done, int total, double el, dou
 
 std::vector<double> parse_list(const std::string& text, const char* field) {
   std::vector<double> v;
-  if (text == "none" || text.empty()) return v;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
+  for (const auto& item : split_list(text)) {
     try {
       std::size_t pos = 0;
       v.push_back(std::stod(item, &pos));
@@ -89,7 +88,9 @@ namespace {
 // ---------------------------------------------------------------------- persistence
 
 struct PersistenceArgs {
-  thermo::PersistenceSpec spec;
+  thermo::PersistenceSpec spec; ///< the options' values (the file's keys where not given)
+  std::string input; ///< --input: a persistence input file (thermo/persistence_parameters.hpp)
+  std::vector<std::string> given; ///< the declared keys whose option was given (D301)
   std::string out, rates = "0.01,0.025,0.05,0.075,0.1";
   bool resume = false, json = false, no_plots = false;
 };
@@ -129,9 +130,20 @@ thermo::PersistenceResult run_persistence_reported(const PersistenceArgs& a) {
   }
 }
 
+/// D301, D321: the settings of this run: the --input file's keys (defaults without one), each
+/// key whose option was given explicitly taken from the command line instead.
+thermo::PersistenceSpec resolve_persistence(const PersistenceArgs& a) {
+  thermo::PersistenceSpec cli = a.spec;
+  cli.rates = parse_list(a.rates, "--rates");
+  thermo::PersistenceSpec s =
+      a.input.empty() ? thermo::PersistenceSpec{} : thermo::read_persistence_input(a.input);
+  thermo::override_persistence_input(s, cli, a.given);
+  s.validate(a.input.empty() ? "<command line>" : a.input + " with the command line");
+  return s;
+}
+
 int run_thermo_persistence(PersistenceArgs a) {
-  a.spec.rates = parse_list(a.rates, "--rates");
-  a.spec.validate("<command line>");
+  a.spec = resolve_persistence(a);
   const RunDirLock lock(a.out, command_line()); // one process per run directory
   start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const StopSignals signals;                    // SIGINT/SIGTERM: finished rates are kept
@@ -183,7 +195,9 @@ int run_thermo_persistence(PersistenceArgs a) {
 // ----------------------------------------------------------------------------- work
 
 struct WorkArgs {
-  std::vector<std::string> from;
+  std::vector<std::string> from;  ///< --from (relative to the current directory)
+  std::string input;              ///< --input: a work input file (thermo/work_parameters.hpp)
+  std::vector<std::string> given; ///< the declared keys whose option was given (D301)
   std::string out;
   bool json = false, no_plots = false;
 };
@@ -198,10 +212,21 @@ nlohmann::json integral_json(const thermo::WorkIntegral& w, std::size_t k, doubl
           {"dA_stderr_bound_J", jnum(w.se_bound[k] * v0)}};
 }
 
-int run_thermo_work(const WorkArgs& a) {
-  if (a.from.empty() || a.from.size() > 2)
-    fail("<command line>", "--from", fmt::format("{} given", a.from.size()),
+/// D301, D322: the run directories: --from when given, else the --input file's `from`.
+std::vector<std::string> resolve_work_runs(const WorkArgs& a) {
+  thermo::WorkInput cli,
+      in = a.input.empty() ? thermo::WorkInput{} : thermo::read_work_input(a.input);
+  cli.from = a.from;
+  thermo::override_work_input(in, cli, a.given);
+  if (in.from.empty() || in.from.size() > 2)
+    fail(a.input.empty() ? "<command line>" : a.input + " with the command line", "--from",
+         fmt::format("{} given", in.from.size()),
          "give one run directory, or two at different temperatures");
+  return in.from;
+}
+
+int run_thermo_work(WorkArgs a) {
+  a.from = resolve_work_runs(a);
   const RunDirLock lock(a.out, command_line()); // one process per output directory
   start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const auto t0 = std::chrono::steady_clock::now();
@@ -302,55 +327,64 @@ void register_thermo(CLI::App& app, Action& action) {
 
   register_thermo_ti(th, action); // app/cmd_thermo_ti.cpp
 
+  add_parameters_command(
+      th, "persistence-parameters", "of a `pnc thermo persistence --input` file",
+      "pnc thermo persistence --input reads it",
+      [] { return thermo::persistence_input_parameters(); }, action);
   auto pa = std::make_shared<PersistenceArgs>();
   auto* pe = th->add_subcommand(
       "persistence", "Bending stiffness EI and persistence length by steered bending of a chain");
-  pe->add_option(
-        "--chain", pa->spec.chain,
-        "pp (CG polypropylene, docs/theory.md §3.1) or harmonic (straight, angle harmonic)")
-      ->check(CLI::IsMember({"pp", "harmonic"}));
-  pe->add_option("--beads", pa->spec.beads, "Beads (default 4, 3 to 200)")
-      ->check(CLI::Range(3, 200));
-  pe->add_option("--angle-k", pa->spec.angle_K,
-                 "harmonic chain: LAMMPS angle K (kcal/mol/rad^2), k_theta = 2K")
-      ->check(FinitePositive(1e6));
-  pe->add_option("--bond-k", pa->spec.bond_K, "harmonic chain: LAMMPS bond K (kcal/mol/A^2)")
-      ->check(FinitePositive(1e6));
-  pe->add_option("--supports", pa->spec.supports, "pinned (both ends fixed) or roller")
-      ->check(CLI::IsMember({"pinned", "roller"}));
-  pe->add_option("--spring-k", pa->spec.spring_k, "Pulling spring (kcal/mol/A^2, default 10)")
-      ->check(FinitePositive(1e6));
-  pe->add_option("--rates", pa->rates, "Anchor speeds, A/fs, comma-separated");
-  pe->add_option("--pull-distance", pa->spec.pull_distance, "Anchor travel per pull (A, (0, 1000])")
-      ->check(FinitePositive(1000));
-  pe->add_option("--timestep", pa->spec.timestep_fs, "fs, (0, 10]")->check(FinitePositive(10));
-  pe->add_option("--hold-steps", pa->spec.hold_steps, "Steps at zero force before each pull")
-      ->check(CLI::Range(0L, kMaxRunSteps));
-  pe->add_option("--sample-every", pa->spec.sample_every, "Steps between samples of F and d")
-      ->check(CLI::Range(1, 1000000));
-  pe->add_option("--blocks", pa->spec.blocks, "Blocks of the standard errors")
-      ->check(CLI::Range(3, 10000));
-  pe->add_option("--temperature", pa->spec.temperature, "K, (0, 1e4]")->check(FinitePositive(1e4));
-  pe->add_option("--seed", pa->spec.seed, "Seed (1 to 800000000)")->check(CLI::Range(1, 800000000));
+  pe->add_option("--input", pa->input,
+                 "Persistence input file (.toml or .json; its keys: pnc thermo "
+                 "persistence-parameters): the settings below; an option given here overrides "
+                 "the file's key (D301)");
+  // the declared keys' options: their checks, help and shown defaults are the declarations'
+  // (bind_declared_options below, D320)
+  pe->add_option("--chain", pa->spec.chain, "");
+  pe->add_option("--beads", pa->spec.beads, "");
+  pe->add_option("--angle-k", pa->spec.angle_K, "");
+  pe->add_option("--bond-k", pa->spec.bond_K, "");
+  pe->add_option("--supports", pa->spec.supports, "");
+  pe->add_option("--spring-k", pa->spec.spring_k, "");
+  pe->add_option("--rates", pa->rates, "");
+  pe->add_option("--pull-distance", pa->spec.pull_distance, "");
+  pe->add_option("--timestep", pa->spec.timestep_fs, "");
+  pe->add_option("--hold-steps", pa->spec.hold_steps, "");
+  pe->add_option("--sample-every", pa->spec.sample_every, "");
+  pe->add_option("--blocks", pa->spec.blocks, "");
+  pe->add_option("--temperature", pa->spec.temperature, "");
+  pe->add_option("--seed", pa->spec.seed, "");
   pe->add_option("--out", pa->out, "Output directory")->required();
   pe->add_flag("--resume", pa->resume, "Reuse finished rates");
   pe->add_flag("--no-plots", pa->no_plots, "Do not draw plots");
   pe->add_flag("--json", pa->json, "Print one JSON object with the key numbers on stdout");
-  pe->callback([pa, &action] { action = [pa] { return run_thermo_persistence(*pa); }; });
+  const auto pkeys =
+      bind_declared_options(pe, thermo::persistence_input_parameters(), option_of_key);
+  pe->callback([pa, pkeys, &action] {
+    pa->given = given_keys(pkeys);
+    action = [pa] { return run_thermo_persistence(*pa); };
+  });
+  add_parameters_command(
+      th, "work-parameters", "of a `pnc thermo work --input` file",
+      "pnc thermo work --input reads it, once `from` is set",
+      [] { return thermo::work_input_parameters(); }, action);
   auto wa = std::make_shared<WorkArgs>();
   auto* wk = th->add_subcommand(
       "work", "Free energy of deformation from the stress work of `pnc characterize` cases "
               "(post-processing; two runs at T1 != T2 add the energetic/entropic split)");
-  wk->add_option("--from", wa->from,
-                 "`pnc characterize` output directory; give it twice (second at another "
-                 "temperature) for the split")
-      ->required()
-      ->take_all();
+  wk->add_option("--input", wa->input,
+                 "Work input file (.toml or .json; its keys: pnc thermo work-parameters); "
+                 "--from given here overrides the file's from (D301, D322)");
+  wk->add_option("--from", wa->from, "")->take_all(); // D320: checked by its declaration
   wk->add_option("--out", wa->out, "Output directory (work.h5, work.csv, work.png, report.html)")
       ->required();
   wk->add_flag("--no-plots", wa->no_plots, "Do not draw work.png");
   wk->add_flag("--json", wa->json, "Print one JSON object with the key numbers on stdout");
-  wk->callback([wa, &action] { action = [wa] { return run_thermo_work(*wa); }; });
+  const auto wkeys = bind_declared_options(wk, thermo::work_input_parameters(), option_of_key);
+  wk->callback([wa, wkeys, &action] {
+    wa->given = given_keys(wkeys);
+    action = [wa] { return run_thermo_work(*wa); };
+  });
 }
 
 } // namespace pnc::app

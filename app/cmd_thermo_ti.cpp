@@ -4,7 +4,7 @@
 // summary.json), by the local executor or through Slurm like `pnc characterize`. Units: LAMMPS
 // real (kcal/mol, A, fs, K); moduli in Pa.
 #include "campaign_driver.hpp"
-#include "checks.hpp"
+#include "cli_parameters.hpp"
 #include "run_control.hpp"
 #include "thermo_cli.hpp"
 #include "thermo_report.hpp"
@@ -434,33 +434,15 @@ int run_thermo_ti(TiArgs a) {
       });
 }
 
-/// `pnc thermo ti-parameters`: the declared keys of the TI input (thermo/src/ti_parameters.cpp)
-/// as Markdown tables (the generated region of docs/thermo.md), JSON or a commented TOML
-/// template with the defaults.
-int run_ti_parameters(const std::string& format) {
-  const Parameters p = thermo::ti_input_parameters();
-  if (format == "toml")
-    std::cout << p.to_toml();
-  else if (format == "json")
-    std::cout << p.to_json().dump(2) << "\n";
-  else
-    std::cout << p.to_markdown(4);
-  return 0;
-}
-
 } // namespace
 
 void register_thermo_ti(CLI::App* th, Action& action) {
   register_plan_command(kCommand, ti_unit_main);
-  auto format = std::make_shared<std::string>("markdown");
-  auto* tp = th->add_subcommand(
-      "ti-parameters", "Print every key of a `pnc thermo ti --input` file: type, default, range, "
-                       "unit, meaning");
-  tp->add_option("--format", *format,
-                 "markdown (tables, default), json or toml (a commented template with the "
-                 "defaults; pnc thermo ti --input reads it)")
-      ->check(CLI::IsMember({"markdown", "json", "toml"}));
-  tp->callback([format, &action] { action = [format] { return run_ti_parameters(*format); }; });
+  // `pnc thermo ti-parameters`: the declared keys (thermo/src/ti_parameters.cpp) as Markdown
+  // tables (the generated region of docs/thermo.md), JSON or a commented TOML template
+  add_parameters_command(
+      th, "ti-parameters", "of a `pnc thermo ti --input` file", "pnc thermo ti --input reads it",
+      [] { return thermo::ti_input_parameters(); }, action);
   auto ta = std::make_shared<TiArgs>();
   auto* ti = th->add_subcommand(
       "ti", "Thermodynamic integration of the LJ coupling over deformation states -> ti.h5");
@@ -472,64 +454,38 @@ void register_thermo_ti(CLI::App* th, Action& action) {
                  "TI input file (.toml or .json; its keys: pnc thermo ti-parameters): the "
                  "settings below and a slurm section; an option given here overrides the "
                  "file's key (D301)");
-  ti->add_option("--rule", ta->spec.rule, "Quadrature: gauss (default) or trapezoid")
-      ->check(CLI::IsMember({"gauss", "trapezoid"}));
-  ti->add_option("--points", ta->spec.points, "Quadrature points (default 3, Table 6.1)")
-      ->check(CLI::Range(1, 64));
-  ti->add_option("--vol", ta->vol, "alpha values of F = (1+alpha) I, comma-separated, or none");
-  ti->add_option("--dev", ta->dev, "beta values of F = I + beta(1-delta_ij), or none");
-  ti->add_option("--eps0", ta->spec.path.eps0, "epsilon at lambda = 0 (kcal/mol, (0, 100])")
-      ->check(FinitePositive(100));
-  ti->add_option("--eps1", ta->spec.path.eps1, "epsilon at lambda = 1 (kcal/mol, (0, 100])")
-      ->check(FinitePositive(100));
-  ti->add_option("--sig0", ta->spec.path.sig0, "sigma at lambda = 0 (A, (0, 10])")
-      ->check(FinitePositive(10));
-  ti->add_option("--sig1", ta->spec.path.sig1, "sigma at lambda = 1 (A, (0, 10])")
-      ->check(FinitePositive(10));
-  ti->add_option("--cutoff", ta->spec.path.cutoff, "LJ cut-off at every lambda (A, (0, 30])")
-      ->check(FinitePositive(30));
-  ti->add_option("--dhdl", ta->spec.dhdl_method,
-                 "dH/dlambda sampler: virial (one run, energy + pair virial identity; default) "
-                 "or pairs (pair-distance sums after every sample interval)")
-      ->check(CLI::IsMember({"virial", "pairs"}));
-  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "fs (default 0.5, (0, 10])")
-      ->check(FinitePositive(10));
-  ti->add_option("--equil-steps", ta->spec.sampling.equil_steps,
-                 "Steps discarded per lambda point (default 60000 = 30 ps)")
-      ->check(CLI::Range(0L, kMaxRunSteps));
-  ti->add_option("--prod-steps", ta->spec.sampling.prod_steps,
-                 "Steps averaged per lambda point (default 20000 = 10 ps)")
-      ->check(CLI::Range(1L, kMaxRunSteps));
-  ti->add_option("--sample-every", ta->spec.sampling.sample_every,
-                 "Steps between dH/dlambda samples (default 100, D64)")
-      ->check(CLI::Range(1, 1000000));
-  ti->add_option("--blocks", ta->spec.sampling.blocks, "Blocks of the standard errors (10)")
-      ->check(CLI::Range(3, 10000));
-  ti->add_option("--temperature", ta->spec.sampling.temperature, "K (default 300, (0, 1e4])")
-      ->check(FinitePositive(1e4));
-  ti->add_option("--seed", ta->spec.seed, "Thermostat seed (1 to 800000000)")
-      ->check(CLI::Range(1, 800000000));
-  ti->add_option("--jobs", ta->spec.jobs, "Lambda points run at the same time")
-      ->check(CLI::Range(1, 64));
+  // the declared keys' options: their checks, help and shown defaults are the declarations'
+  // (bind_declared_options below, D320)
+  ti->add_option("--rule", ta->spec.rule, "");
+  ti->add_option("--points", ta->spec.points, "");
+  ti->add_option("--vol", ta->vol, "");
+  ti->add_option("--dev", ta->dev, "");
+  ti->add_option("--eps0", ta->spec.path.eps0, "");
+  ti->add_option("--eps1", ta->spec.path.eps1, "");
+  ti->add_option("--sig0", ta->spec.path.sig0, "");
+  ti->add_option("--sig1", ta->spec.path.sig1, "");
+  ti->add_option("--cutoff", ta->spec.path.cutoff, "");
+  ti->add_option("--dhdl", ta->spec.dhdl_method, "");
+  ti->add_option("--timestep", ta->spec.sampling.timestep_fs, "");
+  ti->add_option("--equil-steps", ta->spec.sampling.equil_steps, "");
+  ti->add_option("--prod-steps", ta->spec.sampling.prod_steps, "");
+  ti->add_option("--sample-every", ta->spec.sampling.sample_every, "");
+  ti->add_option("--blocks", ta->spec.sampling.blocks, "");
+  ti->add_option("--temperature", ta->spec.sampling.temperature, "");
+  ti->add_option("--seed", ta->spec.seed, "");
+  ti->add_option("--jobs", ta->spec.jobs, "");
   ti->add_flag("--resume", ta->resume,
                "Continue: finished (state, lambda) points are reused, the others run (or are "
                "submitted) again");
-  ti->add_option("--executor", ta->executor,
-                 "Who runs the (state, lambda) units: local (children of this process, --jobs at "
-                 "a time) or slurm (one job array, the analysis after it; docs/cluster.md)")
-      ->check(CLI::IsMember({"local", "slurm"}));
+  ti->add_option("--executor", ta->executor, "");
   add_slurm_options(ti, ta->slurm, "the input file");
   ti->add_flag("--no-plots", ta->no_plots, "Do not draw plots");
   ti->add_flag("--json", ta->json, "Print one JSON object with the key numbers on stdout");
-  // D301: every declared key has its option (get_option throws at start-up otherwise); the
-  // ones given explicitly override the file
-  std::vector<std::pair<std::string, CLI::Option*>> keyed;
-  const Parameters declared = thermo::ti_input_parameters();
-  for (const auto& prm : declared.parameters())
-    keyed.emplace_back(prm.path, ti->get_option(thermo::ti_option_of(prm.path)));
+  // D301, D320: every declared key has its option (pnc refuses to start otherwise), checked by
+  // its declaration; the ones given explicitly override the file
+  const auto keyed = bind_declared_options(ti, thermo::ti_input_parameters(), thermo::ti_option_of);
   ti->callback([ta, keyed, &action] {
-    for (const auto& [key, opt] : keyed)
-      if (opt->count() > 0) ta->given.push_back(key);
+    ta->given = given_keys(keyed);
     action = [ta] { return run_thermo_ti(*ta); };
   });
 }

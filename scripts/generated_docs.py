@@ -11,17 +11,19 @@ and ends with the line
 
 Everything between the two lines is the output of the pnc command named on the first one
 (run without a shell, its words taken from the marker line; only `pnc recipe parameters ...`,
-`pnc gimp parameters ...`, `pnc gimp couple-parameters ...` and `pnc thermo ti-parameters ...`
-are run). The recipe key tables of docs/rve.md and the input key tables of docs/gimp.md,
-docs/escm.md and docs/thermo.md are such regions: the keys are declared once (in
+`pnc gimp parameters ...`, `pnc gimp couple-parameters ...`, `pnc thermo ti-parameters ...`,
+`pnc thermo persistence-parameters ...` and `pnc thermo work-parameters ...` are run). The
+recipe key tables of docs/rve.md and the input key tables of docs/gimp.md, docs/escm.md and
+docs/thermo.md are such regions: the keys are declared once (in
 rve/src/recipe_parameters.cpp, gimp_coupler/src/input_parameters.cpp,
-gimp_coupler/src/escm/couple_parameters.cpp, thermo/src/ti_parameters.cpp), and the tables
+gimp_coupler/src/escm/couple_parameters.cpp, thermo/src/ti_parameters.cpp,
+thermo/src/persistence_parameters.cpp, thermo/src/work_parameters.cpp), and the tables
 follow.
 
     python3 scripts/generated_docs.py --pnc build/app/pnc            # rewrite the regions
     python3 scripts/generated_docs.py --pnc build/app/pnc --check    # exit 1 if one is stale
 
-The ctest docs.recipe_parameters runs the check (decisions D232, D292, D295, D301). Python 3 standard library only.
+The ctest docs.recipe_parameters runs the check (decisions D232, D292, D295, D301, D321, D322). Python 3 standard library only.
 """
 
 import argparse
@@ -34,7 +36,8 @@ import sys
 BEGIN = re.compile(r"^<!-- begin generated: pnc ((?:[a-z0-9_-]+ ?)+) -->$")
 END = "<!-- end generated -->"
 ALLOWED = [["recipe", "parameters"], ["gimp", "parameters"], ["gimp", "couple-parameters"],
-           ["thermo", "ti-parameters"]]
+           ["thermo", "ti-parameters"], ["thermo", "persistence-parameters"],
+           ["thermo", "work-parameters"]]
 
 
 def render(pnc, words):

@@ -334,3 +334,37 @@ TEST(ThermoWork, CliTwoRunsJsonH5CsvAndReport) {
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("recipe.json"), std::string::npos) << bad.out;
 }
+
+// D322: `pnc thermo work --input FILE` whose `from` names the runs relative to the file's
+// folder prints the same --json numbers as --from with their paths (the same computation on
+// the same files: bit for bit); --from on the command line replaces the file's `from` (D301).
+TEST(ThermoWork, AnInputFileGivesTheSameRunAsTheOptionsAndFromOverridesIt) {
+  const auto e = uniaxial(10, 1e-4);
+  const auto d1 = make_run(
+      scratch("in1"), 250, {1}, e, [](double x) { return 4e9 * x; }, 1e5);
+  const auto d2 = make_run(
+      scratch("in2"), 350, {1}, e, [](double x) { return 3e9 * x; }, 1e5);
+  const fs::path folder = fs::path(d1).parent_path();
+  const fs::path f = scratch("infile") / "w.toml"; // from its folder, the runs are ../<name>
+  std::ofstream(f) << "from = [\"../" << fs::path(d1).filename().string() << "\", \"../"
+                   << fs::path(d2).filename().string() << "\"]\n";
+  const auto work = [](const std::string& args, const fs::path& out) {
+    const auto r =
+        pnc::test::run_command(std::string(PNC_EXE) + " thermo work " + args +
+                               " --no-plots --json --out " + out.string() + " 2>/dev/null");
+    EXPECT_EQ(r.code, 0) << args;
+    auto j = nlohmann::json::parse(r.out, nullptr, false);
+    for (const char* k : {"h5", "csv", "report", "wall_s"})
+      j.erase(k);
+    return j;
+  };
+  const auto a = work("--from " + d1 + " --from " + d2, scratch("outa"));
+  const auto b = work("--input " + f.string(), scratch("outb"));
+  ASSERT_TRUE(a.is_object());
+  EXPECT_EQ(a.at("runs"), 2);
+  EXPECT_EQ(a, b);
+  const auto c = work("--input " + f.string() + " --from " + d1, scratch("outc"));
+  EXPECT_EQ(c.at("runs"), 1);
+  EXPECT_EQ(c.at("temperature_K"), 250.0);
+  EXPECT_EQ(folder, fs::path(d2).parent_path());
+}
