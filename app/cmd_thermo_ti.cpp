@@ -192,7 +192,8 @@ rve::Plan ti_plan(const thermo::TiSpec& spec, const std::string& dir,
   p.parameters = parameters;
   rve::Unit an{"analysis", "analysis", "analysis", {}, true, 1, {}, {}};
   for (const auto& pt : thermo::ti_points(spec, dir)) {
-    rve::Unit u{point_unit_id(pt), "lambda_point", "lambda_points", {}, false, 1, {}, {}};
+    // D324: each point's LAMMPS on spec.ranks MPI ranks (Slurm: --ntasks of its job)
+    rve::Unit u{point_unit_id(pt), "lambda_point", "lambda_points", {}, false, spec.ranks, {}, {}};
     u.inputs = {"ti_spec.json"};
     u.outputs = {relative_to(pt.job.h5, dir)};
     an.needs.push_back(u.id);
@@ -301,7 +302,8 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
     const std::string sj = read_text(spec_path(dir));
     const auto j = nlohmann::json::parse(sj, nullptr, false);
     if (j.is_discarded()) fail(spec_path(dir), "", "", "is not valid JSON");
-    const thermo::TiSpec spec = spec_from_json(j, spec_path(dir));
+    thermo::TiSpec spec = spec_from_json(j, spec_path(dir));
+    spec.ranks = u.ranks; // the plan's, not ti_spec.json's (D324)
     const auto restart = p.parameters.value("restart", std::string());
     const auto ff = p.parameters.value("ff", std::vector<std::string>{});
     if (u.kind == "lambda_point") {
@@ -406,6 +408,7 @@ int run_thermo_ti(TiArgs a) {
                                  {"no_plots", a.no_plots},
                                  {"executor", a.executor},
                                  {"jobs", a.spec.jobs},
+                                 {"ranks", a.spec.ranks}, // D324; also each point unit's ranks
                                  {"command_line", command_line()},
                                  // D302: --resume reads the same file again
                                  {"input", a.input.empty() ? "" : fs::absolute(a.input).string()},
@@ -422,9 +425,9 @@ int run_thermo_ti(TiArgs a) {
         {kCommand, a.out, "analysis", a.json}, p, in.slurm, o, job_prefix_of("ti"),
         [&](const std::vector<std::string>& failed) { return conclude_ti(a, p, failed, {}); });
   }
-  std::cerr << fmt::format("pnc thermo ti: {} unit(s), {} at a time; states in {}/state, pnc "
-                           "status {} shows them\n",
-                           p.units.size(), a.spec.jobs, a.out, a.out);
+  std::cerr << fmt::format("pnc thermo ti: {} unit(s), {} at a time on {} MPI rank(s) each; "
+                           "states in {}/state, pnc status {} shows them\n",
+                           p.units.size(), a.spec.jobs, a.spec.ranks, a.out, a.out);
   return run_local_reported(
       {kCommand, a.out, "analysis", a.json}, p, "pnc thermo ti: " + a.out, [&] {
         const rve::LocalRun lr = rve::run_local(a.out, p, a.spec.jobs, [&](const rve::Unit& u) {
@@ -474,6 +477,7 @@ void register_thermo_ti(CLI::App* th, Action& action) {
   ti->add_option("--temperature", ta->spec.sampling.temperature, "");
   ti->add_option("--seed", ta->spec.seed, "");
   ti->add_option("--jobs", ta->spec.jobs, "");
+  ti->add_option("--ranks", ta->spec.ranks, "");
   ti->add_flag("--resume", ta->resume,
                "Continue: finished (state, lambda) points are reused, the others run (or are "
                "submitted) again");

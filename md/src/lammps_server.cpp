@@ -56,9 +56,60 @@ bool read_frame(int fd, std::vector<char>& bytes) {
   return read_all(fd, bytes.data(), n);
 }
 
+std::vector<double> local_compute_rows(void* h, const std::string& id, bool& ok) {
+  auto* rows =
+      static_cast<int*>(lammps_extract_compute(h, id.c_str(), LMP_STYLE_LOCAL, LMP_SIZE_ROWS));
+  auto* cols =
+      static_cast<int*>(lammps_extract_compute(h, id.c_str(), LMP_STYLE_LOCAL, LMP_SIZE_COLS));
+  auto* v =
+      static_cast<double*>(lammps_extract_compute(h, id.c_str(), LMP_STYLE_LOCAL, LMP_TYPE_VECTOR));
+  const int n = rows ? *rows : 0;
+  ok = rows && cols && *cols == 0 && (n == 0 || v); // a local vector, not an array
+  if (!ok || n <= 0) return {};
+  return std::vector<double>(v, v + n);
+}
+
+double global_double(void* h, const std::string& name, bool& ok) {
+  auto* p = lammps_extract_global_datatype(h, name.c_str()) == LAMMPS_DOUBLE
+                ? static_cast<double*>(lammps_extract_global(h, name.c_str()))
+                : nullptr;
+  ok = p != nullptr;
+  return p ? *p : 0.0;
+}
+
 } // namespace wire
 
 namespace {
+
+/// kLocal on every rank: each rank's rows of the local vector, gathered to rank 0 in rank order
+/// (MPI_Gatherv); status 1 when a rank has no such local vector, 2 when there are too many rows.
+/// The order of the rows depends on the domain decomposition: only sums over them are meant
+/// to be used, which agree with one rank's to round-off (D324).
+char gather_local_rows(void* h, const std::string& id, int rank, std::vector<double>& out) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  bool ok = false;
+  const std::vector<double> mine = wire::local_compute_rows(h, id, ok);
+  const int n = static_cast<int>(mine.size());
+  int bad = ok ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  std::vector<int> counts(static_cast<std::size_t>(size)), displs(counts.size());
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::size_t total = 0;
+  for (std::size_t k = 0; k < counts.size(); ++k)
+    total += static_cast<std::size_t>(counts[k]);
+  long long big = rank == 0 && total > wire::kMaxLocalRows ? 1 : 0;
+  MPI_Bcast(&big, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  if (bad || big) return bad ? 1 : 2;
+  if (rank == 0) {
+    for (std::size_t k = 1; k < counts.size(); ++k)
+      displs[k] = displs[k - 1] + counts[k - 1];
+    out.resize(total);
+  }
+  MPI_Gatherv(mine.data(), n, MPI_DOUBLE, out.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
+              MPI_COMM_WORLD);
+  return 0;
+}
 
 int env_int(const char* name) {
   const char* v = std::getenv(name);
@@ -172,6 +223,15 @@ int serve_lammps(const std::string& socket_path, const std::vector<std::string>&
       int periodicity[3], changed;
       lammps_extract_box(h, lo, hi, &xy, &yz, &xz, periodicity, &changed);
       out = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], xy, yz, xz};
+      break;
+    }
+    case wire::kLocal:
+      status = gather_local_rows(h, r.text, rank, out);
+      break;
+    case wire::kGlobal: {
+      bool ok = false;
+      out = {wire::global_double(h, r.text, ok)};
+      status = ok ? 0 : 1;
       break;
     }
     default: // quit (or a malformed request)

@@ -18,6 +18,8 @@ enum Op : char {
   kCompute = 'k',
   kGather = 'g',
   kBox = 'b',
+  kLocal = 'l',  // the rows of a compute's local vector, gathered from every rank (D324)
+  kGlobal = 'd', // a global double of LAMMPS by name (D324)
   kQuit = 'q'
 };
 
@@ -52,5 +54,14 @@ bool write_all(int fd, const void* p, std::size_t n);
 bool read_all(int fd, void* p, std::size_t n);
 bool write_frame(int fd, const std::vector<char>& bytes);
 bool read_frame(int fd, std::vector<char>& bytes);
+
+/// At most this many rows of a local compute in one answer (its frame must stay below 4 GiB).
+constexpr std::size_t kMaxLocalRows = (std::size_t{1} << 29) - 1;
+/// This rank's rows of the local vector of compute `id` (computed now if stale); `ok` false
+/// when `id` names no compute with a local vector (D324). Used in-process and by the server.
+std::vector<double> local_compute_rows(void* h, const std::string& id, bool& ok);
+/// The global double `name` of LAMMPS (lammps_extract_global); `ok` false when LAMMPS has no
+/// global double of that name.
+double global_double(void* h, const std::string& name, bool& ok);
 
 } // namespace pnc::md::wire

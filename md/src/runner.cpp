@@ -152,6 +152,36 @@ std::vector<double> Lammps::gather(const std::string& name, int count) {
   return out;
 }
 
+std::vector<double> Lammps::compute_local_vector(const std::string& id) {
+  bool ok = false;
+  std::vector<double> v;
+  if (fd_ >= 0) {
+    bool found = false;
+    v = call(wire::kLocal, id, 0, 0, &found);
+    ok = found;
+  } else {
+    v = wire::local_compute_rows(h_, id, ok);
+  }
+  if (!ok)
+    fail("<lammps>", "compute " + id, "",
+         fmt::format("no local vector (or more than {} rows)", wire::kMaxLocalRows));
+  return v;
+}
+
+double Lammps::extract_global_double(const std::string& name) {
+  bool ok = false;
+  double v = 0;
+  if (fd_ >= 0) {
+    const auto r = call(wire::kGlobal, name, 0, 0, &ok);
+    ok = ok && !r.empty();
+    if (ok) v = r[0];
+  } else {
+    v = wire::global_double(h_, name, ok);
+  }
+  if (!ok) fail("<lammps>", "global", name, "LAMMPS has no global double of that name");
+  return v;
+}
+
 LmpBox Lammps::box() {
   LmpBox b;
   if (fd_ >= 0) { // the server sends lo, hi, xy, yz, xz (LAMMPS order)

@@ -1,7 +1,9 @@
 // Stages on K = 2 MPI ranks (runner.hpp StageSpec::ranks, lammps_server.hpp): the same
-// calls give the same numbers as on one rank, a LAMMPS error on 2 ranks is reported with
-// LAMMPS's own message, and a stage killed mid-run takes its MPI server down with it.
+// calls give the same numbers as on one rank (a local compute's rows and a global too, D324),
+// a LAMMPS error on 2 ranks is reported with LAMMPS's own message, and a stage killed mid-run
+// takes its MPI server down with it.
 #include "pnc/core/error.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/md/runner.hpp"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -135,6 +138,95 @@ TEST(MdMpiStage, TwoRanksGiveTheSameNumbersAsOne) {
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(b[x1 + 3 * ib[i] + c], a[x1 + 3 * ia[i] + c], 1e-8) << "x, site " << i;
+  fs::remove_all(d);
+}
+
+// Writes what Lammps::compute_local_vector and extract_global_double (D324) give on an FCC
+// crystal (a = 5 A, 4 x 4 x 4 cells, N = 256, cut-off 4.5 A between the first shell at a/sqrt 2
+// and the second at a): the pair count and the sorted pair distances, again after a random
+// displacement (which moves each atom by its position, the same on any rank count), the sum of
+// the distances, nktv2p, and 1 for each bad request refused with an InputError.
+StageBody local_body(const std::string& out) {
+  return [out](Lammps& l) {
+    l.cmds({"units real", "atom_style atomic", "lattice fcc 5.0", "region box block 0 4 0 4 0 4",
+            "create_box 1 box", "create_atoms 1 box", "mass 1 39.9", "pair_style lj/cut 4.5",
+            "pair_coeff 1 1 0.2 3.4", "compute pnc_pl all pair/local dist", "run 0"});
+    std::ofstream f(out);
+    f.precision(17);
+    auto rows = [&] {
+      std::vector<double> d = l.compute_local_vector("pnc_pl");
+      std::sort(d.begin(), d.end());
+      double sum = 0;
+      for (double v : d)
+        sum += v;
+      f << d.size() << "\n" << sum << "\n";
+      for (double v : d)
+        f << v << "\n";
+    };
+    rows();
+    // a new step: LAMMPS rebuilds pair/local's occasional neighbour list at most once per step
+    l.cmds({"displace_atoms all random 0.2 0.2 0.2 4821 units box", "reset_timestep 1", "run 0"});
+    rows();
+    f << l.extract_global_double("nktv2p") << "\n";
+    auto refused = [&f](const std::function<void()>& call) {
+      try {
+        call();
+        f << 0 << "\n";
+      } catch (const pnc::InputError&) {
+        f << 1 << "\n";
+      }
+    };
+    refused([&l] { l.compute_local_vector("no_such_compute"); });
+    refused([&l] { l.compute_local_vector("thermo_pe"); }); // a global compute
+    refused([&l] { l.extract_global_double("no_such_global"); });
+  };
+}
+
+// D324: the rows of a local compute from the server's 2 ranks are one rank's rows (in another
+// order), and a global double reads the same through the server as in-process.
+TEST(MdMpiStage, LocalComputeRowsAndGlobalsFromTwoRanksEqualOneRanks) {
+  const auto d = tmpdir("local");
+  StageSpec one{"one rank", (d / "one.log").string(), {}, 1};
+  StageSpec two{"two ranks", (d / "two.log").string(), {}, 2};
+  const auto o1 = run_stage(one, local_body((d / "one.txt").string()));
+  const auto o2 = run_stage(two, local_body((d / "two.txt").string()));
+  ASSERT_TRUE(o1.ok) << o1.error;
+  ASSERT_TRUE(o2.ok) << o2.error;
+  EXPECT_NE(slurp(two.log_path).find("on 2 procs"), std::string::npos);
+  const auto a = read_numbers((d / "one.txt").string());
+  const auto b = read_numbers((d / "two.txt").string());
+  // perfect crystal: 12 nearest neighbours per atom, each pair once: 6 N at a / sqrt 2
+  const std::size_t n = 6 * 256;
+  ASSERT_GT(a.size(), 2 + n + 2 + 4);
+  ASSERT_EQ(b.size(), a.size());
+  ASSERT_EQ(a[0], static_cast<double>(n));
+  ASSERT_EQ(b[0], static_cast<double>(n));
+  // positions are lattice products (a few ulp of the 20 A box): distances to 1e-12 relative
+  const double nn = 5.0 / std::sqrt(2.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_NEAR(a[2 + i], nn, 1e-12 * nn) << i;
+    ASSERT_NEAR(b[2 + i], nn, 1e-12 * nn) << i;
+  }
+  // displaced: the same pairs on both rank counts; a distance is a difference of positions
+  // that may carry a periodic shift on one count and not the other (an ulp of the box length,
+  // 4e-15 A), so sorted distances agree to 1e-12 relative, their sums to n x that
+  const std::size_t k = 2 + n;
+  ASSERT_EQ(b[k], a[k]);
+  const std::size_t m = static_cast<std::size_t>(a[k]);
+  ASSERT_GT(m, 0u);
+  ASSERT_EQ(a.size(), k + 2 + m + 4);
+  EXPECT_NEAR(b[k + 1], a[k + 1], 1e-12 * a[k + 1]);
+  for (std::size_t i = 0; i < m; ++i)
+    ASSERT_NEAR(b[k + 2 + i], a[k + 2 + i], 1e-12 * a[k + 2 + i]) << i;
+  const std::size_t g = k + 2 + m;
+  EXPECT_EQ(b[g], a[g]); // nktv2p: the same double
+  // units real: atm per (kcal/mol)/A^3 from SI (LAMMPS keeps 8 digits of it: 1e-6 relative)
+  const double atm = pnc::units::pa_per_kcal_mol_A3 / pnc::units::pa_per_atm;
+  EXPECT_NEAR(a[g], atm, 1e-6 * atm);
+  for (int r = 1; r <= 3; ++r) {
+    EXPECT_EQ(a[g + r], 1.0) << "bad request " << r << " in-process";
+    EXPECT_EQ(b[g + r], 1.0) << "bad request " << r << " on the server";
+  }
   fs::remove_all(d);
 }
 

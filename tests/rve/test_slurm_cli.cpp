@@ -422,4 +422,30 @@ TEST(RveSlurm, ThermoTiSameAsALocalRun) {
   }
   fs::remove_all(d);
 }
+
+// D324: `pnc thermo ti --ranks 2 --executor slurm`: every point job gets 2 tasks and its LAMMPS
+// runs on both (srun inside the job; the point's LAMMPS log says so), the analysis follows.
+TEST(RveSlurm, ThermoTiPointsOnTwoRanks) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_ti2";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string rs = pnc::test::tiny_polymer_restart(d);
+  const std::string sdir = (d / "slurm").string();
+  const auto sl = run_command(std::string(PNC_EXE) + " thermo ti --restart " + rs +
+                              " --vol 0 --dev none --points 2 --equil-steps 20 --prod-steps 60 "
+                              "--sample-every 10 --blocks 3 --no-plots --ranks 2 --out " +
+                              sdir + " --executor slurm --wait --job-name ti-test2 2>" +
+                              (d / "slurm.err").string());
+  ASSERT_EQ(sl.code, 0) << slurp(d / "slurm.err");
+  EXPECT_TRUE(fs::exists(fs::path(sdir) / "ti.h5"));
+  for (const char* log : {"ref/lambda_0.log", "ref/lambda_1.log"})
+    EXPECT_NE(slurp(fs::path(sdir) / log).find("on 2 procs"), std::string::npos) << log;
+  const auto st = status_json(sdir);
+  ASSERT_TRUE(st.is_object());
+  for (const auto& u : st["units"])
+    EXPECT_EQ(u["state"], "done") << u.dump();
+  fs::remove_all(d);
+}
 #endif

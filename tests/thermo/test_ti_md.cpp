@@ -11,6 +11,7 @@
 
 #include <lammps/library.h>
 
+#include "lj_fluid.hpp"
 #include "tiny_polymer.hpp"
 #include <fmt/format.h>
 
@@ -155,26 +156,8 @@ TEST(ThermoTi, EinsteinCrystalThroughTheTiMachinery) {
 TEST(ThermoTi, TiAgreesWithFepBetweenAdjacentLambdas) {
   const auto d = tmpdir("fep");
   const LjPath p;
-  LambdaSystem sys = lj_sampling(p, 1e-4);
   const double T = 300;
-  sys.setup = [p, T](md::Lammps& l, double lambda, std::uint64_t seed) {
-    l.cmd("units real");
-    l.cmd("atom_style atomic");
-    l.cmd("lattice fcc 6.4");
-    l.cmd("region pnc_b block 0 3 0 3 0 3");
-    l.cmd("create_box 1 pnc_b");
-    l.cmd("create_atoms 1 box");
-    l.cmd("mass 1 21.0");
-    l.cmd(fmt::format("pair_style lj/cut {}", p.cutoff));
-    l.cmd("pair_modify shift no tail no");
-    l.cmd(fmt::format("pair_coeff * * {:.15g} {:.15g} {:.15g}", p.eps(lambda), p.sig(lambda),
-                      p.cutoff));
-    l.cmd(fmt::format("velocity all create {} {} dist gaussian", T, seed));
-    l.cmd("fix pnc_nve all nve");
-    l.cmd(fmt::format("fix pnc_lan all langevin {0} {0} 100.0 {1} zero yes", T, seed + 3));
-    l.cmd("compute pnc_pl all pair/local dist");
-    l.cmd("thermo 100000");
-  };
+  const LambdaSystem sys = pnc::test::lj_fluid(p, T);
   SamplingSpec s;
   s.timestep_fs = 2.0;
   s.equil_steps = 2000;

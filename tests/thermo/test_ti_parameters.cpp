@@ -46,6 +46,7 @@ void expect_same(const TiInput& a, const TiInput& b) {
   EXPECT_EQ(a.spec.sampling.temperature, b.spec.sampling.temperature);
   EXPECT_EQ(a.spec.seed, b.spec.seed);
   EXPECT_EQ(a.spec.jobs, b.spec.jobs);
+  EXPECT_EQ(a.spec.ranks, b.spec.ranks);
   EXPECT_EQ(a.executor, b.executor);
   EXPECT_EQ(a.slurm.partition, b.slurm.partition);
   EXPECT_EQ(a.slurm.account, b.slurm.account);
@@ -73,6 +74,7 @@ blocks = 3
 temperature = 310.0
 seed = 5
 jobs = 2
+ranks = 2
 executor = "slurm"
 
 [slurm]
@@ -103,6 +105,7 @@ TiInput every_key_input() {
   in.spec.sampling.temperature = 310.0;
   in.spec.seed = 5;
   in.spec.jobs = 2;
+  in.spec.ranks = 2;
   in.executor = "slurm";
   in.slurm.partition = "short";
   in.slurm.account = "proj-1";
@@ -141,7 +144,7 @@ TEST(ThermoTiInput, AFileWithEveryKeyReadsBackFieldByField) {
   const pnc::Parameters declared = pnc::thermo::ti_input_parameters();
   for (const auto& p : declared.parameters())
     EXPECT_TRUE(options.insert(pnc::thermo::ti_option_of(p.path)).second) << p.path;
-  EXPECT_EQ(options.size(), 23u); // 19 TI keys + 4 slurm keys: kEveryKey sets each
+  EXPECT_EQ(options.size(), 24u); // 20 TI keys + 4 slurm keys: kEveryKey sets each
 }
 
 // The commented TOML template (`pnc thermo ti-parameters --format toml`) read back gives the
@@ -188,7 +191,8 @@ TEST(ThermoTiInput, BadKeysAndValuesAreRefusedNamingFileKeyAndRule) {
       {"dhdl = \"exact\"\n", "dhdl", "exact", "\"virial\""},
       {"executor = \"pbs\"\n", "executor", "pbs", "\"slurm\""},
       {"[slurm]\ntime = \"soon\"\n", "slurm.time", "soon", "Slurm time limit"},
-      {"[slurm]\nranks = 2\n", "slurm.ranks", "", "template"}, // not a TI key (D288)
+      {"[slurm]\nranks = 2\n", "slurm.ranks", "", "template"}, // the TI key is `ranks` (D324)
+      {"ranks = 0\n", "ranks", "0", "integer in [1, 4096]"},
       {"vol = []\ndev = []\n", "vol/dev", "", "at least one deformation state"},
       {"blocks = 10\nprod_steps = 60\n", "prod_steps", "60", "sample_every * blocks"},
   };
@@ -203,7 +207,7 @@ TEST(ThermoTiInput, BadKeysAndValuesAreRefusedNamingFileKeyAndRule) {
 
 // The file and the command line give the same run: a tiny TI with every key set by options
 // (run A) and by the file (run B, with --seed overriding the file's seed 5: D301) writes the
-// same ti_spec.json, field by field, and the same executor and jobs into plan.json. A bad
+// same ti_spec.json, field by field, and the same executor, jobs and ranks into plan.json. A bad
 // combination of file and option is refused naming both.
 TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTheFile) {
   const fs::path d = pnc::test::fresh_dir("test_ti_input");
@@ -213,7 +217,7 @@ TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTh
   const std::string opts = "--rule trapezoid --points 2 --vol 0 --dev none --eps0 0.02 --eps1 0.1 "
                            "--sig0 1.0 --sig1 2.9 --cutoff 7.0 --dhdl pairs --timestep 1.0 "
                            "--equil-steps 20 --prod-steps 60 --sample-every 10 --blocks 3 "
-                           "--temperature 310 --seed 7 --jobs 2 --executor local";
+                           "--temperature 310 --seed 7 --jobs 2 --ranks 2 --executor local";
   const auto a =
       pnc_run("thermo ti --restart " + rs + " --no-plots --out " + (d / "a").string() + " " + opts,
               d / "a.err");
@@ -231,9 +235,14 @@ TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTh
   EXPECT_EQ(sb["rule"], "trapezoid");
   const auto pa = json_file(d / "a" / "plan.json")["parameters"];
   const auto pb = json_file(d / "b" / "plan.json")["parameters"];
-  for (const char* k : {"executor", "jobs"})
+  for (const char* k : {"executor", "jobs", "ranks"})
     EXPECT_EQ(pa[k], pb[k]) << k;
   EXPECT_EQ(pb["jobs"], 2);
+  EXPECT_EQ(pb["ranks"], 2);
+  // D324: every lambda point unit runs on the 2 ranks (its Slurm job's --ntasks), the analysis
+  // on one
+  for (const auto& u : json_file(d / "b" / "plan.json")["units"])
+    EXPECT_EQ(u["ranks"], u["kind"] == "lambda_point" ? 2 : 1) << u["id"];
   EXPECT_EQ(pb["input"], fs::absolute(f).string());
   // --blocks 10 from the command line with the file's prod_steps 60 < 10 x 10: refused before
   // anything runs, naming the file
@@ -248,7 +257,7 @@ TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTh
   fs::remove_all(d);
 }
 
-// `pnc thermo ti-parameters` prints the declarations: JSON with every key (the 23 of
+// `pnc thermo ti-parameters` prints the declarations: JSON with every key (the 24 of
 // kEveryKey), a TOML template that reads back to the defaults, and refuses an unknown format.
 TEST(ThermoTiInput, TiParametersPrintsEveryKey) {
   const std::string exe(PNC_EXE);
@@ -260,8 +269,8 @@ TEST(ThermoTiInput, TiParametersPrintsEveryKey) {
   for (const auto& s : j["sections"])
     for (const auto& p : s["parameters"])
       names.insert(p["name"].get<std::string>()); // the dotted path
-  EXPECT_EQ(names.size(), 23u);
-  for (const char* k : {"equil_steps", "dhdl", "executor", "slurm.time", "slurm.template"})
+  EXPECT_EQ(names.size(), 24u);
+  for (const char* k : {"equil_steps", "dhdl", "ranks", "executor", "slurm.time", "slurm.template"})
     EXPECT_EQ(names.count(k), 1u) << k;
   r = pnc::test::run_command(exe + " thermo ti-parameters --format toml");
   ASSERT_EQ(r.code, 0);

@@ -217,8 +217,9 @@ PointResult read_point(const std::string& path) {
 
 void run_points(const SamplingSpec& s,
                 const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
-                int jobs, const Progress& progress) {
+                int jobs, const Progress& progress, int ranks) {
   s.validate("<sampling>");
+  if (ranks < 1 || ranks > 4096) fail("<ti>", "ranks", std::to_string(ranks), "must be 1 to 4096");
   std::vector<const std::pair<PointJob, LambdaSystem>*> pending;
   for (const auto& t : point_jobs)
     if (!(resume && fs::exists(t.first.h5))) pending.push_back(&t);
@@ -233,7 +234,7 @@ void run_points(const SamplingSpec& s,
       const PointJob j = pending[i]->first;
       const LambdaSystem sys = pending[i]->second;
       make_output_directory(fs::path(j.h5).parent_path().string());
-      md::StageSpec spec{j.label, log_of(j.h5), {}};
+      md::StageSpec spec{j.label, log_of(j.h5), {}, ranks}; // D324
       stages.push_back(
           {spec, md::stoppable([s, sys, j](md::Lammps& l) { point_child(l, s, sys, j); })});
     }
@@ -343,6 +344,8 @@ void TiSpec::validate(const std::string& source) const {
     fail(source, "seed", std::to_string(seed), "must be in 1..800000000 (LAMMPS seeds)");
   if (dhdl_method != "virial" && dhdl_method != "pairs")
     fail(source, "dhdl_method", dhdl_method, "must be \"virial\" or \"pairs\"");
+  if (ranks < 1 || ranks > 4096)
+    fail(source, "ranks", std::to_string(ranks), "must be 1 to 4096 (MPI ranks per point)");
 }
 
 std::vector<DeformState> ti_states(const TiSpec& spec) {
@@ -431,7 +434,7 @@ void run_ti_point(const TiSpec& spec, const TiPoint& point, const std::string& r
                   const std::vector<std::string>& ff, const Progress& progress) {
   check_ti_start(spec, restart);
   const LambdaSystem sys = polymer_system(spec, point.state, fs::absolute(restart).string(), ff);
-  run_points(spec.sampling, {{point.job, sys}}, false, 1, progress);
+  run_points(spec.sampling, {{point.job, sys}}, false, 1, progress, spec.ranks);
 }
 
 TiResult finish_ti(const TiSpec& spec, const std::string& dir, const std::string& source_json,
@@ -455,7 +458,7 @@ TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vecto
       systems.push_back(polymer_system(spec, p.state, fs::absolute(restart).string(), ff));
     point_jobs.push_back({p.job, systems[p.state_index]});
   }
-  run_points(spec.sampling, point_jobs, resume, spec.jobs, progress);
+  run_points(spec.sampling, point_jobs, resume, spec.jobs, progress, spec.ranks);
   return finish_ti(spec, dir, source_json, seconds_since(t0));
 }
 

@@ -58,6 +58,8 @@ void declare_ti(Parameters& p, TiInput& in) {
          "temperature of the Langevin thermostat and of kT in the FEP estimates");
   p.integer("seed", s.seed, 1, 800000000, "", "thermostat seed (LAMMPS seeds)");
   p.integer("jobs", s.jobs, 1, 64, "", "lambda points run at the same time (local executor)");
+  p.integer("ranks", s.ranks, 1, 4096, "",
+            "MPI ranks of LAMMPS per lambda point (D324); under Slurm the tasks of each unit job");
   p.string("executor", in.executor,
            {{"local", "children of this process, jobs at a time"},
             {"slurm", "one Slurm job array, then the analysis; docs/cluster.md"}},
@@ -71,8 +73,8 @@ Parameters ti_input_parameters(TiInput& in) {
   declare_ti(p, in);
   rve::declare_slurm_section(p, in.slurm,
                              "the Slurm executor (docs/cluster.md, D245, D301): where and how "
-                             "long the (state, lambda) unit jobs run, one rank each (D288); the "
-                             "command-line options override it",
+                             "long the (state, lambda) unit jobs run, `ranks` tasks each (D324); "
+                             "the command-line options override it",
                              false);
   return p;
 }

@@ -8,8 +8,6 @@
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
 
-#include <lammps/library.h>
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -51,19 +49,12 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     fail("<ti>", "dhdl_method", method, "must be \"virial\" or \"pairs\"");
   LambdaSystem sys;
   auto coeff = [p](double l) { return lj_coeff(p, l); };
-  auto distances = [](md::Lammps& l) {
-    if (!l.handle())
-      fail("<ti>", "ranks", "", "the TI samplers need LAMMPS inside the stage child (1 rank)");
-    auto* rows = static_cast<int*>(
-        lammps_extract_compute(l.handle(), "pnc_pl", LMP_STYLE_LOCAL, LMP_SIZE_ROWS));
-    auto* d = static_cast<double*>(
-        lammps_extract_compute(l.handle(), "pnc_pl", LMP_STYLE_LOCAL, LMP_TYPE_VECTOR));
-    const long n = rows ? *rows : 0;
-    if (n > 0 && !d) fail("<lammps>", "compute pair/local", "", "no distance vector");
-    return std::pair<const double*, long>{d, n};
-  };
+  // the pair distances of every rank (D324); sums over them agree to round-off in any row order
+  auto distances = [](md::Lammps& l) { return l.compute_local_vector("pnc_pl"); };
   sys.sample = [=](md::Lammps& l, double lambda, double lp, double ln) {
-    const auto [d, n] = distances(l);
+    const std::vector<double> r = distances(l);
+    const double* d = r.data();
+    const long n = static_cast<long>(r.size());
     const PairSums s = lj_sums(d, n, lambda, p);
     LambdaSample out;
     out.dhdl = s.dudl;
@@ -76,7 +67,9 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     std::map<std::string, double> c;
     l.cmd("run 0");
     const double e0 = l.thermo("evdwl");
-    const auto [d, n] = distances(l);
+    const std::vector<double> r = distances(l);
+    const double* d = r.data();
+    const long n = static_cast<long>(r.size());
     const PairSums s = lj_sums(d, n, lambda, p);
     // central differences at h and 2h; Richardson (4 D_h - D_2h)/3 is O(h^4); |D_h - D_2h|/3
     // estimates the error of D_h (an upper bound for the extrapolated value), plus round-off
@@ -104,7 +97,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
     // the virial identity on the same configuration (D64)
     l.cmd("compute pnc_chk_pp all pressure NULL pair");
     l.cmd("run 0");
-    const double nktv2p = *static_cast<double*>(lammps_extract_global(l.handle(), "nktv2p"));
+    const double nktv2p = l.extract_global_double("nktv2p");
     const double W = 3 * l.thermo("vol") * l.compute_value("pnc_chk_pp") / nktv2p;
     l.cmd("uncompute pnc_chk_pp");
     // U(lambda') - U(lambda) at a probe lambda' = lambda - 0.05 both ways (the FEP samples)
@@ -124,9 +117,7 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
       // the pair energy is extensive, pressure and volume intensive: two fix vectors
       l.cmd(fmt::format("fix pnc_ue all vector {} c_pnc_epair", every));
       l.cmd(fmt::format("fix pnc_uw all vector {} c_pnc_ppair v_pnc_vol", every));
-      if (!l.handle())
-        fail("<ti>", "ranks", "", "the TI samplers need LAMMPS inside the stage child (1 rank)");
-      const double nktv2p = *static_cast<double*>(lammps_extract_global(l.handle(), "nktv2p"));
+      const double nktv2p = l.extract_global_double("nktv2p");
       // five pieces for progress; fix vector appends across runs
       const int pieces = steps >= 5L * every ? 5 : 1;
       const auto t0 = std::chrono::steady_clock::now();

@@ -54,6 +54,14 @@ public:
   double fix_value(const std::string& id, int i, int j = -1);
   /// Element of a compute's global vector; global scalar when i < 0.
   double compute_value(const std::string& id, int i = -1);
+  /// The rows of the local vector of compute `id` (e.g. `compute pair/local dist`) from every
+  /// rank; on K ranks each rank's rows go to rank 0 (MPI_Gatherv) in rank order, so the row
+  /// order depends on the rank count and only sums over rows are meant (D324). Throws if `id`
+  /// is no compute with a local vector.
+  std::vector<double> compute_local_vector(const std::string& id);
+  /// A global double of LAMMPS by name (lammps_extract_global), e.g. "nktv2p" (the pressure
+  /// unit conversion, atm per (kcal/mol)/A^3 in units real); throws if there is none.
+  double extract_global_double(const std::string& name);
   /// Gathers a per-atom double quantity ("x", "v", "f") ordered by atom id, count per atom.
   std::vector<double> gather(const std::string& name, int count);
   /// The current simulation box (Angstrom in `real` units).

@@ -14,9 +14,9 @@ namespace pnc::rve {
 
 /// Declares the optional section "slurm" bound to `s` (`s.given`: the input has it):
 /// partition, account, time (a Slurm time limit), template (a job-script file path); with
-/// `ranks` also ranks, equilibrate_ranks and mpi (pnc characterize; `pnc thermo ti` runs one
-/// rank per unit, D288). Values are checked by SlurmSpec::validate's rules. `text` says what
-/// the section is.
+/// `ranks` also ranks, equilibrate_ranks and mpi (pnc characterize; `pnc thermo ti` has its
+/// own key `ranks` outside the section, D324). Values are checked by SlurmSpec::validate's rules.
+/// `text` says what the section is.
 void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks);
 
 } // namespace pnc::rve

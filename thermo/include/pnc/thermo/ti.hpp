@@ -130,12 +130,13 @@ struct PointJob {
 };
 
 /// Runs every job whose file is missing (or all when !resume), `jobs` at a time, each in its
-/// own child with its LAMMPS log `<h5 without .h5>.log`; `progress` after each batch.
+/// own child with its LAMMPS log `<h5 without .h5>.log`, LAMMPS on `ranks` MPI ranks
+/// (md::StageSpec::ranks, D324); `progress` after each batch.
 /// Throws on the first failed point (md::throw_stage_failure: pnc::ToolError with LAMMPS's
 /// message; finished points stay).
 void run_points(const SamplingSpec& s,
                 const std::vector<std::pair<PointJob, LambdaSystem>>& point_jobs, bool resume,
-                int jobs, const Progress& progress);
+                int jobs, const Progress& progress, int ranks = 1);
 
 /// Jobs for the nodes of `rule` in `dir` (files dir/lambda_<i>.h5), seeds seed + i.
 std::vector<PointJob> node_jobs(const Quadrature& rule, const std::string& dir,
@@ -172,6 +173,7 @@ struct TiSpec {
   double fd_h = 1e-4;                 ///< lambda step of the finite-difference check
   std::string dhdl_method = "virial"; ///< "virial" or "pairs" (lj_sampling, D64)
   int jobs = 1;
+  int ranks = 1; ///< MPI ranks of LAMMPS per lambda point (D324; not in ti_spec.json)
   std::string atom_style = "molecular";
   void validate(const std::string& source) const;
 };

@@ -6,7 +6,8 @@
 // The top-level keys are the TI settings the command-line options give, named as the options
 // (`--equil-steps` is `equil_steps`), in the options' units: LAMMPS real (kcal/mol, A, fs, K);
 // strains dimensionless. The optional section "slurm" is the one of a `pnc characterize` recipe
-// without the rank keys (rve::declare_slurm_section; one rank per (state, lambda) unit, D288).
+// without the rank keys (rve::declare_slurm_section); the ranks per (state, lambda) unit are the
+// top-level key `ranks` (D324).
 // An option given on the command line overrides the file's key (override_ti_input, D301).
 #include "pnc/rve/slurm_parameters.hpp"
 #include "pnc/thermo/ti.hpp"
