@@ -1,5 +1,6 @@
 // pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md); pnc gimp parameters:
 // the declared keys of its input (input_parameters.cpp).
+#include "cli_parameters.hpp"
 #include "gimp_report.hpp"
 #include "registrars.hpp"
 #include "run_control.hpp"
@@ -302,26 +303,8 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
 // D295) as Markdown tables (the generated region of docs/escm.md), JSON or a commented TOML
 // template.
 void register_gimp_couple_parameters(CLI::App* gimp, Action& action) {
-  auto format = std::make_shared<std::string>("markdown");
-  auto* c = gimp->add_subcommand(
-      "couple-parameters",
-      "Print every key of the couple input: type, default, range, unit, meaning");
-  c->add_option("--format", *format,
-                "markdown (tables, default), json or toml (a commented list of the keys with "
-                "their defaults; the input itself is JSON)")
-      ->check(CLI::IsMember({"markdown", "json", "toml"}));
-  c->callback([format, &action] {
-    action = [format] {
-      const Parameters p = gimp::escm::couple_input_parameters();
-      if (*format == "toml")
-        std::cout << p.to_toml();
-      else if (*format == "json")
-        std::cout << p.to_json().dump(2) << "\n";
-      else
-        std::cout << p.to_markdown(4);
-      return 0;
-    };
-  });
+  add_parameters_command(gimp, "couple-parameters", "of the couple input",
+                         "the input itself is JSON", gimp::escm::couple_input_parameters, action);
 }
 } // namespace
 #endif

@@ -5,11 +5,14 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/md/atoms.hpp"
+#include "pnc/md/box.hpp"
 #include "pnc/md/builder.hpp"
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
 
 #include <lammps/library.h>
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
@@ -236,17 +239,20 @@ void BlockBuilder::relax_stage(pnc::md::Lammps& L, const std::string& out) const
   vals["press"] = L.thermo("press");
   if (sp.measure_elastic) {
     const double d = sp.strain_probe;
-    for (const char* ax : {"x", "y", "z"}) {
+    for (int ax = 0; ax < 3; ++ax) {
       std::array<std::array<double, 3>, 2> sig{};
       for (int k = 0; k < 2; ++k) {
-        const double f = k == 0 ? 1 + d : 1 - d;
-        L.cmd(std::string("change_box all ") + ax + " scale " + num(f) + " remap");
+        // stretch f along ax about the box centre and back, through the one box routine
+        // (md/box.hpp, D316)
+        Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+        F(ax, ax) = k == 0 ? 1 + d : 1 - d;
+        L.cmd(pnc::md::box_change(L.box(), F, "<escm polymer elastic probe>"));
         L.cmd("minimize 0 1e-10 20000 100000");
         sig[static_cast<std::size_t>(k)] = {-L.thermo("pxx"), -L.thermo("pyy"), -L.thermo("pzz")};
-        L.cmd(std::string("change_box all ") + ax + " scale " + num(1.0 / f) + " remap");
+        L.cmd(pnc::md::box_change(L.box(), F.inverse(), "<escm polymer elastic probe>"));
       }
       for (int a = 0; a < 3; ++a)
-        vals[std::string("C") + "xyz"[a] + ax] =
+        vals[std::string("C") + "xyz"[a] + "xyz"[ax]] =
             (sig[0][static_cast<std::size_t>(a)] - sig[1][static_cast<std::size_t>(a)]) / (2 * d) *
             pnc::md::pa_per_atm;
     }
