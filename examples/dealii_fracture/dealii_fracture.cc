@@ -84,6 +84,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -2000,6 +2001,12 @@ template <int dim> void FractureProblem<dim>::refine() {
 // m by scaling the patches DataOut builds (their corner points, and the mapped points when a
 // patch carries them), which leaves the triangulation and the solution untouched.
 namespace {
+// The rows of a symmetric 3 x 3 tensor in VTK's order (row-major 11, 12, 13, 21, ..., 33) as
+// indices into the Voigt order of PointHistory (11, 22, 33, 23, 13, 12): ij and ji share one.
+constexpr std::array<int, 9> tensor_voigt{0, 5, 4, 5, 1, 3, 4, 3, 2};
+constexpr std::array<const char*, 9> tensor_ij{"11", "12", "13", "21", "22",
+                                               "23", "31", "32", "33"};
+
 template <int dim> class DataOutSI : public DataOut<dim> {
 public:
   /// Multiplies every point of the built patches by `factor` (mm -> m).
@@ -2014,6 +2021,41 @@ public:
           patch.data(r, c) = static_cast<float>(patch.data(r, c) * factor);
     }
   }
+
+  /// Adds the full 3 x 3 tensor `name` (D328): nine cell-data scalars `name`_11 ... `name`_33
+  /// from the six Voigt components `v` (11, 22, 33, 23, 13, 12; ij and ji the same vector, so
+  /// the written tensor is symmetric bit for bit), declared one tensor array of 9 components.
+  void add_cell_tensor(const std::vector<Vector<float>>& v, const std::string& name) {
+    for (int k = 0; k < 9; ++k)
+      this->add_data_vector(v[tensor_voigt[k]], name + "_" + tensor_ij[k],
+                            DataOut<dim>::type_cell_data);
+    tensors.push_back(name);
+  }
+
+protected:
+  /// DataOut's vector and tensor ranges, and one 9-component tensor range per
+  /// add_cell_tensor(): deal.II's VTU writer writes a range of 9 rows as the 3 x 3 tensor as
+  /// is, in 2-D too, where a range of dim x dim would be padded with zeros (D328).
+  std::vector<std::tuple<unsigned, unsigned, std::string,
+                         DataComponentInterpretation::DataComponentInterpretation>>
+  get_nonscalar_data_ranges() const override {
+    auto ranges = DataOut<dim>::get_nonscalar_data_ranges();
+    const std::vector<std::string> names = this->get_dataset_names();
+    for (const auto& t : tensors) {
+      const auto at = std::find(names.begin(), names.end(), t + "_11");
+      const auto first = static_cast<unsigned>(at - names.begin());
+      for (unsigned k = 0; k < 9; ++k)
+        AssertThrow(first + k < names.size() && names[first + k] == t + "_" + tensor_ij[k],
+                    ExcMessage("DataOutSI: the cell data of tensor " + t +
+                               " are not 9 consecutive data sets"));
+      ranges.emplace_back(first, first + 8, t,
+                          DataComponentInterpretation::component_is_part_of_tensor);
+    }
+    return ranges;
+  }
+
+private:
+  std::vector<std::string> tensors;
 };
 } // namespace
 
@@ -2022,7 +2064,6 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   constexpr double m_per_mm = pnc::units::m_per_mm;
   const unsigned nq = quadrature.size();
   const std::size_t nc = triangulation.n_active_cells();
-  const std::vector<std::string> vn{"11", "22", "33", "23", "13", "12"};
   std::vector<Vector<float>> D(3, Vector<float>(nc)), S(6, Vector<float>(nc)),
       E(6, Vector<float>(nc));
   for (std::size_t c = 0; c < nc; ++c)
@@ -2030,9 +2071,9 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
       const auto& h = history[c * nq + q];
       for (int k = 0; k < n_modes; ++k)
         D[k][c] += static_cast<float>(h.state_old[damage_at[k]] / nq);
-      for (int v = 0; v < 6; ++v) {
+      for (int v = 0; v < 6; ++v) { // the tensor strain: eps_ij = gamma_ij / 2 off the diagonal
         S[v][c] += static_cast<float>(h.sigma[v] * su.stress_to_si / nq);
-        E[v][c] += static_cast<float>(h.eps[v] / nq);
+        E[v][c] += static_cast<float>(h.eps[v] * (v < 3 ? 1.0 : 0.5) / nq);
       }
     }
   Vector<double> u_m(solution); // the displacement in m
@@ -2040,18 +2081,16 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
   DataOutSI<dim> out;
   out.attach_dof_handler(dof_handler);
   // Units in the names (D236, D277, D318): SI, the unit after the last '_', "1" for
-  // dimensionless; the strains are engineering strains (shear components 23, 13, 12 are
-  // gamma = 2 eps).
+  // dimensionless. Stress and strain are 3 x 3 tensors of 9 components in 2-D and 3-D (D328),
+  // the strain the tensor strain, not the engineering one (D329).
   std::vector<std::string> names(dim, "displacement_m");
   std::vector<DataComponentInterpretation::DataComponentInterpretation> interp(
       dim, DataComponentInterpretation::component_is_part_of_vector);
   out.add_data_vector(u_m, names, DataOut<dim>::type_dof_data, interp);
   for (int k = 0; k < n_modes; ++k)
     out.add_data_vector(D[k], "D" + std::to_string(k + 1) + "_1", DataOut<dim>::type_cell_data);
-  for (int v = 0; v < 6; ++v) {
-    out.add_data_vector(S[v], "stress_" + vn[v] + "_Pa", DataOut<dim>::type_cell_data);
-    out.add_data_vector(E[v], "strain_" + vn[v] + "_1", DataOut<dim>::type_cell_data);
-  }
+  out.add_cell_tensor(S, "stress_Pa");
+  out.add_cell_tensor(E, "strain_1");
   out.build_patches();
   out.scale_points(m_per_mm);
   DataOutBase::VtkFlags flags;
@@ -2081,10 +2120,8 @@ template <int dim> void FractureProblem<dim>::output(unsigned step) const {
                                  force + "=" + (dim == 2 ? "N/m" : "N"), "Points=m"};
   for (int k = 0; k < n_modes; ++k)
     units.push_back("D" + std::to_string(k + 1) + "_1=1");
-  for (int v = 0; v < 6; ++v) {
-    units.push_back("stress_" + vn[v] + "_Pa=Pa");
-    units.push_back("strain_" + vn[v] + "_1=1");
-  }
+  units.push_back("stress_Pa=Pa");
+  units.push_back("strain_1=1");
   fd << "<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" << units.size()
      << "\" format=\"ascii\">\n"; // each string as its bytes and a 0 (VTK's ASCII form)
   for (const auto& x : units) {
