@@ -3,7 +3,8 @@
 Imported by tests/gimp_coupler/read_gimp_vtu.py and read_escm_vtu.py (run with /usr/bin/python3,
 which has Debian's python3-vtk9). `Checks` collects failed conditions; `run_pnc` runs one pnc
 command in a fresh temporary folder and gives its output folder to a callback; `report` prints
-the failures and returns the exit code.
+the failures and returns the exit code. `tensor_problems` checks a 3 x 3 tensor array (the
+deal.II demo's stress and strain, D328).
 """
 import os
 import shutil
@@ -50,6 +51,26 @@ def check_arrays(g, arrays, path, check):
         a = g.GetPointData().GetArray(name)
         check(a is not None and a.GetNumberOfComponents() == nc,
               "%s: %s with %d components" % (path, name, nc))
+
+
+# VTK's 9 tensor components, row-major: the index of ij (i, j = 0, 1, 2)
+TENSOR_IJ = ["11", "12", "13", "21", "22", "23", "31", "32", "33"]
+
+
+def tensor_problems(a, label):
+    """What is wrong with the tensor array `a` (None when absent): it must have 9 components
+    (VTK's 3 x 3, row-major, TENSOR_IJ) and be symmetric, ij == ji exactly, in every tuple."""
+    if a is None:
+        return ["%s: missing" % label]
+    if a.GetNumberOfComponents() != 9:
+        return ["%s: %d components, not 9" % (label, a.GetNumberOfComponents())]
+    for t in range(a.GetNumberOfTuples()):
+        v = a.GetTuple9(t)
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            if v[3 * i + j] != v[3 * j + i]:
+                return ["%s tuple %d: %s = %r != %s = %r" % (label, t, TENSOR_IJ[3 * i + j],
+                        v[3 * i + j], TENSOR_IJ[3 * j + i], v[3 * j + i])]
+    return []
 
 
 def units(g):

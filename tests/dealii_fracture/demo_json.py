@@ -15,14 +15,19 @@ checks the runs' files:
   unit, Points=m, its points span the specimen (Width x Height (x Thickness) of the .prm in mm
   times 1e-3), its field data equal the CSV row of its step, the loaded edge's displacement_m
   is the controlled displacement (the clamped edge's 0), its cells are damage_final.csv's rows
-  (centres in m, D1), and the stresses in Pa
-  integrate to the force: sum over cells of stress_22_Pa x cell size = F x Height (the
-  equilibrium of the linear field y / Height, up to the Newton tolerance);
-- in 3-D also W = F u / 2 of the linear elastic slab in J.
+  (centres in m, D1), the tensors stress_Pa and strain_1 have 9 components and are symmetric
+  (D328), and the stresses in Pa integrate to the force: sum over cells of the 22 component
+  of stress_Pa x cell size = F x Height (the equilibrium of the linear field y / Height, up
+  to the Newton tolerance);
+- in 3-D also W = F u / 2 of the linear elastic slab in J and, with --vtu, per cell the shear
+  stresses of the undamaged orthotropic card against the tensor strain: sigma_12 = 2 C66
+  eps_12, sigma_13 = 2 C55 eps_13, sigma_23 = 2 C44 eps_23 (D329; engineering shear strains
+  would be off by 2), C from the card's `pnc card show --json` (CONSTANTS_JSON).
 A document with a 3-D key, without a required key or with the old `units` string must be
 refused.
 
-Usage: demo_json.py --root SOURCE_DIR --demo PATH_TO_dealii_fracture --card CARD.h5 [--vtu]
+Usage: demo_json.py --root SOURCE_DIR --demo PATH_TO_dealii_fracture --card CARD.h5
+                    --constants-json CONSTANTS_JSON [--vtu]
 """
 import argparse
 import copy
@@ -33,6 +38,9 @@ import re
 import subprocess
 import sys
 import tempfile
+
+# tests/common/vtk_read.py (imported where VTK is needed: it imports vtk)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "common"))
 
 
 def run(demo, prm, card, out, sets):
@@ -84,6 +92,7 @@ def frame_problems(out, dim, rows, cells, box_m, close):
     specimen BOX_M."""
     import xml.etree.ElementTree as ET
     import vtk
+    from vtk_read import TENSOR_IJ, tensor_problems
     fails = []
     sets = ET.parse(pathlib.Path(out, "solution.pvd")).getroot().findall("./Collection/DataSet")
     r = vtk.vtkXMLUnstructuredGridReader()
@@ -95,7 +104,7 @@ def frame_problems(out, dim, rows, cells, box_m, close):
     units = dict(ua.GetValue(k).split("=", 1) for k in range(ua.GetNumberOfValues()))
     fk = "force_N_per_m" if dim == 2 else "force_N"
     want = {"Points": "m", "displacement_m": "m", fk: "N/m" if dim == 2 else "N",
-            "stress_22_Pa": "Pa", "D1_1": "1", "strain_22_1": "1"}
+            "stress_Pa": "Pa", "D1_1": "1", "strain_1": "1"}
     for name, unit in want.items():
         if units.get(name) != unit:
             fails.append(f"{dim}-D frame: units[{name}] = {units.get(name)}, not {unit}")
@@ -109,9 +118,13 @@ def frame_problems(out, dim, rows, cells, box_m, close):
           float(row["displacement_m"]), 1e-9)
     F = fd.GetArray(fk).GetTuple1(0)
     close(f"{dim}-D frame step {step}: {fk}", F, float(row[fk]), 1e-9)
-    u, s = pd.GetArray("displacement_m"), pd.GetArray("stress_22_Pa")
-    if u is None or s is None:
-        return fails + [f"{dim}-D frame: no displacement_m or stress_22_Pa point array"]
+    u, s = pd.GetArray("displacement_m"), pd.GetArray("stress_Pa")
+    if u is None:
+        return fails + [f"{dim}-D frame: no displacement_m point array"]
+    tensors = [p for name in ("stress_Pa", "strain_1")
+               for p in tensor_problems(pd.GetArray(name), f"{dim}-D frame: {name}")]
+    if tensors:
+        return fails + tensors
     # the loaded edge (largest x2) moves by the controlled displacement, the bottom edge not
     pts = g.GetPoints()
     y = [pts.GetPoint(i)[1] for i in range(g.GetNumberOfPoints())]
@@ -142,6 +155,22 @@ def frame_problems(out, dim, rows, cells, box_m, close):
                 fails.append(f"{dim}-D damage_final.csv row {c}: D1 {cells[c]['D1']}, frame {dv}")
     else:
         fails.append(f"{dim}-D: the last frame is step {step}, not the last step {len(rows) - 1}")
+    # VTK's numpy layer (ParaView's Python Calculator) sees a 3 x 3 tensor per point; its trace
+    # is the sum of the diagonal components (float32 values summed in float64: 1e-6 of the
+    # largest component)
+    from vtk.numpy_interface import algorithms as alg
+    from vtk.numpy_interface import dataset_adapter as dsa
+    st = dsa.WrapDataObject(g).PointData["stress_Pa"]
+    if st.shape != (g.GetNumberOfPoints(), 3, 3):
+        fails.append(f"{dim}-D frame: stress_Pa seen by VTK's numpy layer as {st.shape}")
+    else:
+        tr = alg.trace(st)
+        for i in range(0, g.GetNumberOfPoints(), max(1, g.GetNumberOfPoints() // 50)):
+            diag = [s.GetComponent(i, TENSOR_IJ.index(ii)) for ii in ("11", "22", "33")]
+            if abs(tr[i] - sum(diag)) > 1e-6 * max(abs(x) for x in s.GetTuple9(i)):
+                fails.append(f"{dim}-D frame point {i}: trace(stress_Pa) {tr[i]}, "
+                             f"the diagonal sums to {sum(diag)}")
+                break
     # each cell is a patch of its own (its points carry its averaged stress): the cell size
     # from its bounds (axis-parallel cells), the stress at its first point
     total = 0.0
@@ -150,12 +179,43 @@ def frame_problems(out, dim, rows, cells, box_m, close):
         size = 1.0
         for k in range(dim):
             size *= cb[2 * k + 1] - cb[2 * k]
-        total += s.GetTuple1(g.GetCell(c).GetPointId(0)) * size
+        total += s.GetComponent(g.GetCell(c).GetPointId(0), TENSOR_IJ.index("22")) * size
     # Newton: |residual| <= 1e-8 |f_int|, times |y/H| <= sqrt(dofs) ~ 1e2 over F; float32
     # stresses and points 1e-7: 1e-4 relative
-    close(f"{dim}-D frame: sum of stress_22_Pa x cell size / Height (= {fk})",
+    close(f"{dim}-D frame: sum of stress_Pa 22 x cell size / Height (= {fk})",
           total / box_m[1], F, 1e-4)
     return fails
+
+
+def shear_problems(out, constants):
+    """The last VTU frame of the elastic 3-D run in OUT: per cell sigma_ij = 2 C eps_ij on the
+    three shear components of the undamaged orthotropic card (D329). CONSTANTS: name -> Pa."""
+    import xml.etree.ElementTree as ET
+    import vtk
+    from vtk_read import TENSOR_IJ
+    sets = ET.parse(pathlib.Path(out, "solution.pvd")).getroot().findall("./Collection/DataSet")
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(pathlib.Path(out, sets[-1].get("file"))))
+    r.Update()
+    g = r.GetOutput()
+    s, e = g.GetPointData().GetArray("stress_Pa"), g.GetPointData().GetArray("strain_1")
+    fails, bites = [], 0
+    for c in range(g.GetNumberOfCells()):
+        p = g.GetCell(c).GetPointId(0)
+        sv, ev = s.GetTuple9(p), e.GetTuple9(p)
+        scale = max(abs(x) for x in sv)
+        for ij, cname in (("12", "C66"), ("13", "C55"), ("23", "C44")):
+            k = TENSOR_IJ.index(ij)
+            want = 2.0 * constants[cname] * ev[k]
+            # float32 cell averages of 8 quadrature values each: a few 1e-7 of the cell's
+            # largest stress component
+            if abs(sv[k] - want) > 1e-5 * scale:
+                fails.append(f"3-D cell {c}: stress_Pa {ij} = {sv[k]} Pa, 2 {cname} strain_1 "
+                             f"{ij} = {want} Pa")
+            bites += abs(sv[k]) > 0.1 * scale
+    if bites == 0:  # a factor 2 must show: some shear stress of at least 0.1 of the largest
+        fails.append("3-D: no cell with a shear stress to check the tensor strain against")
+    return fails[:5]
 
 
 def main():
@@ -163,6 +223,8 @@ def main():
     ap.add_argument("--root", required=True)
     ap.add_argument("--demo", required=True)
     ap.add_argument("--card", required=True)
+    ap.add_argument("--constants-json", required=True,
+                    help="`pnc card show --json` of CARD (the shear moduli, D329)")
     ap.add_argument("--vtu", action="store_true", help="check the VTU frames (python3-vtk9)")
     a = ap.parse_args()
     root = pathlib.Path(a.root).resolve()
@@ -198,6 +260,15 @@ def main():
             failures.extend(header_problems("damage_final.csv", cells[0].keys(), dim))
             if a.vtu:
                 failures.extend(frame_problems(out, dim, rows, cells, boxes[dim], close))
+        if a.vtu:
+            consts = json.loads(pathlib.Path(a.constants_json).read_text())["constants"]
+            if any(consts[k]["units"] != "Pa" for k in ("C44", "C55", "C66")):
+                failures.append("the card's shear moduli are not in Pa")
+            elif float(runs[3][1][-1]["max_damage"]) != 0.0:
+                failures.append("the 3-D slab damaged: no elastic shear check")
+            else:
+                failures.extend(shear_problems(f"{d}/out3",
+                                               {k: v["value"] for k, v in consts.items()}))
 
     for dim, (doc, rows) in runs.items():
         failures += [f"{dim}-D: {'/'.join(map(str, e.absolute_path))}: {e.message}"

@@ -5,12 +5,15 @@
 
 Checks: the PVD timesteps increase strictly and are the step indices; every frame, read by
 VTK, has the field data step_index (= its timestep), displacement_m and force_N_per_m (SI,
-D318), the point array "displacement_m" with 2 or 3 components, the arrays D1_1, stress_22_Pa
-and strain_22_1 (cell averages, written by deal.II as point data of each cell), "Points=m",
-and every point, cell and field array named with its unit: its name is in the String field
-data "units" ("name=unit") and ends with "_" and the unit ("/" spelled "_per_", "1" for
-dimensionless). Prints the loads, so a snap-back
-(the load going back while the timestep goes on) is visible. Exit code 0 when all holds.
+D318), the point array "displacement_m" with 2 or 3 components, the array D1_1 and the
+tensors stress_Pa and strain_1 (cell averages, written by deal.II as point data of each cell):
+9 components, symmetric (ij == ji exactly), no scalar component arrays beside them (D328); in
+2-D (plane strain) strain 13, 23, 33 exactly 0 and stress 33 not 0 everywhere (the
+out-of-plane stress is written, not padded); "Points=m", and every point, cell and field array
+named with its unit: its name is in the String field data "units" ("name=unit") and ends with
+"_" and the unit ("/" spelled "_per_", "1" for dimensionless). Prints the loads, so a
+snap-back (the load going back while the timestep goes on) is visible. Exit code 0 when all
+holds.
 Needs python3-vtk9 (Debian: /usr/bin/python3).
 """
 import os
@@ -18,6 +21,9 @@ import sys
 import xml.etree.ElementTree as ET
 
 import vtk
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtk_read import tensor_problems  # noqa: E402
 
 
 def main():
@@ -52,9 +58,25 @@ def main():
         if u is None or u.GetNumberOfComponents() not in (2, 3):
             fails.append("%s: point array displacement_m" % s.get("file"))
         # deal.II's DataOut writes the cell-averaged values as point data of each cell's patch
-        for name in ("D1_1", "stress_22_Pa", "strain_22_1"):
-            if g.GetPointData().GetArray(name) is None and g.GetCellData().GetArray(name) is None:
-                fails.append("%s: array %s missing" % (s.get("file"), name))
+        pd = g.GetPointData()
+        if pd.GetArray("D1_1") is None:
+            fails.append("%s: array D1_1 missing" % s.get("file"))
+        for name in ("stress_Pa", "strain_1"):
+            fails += tensor_problems(pd.GetArray(name), "%s: %s" % (s.get("file"), name))
+        for k in range(pd.GetNumberOfArrays()):
+            if pd.GetArrayName(k).startswith(("stress_Pa_", "strain_1_")):
+                fails.append("%s: scalar component array %s" % (s.get("file"), pd.GetArrayName(k)))
+        if fails:
+            break
+        b = g.GetBounds()
+        if b[5] == b[4]:  # 2-D plane strain: eps_13 = eps_23 = eps_33 = 0, sigma_33 != 0
+            e, sg = pd.GetArray("strain_1"), pd.GetArray("stress_Pa")
+            n = e.GetNumberOfTuples()
+            if any(e.GetComponent(i, c) != 0.0 for i in range(n) for c in (2, 5, 8)):
+                fails.append("%s: 2-D strain_1 13, 23 or 33 not 0" % s.get("file"))
+            loaded = fd.GetArray("displacement_m").GetTuple1(0) != 0.0
+            if loaded and all(sg.GetComponent(i, 8) == 0.0 for i in range(n)):
+                fails.append("%s: 2-D stress_Pa 33 is 0 everywhere" % s.get("file"))
         ua = fd.GetAbstractArray("units")
         units = dict(ua.GetValue(k).split("=", 1) for k in range(ua.GetNumberOfValues())) \
             if ua is not None else {}
