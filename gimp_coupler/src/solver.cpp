@@ -6,6 +6,8 @@
 
 #include "solver_pool.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -14,6 +16,15 @@
 #include <stdexcept>
 
 namespace pnc::gimp {
+
+namespace {
+/// The source named by a refused solver set-up (a host that fills Solver itself; `pnc gimp
+/// run` checks its input file before).
+constexpr const char* kSetup = "<gimp solver set-up>";
+std::string num(double v) {
+  return fmt::format("{:g}", v);
+}
+} // namespace
 
 template <int D>
 void Particles<D>::add(const Vec& pos, const Vec& half, double mass, double volume, int material,
@@ -34,27 +45,29 @@ void Particles<D>::add(const Vec& pos, const Vec& half, double mass, double volu
 
 template <int D> void Solver<D>::initialize(bool fresh_state) {
   auto& P = particles;
-  if (!(grid.h > 0.0)) throw std::runtime_error("gimp: grid cell size must be > 0");
+  if (!(grid.h > 0.0)) fail(kSetup, "grid.h", num(grid.h), "the grid cell size must be > 0 (m)");
   for (int a = 0; a < D; ++a)
-    if (grid.n[a] < 3) throw std::runtime_error("gimp: the grid needs >= 3 nodes per axis");
-  if (materials.empty()) throw std::runtime_error("gimp: no materials");
+    if (grid.n[a] < 3)
+      fail(kSetup, "grid.n", std::to_string(grid.n[a]), "the grid needs >= 3 nodes per axis");
+  if (materials.empty()) fail(kSetup, "materials", "none", "at least one material is needed");
   if (threads < 1) threads = 1;
   const std::size_t n = P.size();
-  if (n == 0) throw std::runtime_error("gimp: no particles");
+  if (n == 0) fail(kSetup, "particles", "none", "at least one particle is needed");
   int stride = 0;
   for (const auto& mptr : materials)
     stride = std::max(stride, mptr->n_state());
   double msum = 0.0;
   for (std::size_t p = 0; p < n; ++p) {
     if (P.mat[p] < 0 || P.mat[p] >= static_cast<int>(materials.size()))
-      throw std::runtime_error("gimp: particle " + std::to_string(p) + " has no material");
+      fail(kSetup, "particle " + std::to_string(p) + " material", std::to_string(P.mat[p]),
+           "must name one of the " + std::to_string(materials.size()) + " materials (0-based)");
     for (int a = 0; a < D; ++a)
       if (!(P.l[p][a] > 0.0) || P.l[p][a] > 0.5 * grid.h * (1 + 1e-12))
-        throw std::runtime_error("gimp: particle " + std::to_string(p) +
-                                 ": half-length must be in (0, h/2] (uGIMP)");
+        fail(kSetup, "particle " + std::to_string(p) + " half-length", num(P.l[p][a]),
+             "must be in (0, h/2] (uGIMP), h = " + num(grid.h) + " m");
     if (!(P.m[p] > 0.0) || !(P.V0[p] > 0.0))
-      throw std::runtime_error("gimp: particle " + std::to_string(p) +
-                               ": mass and volume must be > 0");
+      fail(kSetup, "particle " + std::to_string(p) + " mass, volume",
+           num(P.m[p]) + " kg, " + num(P.V0[p]) + " m^3", "mass and volume must be > 0");
     msum += P.m[p];
   }
   mass_floor_ = 1e-10 * msum / static_cast<double>(n);
@@ -73,7 +86,9 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
       P.V[p] = P.V0[p] * P.F[p].determinant();
     }
   } else if (P.state_stride != stride || P.state.size() != n * static_cast<std::size_t>(stride)) {
-    throw std::runtime_error("gimp: restored state arrays do not match the materials");
+    fail(kSetup, "particle state", std::to_string(P.state.size()) + " values",
+         "restored state arrays must match the materials (" + std::to_string(stride) +
+             " per particle)");
   }
   for (std::size_t p = 0; p < n; ++p) {
     Stencil<D> st;
@@ -83,14 +98,15 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   for (auto& c : cracks) {
     if constexpr (D == 2) {
       if (c.points.size() < 2)
-        throw std::runtime_error("gimp: crack '" + c.name + "' needs at least 2 points");
+        fail(kSetup, "crack '" + c.name + "' points", std::to_string(c.points.size()),
+             "a 2-D crack needs at least 2 points");
     } else {
       const std::string why = check_planar_crack(c);
-      if (!why.empty()) throw std::runtime_error("gimp: crack '" + c.name + "': " + why);
+      if (!why.empty()) fail(kSetup, "crack '" + c.name + "'", "", why);
       if (c.growth.Gc > 0.0 && c.growth.prescribed) // D43: fronts advance in the plane
-        throw std::runtime_error("gimp: crack '" + c.name +
-                                 "': a prescribed growth direction is 2-D only; a 3-D front "
-                                 "advances in the crack plane, normal to itself (D43)");
+        fail(kSetup, "crack '" + c.name + "' growth direction", "prescribed",
+             "a prescribed growth direction is 2-D only; a 3-D front advances in the crack "
+             "plane, normal to itself (D43)");
     }
   }
   nfields_ = cracks.empty() ? 1 : 2;
@@ -98,7 +114,7 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   fmask_.assign(cracks.empty() ? 0 : n, 0u);
   gu_.assign(cracks.empty() ? 0 : nn, Vec::Zero());
   update_crack_geometry();
-  if (!(damping >= 0.0)) throw std::runtime_error("gimp: damping must be >= 0");
+  if (!(damping >= 0.0)) fail(kSetup, "damping", num(damping), "must be >= 0 (1/s)");
   const double tol = 1e-9 * grid.h;
   bcmask_.assign(nnodes_, 0);
   for (auto& bc : bcs) {
@@ -171,7 +187,7 @@ template <int D> void Solver<D>::update_crack_geometry() {
       for (const auto& q : c.corners)
         extend(q);
       const std::string why = resolve_fronts(c, particles, h); // D42
-      if (!why.empty()) throw std::runtime_error("gimp: crack '" + c.name + "': " + why);
+      if (!why.empty()) fail(kSetup, "crack '" + c.name + "'", "", why);
     }
   }
   crack_lo_.array() -= 2.0 * h;

@@ -340,25 +340,43 @@ void write_data_file(const std::string& path, const System& s, const std::string
   out.commit();
 }
 
+void write_build_common(h5::File& f, const System& s, const BuildSpec& spec,
+                        const std::string& recipe_json, const std::string& method) {
+  h5::write_provenance(f);
+  f.set_attr("/", "format", "pnc-rve-build");
+  f.set_attr("/", "units", "LAMMPS real: A, g/mol, kcal/mol; density g/cm^3");
+  f.write_string("/recipe", recipe_json);
+  f.write_scalar("/spec/chains", spec.chains);
+  f.write_scalar("/spec/beads_per_chain", spec.beads_per_chain);
+  f.write_scalar("/spec/density", spec.density);
+  f.set_attr("/spec/density", "units", "g/cm^3");
+  f.write_string("/spec/seed", std::to_string(spec.seed));
+  f.write_scalar("/spec/min_distance", spec.min_distance);
+  f.set_attr("/spec/min_distance", "units", "A");
+  f.write_string("/spec/method", method);
+  f.write_scalar("/result/atoms", s.x.size());
+  f.write_scalar("/result/bonds", s.bonds.size());
+  f.write_scalar("/result/density", s.density());
+  f.set_attr("/result/density", "units", "g/cm^3");
+  f.write_vector("/result/box",
+                 {s.lo[0], s.lo[1], s.lo[2], s.hi[0], s.hi[1], s.hi[2], s.xy, s.xz, s.yz});
+  f.set_attr("/result/box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
+  h5::RowMatrix X(static_cast<Eigen::Index>(s.x.size()), 3);
+  for (std::size_t i = 0; i < s.x.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      X(static_cast<Eigen::Index>(i), a) = s.x[i][a];
+  f.write_matrix("/result/positions", X);
+  f.set_attr("/result/positions", "units", "A (unwrapped)");
+}
+
 void write_build_record(const std::string& path, const System& s, const BuildSpec& spec,
                         const PolymerForceField& ff, const std::string& recipe_json) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
-    h5::write_provenance(f);
-    f.set_attr("/", "format", "pnc-rve-build");
-    f.set_attr("/", "units", "LAMMPS real: A, g/mol, kcal/mol; density g/cm^3");
-    f.write_string("/recipe", recipe_json);
-    f.write_scalar("/spec/chains", spec.chains);
-    f.write_scalar("/spec/beads_per_chain", spec.beads_per_chain);
-    f.write_scalar("/spec/density", spec.density);
-    f.set_attr("/spec/density", "units", "g/cm^3");
-    f.write_string("/spec/seed", std::to_string(spec.seed));
-    f.write_scalar("/spec/min_distance", spec.min_distance);
-    f.set_attr("/spec/min_distance", "units", "A");
-    f.write_string("/spec/method",
-                   "self-avoiding random walk, fixed l0 and theta0, uniform "
-                   "torsion, periodic orthogonal box (cubic without clay), mt19937_64");
+    write_build_common(f, s, spec, recipe_json,
+                       "self-avoiding random walk, fixed l0 and theta0, uniform torsion, periodic "
+                       "orthogonal box (cubic without clay), mt19937_64");
     f.write_scalar("/forcefield/bead_mass", ff.bead_mass);
     f.write_scalar("/forcefield/k_l", ff.k_l);
     f.set_attr("/forcefield/k_l", "units", "kcal/mol/A^2");
@@ -376,23 +394,10 @@ void write_build_record(const std::string& path, const System& s, const BuildSpe
     for (const auto& c : polymer_forcefield_commands(ff))
       cmds += c + "\n";
     f.write_string("/forcefield/lammps_commands", cmds);
-    f.write_scalar("/result/atoms", s.x.size());
-    f.write_scalar("/result/bonds", s.bonds.size());
     f.write_scalar("/result/angles", s.angles.size());
     f.write_scalar("/result/dihedrals", s.dihedrals.size());
-    f.write_scalar("/result/density", s.density());
-    f.set_attr("/result/density", "units", "g/cm^3");
     f.write_scalar("/result/min_nonbonded_distance", min_nonbonded_distance(s));
     f.set_attr("/result/min_nonbonded_distance", "units", "A");
-    f.write_vector("/result/box",
-                   {s.lo[0], s.lo[1], s.lo[2], s.hi[0], s.hi[1], s.hi[2], s.xy, s.xz, s.yz});
-    f.set_attr("/result/box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
-    h5::RowMatrix X(static_cast<Eigen::Index>(s.x.size()), 3);
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      for (int a = 0; a < 3; ++a)
-        X(static_cast<Eigen::Index>(i), a) = s.x[i][a];
-    f.write_matrix("/result/positions", X);
-    f.set_attr("/result/positions", "units", "A (unwrapped)");
     f.write_integers("/result/molecule", {s.mol.begin(), s.mol.end()});
     f.write_integers("/result/type", {s.type.begin(), s.type.end()});
   }

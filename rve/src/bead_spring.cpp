@@ -168,8 +168,8 @@ md::System build_bead_spring(const md::BuildSpec& spec, const BeadSpringForceFie
   return s;
 }
 
-void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec, const BeadSpringForceField& ff,
-                             double obstacle_min_distance) {
+void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec,
+                             const BeadSpringForceField& ff, double obstacle_min_distance) {
   const double b = ff.bond_length();
   if (!(spec.min_distance < b))
     fail("<build>", "build.min_distance", fmt::format("{}", spec.min_distance),
@@ -262,25 +262,16 @@ double min_unbonded_distance(const md::System& s) {
   return std::sqrt(best);
 }
 
-void write_bead_spring_record(const std::string& path, const md::System& s, const md::BuildSpec& spec,
-                              const BeadSpringForceField& ff, const std::string& recipe_json) {
+void write_bead_spring_record(const std::string& path, const md::System& s,
+                              const md::BuildSpec& spec, const BeadSpringForceField& ff,
+                              const std::string& recipe_json) {
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
-    h5::write_provenance(f);
-    f.set_attr("/", "format", "pnc-rve-build");
+    md::write_build_common(f, s, spec, recipe_json,
+                           "random walk with excluded volume, fixed bond length, uniform "
+                           "directions, cubic periodic box, mt19937_64");
     f.set_attr("/", "model", "kg (glassy bead-spring polymer)");
-    f.set_attr("/", "units", "LAMMPS real: A, g/mol, kcal/mol; density g/cm^3");
-    f.write_string("/recipe", recipe_json);
-    f.write_scalar("/spec/chains", spec.chains);
-    f.write_scalar("/spec/beads_per_chain", spec.beads_per_chain);
-    f.write_scalar("/spec/density", spec.density);
-    f.set_attr("/spec/density", "units", "g/cm^3");
-    f.write_string("/spec/seed", std::to_string(spec.seed));
-    f.write_scalar("/spec/min_distance", spec.min_distance);
-    f.set_attr("/spec/min_distance", "units", "A");
-    f.write_string("/spec/method", "random walk with excluded volume, fixed bond length, "
-                                   "uniform directions, cubic periodic box, mt19937_64");
     f.write_scalar("/forcefield/sigma", ff.sigma);
     f.set_attr("/forcefield/sigma", "units", "A");
     f.write_scalar("/forcefield/epsilon", ff.epsilon);
@@ -303,23 +294,10 @@ void write_bead_spring_record(const std::string& path, const md::System& s, cons
     for (const auto& c : bead_spring_commands(ff))
       cmds += c + "\n";
     f.write_string("/forcefield/lammps_commands", cmds);
-    f.write_scalar("/result/atoms", s.x.size());
-    f.write_scalar("/result/bonds", s.bonds.size());
-    f.write_scalar("/result/density", s.density());
-    f.set_attr("/result/density", "units", "g/cm^3");
     f.write_scalar("/result/reduced_density", ff.reduced_density(s.density()));
     f.set_attr("/result/reduced_density", "units", "sigma^-3");
     f.write_scalar("/result/min_unbonded_distance", min_unbonded_distance(s));
     f.set_attr("/result/min_unbonded_distance", "units", "A");
-    f.write_vector("/result/box",
-                   {s.lo[0], s.lo[1], s.lo[2], s.hi[0], s.hi[1], s.hi[2], s.xy, s.xz, s.yz});
-    f.set_attr("/result/box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
-    h5::RowMatrix X(static_cast<Eigen::Index>(s.x.size()), 3);
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      for (int a = 0; a < 3; ++a)
-        X(static_cast<Eigen::Index>(i), a) = s.x[i][a];
-    f.write_matrix("/result/positions", X);
-    f.set_attr("/result/positions", "units", "A (unwrapped)");
   }
   out.commit();
 }

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -506,4 +507,40 @@ TEST(GimpSolver, FailuresOfThePhysicsAreSimulationErrors) {
   EXPECT_EQ(code2, pnc::exit_code::simulation_failed) << what2;
   EXPECT_NE(what2.find("step 0"), std::string::npos) << what2;
   EXPECT_NE(what2.find("det F"), std::string::npos) << what2;
+}
+
+// A host that fills Solver itself with values the solver cannot use gets an InputError (exit
+// code 1, bad input) naming the field, the value and the rule, not an internal error.
+TEST(GimpSolver, RefusedSetUpIsBadInputNamingFieldValueAndRule) {
+  auto refusal = [](const std::function<void(Solver<2>&)>& spoil) -> std::pair<int, std::string> {
+    Solver<2> s;
+    s.grid.h = 0.1;
+    s.grid.n = {12, 12};
+    s.materials.push_back(std::make_shared<HyperelasticPolymer>(1000, 1.8e8, 1.5e7));
+    fill_box<2>(s, Eigen::Vector2d(0.3, 0.3), Eigen::Vector2d(0.5, 0.5), 2, 0);
+    spoil(s);
+    try {
+      s.initialize();
+    } catch (const std::exception& e) {
+      return {pnc::exit_code_of(e), e.what()};
+    }
+    return {0, "accepted"};
+  };
+  const auto [c0, w0] = refusal([](Solver<2>&) {});
+  EXPECT_EQ(c0, 0) << w0; // the unspoilt set-up is accepted
+  const auto [c1, w1] = refusal([](Solver<2>& s) { s.damping = -1.0; });
+  EXPECT_EQ(c1, pnc::exit_code::bad_input) << w1;
+  EXPECT_NE(w1.find("damping"), std::string::npos) << w1;
+  EXPECT_NE(w1.find("'-1'"), std::string::npos) << w1;
+  EXPECT_NE(w1.find(">= 0"), std::string::npos) << w1;
+  const auto [c2, w2] = refusal([](Solver<2>& s) { s.particles.l[3][1] = 0.06; }); // h/2 = 0.05
+  EXPECT_EQ(c2, pnc::exit_code::bad_input) << w2;
+  EXPECT_NE(w2.find("particle 3 half-length"), std::string::npos) << w2;
+  EXPECT_NE(w2.find("(0, h/2]"), std::string::npos) << w2;
+  const auto [c3, w3] = refusal([](Solver<2>& s) { s.particles.mat[0] = 4; });
+  EXPECT_EQ(c3, pnc::exit_code::bad_input) << w3;
+  EXPECT_NE(w3.find("particle 0 material"), std::string::npos) << w3;
+  const auto [c4, w4] = refusal([](Solver<2>& s) { s.grid.n = {2, 12}; });
+  EXPECT_EQ(c4, pnc::exit_code::bad_input) << w4;
+  EXPECT_NE(w4.find("grid.n"), std::string::npos) << w4;
 }

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -46,7 +47,8 @@ std::vector<Vec> unwrapped(pnc::md::Lammps& L) {
   std::vector<int> img(static_cast<std::size_t>(n));
   std::string nx = "x", ni = "image";
   if (lammps_extract_setting(h, "imageint") != 4)
-    throw std::runtime_error("escm polymer: LAMMPS imageint is not 32 bit");
+    pnc::fail_tool("LAMMPS", "reading the polymer block's positions",
+                   "this LAMMPS build's image flags are not 32 bit", "");
   lammps_gather_atoms(h, nx.data(), 1, 3, x.data());
   lammps_gather_atoms(h, ni.data(), 0, 1, img.data());
   double lo[3], hi[3], xy, yz, xz;
@@ -72,13 +74,13 @@ void write_positions(const std::string& path, const std::vector<Vec>& u,
   f << "atoms " << u.size() << '\n';
   for (const Vec& p : u)
     f << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-  if (!f) throw std::runtime_error("escm polymer: cannot write " + path);
+  if (!f) pnc::fail(path, "", "", "write failed (disk full?)");
 }
 
 void read_positions(const std::string& path, std::vector<Vec>& u,
                     std::map<std::string, double>& values) {
   std::ifstream f(path);
-  if (!f) throw std::runtime_error("escm polymer: missing stage result " + path);
+  if (!f) pnc::fail_tool("LAMMPS", "reading a polymer stage's result", "no file " + path, "");
   std::string k;
   while (f >> k) {
     if (k == "atoms") {
@@ -93,7 +95,7 @@ void read_positions(const std::string& path, std::vector<Vec>& u,
     f >> v;
     values[k] = v;
   }
-  if (!f) throw std::runtime_error("escm polymer: truncated stage result " + path);
+  if (!f) pnc::fail_tool("LAMMPS", "reading a polymer stage's result", "truncated " + path, "");
 }
 
 std::vector<std::string> header(const std::string& boundary, const std::string& data) {
@@ -267,7 +269,9 @@ void BlockBuilder::relax() {
       [&](pnc::md::Lammps& L) { relax_stage(L, relax_out); });
   b.relax_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count();
   read_positions(relax_out, u, v);
-  if (u.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
+  if (u.size() != s.x.size())
+    pnc::fail_simulation("ESCM polymer block", -1, std::numeric_limits<double>::quiet_NaN(), "",
+                         "the atom count changed");
   Lx = v.at("Lx");
   Ly = v.at("Ly");
   Lz = v.at("Lz");
@@ -456,7 +460,9 @@ void BlockBuilder::surface() {
         [&](pnc::md::Lammps& L) { surface_stage(L, surf_out); });
     std::map<std::string, double> v2;
     read_positions(surf_out, u2, v2);
-    if (u2.size() != s.x.size()) throw std::runtime_error("escm polymer: atom count changed");
+    if (u2.size() != s.x.size())
+      pnc::fail_simulation("ESCM polymer block", -1, std::numeric_limits<double>::quiet_NaN(), "",
+                           "the atom count changed");
     b.surface_fmax = v2.at("fmax");
     b.surface_fnorm = v2.at("fnorm");
     b.surface_passes = pass;

@@ -147,7 +147,8 @@ std::map<std::pair<int, int>, std::vector<int>> Coupler::Impl::start_lammps() {
   natoms = static_cast<int>(lammps_get_natoms(lmp));
   if (natoms <= 0) bad_config("md_setup", "atoms", "no atoms");
   if (lammps_extract_setting(lmp, "tagint") != static_cast<int>(sizeof(lmp_tag)))
-    throw std::runtime_error("escm: LAMMPS tagint size differs from the build's");
+    pnc::fail_tool("LAMMPS", "setting up the ESCM MD region",
+                   "this LAMMPS build's atom id size differs from pnc's", "");
   std::vector<lmp_tag> ids(static_cast<std::size_t>(natoms));
   std::vector<double> xs(static_cast<std::size_t>(natoms) * 3);
   std::string nid = "id", nx = "x";

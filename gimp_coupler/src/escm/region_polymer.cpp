@@ -1,5 +1,5 @@
 // The coarse-grained polypropylene MD region (md.type "polymer"; escm_polymer.hpp,
-// docs/escm.md "Polymer MD region", D100-D107, D114). 
+// docs/escm.md "Polymer MD region", D100-D107, D114).
 #include "md_region.hpp"
 
 #include "pnc/core/atomic_file.hpp"
@@ -114,8 +114,8 @@ void PolymerRegion::build(const CoupleInput& p, const std::string& out_dir, cons
   const double lam = p.elastic_given ? p.elastic_lambda : poly_.lambda;
   const double mu = p.elastic_given ? p.elastic_mu : poly_.mu;
   if (!(mu > 0 && lam + mu > 0))
-    throw std::runtime_error("escm polymer: the measured elastic constants are not positive "
-                             "definite (lambda " +
+    pnc::fail_simulation("ESCM polymer region", -1, std::numeric_limits<double>::quiet_NaN(), "",
+                         "the measured elastic constants are not positive definite (lambda " +
                              std::to_string(lam) + " Pa, mu " + std::to_string(mu) +
                              " Pa): give md.elastic");
   lj_.C11 = lam + 2 * mu;

@@ -6,9 +6,12 @@
 // LAMMPS atom types. Layout: `count` values per atom, atom id k at [(k - 1) count, k count).
 //
 // Both calls read or write the local arrays of the process's LAMMPS directly, so every atom
-// must be local: one MPI rank, atom ids 1..natoms (checked; otherwise std::runtime_error
-// naming the rule). Unlike lammps_gather_atoms / lammps_scatter_atoms they never go through the
-// atom map, which can name a ghost copy of an atom, and they move image flags unpacked (D327).
+// must be local: one MPI rank, atom ids 1..natoms (checked: atoms on other ranks, a LAMMPS build
+// with other id or image-flag sizes, or a missing per-atom array are a pnc::ToolError naming
+// LAMMPS; an atom id outside 1..natoms is a pnc::InputError naming the id and the rule; a
+// `name`/`count` pair the calls do not serve, a size mismatch, is std::logic_error, a bug). Unlike
+// lammps_gather_atoms / lammps_scatter_atoms they never go through the atom map, which can name a
+// ghost copy of an atom, and they move image flags unpacked (D327).
 #include <array>
 #include <string>
 #include <vector>

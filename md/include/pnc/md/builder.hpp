@@ -19,6 +19,10 @@
 #include <string>
 #include <vector>
 
+namespace pnc::h5 {
+class File;
+} // namespace pnc::h5
+
 namespace pnc::md {
 
 struct BuildSpec {
@@ -80,5 +84,13 @@ void write_data_file(const std::string& path, const System& s, const std::string
 /// measured density and minimum distance, pnc version, time). Written atomically.
 void write_build_record(const std::string& path, const System& s, const BuildSpec& spec,
                         const PolymerForceField& ff, const std::string& recipe_json);
+
+/// What every build record holds, written into the open record `f` (the writers of each
+/// force field add their /forcefield group and model-specific results): provenance, format
+/// "pnc-rve-build", units (LAMMPS real), /recipe, /spec (chains, beads_per_chain, density
+/// g/cm^3, seed, min_distance A, `method` in words), /result atoms, bonds, density (g/cm^3),
+/// box (A: xlo ylo zlo xhi yhi zhi xy xz yz) and unwrapped positions (A).
+void write_build_common(h5::File& f, const System& s, const BuildSpec& spec,
+                        const std::string& recipe_json, const std::string& method);
 
 } // namespace pnc::md
