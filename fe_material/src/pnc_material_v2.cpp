@@ -251,4 +251,16 @@ PNC_MATERIAL_API const char* pnc_material_model_constant_name(const char* model,
   return pnc::damage::constant_names(md)[static_cast<std::size_t>(i)].c_str();
 }
 
+PNC_MATERIAL_API int pnc_material_damage_of_stretch(const pnc_material* m, int mode, double kappa,
+                                                    double* D, double* dD_dkappa) {
+  if (!m || !D || mode < 0 || mode >= n_modes(m) || !std::isfinite(kappa) || kappa < 0)
+    return PNC_MATERIAL_BAD_ARGUMENT;
+  // every mode follows the one damage function of the law (its alpha): the routine the
+  // kernel's integration uses, so the query and integrate2 agree bit for bit
+  double slope = 0.0;
+  *D = pnc::damage::damage_of_kappa(m->kernel.p, kappa, &slope);
+  if (dD_dkappa) *dD_dkappa = slope;
+  return PNC_MATERIAL_OK;
+}
+
 } // extern "C"

@@ -356,10 +356,10 @@ TEST(FeMaterialBatch, TheSymbolCarriesMinorTwoAndTheWrapperReachesIt) {
   EXPECT_EQ(dlvsym(h, "pnc_material_integrate_batch", (v1 + ".1").c_str()), nullptr);
   EXPECT_EQ(dlvsym(h, "pnc_material_integrate_batch", v1.c_str()), nullptr);
   dlclose(h);
-  EXPECT_EQ(PNC_MATERIAL_ABI_VERSION_MINOR, 2);
+  EXPECT_GE(PNC_MATERIAL_ABI_VERSION_MINOR, 2); // 2 added the batch; later minors keep it
   // through a dlopen()ed plugin and the C++ wrapper
   const pnc::fe_material::Plugin plugin(PNC_MATERIAL_PLUGIN_PATH);
-  EXPECT_EQ(plugin.abi_version_minor(), 2);
+  EXPECT_EQ(plugin.abi_version_minor(), PNC_MATERIAL_ABI_VERSION_MINOR);
   const NdmParameters p = params(Model::pnc, true);
   std::array<double, 9> R{};
   for (int r = 0; r < 3; ++r)

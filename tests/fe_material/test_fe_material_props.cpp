@@ -220,6 +220,69 @@ TEST(FeMaterialV2, TheCxxWrapperThroughThePluginReachesAbi11) {
 }
 
 // ------------------------------------------------------------------ ABI compatibility
+// ABI 1.3: D_K(kappa) as the host asks for it is the damage integrate2 writes into the state
+// (a zero-strain increment from a state whose kappaK is kappa: the full kernel path), the
+// closed form of the law (docs/theory.md: D = 1 + k (2 x^-13 - x^-7), x = kappa / alpha, past
+// the onset alpha lambda_c, k = 1 / |2 lc^-13 - lc^-7|), and its slope the derivative of that
+// curve (central differences).
+TEST(FeMaterialV2, DamageOfStretchIsTheLawIntegrate2Applies) {
+  const double lc = lambda_c(), kk = 1.0 / std::fabs(2 * std::pow(lc, -13) - std::pow(lc, -7));
+  for (const Case& c : kCases) {
+    const NdmParameters p = params(c.model, c.rotated);
+    auto m = make(p);
+    const int modes = static_cast<int>(prop(m.get(), "n_damage_modes"));
+    const double onset = prop(m.get(), "damage_onset_stretch");
+    for (int mode = 0; mode < modes; ++mode) {
+      const std::string K = std::to_string(mode + 1);
+      const int ik = pnc_material_state_index(m.get(), ("kappa" + K).c_str());
+      const int id = pnc_material_state_index(m.get(), ("D" + K).c_str());
+      ASSERT_GE(ik, 0);
+      ASSERT_GE(id, 0);
+      for (double f : {0.5, 1.0, 1.0 + 1e-9, 1.01, 1.1, 1.5, 3.0, 10.0}) {
+        const double kappa = f * onset;
+        const std::string at = name_of(c) + " mode " + K + " kappa " + std::to_string(kappa);
+        double D = -1, slope = -1;
+        ASSERT_EQ(pnc_material_damage_of_stretch(m.get(), mode, kappa, &D, &slope), PNC_MATERIAL_OK)
+            << at;
+        std::vector<double> s0 = virgin(m.get());
+        s0[static_cast<std::size_t>(ik)] = kappa;
+        const Out o =
+            call(m.get(), s0.data(), Vec6::Zero(), Vec6::Zero(), PNC_MATERIAL_TANGENT_NONE);
+        ASSERT_EQ(o.status, PNC_MATERIAL_OK) << o.err;
+        EXPECT_EQ(D, o.state1[static_cast<std::size_t>(id)]) << at; // one routine: equal
+        const double x = kappa / p.alpha();
+        const double closed = x > lc ? 1 + kk * (2 * std::pow(x, -13) - std::pow(x, -7)) : 0.0;
+        EXPECT_NEAR(D, closed, 1e-14) << at;
+        if (f <= 1.0) {
+          EXPECT_EQ(D, 0.0) << at;
+          EXPECT_EQ(slope, 0.0) << at;
+        } else if (f > 1.0 + 1e-6) { // central differences away from the kink at the onset
+          const double h = 1e-6 * kappa;
+          double Dp = 0, Dm = 0;
+          ASSERT_EQ(pnc_material_damage_of_stretch(m.get(), mode, kappa + h, &Dp, nullptr), 0);
+          ASSERT_EQ(pnc_material_damage_of_stretch(m.get(), mode, kappa - h, &Dm, nullptr), 0);
+          // truncation ~h^2 |d3D/dkappa3| / 6 and rounding ~1e-16 / h: both far below 1e-7
+          EXPECT_NEAR(slope, (Dp - Dm) / (2 * h), 1e-7 * (1 + std::fabs(slope))) << at;
+        }
+      }
+    }
+    // refused arguments write nothing
+    double D = 7, slope = 7;
+    for (int mode : {-1, modes})
+      EXPECT_EQ(pnc_material_damage_of_stretch(m.get(), mode, onset, &D, &slope),
+                PNC_MATERIAL_BAD_ARGUMENT);
+    for (double kappa : {std::nan(""), -1.0, std::numeric_limits<double>::infinity()})
+      EXPECT_EQ(pnc_material_damage_of_stretch(m.get(), 0, kappa, &D, &slope),
+                PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(pnc_material_damage_of_stretch(m.get(), 0, onset, nullptr, &slope),
+              PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(pnc_material_damage_of_stretch(nullptr, 0, onset, &D, &slope),
+              PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(D, 7.0);
+    EXPECT_EQ(slope, 7.0);
+  }
+}
+
 TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {
   void* h = dlopen(PNC_MATERIAL_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(h, nullptr) << dlerror();
@@ -234,6 +297,9 @@ TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {
     EXPECT_NE(dlvsym(h, s, v11.c_str()), nullptr) << s << "@" << v11;
     EXPECT_EQ(dlvsym(h, s, v1.c_str()), nullptr) << s << " must not be in " << v1;
   }
+  const std::string v13 = v1 + ".3";
+  EXPECT_NE(dlvsym(h, "pnc_material_damage_of_stretch", v13.c_str()), nullptr) << v13;
+  EXPECT_EQ(dlvsym(h, "pnc_material_damage_of_stretch", v11.c_str()), nullptr) << v11;
   dlclose(h);
 }
 

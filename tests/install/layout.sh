@@ -43,7 +43,8 @@ grep -q " pnc_material_integrate@@PNC_MATERIAL_$abi\$" <<<"$syms" ||
 grep -q " umat_@@PNC_MATERIAL_$abi\$" <<<"$syms" ||
   die "umat_ is not exported with symbol version PNC_MATERIAL_$abi"
 # ABI minor m: the library file is .so.<abi>.<m>, and the functions added in 1.1 carry
-# PNC_MATERIAL_<abi>.1, the batched entry of 1.2 PNC_MATERIAL_<abi>.2 (D213, D260)
+# PNC_MATERIAL_<abi>.1, the batched entry of 1.2 PNC_MATERIAL_<abi>.2, the damage query of
+# 1.3 PNC_MATERIAL_<abi>.3 (D213, D260, D340)
 minor="$(sed -n 's/^#define PNC_MATERIAL_ABI_VERSION_MINOR \([0-9]*\)$/\1/p' "$src/fe_material/include/pnc/fe_material/pnc_material.h")"
 [ -n "$minor" ] || die "no PNC_MATERIAL_ABI_VERSION_MINOR in pnc_material.h"
 [ -f "lib/libpnc_material.so.$abi.$minor" ] || die "lib/libpnc_material.so.$abi.$minor is missing"
@@ -54,6 +55,10 @@ fi
 if [ "$minor" -ge 2 ]; then
   grep -q " pnc_material_integrate_batch@@PNC_MATERIAL_$abi.2\$" <<<"$syms" ||
     die "pnc_material_integrate_batch is not exported with symbol version PNC_MATERIAL_$abi.2"
+fi
+if [ "$minor" -ge 3 ]; then
+  grep -q " pnc_material_damage_of_stretch@@PNC_MATERIAL_$abi.3\$" <<<"$syms" ||
+    die "pnc_material_damage_of_stretch is not exported with symbol version PNC_MATERIAL_$abi.3"
 fi
 
 # the plugin links only HDF5, fmt and the C/C++ runtime: no LAMMPS (GPL-2.0), deal.II or

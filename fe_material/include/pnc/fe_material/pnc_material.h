@@ -41,7 +41,7 @@
  *      state-index queries.
  * 1.2: the batched entry (pnc_material_point_soa, pnc_material_integrate_batch). */
 #define PNC_MATERIAL_ABI_VERSION 1
-#define PNC_MATERIAL_ABI_VERSION_MINOR 2
+#define PNC_MATERIAL_ABI_VERSION_MINOR 3
 
 #if defined(_WIN32)
 #if defined(PNC_MATERIAL_BUILDING)
@@ -373,6 +373,20 @@ static inline void pnc_material_point_soa_init(pnc_material_point_soa* batch) {
 PNC_MATERIAL_API int pnc_material_integrate_batch(const pnc_material* m, size_t n,
                                                   pnc_material_point_soa* batch);
 
+/* ======================================================================================
+ * ABI 1.3: the damage evolution law as a query (docs/plugin.md "ABI 1.3").
+ * ====================================================================================== */
+
+/* The damage D of damage mode `mode` (0-based, < n_damage_modes) at the largest mode stretch
+ * kappa reached (the state variable "kappaK", K = mode + 1; dimensionless, a stretch), as
+ * pnc_material_integrate2() computes it: 0 up to damage_onset_stretch, the law's D(kappa)
+ * beyond. *D (dimensionless) is written; dD_dkappa, if not NULL, receives dD/dkappa (per unit
+ * stretch). So that a host (a regularisation, a fracture closure) needs no zero-strain
+ * integration calls to learn the law. Return PNC_MATERIAL_OK, or PNC_MATERIAL_BAD_ARGUMENT (a
+ * NULL material or D, mode out of range, kappa not finite or negative; nothing written). */
+PNC_MATERIAL_API int pnc_material_damage_of_stretch(const pnc_material* m, int mode, double kappa,
+                                                    double* D, double* dD_dkappa);
+
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
 typedef pnc_material* (*pnc_material_create_fn)(const char*, char*, size_t);
@@ -410,6 +424,9 @@ typedef const char* (*pnc_material_model_constant_name_fn)(const char*, int);
 /* ABI 1.2 */
 typedef int (*pnc_material_integrate_batch_fn)(const pnc_material*, size_t,
                                                pnc_material_point_soa*);
+/* ABI 1.3 */
+typedef int (*pnc_material_damage_of_stretch_fn)(const pnc_material*, int, double, double*,
+                                                 double*);
 
 #ifdef __cplusplus
 } /* extern "C" */
