@@ -33,15 +33,25 @@ void register_plan_command(const std::string& command, PlanUnitRunner runner);
 int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int()>& body);
 
 /// The Slurm options of a planned command (--partition, --account, --time, --sbatch-template,
-/// --job-name, --wait); empty strings keep the recipe's or the cluster's defaults.
+/// --mpi, --job-name, --wait); empty strings keep the recipe's or the cluster's defaults.
 struct SlurmOptions {
   std::string partition, account, time, sbatch_template, job_name;
+  std::string mpi; ///< srun's MPI plugin of K > 1 rank units (D332); "" the file's, else pmix
   bool wait = false;
 };
 /// Adds those options to `cmd`; `file` (e.g. "the recipe", "the input file"; "" none): an
 /// option not given comes from that file's "slurm" section first (pnc characterize, pnc thermo
 /// ti --input; D301).
 void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& file);
+
+/// MPI ranks per LAMMPS stage and units at a time of a planned command (pnc characterize, pnc
+/// thermo ti; D333). Started as `mpirun -np K pnc ...`, rank 0 is the supervisor and runs every
+/// stage on K ranks (a fresh mpirun per stage, so a LAMMPS error still ends only that stage);
+/// ranks 1..K-1 leave at once, freeing their cores: returns false on those follower ranks.
+/// `cli_ranks`, `cli_jobs`: the values set explicitly (0: not set); unset, `ranks` is K (1
+/// without mpirun) and `jobs` 1 under mpirun, else `default_jobs`. Prints one line under mpirun
+/// and a warning on stderr when ranks x jobs exceeds the machine's cores.
+bool plan_parallelism(int cli_ranks, int cli_jobs, int default_jobs, int& ranks, int& jobs);
 
 /// What the driver of a planned command knows about its run.
 struct PlanDriver {

@@ -12,9 +12,9 @@
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/md/lammps_server.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
-#include "pnc/md/lammps_server.hpp"
 #include "pnc/rve/slurm.hpp"
 
 #include <CLI/CLI.hpp>
@@ -56,26 +56,6 @@ rve::Recipe load_recipe(const std::string& arg) {
 }
 
 namespace {
-
-/// MPI ranks per LAMMPS stage and units at a time. Started as `mpirun -np K pnc ...`, rank 0
-/// is the supervisor and runs every stage on K ranks (a fresh mpirun per stage, so a LAMMPS
-/// error still ends only that stage); ranks 1..K-1 leave at once, freeing their cores.
-/// Returns false on those follower ranks.
-bool plan_parallelism(int cli_ranks, int cli_jobs, int recipe_jobs, int& ranks, int& jobs) {
-  const md::LauncherInfo li = md::launcher_from_environment();
-  if (li.rank > 0) return false;
-  ranks = cli_ranks > 0 ? cli_ranks : li.size;
-  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : recipe_jobs);
-  if (li.size > 1)
-    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
-                             "rank(s), {} unit(s) at a time\n",
-                             li.size, ranks, jobs);
-  const unsigned cores = std::thread::hardware_concurrency();
-  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
-    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
-                             jobs, ranks * jobs, cores);
-  return true;
-}
 
 /// The planned commands other than characterize (register_plan_command).
 std::map<std::string, PlanUnitRunner>& plan_commands() {
@@ -293,6 +273,22 @@ int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int(
   }
 }
 
+bool plan_parallelism(int cli_ranks, int cli_jobs, int default_jobs, int& ranks, int& jobs) {
+  const md::LauncherInfo li = md::launcher_from_environment();
+  if (li.rank > 0) return false;
+  ranks = cli_ranks > 0 ? cli_ranks : li.size;
+  jobs = cli_jobs > 0 ? cli_jobs : (li.size > 1 ? 1 : default_jobs);
+  if (li.size > 1)
+    std::cerr << fmt::format("pnc: started by mpirun with {} ranks: each LAMMPS stage runs on {} "
+                             "rank(s), {} unit(s) at a time\n",
+                             li.size, ranks, jobs);
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && static_cast<unsigned>(ranks * jobs) > cores)
+    std::cerr << fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n", ranks,
+                             jobs, ranks * jobs, cores);
+  return true;
+}
+
 void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& file) {
   const std::string from = file + "'s slurm.";
   const auto dflt = [&](const std::string& key, const std::string& otherwise) {
@@ -310,6 +306,9 @@ void add_slurm_options(CLI::App* cmd, SlurmOptions& o, const std::string& file) 
   cmd->add_option("--sbatch-template", o.sbatch_template,
                   "slurm: job-script template with {{placeholders}}" +
                       dflt("template", "the built-in one; docs/cluster.md"));
+  cmd->add_option("--mpi", o.mpi,
+                  "slurm: srun's MPI plugin for units on more than one rank, e.g. pmi2" +
+                      dflt("mpi", "pmix"));
   cmd->add_option("--job-name", o.job_name, "slurm: prefix of the job names (default pnc-<name>)");
 }
 
@@ -374,6 +373,7 @@ int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
   if (!o.account.empty()) spec.account = o.account;
   if (!o.time.empty()) spec.time = o.time;
   if (!o.sbatch_template.empty()) spec.template_path = o.sbatch_template;
+  if (!o.mpi.empty()) spec.mpi = o.mpi;
   spec.validate("<command line>");
   const std::string exe = fs::canonical("/proc/self/exe").string();
   const std::string prefix = o.job_name.empty() ? default_prefix : o.job_name;

@@ -28,6 +28,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -368,16 +369,31 @@ thermo::TiInput resolve_input(const TiArgs& a) {
   cli.slurm.account = a.slurm.account;
   cli.slurm.time = a.slurm.time;
   cli.slurm.template_path = a.slurm.sbatch_template;
+  cli.slurm.mpi = a.slurm.mpi; // D332
   thermo::TiInput in = a.input.empty() ? thermo::TiInput{} : thermo::read_ti_input(a.input);
   thermo::override_ti_input(in, cli, a.given);
   in.spec.validate(a.input.empty() ? "<command line>" : a.input + " with the command line");
   return in;
 }
 
+/// Whether `key` was set on the command line or in the --input file (not defaulted).
+bool key_set(const TiArgs& a, const thermo::TiInput& in, const std::string& key) {
+  const auto has = [&](const std::vector<std::string>& v) {
+    return std::find(v.begin(), v.end(), key) != v.end();
+  };
+  return has(a.given) || has(in.file_keys);
+}
+
 int run_thermo_ti(TiArgs a) {
   const thermo::TiInput in = resolve_input(a);
   a.spec = in.spec;
   a.executor = in.executor;
+  // D333: as pnc characterize: under `mpirun -np K` rank 0 supervises with --ranks K and
+  // --jobs 1 unless set (option or file key), the other ranks leave; ranks x jobs > cores warns
+  if (!plan_parallelism(key_set(a, in, "ranks") ? in.spec.ranks : 0,
+                        key_set(a, in, "jobs") ? in.spec.jobs : 0, in.spec.jobs, a.spec.ranks,
+                        a.spec.jobs))
+    return 0;
   const RunDirLock lock(a.out, command_line()); // one process per run directory
   start_run_log(a.out, command_line());         // pnc.log: what this run printed
   const StopSignals signals;                    // SIGINT/SIGTERM: finished points are kept

@@ -135,10 +135,11 @@ void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text,
   }
   p.string("template", s.template_path, {}, "the job-script template file (docs/cluster.md)")
       .no_default("the built-in template");
-  if (ranks)
-    p.string("mpi", s.mpi, {}, "srun's MPI plugin (--mpi) for units on more than one rank")
-        .also(name, slurm_check(&SlurmSpec::mpi))
-        .omit_when_default();
+  // D332: every planned command's units may run on K > 1 ranks (characterize's cases, thermo
+  // ti's points), so `mpi` is declared for both, the rank keys for characterize only
+  p.string("mpi", s.mpi, {}, "srun's MPI plugin (--mpi) for units on more than one rank")
+      .also(name, slurm_check(&SlurmSpec::mpi))
+      .omit_when_default();
 }
 
 nlohmann::json slurm_spec_json(const SlurmSpec& s) {

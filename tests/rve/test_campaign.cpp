@@ -1,16 +1,17 @@
 // The plan of units, its state files, the local executor and the Slurm executor's inputs
-// (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp; decisions D240-D245), without LAMMPS:
+// (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp; decisions D240-D245, D332), without LAMMPS:
 // the units here sleep, fail or stop on purpose. The runs through a real Slurm cluster are in
 // test_slurm_cli.cpp.
 #include "pnc/core/error.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/md/private_channel.hpp"
 #include "pnc/rve/campaign.hpp"
 #include "pnc/rve/executor.hpp"
-#include "pnc/md/private_channel.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/slurm.hpp"
 
 #include "common/run_command.hpp"
+#include "common/slurm_stand_ins.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,6 +23,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -407,22 +409,14 @@ TEST(RveCampaign, SlurmPeerCheckAcceptsOnlyProcessesOfOurJob) {
 // stopped report before its error, with every unit's job and the command with --resume.
 TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
   const auto d = scratch("pnc_test_campaign_slurm_wait");
-  const auto bin = d / "bin";
-  fs::create_directories(bin);
-  for (const auto& [name, text] : {std::pair<std::string, std::string>{"sbatch", "echo 77"},
-                                   {"scontrol", "exit 0"},
-                                   {"squeue", "exit 0"}}) {
-    std::ofstream(bin / name) << "#!/bin/sh\n" << text << "\n";
-    fs::permissions(bin / name, fs::perms::owner_all);
-  }
+  const std::string path = pnc::test::slurm_stand_ins(d);
   std::ofstream(d / "r.json") << R"({"name": "tiny-wait", "seed": 7, "build": {"chains": 8},
     "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},
     "run": {"replicas": 1}})";
   const std::string out = (d / "out").string();
   const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
                           " --no-plots --out " + out + " --executor slurm --wait";
-  const auto r = pnc::test::run_command("PATH=" + bin.string() +
-                                        ":\"$PATH\" PNC_SLURM_POLL_SECONDS=1 " + cmd + " 2>&1");
+  const auto r = pnc::test::run_command(path + "PNC_SLURM_POLL_SECONDS=1 " + cmd + " 2>&1");
   EXPECT_EQ(r.code, 1) << r.out;
   const auto page = r.out.find("report (stopped early): " + out + "/report.html");
   EXPECT_NE(page, std::string::npos) << r.out;
@@ -435,5 +429,31 @@ TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
   EXPECT_NE(md.find("replica_1/case_2: job 77 ended without a report"), std::string::npos) << md;
   EXPECT_NE(md.find("fit: job 77 ended without a report"), std::string::npos) << md;
   EXPECT_NE(md.find("`" + cmd + " --resume`"), std::string::npos) << md;
+  fs::remove_all(d);
+}
+
+// D332: srun's MPI plugin reaches every job `pnc characterize --executor slurm` submits (the
+// sbatch --export of PNC_SRUN_MPI, what a unit's K-rank stages give srun): the recipe's
+// slurm.mpi, the option --mpi over it. Stand-ins record the submission; no job runs.
+TEST(RveCampaign, SlurmMpiOfTheRecipeAndTheOptionReachEveryJob) {
+  const auto d = scratch("pnc_test_campaign_slurm_mpi");
+  const std::string path = pnc::test::slurm_stand_ins(d);
+  std::ofstream(d / "r.json") << R"({"name": "tiny-mpi", "seed": 7, "build": {"chains": 8},
+    "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},
+    "run": {"replicas": 1}, "slurm": {"mpi": "pmi1"}})";
+  for (const auto& [option, want] :
+       {std::pair<std::string, std::string>{"", "pmi1"}, {" --mpi pmi2", "pmi2"}}) {
+    fs::remove(d / "sbatch.args");
+    const auto r = pnc::test::run_command(
+        path + PNC_EXE + " characterize " + (d / "r.json").string() + " --no-plots --out " +
+        (d / ("out" + want)).string() + " --executor slurm" + option + " 2>&1");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::string args = slurp(d / "sbatch.args");
+    std::size_t jobs = 0;
+    std::istringstream lines(args);
+    for (std::string line; std::getline(lines, line); ++jobs)
+      EXPECT_NE(line.find(",PNC_SRUN_MPI=" + want + " "), std::string::npos) << line;
+    EXPECT_EQ(jobs, 3u) << args; // the equilibration, the case, the fit
+  }
   fs::remove_all(d);
 }

@@ -1,8 +1,10 @@
 // The input file of `pnc thermo ti --input` (thermo/src/ti_parameters.cpp, decisions
-// D301-D303): its keys read back field by field, the command line overrides a key, bad input is
-// refused naming the file, the key and the rule, and the slurm section reaches the SlurmSpec
-// the submission gets. The CLI test runs a tiny TI twice (one state, 2 nodes, ~100 steps).
+// D301-D303, D332): its keys read back field by field, the command line overrides a key, bad
+// input is refused naming the file, the key and the rule, and the slurm section reaches the
+// SlurmSpec the submission gets (its `mpi`, up to the sbatch command lines). The CLI test runs
+// a tiny TI twice (one state, 2 nodes, ~100 steps).
 #include "common/run_command.hpp"
+#include "common/slurm_stand_ins.hpp"
 #include "common/temp_dir.hpp"
 
 #include "pnc/core/error.hpp"
@@ -18,7 +20,9 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using pnc::thermo::TiInput;
@@ -52,6 +56,7 @@ void expect_same(const TiInput& a, const TiInput& b) {
   EXPECT_EQ(a.slurm.account, b.slurm.account);
   EXPECT_EQ(a.slurm.time, b.slurm.time);
   EXPECT_EQ(a.slurm.template_path, b.slurm.template_path);
+  EXPECT_EQ(a.slurm.mpi, b.slurm.mpi);
 }
 
 // Every key at a value other than its default (the slurm section too): a key that were not
@@ -82,6 +87,7 @@ partition = "short"
 account = "proj-1"
 time = "0:30:00"
 template = "job.sh"
+mpi = "pmi2"
 )";
 
 /// The input of kEveryKey, set field by field.
@@ -111,6 +117,7 @@ TiInput every_key_input() {
   in.slurm.account = "proj-1";
   in.slurm.time = "0:30:00";
   in.slurm.template_path = "job.sh";
+  in.slurm.mpi = "pmi2";
   return in;
 }
 
@@ -144,7 +151,8 @@ TEST(ThermoTiInput, AFileWithEveryKeyReadsBackFieldByField) {
   const pnc::Parameters declared = pnc::thermo::ti_input_parameters();
   for (const auto& p : declared.parameters())
     EXPECT_TRUE(options.insert(pnc::thermo::ti_option_of(p.path)).second) << p.path;
-  EXPECT_EQ(options.size(), 24u); // 20 TI keys + 4 slurm keys: kEveryKey sets each
+  EXPECT_EQ(options.size(), 25u); // 20 TI keys + 5 slurm keys: kEveryKey sets each
+  EXPECT_EQ(pnc::thermo::ti_option_of("slurm.mpi"), "--mpi"); // D332: as pnc characterize's
 }
 
 // The commented TOML template (`pnc thermo ti-parameters --format toml`) read back gives the
@@ -163,12 +171,14 @@ TEST(ThermoTiInput, AGivenOptionOverridesTheFileAndTheSlurmSectionReachesTheSubm
   cli.spec.seed = 9;
   cli.spec.vol = {0.0, 0.004};
   cli.slurm.time = "2:00:00";
+  cli.slurm.mpi = "pmi1";
   cli.executor = "local";
-  pnc::thermo::override_ti_input(in, cli, {"seed", "vol", "slurm.time", "executor"});
+  pnc::thermo::override_ti_input(in, cli, {"seed", "vol", "slurm.time", "slurm.mpi", "executor"});
   TiInput want = every_key_input();
   want.spec.seed = 9;
   want.spec.vol = {0.0, 0.004};
   want.slurm.time = "2:00:00";
+  want.slurm.mpi = "pmi1";
   want.executor = "local";
   expect_same(in, want);
   EXPECT_EQ(in.slurm.partition, "short");
@@ -192,6 +202,9 @@ TEST(ThermoTiInput, BadKeysAndValuesAreRefusedNamingFileKeyAndRule) {
       {"executor = \"pbs\"\n", "executor", "pbs", "\"slurm\""},
       {"[slurm]\ntime = \"soon\"\n", "slurm.time", "soon", "Slurm time limit"},
       {"[slurm]\nranks = 2\n", "slurm.ranks", "", "template"}, // the TI key is `ranks` (D324)
+      {"[slurm]\nmpi = \"-pmix\"\n", "slurm.mpi", "-pmix", "not starting with '-'"}, // D332
+      {"[slurm]\nmpi = \"\"\n", "slurm.mpi", "", "srun's MPI plugin"},
+      {"[slurm]\nmpi = 2\n", "slurm.mpi", "2", "string"},
       {"ranks = 0\n", "ranks", "0", "integer in [1, 4096]"},
       {"vol = []\ndev = []\n", "vol/dev", "", "at least one deformation state"},
       {"blocks = 10\nprod_steps = 60\n", "prod_steps", "60", "sample_every * blocks"},
@@ -257,7 +270,7 @@ TEST(ThermoTiInput, TheFileAndTheSameOptionsGiveTheSameRunAndAnOptionOverridesTh
   fs::remove_all(d);
 }
 
-// `pnc thermo ti-parameters` prints the declarations: JSON with every key (the 24 of
+// `pnc thermo ti-parameters` prints the declarations: JSON with every key (the 25 of
 // kEveryKey), a TOML template that reads back to the defaults, and refuses an unknown format.
 TEST(ThermoTiInput, TiParametersPrintsEveryKey) {
   const std::string exe(PNC_EXE);
@@ -269,12 +282,58 @@ TEST(ThermoTiInput, TiParametersPrintsEveryKey) {
   for (const auto& s : j["sections"])
     for (const auto& p : s["parameters"])
       names.insert(p["name"].get<std::string>()); // the dotted path
-  EXPECT_EQ(names.size(), 24u);
-  for (const char* k : {"equil_steps", "dhdl", "ranks", "executor", "slurm.time", "slurm.template"})
+  EXPECT_EQ(names.size(), 25u);
+  for (const char* k :
+       {"equil_steps", "dhdl", "ranks", "executor", "slurm.time", "slurm.template", "slurm.mpi"})
     EXPECT_EQ(names.count(k), 1u) << k;
   r = pnc::test::run_command(exe + " thermo ti-parameters --format toml");
   ASSERT_EQ(r.code, 0);
   expect_same(pnc::thermo::parse_ti_input(pnc::parse_toml(r.out, "t.toml"), "t.toml"), TiInput{});
   r = pnc::test::run_command(exe + " thermo ti-parameters --format yaml 2>/dev/null");
   EXPECT_NE(r.code, 0);
+}
+
+// D332: the slurm section's `mpi` (srun's MPI plugin) reaches the jobs: every sbatch of a
+// `pnc thermo ti --executor slurm` exports PNC_SRUN_MPI=<it>, the variable the unit's stages
+// launch srun with (md/src/runner.cpp). Without a cluster: stand-ins for sbatch, scontrol and
+// squeue record the submission (the jobs never run, so the restart file may be empty). The
+// file's value; the option --mpi over it (D301); the default pmix without either; a bad
+// option refused before anything is submitted, naming the option, the value and the rule.
+TEST(ThermoTiInput, TheSlurmMpiKeyReachesEveryJobOfTheSubmission) {
+  const fs::path d = pnc::test::fresh_dir("test_ti_mpi_key");
+  const std::string path = pnc::test::slurm_stand_ins(d);
+  std::ofstream(d / "rs.restart") << "";
+  std::ofstream(d / "ti.toml") << "vol = [0.0]\ndev = []\npoints = 2\n[slurm]\nmpi = \"pmi2\"\n";
+  const std::string base =
+      "thermo ti --restart " + (d / "rs.restart").string() + " --executor slurm --no-plots --out ";
+  const auto exports_of = [&](const std::string& args, const std::string& out) {
+    fs::remove(d / "sbatch.args");
+    const auto r = pnc::test::run_command(path + PNC_EXE + " " + base + (d / out).string() + " " +
+                                          args + " 2>" + (d / "err").string());
+    EXPECT_EQ(r.code, 0) << pnc::test::slurp(d / "err");
+    std::vector<std::string> mpi; // the PNC_SRUN_MPI value of each sbatch call
+    std::istringstream lines(pnc::test::slurp(d / "sbatch.args"));
+    for (std::string line; std::getline(lines, line);) {
+      const std::string key = ",PNC_SRUN_MPI=";
+      const auto at = line.find(key);
+      mpi.push_back(at == std::string::npos
+                        ? "<none>"
+                        : line.substr(at + key.size(), line.find(' ', at) - at - key.size()));
+    }
+    return mpi;
+  };
+  using V = std::vector<std::string>;
+  // two jobs: the array of the 2 points, then the analysis
+  EXPECT_EQ(exports_of("--input " + (d / "ti.toml").string(), "a"), V({"pmi2", "pmi2"}));
+  EXPECT_EQ(exports_of("--input " + (d / "ti.toml").string() + " --mpi pmi1", "b"),
+            V({"pmi1", "pmi1"}));
+  EXPECT_EQ(exports_of("--vol 0 --dev none --points 2", "c"), V({"pmix", "pmix"}));
+  fs::remove(d / "sbatch.args");
+  const auto r = pnc::test::run_command(path + PNC_EXE + " " + base + (d / "e").string() +
+                                        " --mpi=-x 2>" + (d / "err").string());
+  EXPECT_NE(r.code, 0);
+  const std::string err = pnc::test::slurp(d / "err");
+  EXPECT_NE(err.find("--mpi: value '-x': must be 1 to 64 characters"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(d / "sbatch.args"));
+  fs::remove_all(d);
 }

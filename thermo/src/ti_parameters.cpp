@@ -73,8 +73,8 @@ Parameters ti_input_parameters(TiInput& in) {
   declare_ti(p, in);
   rve::declare_slurm_section(p, in.slurm,
                              "the Slurm executor (docs/cluster.md, D245, D301): where and how "
-                             "long the (state, lambda) unit jobs run, `ranks` tasks each (D324); "
-                             "the command-line options override it",
+                             "long the (state, lambda) unit jobs run, `ranks` tasks each (D324), "
+                             "srun's MPI plugin (D332); the command-line options override it",
                              false);
   return p;
 }
@@ -91,6 +91,8 @@ TiInput parse_ti_input(const nlohmann::json& j, const std::string& source) {
   if (!j.is_object()) fail(source, "", show_json(j), "must be a JSON object (a TOML table)");
   ti_input_parameters(in).read(j, source);
   in.spec.validate(source); // the rules between keys
+  for (auto it = j.begin(); it != j.end(); ++it)
+    in.file_keys.push_back(it.key());
   return in;
 }
 

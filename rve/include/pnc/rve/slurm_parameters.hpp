@@ -13,10 +13,10 @@ class Parameters;
 namespace pnc::rve {
 
 /// Declares the optional section "slurm" bound to `s` (`s.given`: the input has it):
-/// partition, account, time (a Slurm time limit), template (a job-script file path); with
-/// `ranks` also ranks, equilibrate_ranks and mpi (pnc characterize; `pnc thermo ti` has its
-/// own key `ranks` outside the section, D324). Values are checked by SlurmSpec::validate's rules.
-/// `text` says what the section is.
+/// partition, account, time (a Slurm time limit), template (a job-script file path), mpi
+/// (srun's MPI plugin, a name; D332); with `ranks` also ranks and equilibrate_ranks (pnc
+/// characterize; `pnc thermo ti` has its own key `ranks` outside the section, D324). Values are
+/// checked by SlurmSpec::validate's rules. `text` says what the section is.
 void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks);
 
 } // namespace pnc::rve
