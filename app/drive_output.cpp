@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 
 namespace pnc::app {
 
@@ -25,6 +26,20 @@ constexpr const char* kUnitsLine =
     "# units: SI. strain dimensionless (engineering shear g23 = 2 eps23, ...), stress Pa, "
     "tangent ds_i/de_j Pa, energy densities (work, stored, dissipated) J/m^3; Voigt order "
     "11,22,33,23,13,12; step 0 is the virgin start";
+// the CSV carries the units in its column names (D336); the comment line keeps what a name
+// cannot say
+constexpr const char* kCsvNoteLine =
+    "# units: SI, in the column names (_Pa, _J_per_m3; no suffix: dimensionless). engineering "
+    "shear g23 = 2 eps23, ...; tangent ds_i/de_j; Voigt order 11,22,33,23,13,12; step 0 is "
+    "the virgin start";
+
+/// The column-name suffix of a unit (docs/formats.md: `/` written `_per_`, powers as digits).
+std::string unit_suffix(const std::string& u) {
+  if (u == "1") return "";
+  if (u == "Pa") return "_Pa";
+  if (u == "J/m^3") return "_J_per_m3";
+  throw std::logic_error("drive_table: no column suffix for unit " + u);
+}
 
 std::string tangent_name(int i, int j) {
   return fmt::format("d{}_d{}", kStressNames[static_cast<std::size_t>(i)],
@@ -35,8 +50,8 @@ enum class Kind { none, strain, stress, state, energy };
 
 Kind column_kind(const std::string& name, const DriveTable& t, std::size_t c) {
   if (name == "step" || name == "segment" || name.rfind("newton_", 0) == 0) return Kind::none;
-  if (name == "work" || name == "stored" || name == "dissipated") return Kind::energy;
-  if (t.units[c] == "Pa") return Kind::stress; // stress and tangent
+  if (t.units[c] == "J/m^3") return Kind::energy; // work, stored, dissipated
+  if (t.units[c] == "Pa") return Kind::stress;    // stress and tangent
   if (name[0] == 'e' || name[0] == 'g') return Kind::strain;
   return Kind::state;
 }
@@ -46,7 +61,7 @@ Kind column_kind(const std::string& name, const DriveTable& t, std::size_t c) {
 DriveTable drive_table(const DriveResult& r) {
   DriveTable t;
   auto col = [&](const std::string& n, const std::string& u) {
-    t.names.push_back(n);
+    t.names.push_back(n + unit_suffix(u)); // D336
     t.units.push_back(u);
   };
   col("step", "1");
@@ -83,7 +98,7 @@ std::string drive_csv(const DriveResult& r, const DriveMeta& meta) {
   std::string s = fmt::format("# pnc material drive: card {} (model {}, verdict {}), plugin {}, "
                               "path {}\n",
                               meta.card, meta.model, meta.verdict, meta.plugin, meta.path);
-  s += std::string(kUnitsLine) + "\n";
+  s += std::string(kCsvNoteLine) + "\n";
   if (!r.converged) s += "# stopped early: " + r.failure + "\n";
   for (std::size_t c = 0; c < t.names.size(); ++c)
     s += (c ? "," : "") + t.names[c];
@@ -188,9 +203,14 @@ std::vector<Mismatch> compare_reference(const DriveResult& r, const std::string&
     std::size_t c = 0;
     while (c < t.names.size() && t.names[c] != ref.header[rc])
       ++c;
-    if (c == t.names.size())
+    if (c == t.names.size()) {
+      std::string hint; // a reference written before the units moved into the names (D336)
+      for (std::size_t k = 0; k < t.names.size(); ++k)
+        if (t.units[k] != "1" && t.names[k] == ref.header[rc] + unit_suffix(t.units[k]))
+          hint = "; the column is now named " + t.names[k] + " (its unit in the name)";
       fail(reference, ref.header[rc], "",
-           "not an output column of pnc material drive (docs/drive.md)");
+           "not an output column of pnc material drive (docs/drive.md)" + hint);
+    }
     col[rc] = c;
   }
   if (ref.rows.size() != t.rows.size())

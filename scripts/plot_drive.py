@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Plot a `pnc material drive` result: the stress-strain response of every component that
 moves, stress and strain against the step, the damage state and the energy account
-(external work = stored + dissipated). Input: the CSV the driver writes (SI: stress Pa,
-energy densities J/m^3; shown in MPa and MJ/m^3). Prints 'wrote <png>'."""
+(external work = stored + dissipated). Input: the CSV the driver writes (SI, the unit in
+each column name: stress s11_Pa, energy densities work_J_per_m3; strain e11 dimensionless;
+shown in MPa and MJ/m^3). Prints 'wrote <png>'."""
 import csv
 import os
 import sys
@@ -13,7 +14,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 STRAIN = ["e11", "e22", "e33", "g23", "g13", "g12"]
-STRESS = ["s11", "s22", "s33", "s23", "s13", "s12"]
+STRESS = ["s11_Pa", "s22_Pa", "s33_Pa", "s23_Pa", "s13_Pa", "s12_Pa"]
+ENERGY = ["work_J_per_m3", "stored_J_per_m3", "dissipated_J_per_m3"]
 
 
 def read(path):
@@ -40,7 +42,7 @@ def main(data, png, title):
     top = max(max(c[s]) - min(c[s]) for s in STRESS) or 1.0
     for e, s in zip(STRAIN, STRESS):
         if max(c[s]) - min(c[s]) > 1e-6 * top and moves(c[e]):
-            a.plot(c[e], [v / 1e6 for v in c[s]], "-", lw=1.5, label="%s vs %s" % (s, e))
+            a.plot(c[e], [v / 1e6 for v in c[s]], "-", lw=1.5, label="%s vs %s" % (s[:3], e))
     a.set_xlabel("strain (1)")
     a.set_ylabel("stress (MPa)")
     a.set_title("response", fontsize=9)
@@ -56,8 +58,8 @@ def main(data, png, title):
     a.grid(alpha=0.3)
     a.legend(fontsize=7)
     a = ax[1][0]
-    skip = set(["step", "segment", "work", "stored", "dissipated", "newton_iterations",
-                "newton_residual"] + STRAIN + STRESS)
+    skip = set(["step", "segment", "newton_iterations", "newton_residual_Pa"] + ENERGY + STRAIN
+               + STRESS)
     for k in c:
         if k not in skip and not k.startswith("ds") and k.startswith("D"):
             a.plot(step, c[k], "-", lw=1.2, label=k)
@@ -67,8 +69,7 @@ def main(data, png, title):
     a.grid(alpha=0.3)
     a.legend(fontsize=7)
     a = ax[1][1]
-    for k, lab in (("work", "external work"), ("stored", "stored"),
-                   ("dissipated", "dissipated")):
+    for k, lab in zip(ENERGY, ("external work", "stored", "dissipated")):
         a.plot(step, [v / 1e6 for v in c[k]], "-", lw=1.5, label=lab)
     a.set_xlabel("step")
     a.set_ylabel("energy density (MJ/m$^3$)")

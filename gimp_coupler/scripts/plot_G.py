@@ -2,8 +2,9 @@
 """Energy release rates of a pnc gimp run:
 plot_G.py HISTORY.csv OUT.png [TITLE] [--gc CRACK GC]... [--stop CRACK REASON]...
 
-Reads the crack-tip columns of history.csv (J_<tip>, GI_<tip>, GII_<tip> in J/m^2,
-length_<tip> in m; <tip> = <crack>_start or <crack>_end) and draws, per tip, J, G_I and G_II
+Reads the crack-tip columns of history.csv (J_<tip>_J_per_m2, GI_<tip>_J_per_m2,
+GII_<tip>_J_per_m2, length_<tip>_m, time_s; the unit ends each name, D335; <tip> =
+<crack>_start, <crack>_end or <crack>_front<k>) and draws, per tip, J, G_I and G_II
 against crack length (left) and against time (right). `--gc CRACK GC` draws the critical
 energy release rate of that crack (J/m^2) as a horizontal line; `--stop CRACK REASON` marks
 where its tips last grew (the last change of length_<tip>; the end of the run when it never
@@ -71,15 +72,16 @@ def main():
     rows = [{k: float(v) for k, v in r.items()} for r in reader]
     if not rows:
         sys.exit("no rows in " + pos[0])
-    tips = [k[2:] for k in rows[0] if k.startswith("J_")]
+    G, L = "_J_per_m2", "_m"  # the unit suffixes of G and of lengths
+    tips = [k[2:-len(G)] for k in rows[0] if k.startswith("J_") and k.endswith(G)]
     if not tips:
-        sys.exit("no crack-tip columns (J_<tip>) in " + pos[0])
-    t = [r["time"] for r in rows]
+        sys.exit("no crack-tip columns (J_<tip>" + G + ") in " + pos[0])
+    t = [r["time_s"] for r in rows]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     for tip in tips:
-        a = [r["length_" + tip] for r in rows]
+        a = [r["length_" + tip + L] for r in rows]
         for key, ls in (("J_", "-"), ("GI_", "--"), ("GII_", ":")):
-            g = [r[key + tip] for r in rows]
+            g = [r[key + tip + G] for r in rows]
             ok = [i for i, v in enumerate(g) if not math.isnan(v)]
             lab = {"J_": "J = G", "GI_": "G_I", "GII_": "G_II"}[key] + " " + tip
             ax1.plot([a[i] for i in ok], [g[i] for i in ok], ls=ls, marker="." if key == "J_" else None,
@@ -87,7 +89,7 @@ def main():
             ax2.plot([t[i] for i in ok], [g[i] for i in ok], ls=ls, label=lab)
         crack = crack_of(tip, stop)
         if crack is not None:
-            j = [r["J_" + tip] for r in rows]
+            j = [r["J_" + tip + G] for r in rows]
             i = last_growth(a, j)
             if not math.isnan(j[i]):
                 for ax, x in ((ax1, a[i]), (ax2, t[i])):

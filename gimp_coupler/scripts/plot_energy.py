@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Energy balance of a pnc gimp run: plot_energy.py HISTORY.csv OUT.png [TITLE] [--per-thickness].
 
-Reads history.csv (time in s, energies in J; J per metre of thickness in 2-D, where
---per-thickness labels the axis J/m) and draws kinetic, strain, external work,
+Reads history.csv (the unit ends each column name, D335: time_s; energies kinetic_J, ...
+in 3-D, kinetic_J_per_m, ... per metre of thickness in 2-D, which labels the axis J/m;
+--per-thickness is accepted, the names decide) and draws kinetic, strain, external work,
 boundary work, damping work (if present) and the energy error
 KE + SE - E0 - W_ext - W_bc - W_damp against time. Needs matplotlib
 (/usr/bin/python3 on the project machine).
@@ -29,16 +30,21 @@ def main():
         rows.append({k: float(v) for k, v in r.items()})
     if not rows:
         sys.exit("no rows in " + args[0])
-    t = [r["time"] for r in rows]
+    # the energy unit from the names (D335): J/m in 2-D, J in 3-D
+    unit = next((u for u in ("_J_per_m", "_J") if "kinetic" + u in rows[0]), None)
+    if unit is None:
+        sys.exit("no kinetic_J_per_m or kinetic_J column in " + args[0])
+    per_thickness = unit == "_J_per_m"
+    t = [r["time_s"] for r in rows]
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for key, label in [("kinetic", "kinetic"), ("strain", "strain energy"),
                        ("external_work", "external work"), ("boundary_work", "boundary work"),
                        ("damping_work", "damping work"),
                        ("balance", "error: KE + SE - E0 - W_ext - W_bc - W_damp")]:
-        if key not in rows[0]:  # histories written before damping existed
+        if key + unit not in rows[0]:  # histories written before damping existed
             continue
-        ax.plot(t, [r[key] for r in rows], label=label, lw=1.5 if key != "balance" else 2.0,
-                ls="-" if key != "balance" else "--")
+        ax.plot(t, [r[key + unit] for r in rows], label=label,
+                lw=1.5 if key != "balance" else 2.0, ls="-" if key != "balance" else "--")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("energy per unit thickness (J/m)" if per_thickness else "energy (J)")
     ax.set_title(args[2] if len(args) > 2 else "energy balance")

@@ -140,7 +140,9 @@ void write_pvd(const std::string& path, const std::vector<std::string>& files,
 void History::write_csv(const std::string& path) const {
   std::ostringstream o;
   o << std::setprecision(12);
-  o << "# pnc gimp history; time in s, energies and works in J, reactions in N\n";
+  // D335: the unit is in each column name; the comment says only how to read the suffixes
+  o << "# pnc gimp history; SI, the unit ends each column name (_s, _m, _J_per_m2; 2-D per metre "
+       "of thickness: _J_per_m, _N_per_m; 3-D: _J, _N)\n";
   o << join(columns) << '\n';
   for (const auto& r : rows) {
     for (std::size_t i = 0; i < r.size(); ++i)

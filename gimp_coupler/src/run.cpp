@@ -160,21 +160,32 @@ template <int D> void GimpRun<D>::start() {
           x.initial_tips.push_back(is_tip ? 1 : 0);
           if (is_tip) tip_ids.push_back({{c, e}, s.cracks[c].name + (e == 0 ? "_start" : "_end")});
         }
-    x.history.columns = {"step",          "time",          "dt",     "kinetic", "strain",
-                         "external_work", "boundary_work", "balance"};
+    // D335: the unit ends every column name (docs/formats.md); 2-D energies and reactions
+    // are per metre of thickness (J/m, N/m), 3-D ones in J and N
+    const std::string E = D == 2 ? "_J_per_m" : "_J", F = D == 2 ? "_N_per_m" : "_N";
+    x.history.columns = {"step",
+                         "time_s",
+                         "dt_s",
+                         "kinetic" + E,
+                         "strain" + E,
+                         "external_work" + E,
+                         "boundary_work" + E,
+                         "balance" + E};
     static const char* ax[] = {"x", "y", "z"};
     for (const auto& bc : s.bcs)
       for (int a = 0; a < D; ++a)
-        x.history.columns.push_back("reaction_" + bc.name + "_" + ax[a]);
-    x.history.columns.push_back("damping_work");
+        x.history.columns.push_back("reaction_" + bc.name + "_" + ax[a] + F);
+    x.history.columns.push_back("damping_work" + E);
     if constexpr (D == 2)
       for (const auto& t : tip_ids)
         for (const char* q : {"J_", "GI_", "GII_", "length_", "tipx_", "tipy_"})
-          x.history.columns.push_back(q + t.second);
+          x.history.columns.push_back(q + t.second +
+                                      (q[0] == 'J' || q[0] == 'G' ? "_J_per_m2" : "_m"));
     if constexpr (D == 3)
       for (const auto& t : front_ids)
         for (const char* q : {"J_", "GI_", "GII_", "length_", "frontlength_"})
-          x.history.columns.push_back(q + t.second);
+          x.history.columns.push_back(q + t.second +
+                                      (q[0] == 'J' || q[0] == 'G' ? "_J_per_m2" : "_m"));
   }
 }
 

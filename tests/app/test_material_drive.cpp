@@ -42,7 +42,7 @@ std::map<std::string, double> constants_of(const std::string& card) {
 }
 
 const char* kE[6] = {"e11", "e22", "e33", "g23", "g13", "g12"};
-const char* kS[6] = {"s11", "s22", "s33", "s23", "s13", "s12"};
+const char* kS[6] = {"s11_Pa", "s22_Pa", "s33_Pa", "s23_Pa", "s13_Pa", "s12_Pa"};
 
 Vec6 row(const std::map<std::string, std::vector<double>>& c, const char* const* names,
          std::size_t k) {
@@ -92,11 +92,11 @@ TEST_F(MaterialCli, UniaxialStressInTheElasticRangeFollowsTheComplianceOfC0) {
   for (std::size_t i = 1; i < 11; ++i) {
     const double e = c.at("e11")[i];
     EXPECT_NEAR(e, 1e-4 * static_cast<double>(i), 1e-18);
-    EXPECT_NEAR(c.at("s11")[i], E1 * e, 1e-9 * E1 * e);
+    EXPECT_NEAR(c.at("s11_Pa")[i], E1 * e, 1e-9 * E1 * e);
     EXPECT_NEAR(c.at("e22")[i], -nu12 * e, 1e-9 * e);
     EXPECT_NEAR(c.at("e33")[i], -nu13 * e, 1e-9 * e);
-    EXPECT_LE(std::abs(c.at("s22")[i]), tol_pa);
-    EXPECT_LE(std::abs(c.at("s33")[i]), tol_pa);
+    EXPECT_LE(std::abs(c.at("s22_Pa")[i]), tol_pa);
+    EXPECT_LE(std::abs(c.at("s33_Pa")[i]), tol_pa);
     EXPECT_EQ(c.at("D1")[i], 0.0); // elastic: below the damage onset
   }
   const auto j = nlohmann::json::parse(r.out);
@@ -119,14 +119,14 @@ TEST_F(MaterialCli, MixedControlPastTheDamageOnsetConvergesAndIsReported) {
   EXPECT_GT(c.at("D1")[40], 0.0); // damaged
   int most = 0;
   for (std::size_t i = 1; i < c.at("step").size(); ++i) {
-    EXPECT_LE(std::abs(c.at("s22")[i]), tol_pa) << i;
-    EXPECT_LE(std::abs(c.at("s33")[i]), tol_pa) << i;
-    EXPECT_LE(c.at("newton_residual")[i], tol_pa) << i;
+    EXPECT_LE(std::abs(c.at("s22_Pa")[i]), tol_pa) << i;
+    EXPECT_LE(std::abs(c.at("s33_Pa")[i]), tol_pa) << i;
+    EXPECT_LE(c.at("newton_residual_Pa")[i], tol_pa) << i;
     most = std::max(most, static_cast<int>(c.at("newton_iterations")[i]));
   }
-  EXPECT_GE(most, 1);                              // the damaging steps need Newton corrections ...
-  EXPECT_LE(most, 8);                              // ... and the consistent tangent makes them few
-  EXPECT_LE(std::abs(c.at("s11").back()), tol_pa); // unloaded to zero stress
+  EXPECT_GE(most, 1); // the damaging steps need Newton corrections ...
+  EXPECT_LE(most, 8); // ... and the consistent tangent makes them few
+  EXPECT_LE(std::abs(c.at("s11_Pa").back()), tol_pa); // unloaded to zero stress
   EXPECT_NE(r.err.find("Newton (stress control)"), std::string::npos) << r.err;
 
   // a stress far beyond the strength has no solution: exit 3 naming the segment and step
@@ -170,7 +170,8 @@ TEST_F(MaterialCli, StrainControlEqualsDirectPluginCalls) {
       const double ref = sig[static_cast<std::size_t>(i)];
       EXPECT_NEAR(c.at(kS[i])[k], ref, 1e-14 * std::abs(ref) + 1e-9) << k << " " << kS[i];
       for (int j = 0; j < 6; ++j) {
-        const std::string col = std::string("d") + kS[i] + "_d" + kE[j];
+        // ds11_de11_Pa: the tangent's name, its unit last (D336)
+        const std::string col = "d" + std::string(kS[i]).substr(0, 3) + "_d" + kE[j] + "_Pa";
         EXPECT_NEAR(c.at(col)[k], K[static_cast<std::size_t>(6 * i + j)],
                     1e-14 * std::abs(K[static_cast<std::size_t>(6 * i + j)]) + 1e-9)
             << k << " " << col;
@@ -214,19 +215,19 @@ TEST_F(MaterialCli, LoadUnloadReloadIsSecantAndConservesEnergy) {
     EXPECT_GT(c.at("D1").back(), D[0]);
     // dissipation never negative, never decreasing (-1/2 eps.dC.eps >= 0 for growing damage)
     for (std::size_t i = 1; i < rows; ++i) {
-      EXPECT_GE(c.at("dissipated")[i], 0.0) << i;
-      EXPECT_GE(c.at("dissipated")[i], c.at("dissipated")[i - 1] - 1e-9) << i;
+      EXPECT_GE(c.at("dissipated_J_per_m3")[i], 0.0) << i;
+      EXPECT_GE(c.at("dissipated_J_per_m3")[i], c.at("dissipated_J_per_m3")[i - 1] - 1e-9) << i;
     }
     // external work = stored + dissipated, to the trapezoidal rule's accuracy
     double worst = 0;
     for (std::size_t i = 0; i < rows; ++i)
-      worst =
-          std::max(worst, std::abs(c.at("work")[i] - c.at("stored")[i] - c.at("dissipated")[i]));
+      worst = std::max(worst, std::abs(c.at("work_J_per_m3")[i] - c.at("stored_J_per_m3")[i] -
+                                       c.at("dissipated_J_per_m3")[i]));
     balance_error[static_cast<std::size_t>(refine)] = worst;
-    work_end = c.at("work").back();
+    work_end = c.at("work_J_per_m3").back();
     // stored energy is 1/2 sigma.eps independently of the driver
     const std::size_t last = rows - 1;
-    EXPECT_NEAR(c.at("stored")[last], 0.5 * row(c, kS, last).dot(row(c, kE, last)),
+    EXPECT_NEAR(c.at("stored_J_per_m3")[last], 0.5 * row(c, kS, last).dot(row(c, kE, last)),
                 1e-12 * work_end);
   }
   EXPECT_GT(work_end, 0.0);
@@ -271,7 +272,8 @@ TEST_F(MaterialCli, DrivingATurnedFrameEqualsRotatingStrainAndStress) {
   }
   EXPECT_GT(a.at("D1")[25], 0.0);
   // and the energies are frame-independent
-  EXPECT_NEAR(a.at("work").back(), b.at("work").back(), 1e-9 * a.at("work").back());
+  EXPECT_NEAR(a.at("work_J_per_m3").back(), b.at("work_J_per_m3").back(),
+              1e-9 * a.at("work_J_per_m3").back());
 }
 
 TEST_F(MaterialCli, ReferenceFileWithTolerances) {
@@ -284,21 +286,28 @@ TEST_F(MaterialCli, ReferenceFileWithTolerances) {
   EXPECT_NE(same.err.find("within tolerances"), std::string::npos) << same.err;
   // a reference of two columns, s11 at step 5 moved by 1 kPa (tolerance 1 Pa + 1e-6 |ref|)
   const auto c = columns(p("ref.csv"));
-  std::string ref = "step,s11\n";
+  std::string ref = "step,s11_Pa\n";
   char line[128];
   for (std::size_t k = 0; k < c.at("step").size(); ++k) {
     std::snprintf(line, sizeof line, "%g,%.17g\n", c.at("step")[k],
-                  c.at("s11")[k] + (k == 5 ? 1e3 : 0.0));
+                  c.at("s11_Pa")[k] + (k == 5 ? 1e3 : 0.0));
     ref += line;
   }
   write("moved.csv", ref);
   const CliResult bad = run("material drive '" + card +
                             "' --path p.toml --out b.csv --no-plot --reference moved.csv");
   EXPECT_EQ(bad.code, 5) << bad.err;
-  EXPECT_NE(bad.err.find("reference moved.csv: step 5, column s11: value "), std::string::npos)
+  EXPECT_NE(bad.err.find("reference moved.csv: step 5, column s11_Pa: value "), std::string::npos)
       << bad.err;
   EXPECT_NE(bad.err.find("> tolerance"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("1 values outside the tolerances"), std::string::npos) << bad.err;
+  // a reference with the names of before D336 (no unit suffix): refused, naming the new one
+  write("old.csv", "step,s11\n0,0\n");
+  const CliResult old =
+      run("material drive '" + card + "' --path p.toml --out o.csv --no-plot --reference old.csv");
+  EXPECT_NE(old.code, 0);
+  EXPECT_NE(old.err.find("old.csv"), std::string::npos) << old.err;
+  EXPECT_NE(old.err.find("the column is now named s11_Pa"), std::string::npos) << old.err;
   // a wider stress tolerance accepts it
   EXPECT_EQ(run("material drive '" + card +
                 "' --path p.toml --out b.csv --no-plot "
@@ -368,20 +377,29 @@ TEST_F(MaterialCli, Hdf5OutputStatesItsUnitsAndThePngIsDrawn) {
   ASSERT_NE(plotted, std::string::npos) << r.err;
   EXPECT_LT(plotting, plotted) << r.err;
   EXPECT_LT(plotted, r.err.find("pnc material drive: " + card)) << r.err;
-  // units in the CSV header comments
+  // units in the column names (D336): the header line, every unit-bearing column suffixed
   std::ifstream f(p("r.csv"));
-  std::string head((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  EXPECT_NE(head.find("# units: SI. strain dimensionless"), std::string::npos);
-  EXPECT_NE(head.find("stress Pa"), std::string::npos);
-  EXPECT_NE(head.find("J/m^3"), std::string::npos);
+  std::string head;
+  while (std::getline(f, head) && head.rfind('#', 0) == 0) {
+  }
+  EXPECT_EQ(head.rfind("step,segment,e11,e22,e33,g23,g13,g12,s11_Pa,s22_Pa,s33_Pa,s23_Pa,s13_Pa,"
+                       "s12_Pa,",
+                       0),
+            0u)
+      << head;
+  EXPECT_NE(head.find(",ds11_de11_Pa,"), std::string::npos) << head;
+  EXPECT_NE(head.find(",ds12_dg12_Pa,work_J_per_m3,stored_J_per_m3,dissipated_J_per_m3,"
+                      "newton_iterations,newton_residual_Pa"),
+            std::string::npos)
+      << head;
   // the HDF5 file: the same numbers, units on every dataset
   const pnc::h5::File h(p("r.h5"), pnc::h5::File::Mode::read);
   const auto stress = h.read_matrix("/stress");
   const auto energy = h.read_matrix("/energy");
   ASSERT_EQ(stress.rows(), 9);
   for (Eigen::Index k = 0; k < 9; ++k) {
-    EXPECT_EQ(stress(k, 0), c.at("s11")[static_cast<std::size_t>(k)]);
-    EXPECT_EQ(energy(k, 2), c.at("dissipated")[static_cast<std::size_t>(k)]);
+    EXPECT_EQ(stress(k, 0), c.at("s11_Pa")[static_cast<std::size_t>(k)]);
+    EXPECT_EQ(energy(k, 2), c.at("dissipated_J_per_m3")[static_cast<std::size_t>(k)]);
   }
   EXPECT_EQ(h.attr_string("/stress", "units").value_or(""), "Pa");
   EXPECT_EQ(h.attr_string("/strain", "units").value_or(""), "1");

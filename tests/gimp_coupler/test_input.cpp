@@ -80,6 +80,29 @@ StraightAndSplit run_straight_and_split(const std::filesystem::path& d, long sto
   return r;
 }
 
+/// D335: the history's energy columns end in `energy` (_J_per_m in 2-D, _J in 3-D), its
+/// reactions in `force` (_N_per_m, _N), time and step size in _s.
+void expect_history_units(const std::vector<std::string>& cols, const std::string& energy,
+                          const std::string& force) {
+  const std::vector<std::string> head = {"step",
+                                         "time_s",
+                                         "dt_s",
+                                         "kinetic" + energy,
+                                         "strain" + energy,
+                                         "external_work" + energy,
+                                         "boundary_work" + energy,
+                                         "balance" + energy};
+  ASSERT_GE(cols.size(), head.size());
+  EXPECT_EQ(std::vector<std::string>(cols.begin(), cols.begin() + 8), head);
+  int reactions = 0;
+  for (const auto& c : cols)
+    if (c.rfind("reaction_", 0) == 0) {
+      ++reactions;
+      EXPECT_EQ(c.substr(c.size() - force.size()), force) << c;
+    }
+  EXPECT_GT(reactions, 0);
+  EXPECT_NE(std::find(cols.begin(), cols.end(), "damping_work" + energy), cols.end());
+}
 } // namespace
 
 TEST(GimpInput, BuildsBodiesWithHolesBoundariesAndTractions) {
@@ -378,8 +401,13 @@ TEST(GimpRun, ResumeWithGrowingCrackContinuesBitForBit) {
   for (std::size_t p = 0; p < sa.particles.size(); ++p)
     EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
   EXPECT_EQ(xa.history.columns, xb.history.columns);
-  EXPECT_NE(std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_end"),
+  EXPECT_NE(std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_end_J_per_m2"),
             xa.history.columns.end());
+  expect_history_units(xa.history.columns, "_J_per_m", "_N_per_m"); // 2-D: per thickness
+  for (const char* c : {"length_c_end_m", "tipx_c_end_m", "tipy_c_end_m", "GII_c_end_J_per_m2"})
+    EXPECT_NE(std::find(xa.history.columns.begin(), xa.history.columns.end(), c),
+              xa.history.columns.end())
+        << c;
   EXPECT_EQ(xa.history.rows, xb.history.rows);
 }
 
@@ -652,7 +680,9 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   for (std::size_t p = 0; p < sa.particles.size(); ++p)
     EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
   EXPECT_EQ(xa.history.columns, xb.history.columns);
-  const auto col = std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_front1");
+  expect_history_units(xa.history.columns, "_J", "_N"); // 3-D: whole body
+  const auto col =
+      std::find(xa.history.columns.begin(), xa.history.columns.end(), "J_c_front1_J_per_m2");
   ASSERT_NE(col, xa.history.columns.end());
   EXPECT_EQ(xa.history.rows, xb.history.rows);
   const auto k = static_cast<std::size_t>(col - xa.history.columns.begin());
@@ -662,7 +692,7 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   EXPECT_EQ(summary["cracks"][0]["fronts"][0]["edge"], 1);
   EXPECT_EQ(summary["cracks"][0]["increments"], 3);
   const auto len =
-      std::find(xa.history.columns.begin(), xa.history.columns.end(), "length_c_front1");
+      std::find(xa.history.columns.begin(), xa.history.columns.end(), "length_c_front1_m");
   ASSERT_NE(len, xa.history.columns.end());
   const auto kl = static_cast<std::size_t>(len - xa.history.columns.begin());
   EXPECT_NEAR(xa.history.rows.front()[kl], 0.6625, 1e-12);

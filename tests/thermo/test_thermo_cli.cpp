@@ -114,6 +114,39 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
   EXPECT_EQ(html.find("data:image/png"), std::string::npos);
 }
 
+// The persistence page in a real browser, on the smallest run (the harmonic chain of
+// PersistenceHarmonicJsonAndResume, plots drawn): it loads with no console message, every
+// figure plot_thermo.py drew is embedded and decodes, and the screenshot is not blank. The
+// screenshot is left in the test's working directory: persistence_report_screenshot.png.
+TEST(ThermoCli, PersistencePageRendersInHeadlessChromium) {
+  const auto d = tmp("pers_page_" + std::to_string(::getpid())); // parallel test runs
+  const fs::path out = d / "out";
+  const CmdRun r = run("thermo persistence --chain harmonic --supports roller --angle-k 500 "
+                       "--spring-k 100 --pull-distance 1 --rates 0.002,0.004,0.006 "
+                       "--timestep 1 --hold-steps 200 --json --out " +
+                       out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_FALSE(j["plots"].empty()) << "python3-matplotlib is a test dependency";
+  const std::string html = report_page(out);
+  std::size_t embedded = 0;
+  for (auto at = html.find("src=\"data:image/png;base64,iVBORw0KGgo"); at != std::string::npos;
+       at = html.find("src=\"data:image/png;base64,iVBORw0KGgo", at + 1))
+    ++embedded;
+  EXPECT_EQ(embedded, j["plots"].size()) << "every figure drawn is on the page";
+  const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
+  ASSERT_EQ(b.error, "");
+  EXPECT_EQ(b.images, std::vector<std::string>(j["plots"].size(), "ok"))
+      << "the embedded figures decode";
+  EXPECT_EQ(b.console, std::vector<std::string>{});
+  // not a blank page (an empty or unstyled white page is below 1 % of the 1200 x 3000 shot)
+  EXPECT_GT(b.ink, 0.02);
+  // the screenshot for a human, in the test's working directory (the build tree)
+  fs::copy_file(d / "screenshot.png", "persistence_report_screenshot.png",
+                fs::copy_options::overwrite_existing);
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
+}
+
 // SIGINT during the first bending rate (5e6 hold steps: minutes, far longer than the wait):
 // exit 128 + SIGINT, and the folder has a report whose first block says the run did not finish,
 // why, how many rates are done (none) and the command that continues it.

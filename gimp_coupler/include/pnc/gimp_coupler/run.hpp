@@ -2,7 +2,8 @@
 // pnc/gimp_coupler/run.hpp: the driver of `pnc gimp run INPUT --out DIR [--resume]`.
 //
 // Writes into DIR: particles.pvd + frames/particles_NNNNNN.vtu (particle fields, SI),
-// history.csv (energies in J, reactions in N, per recorded step), checkpoint.h5 (restart),
+// history.csv (the unit ends each column name, D335: energies in J/m and reactions in N/m in 2-D,
+// J and N in 3-D, per recorded step), checkpoint.h5 (restart),
 // energy.png (energy balance, drawn by gimp_coupler/scripts/plot_energy.py with
 // /usr/bin/python3 + matplotlib; skipped with a warning if unavailable), G.png (2-D runs with
 // crack tips: J, G_I, G_II in J/m^2 versus crack length and time, gimp_coupler/scripts/plot_G.py),
