@@ -252,7 +252,7 @@ def self_test():
         # file limit: 601 lines outside tests/ fail, 600 lines pass, 700 lines in tests/ pass
         "long.cpp": "int a;\n" * 601,
         "fits.cpp": "int a;\n" * 600,
-        "tests/t.cpp": "int a;\n" * 700,
+        os.path.join("tests", "t.cpp"): "int a;\n" * 700,
     }
     want = sorted([
         "a.cpp:3: function too_long: 151 lines > 150",
