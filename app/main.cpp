@@ -23,27 +23,16 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <iostream>
 
 namespace {
 constexpr const char* kInternalError =
     "internal error (a bug: please report it with the command line and pnc --version)";
-} // namespace
 
-int main(int argc, char** argv) {
+// `pnc fit`: its options into `fa`.
+CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
   using namespace pnc::app;
-  CLI::App app{"pnc: multiscale toolkit for polymer nanocomposites (Nair 2010 method).\n"
-               "Fits the nano-scale damage model (NDM) to stress-strain curves and writes a "
-               "material card (HDF5, SI units) for the fe_material plugin."};
-  configure_cli(app); // before any option: subcommands inherit it
-  app.require_subcommand(1);
-  app.set_version_flag("--version", pnc::version_string());
-  set_command_line(argc, argv);
-  const std::string cmdline = command_line();
-
-  // --- fit
-  FitArgs fa;
-  fa.command_line = cmdline;
   auto* fit =
       app.add_subcommand("fit", "Joint NDM fit (Ceres) of stress-strain curves -> card + plots");
   fit->add_option("--data", fa.data,
@@ -87,25 +76,33 @@ int main(int argc, char** argv) {
   fit->add_option("--plots", fa.plots, "Directory for the PNG plots (default: <card>_plots)");
   fit->add_flag("--no-plots", fa.no_plots, "Do not draw plots");
   fit->add_flag("--json", fa.json, "Print one JSON object with the key numbers on stdout");
+  return fit;
+}
 
-  // --- card
+// The subcommands of `pnc card` the user chose from.
+struct CardCommands {
+  CLI::App* show;
+  CLI::App* tables;
+  CLI::App* cexport;
+};
+
+// `pnc card show|tables|export`: their options into `cs`, `ct`, `ce`.
+CardCommands add_card_commands(CLI::App& app, pnc::app::CardShowArgs& cs,
+                               pnc::app::CardTablesArgs& ct, pnc::app::CardExportArgs& ce) {
+  using namespace pnc::app;
   auto* card = app.add_subcommand("card", "Inspect or create material cards");
   card->require_subcommand(1);
-  CardShowArgs cs;
   auto* show =
       card->add_subcommand("show", "Constants, errors, derived moduli and strengths of a card");
   show->add_option("card", cs.card, "Material card (HDF5)")->required();
   show->add_option("--max-strain", cs.max_strain, "Strain up to which strengths are searched")
       ->check(FiniteRange(1e-6, 10.0));
   show->add_flag("--json", cs.json, "Print one JSON object on stdout");
-  CardTablesArgs ct;
-  ct.command_line = cmdline;
   auto* tables =
       card->add_subcommand("tables", "Write the dissertation's tabulated constants as a card");
   tables->add_option("--model", ct.model, "pnc or pp")->check(CLI::IsMember({"pnc", "pp"}));
   tables->add_option("--out", ct.out, "Card to write (HDF5)")->required();
   tables->add_flag("--json", ct.json, "Print one JSON object on stdout");
-  CardExportArgs ce;
   auto* cexport = card->add_subcommand(
       "export", "The card as host input: Abaqus/CalculiX material blocks, JSON or bare PROPS");
   cexport->add_option("card", ce.card, "Material card (HDF5)")->required();
@@ -121,9 +118,12 @@ int main(int argc, char** argv) {
       "libpnc_material.so to load (default: $PNC_MATERIAL_PLUGIN, else next to pnc)");
   cexport->add_flag("--allow-not-usable", ce.allow_not_usable,
                     "Export a card whose verdict is 'not usable'");
+  return {show, tables, cexport};
+}
 
-  // --- synth
-  SynthArgs sa;
+// `pnc synth`: its options into `sa`.
+CLI::App* add_synth_command(CLI::App& app, pnc::app::SynthArgs& sa) {
+  using namespace pnc::app;
   auto* synth =
       app.add_subcommand("synth", "Synthetic stress-strain curves from the NDM plus noise");
   synth->add_option("--model", sa.model, "pnc or pp (dissertation constants)")
@@ -143,6 +143,56 @@ int main(int argc, char** argv) {
   synth->add_option("--seed", sa.seed, "Random seed");
   synth->add_option("--out", sa.out, "Output file (.csv or .h5)")->required();
   synth->add_flag("--json", sa.json, "Print one JSON object on stdout");
+  return synth;
+}
+
+// Runs the chosen command; an exception becomes its one-line message and exit code (the
+// table at the top of this file).
+int run_reporting_errors(const std::function<int()>& command) {
+  using namespace pnc::app;
+  try {
+    return command();
+  } catch (const pnc::Interrupted& e) {
+    std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
+              << "; continue with: " << resume_command() << std::endl;
+    return pnc::exit_code::stopped_by_signal(e.signal());
+  } catch (const pnc::Error& e) { // InputError 1, SimulationError 6, ToolError 7 (with its log)
+    std::cerr << "pnc: error: " << e.what() << "\n";
+    return e.exit_code();
+  } catch (const std::exception& e) {
+    std::cerr << "pnc: error: " << kInternalError << ": " << e.what() << "\n";
+    return pnc::exit_code::internal_error;
+  } catch (...) { // not even a std::exception (e.g. H5::Exception): a bug all the same
+    std::cerr << "pnc: error: " << kInternalError << ": an exception of unknown type\n";
+    return pnc::exit_code::internal_error;
+  }
+}
+} // namespace
+
+int main(int argc, char** argv) {
+  using namespace pnc::app;
+  CLI::App app{"pnc: multiscale toolkit for polymer nanocomposites (Nair 2010 method).\n"
+               "Fits the nano-scale damage model (NDM) to stress-strain curves and writes a "
+               "material card (HDF5, SI units) for the fe_material plugin."};
+  configure_cli(app); // before any option: subcommands inherit it
+  app.require_subcommand(1);
+  app.set_version_flag("--version", pnc::version_string());
+  set_command_line(argc, argv);
+  const std::string cmdline = command_line();
+
+  FitArgs fa;
+  fa.command_line = cmdline;
+  CLI::App* fit = add_fit_command(app, fa);
+  CardShowArgs cs;
+  CardTablesArgs ct;
+  ct.command_line = cmdline;
+  CardExportArgs ce;
+  const CardCommands card = add_card_commands(app, cs, ct, ce);
+  CLI::App* show = card.show;
+  CLI::App* tables = card.tables;
+  CLI::App* cexport = card.cexport;
+  SynthArgs sa;
+  CLI::App* synth = add_synth_command(app, sa);
 
   // Subcommand families in their own files (registrars.hpp).
   Action action;
@@ -162,31 +212,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return report_parse_error(app, e, argc, argv);
   }
-  const auto run = [&]() -> int {
-    try {
-      if (*fit) return run_fit(fa);
-      if (*show) return run_card_show(cs);
-      if (*tables) return run_card_tables(ct);
-      if (*cexport) return run_card_export(ce);
-      if (*synth) return run_synth(sa);
-      if (action) return action();
-    } catch (const pnc::Interrupted& e) {
-      std::cerr << "pnc: interrupted by " << signal_name(e.signal()) << ": " << e.detail()
-                << "; continue with: " << resume_command() << std::endl;
-      return pnc::exit_code::stopped_by_signal(e.signal());
-    } catch (const pnc::Error& e) { // InputError 1, SimulationError 6, ToolError 7 (with its log)
-      std::cerr << "pnc: error: " << e.what() << "\n";
-      return e.exit_code();
-    } catch (const std::exception& e) {
-      std::cerr << "pnc: error: " << kInternalError << ": " << e.what() << "\n";
-      return pnc::exit_code::internal_error;
-    } catch (...) { // not even a std::exception (e.g. H5::Exception): a bug all the same
-      std::cerr << "pnc: error: " << kInternalError << ": an exception of unknown type\n";
-      return pnc::exit_code::internal_error;
-    }
+  const int code = run_reporting_errors([&]() -> int {
+    if (*fit) return run_fit(fa);
+    if (*show) return run_card_show(cs);
+    if (*tables) return run_card_tables(ct);
+    if (*cexport) return run_card_export(ce);
+    if (*synth) return run_synth(sa);
+    if (action) return action();
     return 0;
-  };
-  const int code = run();
+  });
   pnc::finish_run_log(code); // the run folder's pnc.log ends with the exit code (run_log.hpp)
   return code;
 }

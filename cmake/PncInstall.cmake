@@ -29,6 +29,7 @@ install(TARGETS pnc_material pnc_material_headers EXPORT pncTargets
 install(FILES fe_material/include/pnc/fe_material/pnc_material.h
               fe_material/include/pnc/fe_material/umat.h
               fe_material/include/pnc/fe_material/material.hpp
+              fe_material/include/pnc/fe_material/material_api.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pnc/fe_material)
 
 # --- CMake package: find_package(pnc) (D155)

@@ -254,53 +254,6 @@ void check_stiffness_units(const FitReport& rep, const FitOptions& opt, const st
 
 } // namespace
 
-const char* alpha_mode_name(AlphaMode m) {
-  switch (m) {
-  case AlphaMode::fit:
-    return "fit";
-  case AlphaMode::hold:
-    return "hold";
-  default:
-    return "automatic";
-  }
-}
-
-// ------------------------------------------------------------------ options
-void FitOptions::validate() const {
-  const std::string src = "<fit options>";
-  if (loss != "none" && loss != "huber" && loss != "cauchy")
-    fail(src, "loss", loss, "must be one of none, huber, cauchy");
-  if (!(loss_scale > 0) || !std::isfinite(loss_scale))
-    fail(src, "loss_scale", std::to_string(loss_scale), "must be a finite number > 0");
-  if (max_iterations <= 0)
-    fail(src, "max_iterations", std::to_string(max_iterations), "must be > 0");
-  if (!(function_tolerance > 0 && function_tolerance < 1))
-    fail(src, "function_tolerance", std::to_string(function_tolerance), "must be in (0, 1)");
-  if (alpha && !(*alpha >= 0.5 && *alpha <= 1.5))
-    fail(src, "alpha", std::to_string(*alpha), "must be in [0.5, 1.5]");
-  if (!(strain_max >= 0 && strain_max <= 10))
-    fail(src, "strain_max", std::to_string(strain_max),
-         "must be in [0, 10] (0 = every row; a strain, dimensionless)");
-  if (!(stretch_max >= 0 && stretch_max <= 10))
-    fail(src, "stretch_max", std::to_string(stretch_max),
-         "must be in [0, 10] (0 = every row; lambda_max - 1, dimensionless)");
-  if (strain_max > 0 && stretch_max > 0)
-    fail(src, "stretch_max", std::to_string(stretch_max),
-         "strain_max and stretch_max exclude each other (one fit range)");
-  if (!(stiffness_min > 0) || !(stiffness_max > stiffness_min) || !std::isfinite(stiffness_max))
-    fail(src, "stiffness range",
-         std::to_string(stiffness_min) + ".." + std::to_string(stiffness_max),
-         "must satisfy 0 < min < max < infinity (Pa)");
-  if (prior && prior->model != model)
-    fail(src, "prior", model_name(prior->model),
-         std::string("prior card is for another model than ") + model_name(model));
-  for (const auto& u : undefined) {
-    if (constant_index(model, u.name) < 0)
-      fail(src, "undefined", u.name, std::string("not a constant of model ") + model_name(model));
-    if (u.reason.empty()) fail(src, "undefined." + u.name, "", "needs a reason");
-  }
-}
-
 // ------------------------------------------------------------------ the fit
 namespace {
 /// The leading rows of every curve within the fit range (decisions D12h, D12m); counts the others.
@@ -325,177 +278,215 @@ StressStrainData within_fit_range(const StressStrainData& all, double strain_max
 }
 } // namespace
 
-Eigen::Index rows_in_fit_range(const PathMatrix& strain, double strain_max, double stretch_max) {
-  constexpr double slack = 1 + 1e-12; // a row written at the bound stays inside it
-  Eigen::Index n = 0;
-  for (; n < strain.rows(); ++n) {
-    if (strain_max > 0 && strain.row(n).cwiseAbs().maxCoeff() > strain_max * slack) break;
-    if (stretch_max > 0) {
-      const Voigt e = strain.row(n).transpose();
-      if (mode_stretches(Model::pp, e, false).lambda_max - 1 > stretch_max * slack) break;
-    }
-  }
-  return n;
-}
+namespace {
+// What every stage of one fit reads: the model, the start alpha, the prior and the terms.
+struct FitContext {
+  const StressStrainData& data;
+  const FitOptions& opt;
+  Model m;
+  int n;
+  std::size_t ns;
+  const std::vector<std::string>& names;
+  double alpha0;
+  std::string held_note;
+  std::vector<double> theta_prior;
+  std::vector<PointTerm> terms;
+};
 
-FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
-  opt.validate();
+// What the solve rounds leave: the last solve, the residuals and Jacobian at its solution,
+// the free constants and the Jacobian's columns of those.
+struct SolveState {
+  SolveResult sr;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J, Jf;
+  std::vector<int> free;
+};
+
+FitContext make_context(const StressStrainData& data, const FitOptions& opt,
+                        const NdmParameters& prior, double alpha0) {
   const Model m = opt.model;
-  check_cases(all_rows, m);
-  int dropped = 0;
-  const StressStrainData data =
-      within_fit_range(all_rows, opt.strain_max, opt.stretch_max, dropped);
-  const auto& names = constant_names(m);
   const int n = n_theta(m);
   const auto ns = static_cast<std::size_t>(n);
-  const NdmParameters prior = opt.prior ? *opt.prior : dissertation_parameters(m);
-  const double alpha0 = opt.alpha ? *opt.alpha : prior.alpha();
-  const std::string held_note = "held at the prior (" + opt.prior_source + ")";
-
-  FitReport rep;
-  rep.strain_max = opt.strain_max;
-  rep.rows_beyond_strain_max = dropped;
-  rep.stretch_max = opt.stretch_max;
-  rep.regression = regress_cases(data, m, alpha0);
-  std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
-  std::vector<double> theta = detail::theta_from_constants(m, k0);
-  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
   std::vector<double> k_prior(ns);
   for (std::size_t j = 0; j < ns; ++j)
     k_prior[j] = j + 1 == ns ? alpha0 : prior.k[j] / kMPa;
-  const std::vector<double> theta_prior = detail::theta_from_constants(m, k_prior);
-  const auto terms = build_terms(data, m, alpha0);
+  std::vector<double> theta_prior = detail::theta_from_constants(m, k_prior);
+  return FitContext{data,
+                    opt,
+                    m,
+                    n,
+                    ns,
+                    constant_names(m),
+                    alpha0,
+                    "held at the prior (" + opt.prior_source + ")",
+                    std::move(theta_prior),
+                    build_terms(data, m, alpha0)};
+}
 
-  // Structural identifiability at the start: zero columns of d r / d k are held (D11).
-  const Eigen::VectorXd colnorm = column_norms(terms, k0, n);
-  rep.fitted.assign(ns, true);
-  rep.status.assign(ns, "fitted");
-  rep.note.assign(ns, "");
-  // damage constants held because their mode never reaches the onset of the start alpha;
-  // a fitted alpha may move the onset into the data (D12g): they are re-examined below
+// The columns of J of the free constants.
+Eigen::MatrixXd free_columns(const Eigen::MatrixXd& J, const std::vector<int>& free) {
+  Eigen::MatrixXd Jf(J.rows(), static_cast<Eigen::Index>(free.size()));
+  for (std::size_t c = 0; c < free.size(); ++c)
+    Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
+  return Jf;
+}
+
+// Structural identifiability at the start: zero columns of d r / d k are held (D11). Returns
+// the damage constants held because their mode never reaches the onset of the start alpha;
+// a fitted alpha may move the onset into the data (D12g): they are re-examined after a solve.
+std::vector<int> hold_unidentified_at_start(const FitContext& cx, const Eigen::VectorXd& colnorm,
+                                            FitReport& rep, std::vector<double>& theta) {
+  rep.fitted.assign(cx.ns, true);
+  rep.status.assign(cx.ns, "fitted");
+  rep.note.assign(cx.ns, "");
   std::vector<int> held_at_onset;
-  for (int j = 0; j + 1 < n; ++j) {
+  for (int j = 0; j + 1 < cx.n; ++j) {
     const auto js = static_cast<std::size_t>(j);
     if (colnorm[j] != 0.0) continue;
-    if (names[js][0] != 'C') held_at_onset.push_back(j);
+    if (cx.names[js][0] != 'C') held_at_onset.push_back(j);
     rep.fitted[js] = false;
     rep.status[js] = "not identified";
-    rep.note[js] = std::string(names[js][0] == 'C' ? "no data for the case that determines it"
-                                                   : "the data never reach damage onset for its "
-                                                     "mode") +
-                   "; " + held_note;
-    theta[js] = theta_prior[js];
+    rep.note[js] = std::string(cx.names[js][0] == 'C' ? "no data for the case that determines it"
+                                                      : "the data never reach damage onset for "
+                                                        "its mode") +
+                   "; " + cx.held_note;
+    theta[js] = cx.theta_prior[js];
   }
-  // alpha (D12b): fitted when the data pass the onset of alpha0 somewhere, unless told.
-  const bool past_onset = colnorm[n - 1] != 0.0;
+  return held_at_onset;
+}
+
+// alpha (D12b): fitted when the data pass the onset of alpha0 somewhere, unless told.
+bool choose_alpha(const FitContext& cx, bool past_onset, FitReport& rep) {
+  const FitOptions& opt = cx.opt;
   const bool alpha_undefined =
       std::any_of(opt.undefined.begin(), opt.undefined.end(),
-                  [&](const UndefinedConstant& u) { return u.name == names[ns - 1]; });
+                  [&](const UndefinedConstant& u) { return u.name == cx.names[cx.ns - 1]; });
   const bool fit_alpha =
       !alpha_undefined &&
       (opt.alpha_mode == AlphaMode::fit || (opt.alpha_mode == AlphaMode::automatic && past_onset));
   {
     std::ostringstream a;
-    a << (fit_alpha ? "fitted" : "held at " + std::to_string(alpha0)) << " ("
+    a << (fit_alpha ? "fitted" : "held at " + std::to_string(cx.alpha0)) << " ("
       << alpha_mode_name(opt.alpha_mode) << "; the data " << (past_onset ? "pass" : "do not reach")
-      << " the damage onset at alpha = " << alpha0 << ")";
+      << " the damage onset at alpha = " << cx.alpha0 << ")";
     rep.alpha_choice = a.str();
   }
   if (!fit_alpha) {
-    rep.fitted[ns - 1] = false;
-    rep.status[ns - 1] = "held";
-    rep.note[ns - 1] = opt.alpha_mode == AlphaMode::hold
-                           ? (opt.alpha ? "held by option" : "held by option; " + held_note)
-                           : "the data never reach damage onset; held at " + std::to_string(alpha0);
+    rep.fitted[cx.ns - 1] = false;
+    rep.status[cx.ns - 1] = "held";
+    rep.note[cx.ns - 1] =
+        opt.alpha_mode == AlphaMode::hold
+            ? (opt.alpha ? "held by option" : "held by option; " + cx.held_note)
+            : "the data never reach damage onset; held at " + std::to_string(cx.alpha0);
   }
-  // Constants the caller declares undefined by the data (e.g. the phase check of pnc
-  // characterize: shear and damage constants of a material that relaxes within a hold).
-  rep.declared_undefined = opt.undefined;
-  for (const auto& u : opt.undefined) {
-    const auto js = static_cast<std::size_t>(constant_index(m, u.name));
+  return fit_alpha;
+}
+
+// Constants the caller declares undefined by the data (e.g. the phase check of pnc
+// characterize: shear and damage constants of a material that relaxes within a hold).
+void hold_declared_undefined(const FitContext& cx, FitReport& rep, std::vector<double>& theta) {
+  rep.declared_undefined = cx.opt.undefined;
+  for (const auto& u : cx.opt.undefined) {
+    const auto js = static_cast<std::size_t>(constant_index(cx.m, u.name));
     rep.fitted[js] = false;
     rep.status[js] = "not identified";
     rep.note[js] =
-        u.reason + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
-    theta[js] = theta_prior[js];
-    if (js + 1 == ns) rep.alpha_choice += "; declared undefined by the caller: " + u.reason;
+        u.reason + "; " + (js + 1 == cx.ns ? "held at " + std::to_string(cx.alpha0) : cx.held_note);
+    theta[js] = cx.theta_prior[js];
+    if (js + 1 == cx.ns) rep.alpha_choice += "; declared undefined by the caller: " + u.reason;
   }
+}
 
-  // Solve; constants the data do not determine at the solution are held at the prior and
-  // the fit repeated (at most three rounds that add held constants). Before that, once per
-  // fit: when alpha is fitted, a damage constant held because its mode never reached the
-  // onset of the start alpha is freed if the fitted alpha's onset lies inside the data
-  // (D12g), and the fit repeated from the solution.
-  SolveResult sr;
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J, Jf;
-  std::vector<int> free;
-  bool reexamined = !(fit_alpha && rep.fitted[ns - 1]) || held_at_onset.empty();
+// Decision D12g: frees the damage constants held at the start whose mode passes the onset of
+// the fitted alpha at `theta` (unless declared undefined). True when one was freed.
+bool free_reached_onset(const FitContext& cx, const std::vector<int>& held_at_onset,
+                        const std::vector<double>& theta, FitReport& rep) {
+  const Eigen::VectorXd cn =
+      column_norms(cx.terms, detail::constants_from_theta(cx.m, theta), cx.n);
+  bool freed = false;
+  for (int j : held_at_onset) {
+    const auto js = static_cast<std::size_t>(j);
+    const bool declared =
+        std::any_of(cx.opt.undefined.begin(), cx.opt.undefined.end(),
+                    [&](const UndefinedConstant& u) { return u.name == cx.names[js]; });
+    if (declared || !(cn[j] != 0.0)) continue;
+    rep.fitted[js] = true;
+    rep.status[js] = "fitted";
+    rep.note[js] = "";
+    freed = true;
+  }
+  return freed;
+}
+
+// The residuals and Jacobian at `theta`, the free constants, and the free constants the data
+// do not determine there held at the prior (D11). True when one was held.
+bool hold_unidentified_at_solution(const FitContext& cx, SolveState& st, FitReport& rep,
+                                   std::vector<double>& theta) {
+  detail::residuals_and_jacobian(cx.data, cx.m, theta, st.r, &st.J);
+  st.free.clear();
+  std::vector<std::string> free_names;
+  for (int j = 0; j < cx.n; ++j)
+    if (rep.fitted[static_cast<std::size_t>(j)]) {
+      st.free.push_back(j);
+      free_names.push_back(cx.names[static_cast<std::size_t>(j)]);
+    }
+  st.Jf = free_columns(st.J, st.free);
+  std::vector<std::string> why;
+  const std::vector<bool> bad = stats::not_identified(st.Jf, why, free_names);
+  bool changed = false;
+  for (std::size_t c = 0; c < st.free.size(); ++c) {
+    if (!bad[c]) continue;
+    const auto js = static_cast<std::size_t>(st.free[c]);
+    rep.fitted[js] = false;
+    rep.status[js] = "not identified";
+    rep.note[js] =
+        why[c] + "; " + (js + 1 == cx.ns ? "held at " + std::to_string(cx.alpha0) : cx.held_note);
+    theta[js] = cx.theta_prior[js];
+    changed = true;
+  }
+  return changed;
+}
+
+// Solve; constants the data do not determine at the solution are held at the prior and
+// the fit repeated (at most three rounds that add held constants). Before that, once per
+// fit: when alpha is fitted, a damage constant held because its mode never reached the
+// onset of the start alpha is freed if the fitted alpha's onset lies inside the data
+// (D12g), and the fit repeated from the solution.
+SolveState solve_rounds(const FitContext& cx, bool fit_alpha, const std::vector<int>& held_at_onset,
+                        FitReport& rep, std::vector<double>& theta) {
+  SolveState st;
+  bool reexamined = !(fit_alpha && rep.fitted[cx.ns - 1]) || held_at_onset.empty();
   for (int round = 0; round < 3; ++round) {
-    sr = solve(terms, m, opt, rep.fitted, fit_alpha && rep.fitted[ns - 1], theta);
+    st.sr = solve(cx.terms, cx.m, cx.opt, rep.fitted, fit_alpha && rep.fitted[cx.ns - 1], theta);
     if (!reexamined) { // decision D12g
       reexamined = true;
-      const Eigen::VectorXd cn = column_norms(terms, detail::constants_from_theta(m, theta), n);
-      bool freed = false;
-      for (int j : held_at_onset) {
-        const auto js = static_cast<std::size_t>(j);
-        const bool declared =
-            std::any_of(opt.undefined.begin(), opt.undefined.end(),
-                        [&](const UndefinedConstant& u) { return u.name == names[js]; });
-        if (declared || !(cn[j] != 0.0)) continue;
-        rep.fitted[js] = true;
-        rep.status[js] = "fitted";
-        rep.note[js] = "";
-        freed = true;
-      }
-      if (freed) {
+      if (free_reached_onset(cx, held_at_onset, theta, rep)) {
         --round;
         continue;
       }
     }
-    detail::residuals_and_jacobian(data, m, theta, r, &J);
-    free.clear();
-    std::vector<std::string> free_names;
-    for (int j = 0; j < n; ++j)
-      if (rep.fitted[static_cast<std::size_t>(j)]) {
-        free.push_back(j);
-        free_names.push_back(names[static_cast<std::size_t>(j)]);
-      }
-    Jf.resize(J.rows(), static_cast<Eigen::Index>(free.size()));
-    for (std::size_t c = 0; c < free.size(); ++c)
-      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
-    std::vector<std::string> why;
-    const std::vector<bool> bad = stats::not_identified(Jf, why, free_names);
-    bool changed = false;
-    for (std::size_t c = 0; c < free.size(); ++c) {
-      if (!bad[c]) continue;
-      const auto js = static_cast<std::size_t>(free[c]);
-      rep.fitted[js] = false;
-      rep.status[js] = "not identified";
-      rep.note[js] =
-          why[c] + "; " + (js + 1 == ns ? "held at " + std::to_string(alpha0) : held_note);
-      theta[js] = theta_prior[js];
-      changed = true;
-    }
-    if (!changed) break;
+    if (!hold_unidentified_at_solution(cx, st, rep, theta)) break;
   }
-  // decision D12i: an alpha that ends on its lower bound (damage onset at zero strain) is the
-  // constrained optimum, not a fitted value with a standard error: it is reported at the bound
-  if (fit_alpha && rep.fitted[ns - 1] &&
-      detail::constants_from_theta(m, theta).back() <= alpha_lower_bound() * (1 + 1e-9)) {
-    rep.fitted[ns - 1] = false;
-    rep.status[ns - 1] = "at bound";
-    rep.note[ns - 1] =
-        fmt::format("the fit ended on the lower bound 1/lambda_c = {:.5g}: the damage "
-                    "onset is at zero strain (the data bend from their start); "
-                    "no standard error",
-                    alpha_lower_bound());
-    rep.alpha_choice += "; ended on its lower bound 1/lambda_c (damage onset at zero strain, D12i)";
-    free.erase(std::remove(free.begin(), free.end(), n - 1), free.end());
-    Jf.resize(J.rows(), static_cast<Eigen::Index>(free.size()));
-    for (std::size_t c = 0; c < free.size(); ++c)
-      Jf.col(static_cast<Eigen::Index>(c)) = J.col(free[c]);
-  }
+  return st;
+}
+
+// decision D12i: an alpha that ends on its lower bound (damage onset at zero strain) is the
+// constrained optimum, not a fitted value with a standard error: it is reported at the bound
+void report_alpha_at_bound(const FitContext& cx, SolveState& st, FitReport& rep) {
+  rep.fitted[cx.ns - 1] = false;
+  rep.status[cx.ns - 1] = "at bound";
+  rep.note[cx.ns - 1] = fmt::format("the fit ended on the lower bound 1/lambda_c = {:.5g}: the "
+                                    "damage onset is at zero strain (the data bend from their "
+                                    "start); no standard error",
+                                    alpha_lower_bound());
+  rep.alpha_choice += "; ended on its lower bound 1/lambda_c (damage onset at zero strain, D12i)";
+  st.free.erase(std::remove(st.free.begin(), st.free.end(), cx.n - 1), st.free.end());
+  st.Jf = free_columns(st.J, st.free);
+}
+
+// The solver's summary and the fitted constants (Pa; alpha: 1) into the report.
+void report_solution(const FitContext& cx, const SolveResult& sr, const std::vector<double>& theta,
+                     FitReport& rep) {
   const auto& summary = sr.summary;
   rep.seconds = sr.seconds;
   rep.converged = summary.termination_type == ceres::CONVERGENCE;
@@ -507,40 +498,80 @@ FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   rep.initial_cost = summary.initial_cost;
   rep.final_cost = summary.final_cost;
   rep.residuals = summary.num_residuals;
-  const std::vector<double> kf = detail::constants_from_theta(m, theta);
-  rep.params = params_from_constants(m, kf);
-  for (int j = 0; j < n - 1; ++j)
+  const std::vector<double> kf = detail::constants_from_theta(cx.m, theta);
+  rep.params = params_from_constants(cx.m, kf);
+  for (int j = 0; j < cx.n - 1; ++j)
     rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
+}
 
-  // Standard errors (D11): from the data's errors when every fitted point has one (scaled up
-  // by chi^2/dof when that exceeds 1, never down), else the sandwich estimate.
-  rep.free_parameters = static_cast<int>(free.size());
-  rep.std_error.assign(ns, kNaN);
-  rep.dof = static_cast<int>(r.size()) - rep.free_parameters;
-  const bool data_errors = data_has_errors(data);
+// Standard errors (D11): from the data's errors when every fitted point has one (scaled up
+// by chi^2/dof when that exceeds 1, never down), else the sandwich estimate. Returns whether
+// the data carry errors.
+bool report_standard_errors(const FitContext& cx, const SolveState& st,
+                            const std::vector<double>& theta, FitReport& rep) {
+  rep.free_parameters = static_cast<int>(st.free.size());
+  rep.std_error.assign(cx.ns, kNaN);
+  rep.dof = static_cast<int>(st.r.size()) - rep.free_parameters;
+  const bool data_errors = data_has_errors(cx.data);
   rep.error_model = data_errors ? "data standard errors" : "sandwich (HC3)";
-  if (opt.loss != "none") rep.error_model += ", robust loss: indicative";
+  if (cx.opt.loss != "none") rep.error_model += ", robust loss: indicative";
   if (data_errors && rep.dof > 0) {
-    rep.chi2 = r.squaredNorm();
+    rep.chi2 = st.r.squaredNorm();
     rep.chi2_p = stats::chi2_upper_tail(rep.chi2, rep.dof);
   }
   if (rep.dof > 0) {
     Eigen::MatrixXd cov;
-    const bool ok = data_errors ? stats::covariance_known_errors(Jf, cov)
-                                : stats::covariance_sandwich(Jf, r, cov);
+    const bool ok = data_errors ? stats::covariance_known_errors(st.Jf, cov)
+                                : stats::covariance_sandwich(st.Jf, st.r, cov);
     if (!ok) {
       rep.warnings += "covariance is singular (some constants are not determined by the data); "
                       "standard errors not reported. ";
     } else {
       if (data_errors) cov *= std::max(1.0, rep.chi2 / rep.dof);
-      standard_errors(rep, m, theta, free, cov);
+      standard_errors(rep, cx.m, theta, st.free, cov);
     }
   } else {
     rep.warnings += "no degrees of freedom left for standard errors. ";
   }
+  return data_errors;
+}
+} // namespace
+
+FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
+  opt.validate();
+  const Model m = opt.model;
+  check_cases(all_rows, m);
+  int dropped = 0;
+  const StressStrainData data =
+      within_fit_range(all_rows, opt.strain_max, opt.stretch_max, dropped);
+  const NdmParameters prior = opt.prior ? *opt.prior : dissertation_parameters(m);
+  const double alpha0 = opt.alpha ? *opt.alpha : prior.alpha();
+
+  FitReport rep;
+  rep.strain_max = opt.strain_max;
+  rep.rows_beyond_strain_max = dropped;
+  rep.stretch_max = opt.stretch_max;
+  rep.regression = regress_cases(data, m, alpha0);
+  std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
+  std::vector<double> theta = detail::theta_from_constants(m, k0);
+  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
+  const FitContext cx = make_context(data, opt, prior, alpha0);
+  const std::size_t ns = cx.ns;
+
+  const Eigen::VectorXd colnorm = column_norms(cx.terms, k0, cx.n);
+  const std::vector<int> held_at_onset = hold_unidentified_at_start(cx, colnorm, rep, theta);
+  const bool fit_alpha = choose_alpha(cx, colnorm[cx.n - 1] != 0.0, rep);
+  hold_declared_undefined(cx, rep, theta);
+
+  SolveState st = solve_rounds(cx, fit_alpha, held_at_onset, rep, theta);
+  if (fit_alpha && rep.fitted[ns - 1] &&
+      detail::constants_from_theta(m, theta).back() <= alpha_lower_bound() * (1 + 1e-9))
+    report_alpha_at_bound(cx, st, rep); // D12i
+  report_solution(cx, st.sr, theta, rep);
+  const bool data_errors = report_standard_errors(cx, st, theta, rep);
   if (!rep.converged) rep.warnings += "the solver did not report convergence: " + rep.message + " ";
 
-  curve_statistics(rep, data, terms, r, data_errors);
+  curve_statistics(rep, data, cx.terms, st.r, data_errors);
   if (opt.check_units) check_stiffness_units(rep, opt, data.source);
   rep.verdict = judge_fit(rep);
   return rep;

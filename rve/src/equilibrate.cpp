@@ -240,6 +240,195 @@ EquilibratedState read_equilibrated(const std::string& dir) {
   return e;
 }
 
+namespace {
+// What the stages of one equilibration read (units real; sig: the polymer's LJ sigma, A; mob:
+// the group that moves while the clay is frozen).
+struct Protocol {
+  const std::string& data_file;
+  const EquilibrateSpec& s;
+  const std::string& dir;
+  const std::vector<std::string>& ffcmds;
+  const std::string& mob;
+  const std::string& recipe_json;
+  double sig;
+  bool with_clay;
+};
+
+// Stage "pushoff": a soft potential ramped up until no non-excluded pair is closer than
+// pushoff_min_distance_sigma (or pushoff_max_rounds rounds), under Langevin with limited moves.
+void pushoff_stage(md::Lammps& l, const Protocol& pr) {
+  const std::string& data_file = pr.data_file;
+  const EquilibrateSpec& s = pr.s;
+  const std::string& dir = pr.dir;
+  const std::vector<std::string>& ffcmds = pr.ffcmds;
+  const std::string& mob = pr.mob;
+  const std::string& recipe_json = pr.recipe_json;
+  const double sig = pr.sig;
+  l.cmd("units real");
+  l.cmd("atom_style molecular");
+  l.cmd("read_data " + md::lammps_path(data_file, "data file"));
+  l.cmds(ffcmds);
+  l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
+  l.cmd("pair_coeff * * 0.0");
+  l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
+  define_measures(l);
+  l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.temperature,
+                    s.seed));
+  l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
+  l.cmd(fmt::format("fix pnc_lan {} langevin {:.10g} {:.10g} {:.10g} {}", mob, s.temperature,
+                    s.temperature, s.damp_fs, s.seed + 1));
+  Trace t;
+  double d = 0;
+  int round = 0;
+  const double target = s.pushoff_min_distance_sigma * sig;
+  for (round = 1; round <= s.pushoff_max_rounds; ++round) {
+    if (round == 1) {
+      l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
+      l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
+      run_chunks(l, s.pushoff_steps, 5, t, true); // ramp(0, A_max) over the whole round
+      l.cmd("unfix pnc_adapt");
+      l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
+    } else {
+      run_chunks(l, s.pushoff_steps, 5, t);
+    }
+    d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig, mob);
+    if (d >= target) break;
+  }
+  const bool met = d >= target;
+  l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
+  write_stage(p(dir, "pushoff", ".h5"), "pushoff",
+              fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
+                          "{} round(s) of {} steps{}",
+                          d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
+                          std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
+                          met ? "" : " -- NOT met; continuing with minimisation"),
+              t, recipe_json);
+}
+
+// Stage "hot": minimised (clay frozen), then hot_steps at hot_temperature by velocity rescaling
+// (the first 1000 steps with limited displacement).
+void hot_stage(md::Lammps& l, const Protocol& pr) {
+  const EquilibrateSpec& s = pr.s;
+  const std::string& dir = pr.dir;
+  const std::vector<std::string>& ffcmds = pr.ffcmds;
+  const std::string& mob = pr.mob;
+  const std::string& recipe_json = pr.recipe_json;
+  const bool with_clay = pr.with_clay;
+  read_state(l, ffcmds, s, p(dir, "pushoff", ".restart"));
+  if (with_clay) l.cmd("fix pnc_frz pnc_clay setforce 0.0 0.0 0.0");
+  l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
+  if (with_clay) l.cmd("unfix pnc_frz");
+  l.cmd("reset_timestep 0");
+  l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.hot_temperature,
+                    s.seed + 2));
+  l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
+  l.cmd(fmt::format("fix pnc_rs {} temp/rescale 10 {:.10g} {:.10g} 10.0 1.0", mob,
+                    s.hot_temperature, s.hot_temperature));
+  // with the clay frozen the traced temperature is the polymer's (all atoms would dilute it
+  // by the clay's zero velocities)
+  const std::string temp = with_clay ? "pnc_tmob" : "thermo_temp";
+  if (with_clay) l.cmd("compute pnc_tmob " + mob + " temp");
+  Trace t;
+  run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t, false, temp); // limited displacement
+  l.cmd("unfix pnc_lim");
+  l.cmd("fix pnc_nve " + mob + " nve");
+  run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t, false, temp);
+  l.cmd("write_restart " + md::lammps_path(p(dir, "hot", ".restart"), "--out"));
+  write_stage(p(dir, "hot", ".h5"), "hot",
+              fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T{} of the second "
+                          "half {:.1f} K",
+                          s.hot_steps, s.hot_temperature, with_clay ? " (polymer)" : "",
+                          t.mean(0, t.rows.size() / 2)),
+              t, recipe_json);
+}
+
+// Stage "clay" (composite only): the clay relaxes with the polymer held fixed.
+void clay_stage(md::Lammps& l, const Protocol& pr) {
+  const EquilibrateSpec& s = pr.s;
+  const std::string& dir = pr.dir;
+  const std::vector<std::string>& ffcmds = pr.ffcmds;
+  const std::string& recipe_json = pr.recipe_json;
+  read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
+  // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the
+  // clay relaxes in its field
+  l.cmd("velocity pnc_poly set 0.0 0.0 0.0");
+  l.cmd("fix pnc_frz pnc_poly setforce 0.0 0.0 0.0");
+  l.cmd("run 0");
+  const double e0 = l.thermo("pe");
+  l.cmd("minimize 1.0e-6 1.0e-8 2000 20000");
+  l.cmd("run 0");
+  const double e1 = l.thermo("pe");
+  l.cmd("unfix pnc_frz");
+  l.cmd("reset_timestep 0");
+  l.cmd(fmt::format("velocity pnc_clay create {:.10g} {} dist gaussian mom yes", s.temperature,
+                    s.seed + 6));
+  l.cmd("fix pnc_nve pnc_clay nve/limit 0.05");
+  l.cmd(fmt::format("fix pnc_lan pnc_clay langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                    s.damp_fs, s.seed + 7));
+  Trace t;
+  run_chunks(l, s.clay_steps, 5, t);
+  l.cmd("write_restart " + md::lammps_path(p(dir, "clay", ".restart"), "--out"));
+  write_stage(p(dir, "clay", ".h5"), "clay",
+              fmt::format("polymer fixed; clay minimised (PE {:.1f} -> {:.1f} kcal/mol), then "
+                          "{} steps NVE (limit 0.05 A/step) + Langevin {:.0f} K on the clay",
+                          e0, e1, s.clay_steps, s.temperature),
+              t, recipe_json);
+}
+
+// Stage "cool": one Langevin ramp from hot_temperature to temperature.
+void cool_stage(md::Lammps& l, const Protocol& pr) {
+  const EquilibrateSpec& s = pr.s;
+  const std::string& dir = pr.dir;
+  const std::vector<std::string>& ffcmds = pr.ffcmds;
+  const std::string& recipe_json = pr.recipe_json;
+  const bool with_clay = pr.with_clay;
+  read_state(l, ffcmds, s, p(dir, with_clay ? "clay" : "hot", ".restart"));
+  l.cmd("fix pnc_nve all nve");
+  l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {}", s.hot_temperature,
+                    s.temperature, s.damp_fs, s.seed + 3));
+  Trace t;
+  run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
+  l.cmd("write_restart " + md::lammps_path(p(dir, "cool", ".restart"), "--out"));
+  write_stage(p(dir, "cool", ".h5"), "cool",
+              fmt::format("Langevin ramp {:.0f} -> {:.0f} K over {} steps; final chunk T {:.1f} K",
+                          s.hot_temperature, s.temperature, s.cool_steps,
+                          t.rows.empty() ? 0.0 : t.rows.back()[0]),
+              t, recipe_json);
+}
+
+// Stage "langevin": Langevin chunks at temperature until the mean PE is steady.
+void langevin_stage(md::Lammps& l, const Protocol& pr) {
+  const EquilibrateSpec& s = pr.s;
+  const std::string& dir = pr.dir;
+  const std::vector<std::string>& ffcmds = pr.ffcmds;
+  const std::string& recipe_json = pr.recipe_json;
+  read_state(l, ffcmds, s, p(dir, "cool", ".restart"));
+  l.cmd("fix pnc_nve all nve");
+  l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
+                    s.damp_fs, s.seed + 4));
+  Trace t;
+  double rel = 1;
+  int k = 0;
+  for (k = 1; k <= s.langevin_max_chunks; ++k) {
+    run_chunks(l, s.langevin_chunk_steps, 1, t);
+    if (k >= 2) {
+      const double a = t.rows[t.rows.size() - 2][1], b = t.rows.back()[1];
+      rel = std::fabs(b - a) / std::max(1e-12, std::fabs(b));
+      if (rel < s.steady_tolerance) break;
+    }
+  }
+  l.cmd("write_restart " + md::lammps_path(p(dir, "langevin", ".restart"), "--out"));
+  write_stage(
+      p(dir, "langevin", ".h5"), "langevin",
+      fmt::format("{} chunk(s) of {} steps at {:.0f} K; relative change of mean PE "
+                  "between the last two chunks {:.4f} {} {}{}",
+                  std::min(k, s.langevin_max_chunks), s.langevin_chunk_steps, s.temperature, rel,
+                  rel < s.steady_tolerance ? "<" : ">=", s.steady_tolerance,
+                  rel < s.steady_tolerance ? " (steady)" : " -- NOT steady at the chunk limit"),
+      t, recipe_json);
+}
+} // namespace
+
 EquilibratedState equilibrate(const std::string& data_file, const md::PolymerForceField& ff,
                               const EquilibrateSpec& s, const std::string& dir, bool resume,
                               const std::string& recipe_json, bool with_clay, int ranks) {
@@ -253,153 +442,16 @@ EquilibratedState equilibrate(const std::string& data_file, const md::PolymerFor
       with_clay ? composite_forcefield_commands(ff) : md::polymer_forcefield_commands(ff);
   // the atoms that move while the clay is frozen, and the pairs the push-off criterion checks
   const std::string mob = with_clay ? "pnc_poly" : "all";
+  const Protocol pr{data_file, s, dir, ffcmds, mob, recipe_json, sig, with_clay};
   auto stage = [&](const std::string& name, const md::StageBody& body) {
     run_equilibration_stage(dir, name, body, resume, ranks);
   };
 
-  stage("pushoff", [&](md::Lammps& l) {
-    l.cmd("units real");
-    l.cmd("atom_style molecular");
-    l.cmd("read_data " + md::lammps_path(data_file, "data file"));
-    l.cmds(ffcmds);
-    l.cmd(fmt::format("pair_style soft {:.10g}", std::pow(2.0, 1.0 / 6.0) * sig));
-    l.cmd("pair_coeff * * 0.0");
-    l.cmd(fmt::format("timestep {:.10g}", s.timestep_fs));
-    define_measures(l);
-    l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.temperature,
-                      s.seed));
-    l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
-    l.cmd(fmt::format("fix pnc_lan {} langevin {:.10g} {:.10g} {:.10g} {}", mob, s.temperature,
-                      s.temperature, s.damp_fs, s.seed + 1));
-    Trace t;
-    double d = 0;
-    int round = 0;
-    const double target = s.pushoff_min_distance_sigma * sig;
-    for (round = 1; round <= s.pushoff_max_rounds; ++round) {
-      if (round == 1) {
-        l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
-        l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
-        run_chunks(l, s.pushoff_steps, 5, t, true); // ramp(0, A_max) over the whole round
-        l.cmd("unfix pnc_adapt");
-        l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
-      } else {
-        run_chunks(l, s.pushoff_steps, 5, t);
-      }
-      d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig, mob);
-      if (d >= target) break;
-    }
-    const bool met = d >= target;
-    l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
-    write_stage(p(dir, "pushoff", ".h5"), "pushoff",
-                fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
-                            "{} round(s) of {} steps{}",
-                            d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
-                            std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
-                            met ? "" : " -- NOT met; continuing with minimisation"),
-                t, recipe_json);
-  });
-
-  stage("hot", [&](md::Lammps& l) {
-    read_state(l, ffcmds, s, p(dir, "pushoff", ".restart"));
-    if (with_clay) l.cmd("fix pnc_frz pnc_clay setforce 0.0 0.0 0.0");
-    l.cmd("minimize 1.0e-4 1.0e-6 1000 10000");
-    if (with_clay) l.cmd("unfix pnc_frz");
-    l.cmd("reset_timestep 0");
-    l.cmd(fmt::format("velocity {} create {:.10g} {} dist gaussian mom yes", mob, s.hot_temperature,
-                      s.seed + 2));
-    l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
-    l.cmd(fmt::format("fix pnc_rs {} temp/rescale 10 {:.10g} {:.10g} 10.0 1.0", mob,
-                      s.hot_temperature, s.hot_temperature));
-    // with the clay frozen the traced temperature is the polymer's (all atoms would dilute it
-    // by the clay's zero velocities)
-    const std::string temp = with_clay ? "pnc_tmob" : "thermo_temp";
-    if (with_clay) l.cmd("compute pnc_tmob " + mob + " temp");
-    Trace t;
-    run_chunks(l, std::min<long>(1000, s.hot_steps), 1, t, false, temp); // limited displacement
-    l.cmd("unfix pnc_lim");
-    l.cmd("fix pnc_nve " + mob + " nve");
-    run_chunks(l, s.hot_steps - std::min<long>(1000, s.hot_steps), 10, t, false, temp);
-    l.cmd("write_restart " + md::lammps_path(p(dir, "hot", ".restart"), "--out"));
-    write_stage(p(dir, "hot", ".h5"), "hot",
-                fmt::format("{} steps at {:.0f} K by velocity rescaling; mean T{} of the second "
-                            "half {:.1f} K",
-                            s.hot_steps, s.hot_temperature, with_clay ? " (polymer)" : "",
-                            t.mean(0, t.rows.size() / 2)),
-                t, recipe_json);
-  });
-
-  if (with_clay)
-    stage("clay", [&](md::Lammps& l) {
-      read_state(l, ffcmds, s, p(dir, "hot", ".restart"));
-      // the source's clay relaxation (docs/theory.md §3.3, D25): the polymer is held fixed, the
-      // clay relaxes in its field
-      l.cmd("velocity pnc_poly set 0.0 0.0 0.0");
-      l.cmd("fix pnc_frz pnc_poly setforce 0.0 0.0 0.0");
-      l.cmd("run 0");
-      const double e0 = l.thermo("pe");
-      l.cmd("minimize 1.0e-6 1.0e-8 2000 20000");
-      l.cmd("run 0");
-      const double e1 = l.thermo("pe");
-      l.cmd("unfix pnc_frz");
-      l.cmd("reset_timestep 0");
-      l.cmd(fmt::format("velocity pnc_clay create {:.10g} {} dist gaussian mom yes", s.temperature,
-                        s.seed + 6));
-      l.cmd("fix pnc_nve pnc_clay nve/limit 0.05");
-      l.cmd(fmt::format("fix pnc_lan pnc_clay langevin {0:.10g} {0:.10g} {1:.10g} {2}",
-                        s.temperature, s.damp_fs, s.seed + 7));
-      Trace t;
-      run_chunks(l, s.clay_steps, 5, t);
-      l.cmd("write_restart " + md::lammps_path(p(dir, "clay", ".restart"), "--out"));
-      write_stage(p(dir, "clay", ".h5"), "clay",
-                  fmt::format("polymer fixed; clay minimised (PE {:.1f} -> {:.1f} kcal/mol), then "
-                              "{} steps NVE (limit 0.05 A/step) + Langevin {:.0f} K on the clay",
-                              e0, e1, s.clay_steps, s.temperature),
-                  t, recipe_json);
-    });
-
-  stage("cool", [&](md::Lammps& l) {
-    read_state(l, ffcmds, s, p(dir, with_clay ? "clay" : "hot", ".restart"));
-    l.cmd("fix pnc_nve all nve");
-    l.cmd(fmt::format("fix pnc_lan all langevin {:.10g} {:.10g} {:.10g} {}", s.hot_temperature,
-                      s.temperature, s.damp_fs, s.seed + 3));
-    Trace t;
-    run_chunks(l, s.cool_steps, 10, t, true); // one ramp over the whole stage
-    l.cmd("write_restart " + md::lammps_path(p(dir, "cool", ".restart"), "--out"));
-    write_stage(
-        p(dir, "cool", ".h5"), "cool",
-        fmt::format("Langevin ramp {:.0f} -> {:.0f} K over {} steps; final chunk T {:.1f} K",
-                    s.hot_temperature, s.temperature, s.cool_steps,
-                    t.rows.empty() ? 0.0 : t.rows.back()[0]),
-        t, recipe_json);
-  });
-
-  stage("langevin", [&](md::Lammps& l) {
-    read_state(l, ffcmds, s, p(dir, "cool", ".restart"));
-    l.cmd("fix pnc_nve all nve");
-    l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.temperature,
-                      s.damp_fs, s.seed + 4));
-    Trace t;
-    double rel = 1;
-    int k = 0;
-    for (k = 1; k <= s.langevin_max_chunks; ++k) {
-      run_chunks(l, s.langevin_chunk_steps, 1, t);
-      if (k >= 2) {
-        const double a = t.rows[t.rows.size() - 2][1], b = t.rows.back()[1];
-        rel = std::fabs(b - a) / std::max(1e-12, std::fabs(b));
-        if (rel < s.steady_tolerance) break;
-      }
-    }
-    l.cmd("write_restart " + md::lammps_path(p(dir, "langevin", ".restart"), "--out"));
-    write_stage(
-        p(dir, "langevin", ".h5"), "langevin",
-        fmt::format("{} chunk(s) of {} steps at {:.0f} K; relative change of mean PE "
-                    "between the last two chunks {:.4f} {} {}{}",
-                    std::min(k, s.langevin_max_chunks), s.langevin_chunk_steps, s.temperature, rel,
-                    rel < s.steady_tolerance ? "<" : ">=", s.steady_tolerance,
-                    rel < s.steady_tolerance ? " (steady)" : " -- NOT steady at the chunk limit"),
-        t, recipe_json);
-  });
-
+  stage("pushoff", [&](md::Lammps& l) { pushoff_stage(l, pr); });
+  stage("hot", [&](md::Lammps& l) { hot_stage(l, pr); });
+  if (with_clay) stage("clay", [&](md::Lammps& l) { clay_stage(l, pr); });
+  stage("cool", [&](md::Lammps& l) { cool_stage(l, pr); });
+  stage("langevin", [&](md::Lammps& l) { langevin_stage(l, pr); });
   stage("final", [&](md::Lammps& l) {
     final_stage(l, ffcmds, s, dir, p(dir, "langevin", ".restart"), with_clay, ff.cutoff(), sig,
                 recipe_json);

@@ -12,7 +12,7 @@ abi="$(sed -n 's/^#define PNC_MATERIAL_ABI_VERSION \([0-9]*\)$/\1/p' "$src/fe_ma
 [ -n "$abi" ] || die "no PNC_MATERIAL_ABI_VERSION in pnc_material.h"
 want=(bin/pnc "lib/libpnc_material.so.$abi" lib/libpnc_material.so
   include/pnc/fe_material/pnc_material.h include/pnc/fe_material/umat.h
-  include/pnc/fe_material/material.hpp
+  include/pnc/fe_material/material.hpp include/pnc/fe_material/material_api.hpp
   lib/cmake/pnc/pncConfig.cmake lib/cmake/pnc/pncConfigVersion.cmake lib/cmake/pnc/pncTargets.cmake
   lib/pkgconfig/pnc_material.pc
   share/pnc/scripts/plot_figures.py share/pnc/scripts/plot_thermo.py share/pnc/scripts/plot_escm.py
@@ -27,7 +27,7 @@ done
 echo "all ${#want[@]} expected paths present"
 
 # the headers are the source tree's, byte for byte
-for h in pnc_material.h umat.h material.hpp; do
+for h in pnc_material.h umat.h material.hpp material_api.hpp; do
   cmp -s "include/pnc/fe_material/$h" "$src/fe_material/include/pnc/fe_material/$h" ||
     die "installed $h differs from the source"
 done
