@@ -721,14 +721,9 @@ FractureProblem<dim>::FractureProblem(const Params& p, const pnc::fe_material::M
 // D*_m at which S(d e_m) stops being positive definite (on the in-plane block 11, 22, 12 in
 // 2-D plane strain, on all six components in 3-D), found by bisection; the cap
 // D_cap = margin * D*_m and the stretch kappa_cap where D(kappa_cap) = D_cap, again by
-// bisection on D(kappa) (zero-strain plugin calls).
+// bisection on D(kappa) (the plugin's damage_of_stretch query).
 template <int dim> double FractureProblem<dim>::damage_at_kappa(int m, double kappa) const {
-  std::vector<double> st = material.initial_state(), out(st.size());
-  st[kappa_at[m]] = kappa;
-  const Voigt6 z{};
-  Voigt6 sg{};
-  material.integrate2(st.data(), out.data(), z.data(), z.data(), sg.data());
-  return out[damage_at[m]];
+  return material.damage_of_stretch(m, kappa); // the law's D(kappa), queried (ABI 1.3, D340)
 }
 
 template <int dim> void FractureProblem<dim>::setup_law() {
@@ -1242,7 +1237,6 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   double plugin_time = 0;
   bool ok = true;
   const std::array<double, 6> kappa_zero{};
-  const std::vector<double> virgin = material.initial_state();
   // lambda_m(e) and its gradient by central differences (plugin calls from kappa = 0).
   auto stretch = [&](const Voigt6& e, int m, double& lam, Voigt6& g) {
     std::array<double, 6> out;
@@ -1261,18 +1255,11 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
       g[j] = (lp - out[km]) / (2 * hh);
     }
   };
-  // dD_m/dkappa_m at kappa (central difference of zero-strain plugin calls).
+  // dD_m/dkappa_m at kappa: the law's own slope, queried (ABI 1.3, D340).
   auto damage_slope = [&](int m, double kappa) {
-    std::array<double, 6> st{}, out;
-    std::copy(virgin.begin(), virgin.end(), st.begin());
-    Voigt6 z{}, sg;
-    const double hh = 1e-7 * kappa;
-    st[kappa_at[m]] = kappa + hh;
-    material.integrate(st.data(), out.data(), z.data(), z.data(), sg.data());
-    const double dp = out[damage_at[m]];
-    st[kappa_at[m]] = kappa - hh;
-    material.integrate(st.data(), out.data(), z.data(), z.data(), sg.data());
-    return (dp - out[damage_at[m]]) / (2 * hh);
+    double slope = 0;
+    material.damage_of_stretch(m, kappa, &slope);
+    return slope;
   };
   // Cells go in chunks: first the material of every point of a chunk (plugin calls and, if
   // composed, the composition), timed as one block so that reading the clock costs nothing
@@ -1286,8 +1273,8 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   // already there (the tangents stay in cache) and a few hundred points are enough to amortise
   // the call (D311). The batched entry gives the point entry's numbers bit for bit, so the
   // run is the same to the last bit with 'Entry = point' (D312; ctest
-  // dealii_fracture.material_entry). The other plugin calls of the assembly (stretch and
-  // damage_slope above: finite differences of a few points that are loading) and the
+  // dealii_fracture.material_entry). The other plugin calls of the assembly (stretch above:
+  // finite differences of a few points that are loading; damage_slope, a query) and the
   // one-off calls (setup_law, secant_of, extrapolate) stay point calls.
   constexpr std::size_t kChunk = 64;
   std::vector<Tangent36> Kchunk(kChunk * nq);

@@ -324,6 +324,27 @@ public:
     if (st != PNC_MATERIAL_OK) throw Error(msg, st);
   }
 
+  // ---- ABI 1.3: the damage evolution law (docs/plugin.md "ABI 1.3").
+
+  /// Damage of mode `mode` (0-based) at the largest mode stretch `kappa` (dimensionless), as
+  /// integrate2() computes it; `slope`, if not null, receives dD/dkappa. Throws Error for a
+  /// plugin older than ABI 1.3 or a refused argument (mode, kappa), naming it.
+  double damage_of_stretch(int mode, double kappa, double* slope = nullptr) const {
+    if (!lib_->api.damage_of_stretch)
+      throw Error("pnc::fe_material: '" + lib_->path +
+                  "': symbol 'pnc_material_damage_of_stretch' is missing: the plugin predates "
+                  "ABI " +
+                  std::to_string(PNC_MATERIAL_ABI_VERSION) + ".3; use a newer libpnc_material");
+    double D = 0;
+    const int st = api().damage_of_stretch(m_, mode, kappa, &D, slope);
+    if (st != PNC_MATERIAL_OK)
+      throw Error("pnc::fe_material::Material::damage_of_stretch: mode " + std::to_string(mode) +
+                      ", kappa " + std::to_string(kappa) + ": mode must be 0.." +
+                      std::to_string(n_damage_modes() - 1) + " and kappa finite and >= 0",
+                  st);
+    return D;
+  }
+
   /// The constant names of a model, in the order from_constants() takes (linked library).
   static std::vector<std::string> model_constant_names(const std::string& model) {
     return detail::model_constant_names(*linked(), model);
@@ -391,6 +412,7 @@ private:
     a.model_n_constants = &pnc_material_model_n_constants;
     a.model_constant_name = &pnc_material_model_constant_name;
     a.integrate_batch = &pnc_material_integrate_batch;
+    a.damage_of_stretch = &pnc_material_damage_of_stretch;
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
@@ -471,6 +493,7 @@ public:
     resolve_optional(*lib, "pnc_material_model_n_constants", a.model_n_constants);
     resolve_optional(*lib, "pnc_material_model_constant_name", a.model_constant_name);
     resolve_optional(*lib, "pnc_material_integrate_batch", a.integrate_batch);
+    resolve_optional(*lib, "pnc_material_damage_of_stretch", a.damage_of_stretch);
     lib_ = std::move(lib);
   }
 

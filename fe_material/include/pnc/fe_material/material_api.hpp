@@ -61,6 +61,8 @@ struct Api {
   pnc_material_model_constant_name_fn model_constant_name = nullptr;
   // ABI 1.2 (null for a plugin older than minor 2; integrate_batch() then throws)
   pnc_material_integrate_batch_fn integrate_batch = nullptr;
+  // ABI 1.3 (null for a plugin older than minor 3; damage_of_stretch() then throws)
+  pnc_material_damage_of_stretch_fn damage_of_stretch = nullptr;
   /// All of ABI 1.1 is there.
   bool has_v2() const noexcept {
     return abi_version_minor && integrate2 && property && n_properties && property_name &&
