@@ -192,8 +192,7 @@ TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
     text += "      \"" + *k + "\" :\n\t" + j[*k].dump(3) + (k + 1 == keys.rend() ? "\n" : ",\n");
   std::ofstream(in) << text + "}\n\n";
   ASSERT_EQ(nlohmann::json::parse(slurp(in)), j) << text;
-  const auto c =
-      pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
+  const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
   ASSERT_EQ(c.code, 0) << c.out;
   EXPECT_TRUE(nlohmann::json::parse(c.out)["resumed"].get<bool>()) << c.out;
 }
@@ -207,10 +206,9 @@ TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
   std::ofstream(d / "nompl/matplotlib/__init__.py")
       << "raise ModuleNotFoundError(\"No module named 'matplotlib'\")\n";
   const fs::path out = d / "out";
-  const auto r = pnc::test::run_command("PYTHONPATH='" + (d / "nompl").string() + "' " + exe +
-                                        " gimp run " + in + " --out " + out.string() +
-                                        " --quiet --max-steps 3 --json 2>" +
-                                        (d / "err.txt").string());
+  const auto r = pnc::test::run_command(
+      "PYTHONPATH='" + (d / "nompl").string() + "' " + exe + " gimp run " + in + " --out " +
+      out.string() + " --quiet --max-steps 3 --json 2>" + (d / "err.txt").string());
   ASSERT_EQ(r.code, 0) << r.out << slurp((d / "err.txt").string());
   EXPECT_TRUE(fs::exists(out / "checkpoint.h5"));
   EXPECT_TRUE(fs::exists(out / "history.csv"));

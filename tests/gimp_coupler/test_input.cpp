@@ -296,8 +296,7 @@ TEST(GimpRun, WritesFramesHistoryCheckpointAndResumes) {
   EXPECT_NE(msg.find((d / "in.json").string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("time.end"), std::string::npos) << msg;
   EXPECT_NE(msg.find("0.0005"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("differs from the input this run was started with"), std::string::npos)
-      << msg;
+  EXPECT_NE(msg.find("differs from the input this run was started with"), std::string::npos) << msg;
 }
 
 TEST(GimpRun, ResumeContinuesBitForBit) {
