@@ -11,17 +11,18 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
+#include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/moduli.hpp"
 #include "pnc/md/builder.hpp"
-#include "pnc/rve/characterize.hpp"
 #include "pnc/md/lammps_server.hpp"
+#include "pnc/md/runner.hpp"
+#include "pnc/rve/characterize.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replica_trend.hpp"
-#include "pnc/md/runner.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -60,8 +61,8 @@ int run_rve_build(const BuildArgs& a) {
   const std::string data = (fs::path(a.out) / "rve.data").string();
   const std::string rec = (fs::path(a.out) / "build.h5").string();
   md::write_data_file(data, s,
-                       a.with_clay ? "coarse-grained polypropylene + montmorillonite RVE"
-                                   : "coarse-grained polypropylene RVE");
+                      a.with_clay ? "coarse-grained polypropylene + montmorillonite RVE"
+                                  : "coarse-grained polypropylene RVE");
   write_build_record(rec, s, a.spec, ff, "{}");
   const std::string ffin = (fs::path(a.out) / "forcefield.lmp").string();
   std::string cmds =
@@ -90,7 +91,8 @@ int run_rve_build(const BuildArgs& a) {
     j["record"] = rec;
     j["atoms"] = s.x.size();
     // SI as every --json (D238); the data file and build.h5 stay in LAMMPS real units (Å)
-    constexpr double m_per_A = 1e-10, kg_m3_per_g_cm3 = 1e3;
+    using units::kg_m3_per_g_cm3;
+    constexpr double m_per_A = units::m_per_angstrom;
     j["density_kg_per_m3"] = s.density() * kg_m3_per_g_cm3;
     j["box_m"] = {L[0] * m_per_A, L[1] * m_per_A, L[2] * m_per_A};
     j["min_nonbonded_distance_m"] = dmin * m_per_A;

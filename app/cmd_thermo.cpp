@@ -3,7 +3,7 @@
 // (docs/theory.md section 4). Units: LAMMPS real (kcal/mol, A, fs, K) inside thermo/; moduli in Pa
 // and EI also in N m^2 where named.
 #include "cli_parameters.hpp"
-#include "plot.hpp"
+#include "pnc/core/plot.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
 #include "run_control.hpp"

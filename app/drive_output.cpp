@@ -1,6 +1,6 @@
 #include "drive_output.hpp"
 
-#include "plot.hpp"
+#include "pnc/core/plot.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/csv.hpp"

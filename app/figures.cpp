@@ -1,6 +1,6 @@
 #include "figures.hpp"
 
-#include "plot.hpp"
+#include "pnc/core/plot.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -85,7 +85,7 @@ PlotOutcome draw_figures(const std::vector<Figure>& figures, const std::string& 
                            figures.size() == 1 ? "" : "s")
             << std::flush;
   // a missing script is a broken installation (or a wrong PNC_SCRIPTS_DIR): an error
-  (void)require_shipped(ShippedDir::scripts, "plot_figures.py", "PNC_SCRIPTS_DIR");
+  (void)require_shipped(ShippedDir::scripts, "plot_figures.py", plot_scripts_variable());
   const auto t0 = std::chrono::steady_clock::now();
   try {
     out.pngs = run_plot_script("plot_figures.py", {jobs_json}, &out.warning);

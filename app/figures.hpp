@@ -46,7 +46,7 @@ struct PlotOutcome {
 
 /// Writes `figures` as a JSON job list to `jobs_json` (atomically; kept next to the figures:
 /// the plotted numbers) and draws them all in one run of plot_figures.py (run_plot_script,
-/// plot.hpp). Prints "<who>: plotting N figure(s) ..." and then the time taken on stderr.
+/// pnc/core/plot.hpp). Prints "<who>: plotting N figure(s) ..." and then the time taken on stderr.
 /// Never throws for a plotting failure (no interpreter, no matplotlib, a script error): it
 /// comes back as `warning` (also printed). A missing plot_figures.py (a broken installation
 /// or a wrong $PNC_SCRIPTS_DIR) is a pnc::InputError naming the variable.

@@ -2,6 +2,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/params.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -11,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <set>
 
 namespace pnc {
 
@@ -69,8 +71,7 @@ RunDirLock::RunDirLock(const std::string& dir, const std::string& command,
                field + " directory");
     fail(dir, field, dir, "cannot lock " + path + ": " + std::strerror(err));
   }
-  const std::string text =
-      "pid " + std::to_string(::getpid()) + "\ncommand " + command + "\n";
+  const std::string text = "pid " + std::to_string(::getpid()) + "\ncommand " + command + "\n";
   if (::ftruncate(fd_, 0) != 0 ||
       ::pwrite(fd_, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size())) {
     // the lock holds without the note; another process then reads "pid unknown"
@@ -78,7 +79,8 @@ RunDirLock::RunDirLock(const std::string& dir, const std::string& command,
 }
 
 RunDirLock::~RunDirLock() {
-  if (fd_ >= 0) ::close(fd_); // releases the lock (children forked meanwhile hold it until they end)
+  if (fd_ >= 0)
+    ::close(fd_); // releases the lock (children forked meanwhile hold it until they end)
 }
 
 void refuse_existing_run(const std::string& dir, bool resume,
@@ -88,9 +90,52 @@ void refuse_existing_run(const std::string& dir, bool resume,
     std::error_code ec;
     if (fs::exists(fs::symlink_status(fs::path(dir) / m, ec)))
       fail(dir, field, dir,
-           "already holds a run (" + m +
-               "): add --resume to continue it, or use a new " + field + " directory");
+           "already holds a run (" + m + "): add --resume to continue it, or use a new " + field +
+               " directory");
   }
+}
+
+namespace {
+
+/// The first place where `a` and `b` differ (both differ somewhere): its path below `at` and
+/// the two values there ("<absent>" for a missing key).
+struct Difference {
+  std::string key, was, is;
+};
+
+Difference first_difference(const nlohmann::json& a, const nlohmann::json& b,
+                            const std::string& at) {
+  const auto join = [&](const std::string& k) { return at.empty() ? k : at + "." + k; };
+  if (a.is_object() && b.is_object()) {
+    std::set<std::string> keys;
+    for (const nlohmann::json* o : {&a, &b})
+      for (auto it = o->begin(); it != o->end(); ++it)
+        keys.insert(it.key());
+    for (const std::string& k : keys) {
+      const bool in_a = a.contains(k), in_b = b.contains(k);
+      if (in_a && in_b && a.at(k) == b.at(k)) continue;
+      if (in_a && in_b) return first_difference(a.at(k), b.at(k), join(k));
+      return {join(k), in_a ? a.at(k).dump() : "<absent>", in_b ? b.at(k).dump() : "<absent>"};
+    }
+  }
+  if (a.is_array() && b.is_array() && a.size() == b.size())
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (a[i] != b[i]) return first_difference(a[i], b[i], at + "[" + std::to_string(i) + "]");
+  return {at, a.dump(), b.dump()};
+}
+
+} // namespace
+
+void require_same_input(const std::string& src, const nlohmann::json& stored,
+                        const nlohmann::json& now, const std::string& stored_in,
+                        const std::string& may_change) {
+  if (stored == now) return;
+  const Difference d = first_difference(stored, now, "");
+  fail(src, d.key, clip(d.is),
+       "differs from the input this run was started with (" + clip(d.was) + ", stored in " +
+           stored_in + "): --resume continues a run only with the same input" +
+           (may_change.empty() ? std::string() : " (" + may_change + " may change)") +
+           "; restore the value or start a new run in another --out directory");
 }
 
 } // namespace pnc

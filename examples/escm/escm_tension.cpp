@@ -15,8 +15,8 @@
 #include "pnc/gimp_coupler/escm_lj.hpp"
 
 #include "pnc/core/atomic_file.hpp"
-#include "pnc/core/locate.hpp"
-#include "pnc/core/subprocess.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/plot.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -133,14 +133,12 @@ int main(int argc, char** argv) {
   std::printf("steps %ld, wall %.2f s; outside LAMMPS %.1f %%; left reaction %.4e N/m\n", nsteps,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count(),
               100 * t.outside_share(), s.bcs[0].reaction[0]);
-  // scripts/plot_escm.py as staged in the build tree (or installed), found relative to this
-  // executable (pnc/core/locate.hpp); argument vector, no shell
-  const pnc::Located plot =
-      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_escm.py", "PNC_SCRIPTS_DIR");
-  if (plot.path.empty())
-    std::fprintf(stderr, "plots not written: plot_escm.py not found (%s)\n",
-                 plot.looked_in().c_str());
-  else if (!pnc::run_subprocess({"/usr/bin/python3", plot.path, out}).ok())
-    std::fprintf(stderr, "plots not written (needs /usr/bin/python3 with matplotlib)\n");
+  // scripts/plot_escm.py (build tree or installed) through pnc's plot runner
+  // (pnc/core/plot.hpp): no python3-matplotlib, or no script, is a warning
+  try {
+    (void)pnc::run_plot_script("plot_escm.py", {out});
+  } catch (const pnc::InputError& e) {
+    std::fprintf(stderr, "plots not written: %s\n", e.what());
+  }
   return 0;
 }

@@ -205,6 +205,7 @@ RunConfig load_input_text(const std::string& text, const std::string& source,
   RunConfig rc;
   rc.source = source;
   rc.dimension = D;
+  rc.expanded_input = doc.dump(); // D339
   read_grid<D>(top, s);
   const int ppc = doc.at("particles_per_cell").get<int>();
   read_materials<D>(top, base_dir, rc, s);

@@ -4,6 +4,8 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/params.hpp"
+#include "pnc/core/run_dir.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/core/vtu.hpp"
 
@@ -162,6 +164,7 @@ void write_checkpoint(const std::string& path, const Solver<D>& s, const Checkpo
     const auto n = static_cast<Eigen::Index>(P.size());
     f.write_string("/format", "pnc gimp checkpoint 1");
     f.write_string("/input_hash", x.input_hash);
+    f.write_string("/input", x.input); // D339
     f.write_scalar("/dimension", D);
     f.write_scalar("/time", s.time);
     f.set_attr("/time", "units", "s");
@@ -258,10 +261,18 @@ template <int D> void read_checkpoint(const std::string& path, Solver<D>& s, Che
     fail(path, "/dimension", std::to_string(f.read_scalar("/dimension")),
          "must match the input's dimension");
   const std::string hash = f.read_string("/input_hash");
-  if (!x.input_hash.empty() && hash != x.input_hash)
+  if (f.exists("/input")) { // the expanded inputs, compared as JSON values (D339)
+    const std::string stored = f.read_string("/input");
+    if (!x.input.empty() && !stored.empty())
+      require_same_input(x.input_source.empty() ? path : x.input_source,
+                         parse_json(stored, path + ": /input"), parse_json(x.input, x.input_source),
+                         path);
+    if (x.input.empty()) x.input = stored;
+  } else if (!x.input_hash.empty() && hash != x.input_hash) { // a checkpoint before D339
     fail(path, "/input_hash", hash,
          "the input file changed since this checkpoint was written (expected " + x.input_hash +
              "); start a new run without --resume");
+  }
   auto& P = s.particles;
   const auto X = f.read_matrix("/particles/x");
   if (static_cast<std::size_t>(X.rows()) != P.size() || X.cols() != D)

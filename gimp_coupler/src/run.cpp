@@ -3,9 +3,8 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
-#include "pnc/core/locate.hpp"
+#include "pnc/core/plot.hpp"
 #include "pnc/core/run_dir.hpp"
-#include "pnc/core/subprocess.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/gimp_coupler/fracture.hpp"
 #include "pnc/gimp_coupler/input.hpp"
@@ -20,10 +19,6 @@
 #include <filesystem>
 #include <iostream>
 
-#ifndef PNC_GIMP_PYTHON
-#define PNC_GIMP_PYTHON "/usr/bin/python3"
-#endif
-
 namespace pnc::gimp {
 
 namespace {
@@ -31,27 +26,20 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-/// Draws energy.png from history.csv; returns a warning ("" on success).
-/// `extra`: further arguments of the script (plot_G.py: --gc, --stop; plot_energy.py:
-/// --per-thickness).
+/// Draws energy.png from history.csv through the one plot runner (pnc/core/plot.hpp, D337);
+/// returns a warning ("" on success): a missing interpreter, matplotlib or script never fails
+/// the run. `extra`: further arguments of the script (plot_G.py: --gc, --stop;
+/// plot_energy.py: --per-thickness).
 std::string plot_energy(const std::string& csv, const std::string& png, const std::string& title,
                         const char* script_name = "plot_energy.py",
                         const std::vector<std::string>& extra = {}) {
-  const char* env_py = std::getenv("PNC_PYTHON");
-  const std::string py = env_py && *env_py ? env_py : PNC_GIMP_PYTHON;
-  // share/pnc/scripts relative to the executable, or $PNC_GIMP_SCRIPTS_DIR (D151)
-  const Located found = locate_shipped(ShippedDir::scripts, script_name, "PNC_GIMP_SCRIPTS_DIR");
-  if (found.path.empty())
-    return std::string("plot script ") + script_name + " not found (" + found.looked_in() +
-           "; set PNC_GIMP_SCRIPTS_DIR)";
-  const std::string& script = found.path;
-  // argument vector, no shell: the title and paths are data whatever they contain
-  std::vector<std::string> argv = {py, script, csv, png, title};
-  argv.insert(argv.end(), extra.begin(), extra.end());
-  const SubprocessResult r = run_subprocess(argv);
-  if (!r.started) return "cannot run " + py + ": " + r.error;
-  if (!r.ok()) return std::string(script_name) + " failed (" + py + "): " + r.output;
-  return "";
+  std::vector<std::string> args = {csv, png, title};
+  args.insert(args.end(), extra.begin(), extra.end());
+  try {
+    return run_plot(script_name, args).warning;
+  } catch (const InputError& e) { // the script is not installed: the run is written anyway
+    return std::string(script_name) + ": " + e.what();
+  }
 }
 
 /// One `pnc gimp run` of dimension D: the solver from the input, its history, frames and
@@ -110,6 +98,8 @@ template <int D> GimpRun<D>::GimpRun(const RunOptions& opt) : o(opt) {
   ckpt = (fs::path(o.out_dir) / "checkpoint.h5").string();
   pvd = (fs::path(o.out_dir) / "particles.pvd").string();
   hist_csv = (fs::path(o.out_dir) / "history.csv").string();
+  x.input = rc.expanded_input; // --resume compares it (D339)
+  x.input_source = o.input;
   x.input_hash = file_fnv1a64(o.input);
   for (const auto& c : s.cracks)
     any_growth = any_growth || c.growth.Gc > 0.0;

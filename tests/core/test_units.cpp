@@ -24,6 +24,8 @@ TEST(Units, DerivedConversionsMatchTabulatedValues) {
   // 1 g/mol per molecule = 1 Da = 1.66053906660e-27 kg (CODATA 2018; the molar mass constant
   // is 1 g/mol to 3.5e-10 since 2019).
   EXPECT_NEAR(units::kg_per_g_mol / 1.66053906660e-27, 1.0, 1e-9);
+  // 1 A/fs = 1e-10 m / 1e-15 s = 1e5 m/s (to the rounding of the quotient).
+  EXPECT_NEAR(units::m_per_s_per_angstrom_per_fs / 1e5, 1.0, 1e-15);
 }
 
 TEST(Units, BoltzmannInKcalPerMolKIsLammpsValueWithinItsCodata) {
@@ -35,12 +37,15 @@ TEST(Units, BoltzmannInKcalPerMolKIsLammpsValueWithinItsCodata) {
 }
 
 TEST(Units, NoOtherSourceSpellsAConstantAsALiteral) {
-  // Literals of N_A, k_B, the calorie and the atmosphere outside units.hpp (comments aside).
+  // Literals of N_A, k_B, the calorie and the atmosphere outside units.hpp (comments aside),
+  // and a conversion factor of its own (`constexpr double m_per_A = 1e-10`, `x_per_y = 1e5`):
+  // a name "<unit>_per_<unit>" or "<unit>_to_<unit>" given a number literal.
   const std::regex literal(R"((6\.022|1\.3806|4184|4\.184|101325|0\.0019872))");
+  const std::regex own_factor(R"(\b[A-Za-z]\w*_(per|to)_\w+\s*=\s*[-+]?[0-9.])");
   const fs::path root = PNC_SOURCE_DIR;
   std::string offenders;
-  for (const char* part :
-       {"core", "damage", "rve", "thermo", "fe_material", "gimp_coupler", "app", "examples"}) {
+  for (const char* part : {"core", "damage", "md", "rve", "thermo", "fe_material", "gimp_coupler",
+                           "app", "examples", "bench"}) {
     if (!fs::exists(root / part)) continue;
     for (const auto& e : fs::recursive_directory_iterator(root / part)) {
       const auto ext = e.path().extension().string();
@@ -51,7 +56,8 @@ TEST(Units, NoOtherSourceSpellsAConstantAsALiteral) {
       std::string line;
       for (int n = 1; std::getline(in, line); ++n) {
         const auto code = line.substr(0, line.find("//"));
-        if (std::regex_search(code, literal))
+        const bool declares = code.find("const") != std::string::npos;
+        if (std::regex_search(code, literal) || (declares && std::regex_search(code, own_factor)))
           offenders += e.path().lexically_relative(root).string() + ":" + std::to_string(n) + ": " +
                        line + "\n";
       }

@@ -158,3 +158,65 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   EXPECT_NE(log.find(" out {"), std::string::npos) << "the --json output is copied too\n" << log;
   EXPECT_NE(log.rfind("--- pnc finished: exit code 0\n"), std::string::npos) << log;
 }
+
+// --resume compares the input canonically (D339): the same input with other whitespace and key
+// order continues the run; a changed value is refused naming the file, the key and both values.
+TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
+  const fs::path d = fs::temp_directory_path() / "pnc_gimp_canonical";
+  const std::string in = plate_input(d, 2e-5);
+  const fs::path out = d / "out";
+  const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
+  ASSERT_EQ(a.code, 0) << a.out;
+  nlohmann::json j;
+  std::ifstream(in) >> j;
+
+  // a value changed: refused before anything is written
+  nlohmann::json changed = j;
+  changed["time"]["end"] = 3e-5;
+  std::ofstream(in) << changed.dump(2);
+  const std::string ckpt = slurp((out / "checkpoint.h5").string());
+  const auto b = pnc::test::run_command(run_args(in, out) + " --quiet --resume 2>&1");
+  EXPECT_EQ(b.code, 1) << b.out;
+  EXPECT_NE(b.out.find(in), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("time.end"), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("3e-05"), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("2e-05"), std::string::npos) << b.out;
+  EXPECT_EQ(slurp((out / "checkpoint.h5").string()), ckpt) << "the refused run wrote";
+
+  // the same values, keys in reverse order, other indentation and line breaks: continues
+  std::string text = "{\n";
+  std::vector<std::string> keys;
+  for (const auto& [k, v] : j.items())
+    keys.push_back(k);
+  for (auto k = keys.rbegin(); k != keys.rend(); ++k)
+    text += "      \"" + *k + "\" :\n\t" + j[*k].dump(3) + (k + 1 == keys.rend() ? "\n" : ",\n");
+  std::ofstream(in) << text + "}\n\n";
+  ASSERT_EQ(nlohmann::json::parse(slurp(in)), j) << text;
+  const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_TRUE(nlohmann::json::parse(c.out)["resumed"].get<bool>()) << c.out;
+}
+
+// No python3-matplotlib (an interpreter whose `import matplotlib` fails): the run is written,
+// exit code 0, and the missing plot is a warning in the summary (D337).
+TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
+  const fs::path d = fs::temp_directory_path() / "pnc_gimp_nompl";
+  const std::string in = plate_input(d, 2e-5);
+  fs::create_directories(d / "nompl/matplotlib");
+  std::ofstream(d / "nompl/matplotlib/__init__.py")
+      << "raise ModuleNotFoundError(\"No module named 'matplotlib'\")\n";
+  const fs::path out = d / "out";
+  const auto r = pnc::test::run_command(
+      "PYTHONPATH='" + (d / "nompl").string() + "' " + exe + " gimp run " + in + " --out " +
+      out.string() + " --quiet --max-steps 3 --json 2>" + (d / "err.txt").string());
+  ASSERT_EQ(r.code, 0) << r.out << slurp((d / "err.txt").string());
+  EXPECT_TRUE(fs::exists(out / "checkpoint.h5"));
+  EXPECT_TRUE(fs::exists(out / "history.csv"));
+  EXPECT_FALSE(fs::exists(out / "energy.png"));
+  const std::string err = slurp((d / "err.txt").string());
+  EXPECT_NE(err.find("warning: "), std::string::npos) << err;
+  EXPECT_NE(err.find("matplotlib"), std::string::npos) << err;
+  EXPECT_EQ(err.find("pnc: error"), std::string::npos) << err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["plot"].is_null()) << r.out;
+}

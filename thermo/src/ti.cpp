@@ -13,8 +13,6 @@
 #include "pnc/md/runner.hpp"
 #include "pnc/md/stage_stop.hpp"
 
-#include <lammps/library.h>
-
 #include <Eigen/Dense>
 #include <fmt/format.h>
 

@@ -6,6 +6,7 @@
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/params.hpp"
+#include "pnc/core/run_dir.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -122,40 +123,7 @@ void check_same_input(const std::string& src, const std::string& stored, const s
     fail(ckpt, "/run/input", "", "the stored input is not valid JSON");
   }
   b = clean(parse_json(now, src));
-  if (a == b) return;
-  auto text = [](const json& o, const std::string& k) {
-    return o.is_object() && o.contains(k) ? o.at(k).dump() : std::string("<absent>");
-  };
-  std::string key, was, is;
-  std::set<std::string> keys;
-  for (const json* o : {&a, &b})
-    if (o->is_object())
-      for (auto it = o->begin(); it != o->end(); ++it)
-        keys.insert(it.key());
-  for (const std::string& k : keys) {
-    if (text(a, k) == text(b, k)) continue;
-    key = k;
-    was = text(a, k);
-    is = text(b, k);
-    if (a.contains(k) && b.contains(k) && a[k].is_object() && b[k].is_object()) {
-      std::set<std::string> sub;
-      for (const json* o : {&a[k], &b[k]})
-        for (auto it = o->begin(); it != o->end(); ++it)
-          sub.insert(it.key());
-      for (const std::string& q : sub)
-        if (text(a[k], q) != text(b[k], q)) {
-          key = k + "." + q;
-          was = text(a[k], q);
-          is = text(b[k], q);
-          break;
-        }
-    }
-    break;
-  }
-  fail(src, key, clip(is),
-       "differs from the input this run was started with (" + clip(was) + ", stored in " + ckpt +
-           "): --resume continues a run only with the same input (checkpoint_every_ps and "
-           "comment may change); restore the value or start a new run in another --out directory");
+  require_same_input(src, a, b, ckpt, "checkpoint_every_ps and comment"); // D339
 }
 
 } // namespace pnc::gimp::escm

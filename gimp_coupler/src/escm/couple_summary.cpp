@@ -3,16 +3,12 @@
 #include "observers.hpp"
 
 #include "pnc/core/atomic_file.hpp"
-#include "pnc/core/locate.hpp"
-#include "pnc/core/subprocess.hpp"
+#include "pnc/core/error.hpp"
+#include "pnc/core/plot.hpp"
 
 #include <cmath>
 #include <cstdlib>
 #include <map>
-
-#ifndef PNC_GIMP_PYTHON
-#define PNC_GIMP_PYTHON "/usr/bin/python3"
-#endif
 
 namespace pnc::gimp::escm {
 
@@ -139,25 +135,22 @@ void write_couple_summary(CoupledRun& run, const MdRegion& region, const CoupleO
 }
 
 void plot_couple(const std::string& out, bool crack, CoupleSummary& r) {
-  // plot_escm.py from the installed (or build) tree, found relative to the executable (D151)
-  const char* env_py = std::getenv("PNC_PYTHON");
-  const std::string py = env_py && *env_py ? env_py : PNC_GIMP_PYTHON;
-  const pnc::Located script =
-      pnc::locate_shipped(pnc::ShippedDir::scripts, "plot_escm.py", "PNC_SCRIPTS_DIR");
-  if (script.path.empty()) {
-    r.plot_warning = "plots not written: plot_escm.py not found (" + script.looked_in() +
-                     "; set PNC_SCRIPTS_DIR)";
+  // plot_escm.py through the one plot runner (pnc/core/plot.hpp, D337): a missing interpreter,
+  // matplotlib or script is a warning, the run is written anyway
+  pnc::PlotRun pr;
+  try {
+    pr = pnc::run_plot("plot_escm.py", {out});
+  } catch (const pnc::InputError& e) {
+    r.plot_warning = std::string("plots not written: ") + e.what();
     return;
   }
-  // argument vector, no shell: the output directory is one argument whatever it contains
-  const pnc::SubprocessResult pr = pnc::run_subprocess({py, script.path, out});
-  pnc::write_text_atomically(out + "/plot.log", pr.started ? pr.output : pr.error + "\n");
+  const bool ends = pr.output.empty() || pr.output.back() == '\n';
+  pnc::write_text_atomically(out + "/plot.log", pr.output + (ends ? "" : "\n"));
   if (pr.ok()) {
     r.plots = {out + "/profile.png", out + "/energy.png"};
     if (crack) r.plots.push_back(out + "/crack.png");
   } else {
-    r.plot_warning =
-        "plots not written (needs " + py + " with matplotlib; see " + out + "/plot.log)";
+    r.plot_warning = "plots not written (see " + out + "/plot.log): " + pr.warning;
   }
 }
 

@@ -2,6 +2,7 @@
 #include "coupler_impl.hpp"
 
 #include "pnc/core/atomic_file.hpp"
+#include "pnc/core/units.hpp"
 
 #include <cstdint>
 #include <sstream>
@@ -38,7 +39,8 @@ void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vec
 
 void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointArray>& extra,
                               const std::vector<FieldScalar>& field) const {
-  constexpr double m_per_A = 1e-10, m_per_s_per_A_per_fs = 1e5;
+  using pnc::units::m_per_angstrom;
+  using pnc::units::m_per_s_per_angstrom_per_fs;
   std::vector<int> ids;
   std::vector<Eigen::Vector3d> x, v;
   atoms(ids, x, v);
@@ -48,11 +50,11 @@ void Coupler::write_atoms_vtu(const std::string& path, const std::vector<PointAr
                                     {"velocity_m_per_s", "m/s", 3, {}, {}}};
   for (std::size_t i = 0; i < n; ++i) {
     zone[i] = static_cast<int>(zone_of(ids[i]));
-    const Eigen::Vector3d u = (x[i] - d_->x_init[i]) * m_per_A;
-    const Eigen::Vector3d vi = v[i] * m_per_s_per_A_per_fs;
+    const Eigen::Vector3d u = (x[i] - d_->x_init[i]) * m_per_angstrom;
+    const Eigen::Vector3d vi = v[i] * m_per_s_per_angstrom_per_fs;
     arrays[0].values.insert(arrays[0].values.end(), {u[0], u[1], u[2]});
     arrays[1].values.insert(arrays[1].values.end(), {vi[0], vi[1], vi[2]});
-    x[i] *= m_per_A;
+    x[i] *= m_per_angstrom;
   }
   arrays.insert(arrays.end(), extra.begin(), extra.end());
   write_point_cloud_vtu(path, x, zone, arrays, 9, field);

@@ -13,6 +13,11 @@
 // 2. An existing run is continued only with --resume. refuse_existing_run() refuses a
 //    directory holding any of a command's run markers (checkpoint, summary, ...) without
 //    --resume, with the same message form for every command.
+// 3. --resume continues a run only with the input it was started with, compared canonically
+//    (require_same_input: parsed values, so whitespace, number spelling and key order do not
+//    matter), and a difference is refused naming the first key that differs (D339).
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -42,5 +47,15 @@ private:
 void refuse_existing_run(const std::string& dir, bool resume,
                          const std::vector<std::string>& markers,
                          const std::string& field = "--out");
+
+/// --resume: throws InputError (source `src`, the input file; field: the first key that
+/// differs, dotted for nested objects, "[i]" for arrays; value: its value now) unless `now`
+/// equals `stored`, the input the run was started with as kept in `stored_in` (a checkpoint).
+/// Both are compared as JSON values: whitespace, key order and number spelling do not matter.
+/// `may_change` ("" or e.g. "comment and checkpoint_every_ps") is named in the message; the
+/// caller removes those keys from both before the call.
+void require_same_input(const std::string& src, const nlohmann::json& stored,
+                        const nlohmann::json& now, const std::string& stored_in,
+                        const std::string& may_change = "");
 
 } // namespace pnc

@@ -15,6 +15,10 @@ inline constexpr double pa_per_atm = 101325.0;    ///< Pa/atm (exact)
 inline constexpr double m_per_angstrom = 1e-10;   ///< m/A
 inline constexpr double m3_per_angstrom3 = 1e-30; ///< m^3/A^3
 inline constexpr double m2_per_angstrom2 = 1e-20; ///< m^2/A^2
+inline constexpr double s_per_fs = 1e-15;         ///< s/fs (LAMMPS real time)
+inline constexpr double joule_per_kj = 1e3;       ///< J/kJ
+inline constexpr double kg_per_g = 1e-3;          ///< kg/g
+inline constexpr double kg_m3_per_g_cm3 = 1e3;    ///< (kg/m^3)/(g/cm^3) (densities)
 inline constexpr double m_per_mm = 1e-3;          ///< m/mm (the deal.II demo's lengths)
 inline constexpr double joule_per_mj = 1e-3;      ///< J/mJ (the deal.II demo's energies)
 
@@ -35,6 +39,8 @@ inline constexpr double newton_per_kcal_mol_A = joule_per_kcal_mol / m_per_angst
 /// 1 kcal/mol times 1 A in J m = N m^2 (a bending stiffness EI).
 inline constexpr double j_m_per_kcal_mol_A = joule_per_kcal_mol * m_per_angstrom;
 /// One g/mol (per molecule) in kg.
-inline constexpr double kg_per_g_mol = 1e-3 / avogadro;
+inline constexpr double kg_per_g_mol = kg_per_g / avogadro;
+/// 1 A/fs (a LAMMPS real velocity) in m/s (1e5).
+inline constexpr double m_per_s_per_angstrom_per_fs = m_per_angstrom / s_per_fs;
 
 } // namespace pnc::units

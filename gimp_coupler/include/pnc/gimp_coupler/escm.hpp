@@ -56,12 +56,12 @@ namespace pnc::gimp::escm {
 /// LAMMPS `real` units in SI.
 namespace units {
 constexpr double m_per_A = pnc::units::m_per_angstrom;
-constexpr double s_per_fs = 1e-15;
+constexpr double s_per_fs = pnc::units::s_per_fs;
 constexpr double avogadro = pnc::units::avogadro;
 constexpr double J_per_kcalmol = pnc::units::joule_per_kcal_mol;
 constexpr double N_per_kcalmolA = J_per_kcalmol / m_per_A;
-constexpr double kg_per_gmol = 1e-3 / avogadro;
-constexpr double mps_per_Afs = m_per_A / s_per_fs;
+constexpr double kg_per_gmol = pnc::units::kg_per_g_mol;
+constexpr double mps_per_Afs = pnc::units::m_per_s_per_angstrom_per_fs;
 } // namespace units
 
 enum class Zone : std::int8_t { none = -1, interior = 0, ivc = 1, svc = 2 };

@@ -28,6 +28,9 @@ struct RunConfig {
   int checkpoint_every = 1;     ///< VTU frames between checkpoints
   long fracture_every = 10;     ///< steps between J evaluations / crack growth checks (2-D)
   std::vector<std::string> material_names;
+  /// The input with every default filled in (JSON text, keys sorted): what `--resume` compares
+  /// with the checkpoint's (D339)
+  std::string expanded_input;
 };
 
 /// The keys of the input, each declared once with its type, default, range and SI unit

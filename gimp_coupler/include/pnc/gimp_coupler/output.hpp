@@ -39,7 +39,14 @@ struct History {
 
 /// What a checkpoint holds besides the solver: output bookkeeping and the history.
 struct CheckpointExtra {
-  std::string input_hash; ///< FNV-1a of the input file; a resume with another input fails
+  /// The input as read, every default filled in (RunConfig::expanded_input): a resume with
+  /// another input fails naming the first key that differs; whitespace, key order and number
+  /// spelling do not count (D339). Empty: not checked (the ESCM continuum checkpoints).
+  std::string input;
+  std::string input_source; ///< the input file (the source named by that error)
+  /// FNV-1a of the input file's bytes: compared only for a checkpoint without /input (written
+  /// before D339)
+  std::string input_hash;
   double next_output_time = 0.0;
   std::vector<std::string> frame_files;
   std::vector<double> frame_times;

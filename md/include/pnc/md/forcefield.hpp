@@ -21,7 +21,7 @@
 
 namespace pnc::md {
 
-constexpr double kcal_per_kJ = 1000.0 / units::joule_per_kcal;
+constexpr double kcal_per_kJ = units::joule_per_kj / units::joule_per_kcal;
 constexpr double pa_per_atm = units::pa_per_atm;
 /// N_A * 1e-24 (g/cm3 <-> g/mol/A^3)
 constexpr double avogadro_per_A3_cm3 = units::avogadro * 1e-24;
