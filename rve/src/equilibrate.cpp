@@ -294,15 +294,7 @@ void pushoff_stage(md::Lammps& l, const Protocol& pr) {
     d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig, mob);
     if (d >= target) break;
   }
-  const bool met = d >= target;
-  l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
-  write_stage(p(dir, "pushoff", ".h5"), "pushoff",
-              fmt::format("min non-excluded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
-                          "{} round(s) of {} steps{}",
-                          d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
-                          std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
-                          met ? "" : " -- NOT met; continuing with minimisation"),
-              t, recipe_json);
+  finish_pushoff(l, dir, "non-excluded", d, target, s, round, t, recipe_json);
 }
 
 // Stage "hot": minimised (clay frozen), then hot_steps at hot_temperature by velocity rescaling

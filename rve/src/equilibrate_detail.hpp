@@ -1,8 +1,8 @@
 #pragma once
 // Helpers shared by the equilibration protocols (equilibrate.cpp: polymer and composite;
 // equilibrate_glass.cpp: the bead-spring glass). Private to rve/src. Units real.
-#include "pnc/rve/equilibrate.hpp"
 #include "pnc/md/lammps_path.hpp"
+#include "pnc/rve/equilibrate.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -72,8 +72,8 @@ inline void run_chunks(md::Lammps& l, long steps, int chunks, Trace& t, bool who
   l.cmd("unfix pnc_avg");
 }
 
-inline void read_state(md::Lammps& l, const std::vector<std::string>& ffcmds, const EquilibrateSpec& s,
-                       const std::string& restart) {
+inline void read_state(md::Lammps& l, const std::vector<std::string>& ffcmds,
+                       const EquilibrateSpec& s, const std::string& restart) {
   l.cmd("units real");
   l.cmd("atom_style molecular");
   l.cmd("read_restart " + md::lammps_path(restart, "restart"));
@@ -125,6 +125,24 @@ inline void write_stage(const std::string& path, const std::string& stage,
     }
   }
   out.commit();
+}
+
+/// The end of a pushoff stage (either force field): the restart `dir`/pushoff.restart and the
+/// record `dir`/pushoff.h5 whose criterion says the smallest distance `d` (A) between `pairs`
+/// ("non-excluded", "unbonded") against `target` (A), met or not, after `round` rounds.
+template <class Spec>
+void finish_pushoff(md::Lammps& l, const std::string& dir, const char* pairs, double d,
+                    double target, const Spec& s, int round, const Trace& t,
+                    const std::string& recipe_json) {
+  const bool met = d >= target;
+  l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
+  write_stage(p(dir, "pushoff", ".h5"), "pushoff",
+              fmt::format("min {} distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after {} round(s) "
+                          "of {} steps{}",
+                          pairs, d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
+                          std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
+                          met ? "" : " -- NOT met; continuing with minimisation"),
+              t, recipe_json);
 }
 
 /// Stage "final" (equilibrate.hpp stage 6): from `from_restart`, NPT at spec.pressure_atm

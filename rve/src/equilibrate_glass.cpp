@@ -1,8 +1,8 @@
 // Equilibration of the glassy bead-spring polymer (model "kg"), one child process per stage.
 // Units real. Decision D137.
+#include "pnc/md/stage_stop.hpp"
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/platelet.hpp"
-#include "pnc/md/stage_stop.hpp"
 
 #include "equilibrate_detail.hpp"
 
@@ -98,15 +98,7 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
       d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig);
       if (d >= target) break;
     }
-    const bool met = d >= target;
-    l.cmd("write_restart " + md::lammps_path(p(dir, "pushoff", ".restart"), "--out"));
-    write_stage(p(dir, "pushoff", ".h5"), "pushoff",
-                fmt::format("min unbonded distance {:.3f} A {} {:.3f} A ({:.2f} sigma) after "
-                            "{} round(s) of {} steps{}",
-                            d, met ? ">=" : "<", target, s.pushoff_min_distance_sigma,
-                            std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
-                            met ? "" : " -- NOT met; continuing with minimisation"),
-                t, recipe_json);
+    finish_pushoff(l, dir, "unbonded", d, target, s, round, t, recipe_json);
   });
 
   // 2. melt: LJ on, minimisation, then Langevin at hot_temperature at the build density
