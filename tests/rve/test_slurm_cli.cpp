@@ -295,7 +295,7 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   fs::remove_all(d);
 }
 
-// A case unit that LAMMPS stops inside its Slurm job (issue 20): the user's system computes
+// A case unit that LAMMPS stops inside its Slurm job (D243): the user's system computes
 // electrostatics with PPPM (`kspace_modify ... diff ad`, zero charges: the crystal of the LJ
 // example); LAMMPS refuses PPPM on a box made triclinic after the solver was defined ("Must
 // redefine kspace_style after changing to triclinic box", and with that lifted "Cannot (yet)
