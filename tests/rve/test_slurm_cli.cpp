@@ -10,7 +10,9 @@
 //  3. Ctrl-C while --wait follows the jobs ends only the waiting (D306): exit code 130, the
 //     stopped report names the live jobs, `scancel` and `pnc status`, and the jobs are still
 //     in the queue;
-//  4. `pnc thermo ti` through Slurm gives the numbers of a local run.
+//  4. a case unit that LAMMPS stops inside its job is reported with LAMMPS's own ERROR line
+//     and its job id, the other units finish, the fit names the missing unit;
+//  5. `pnc thermo ti` through Slurm gives the numbers of a local run.
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/rve/campaign.hpp"
@@ -21,6 +23,7 @@
 #include "../thermo/tiny_polymer.hpp"
 #endif
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -289,6 +292,114 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
       ++rendered;
     }
   EXPECT_GE(rendered, 5); // equilibrate, cases (2 + the resubmitted one), fit twice
+  fs::remove_all(d);
+}
+
+// A case unit that LAMMPS stops inside its Slurm job (D243): the user's system computes
+// electrostatics with PPPM (`kspace_modify ... diff ad`, zero charges: the crystal of the LJ
+// example); LAMMPS refuses PPPM on a box made triclinic after the solver was defined ("Must
+// redefine kspace_style after changing to triclinic box", and with that lifted "Cannot (yet)
+// use PPPM with triclinic box and kspace_modify diff ad"), so only the shear case 6, whose box
+// is made triclinic, fails; the stretch case 2 keeps an orthogonal box and finishes. The
+// failed unit is reported with the ERROR line LAMMPS wrote to its own log and the unit's job
+// id (pnc status, the recorded state, the --wait report); the fit names the missing unit;
+// the exit code is the local run's.
+TEST(RveSlurm, LammpsErrorInACaseJobIsReportedWithItsMessageAndJobId) {
+  const std::string why = use_cluster();
+  ASSERT_EQ(why, "");
+  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_lmperr";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  { // 4 x 4 x 4 fcc cells (256 atoms, a0 of examples/rve/lj_fcc), atom style charge, q = 0
+    const double a0 = 5.27639965902468, l = 4 * a0;
+    const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    std::ofstream f(d / "q.data");
+    f << "fcc, zero charges\n\n256 atoms\n1 atom types\n\n";
+    f << fmt::format("0 {0:.15g} xlo xhi\n0 {0:.15g} ylo yhi\n0 {0:.15g} zlo zhi\n", l);
+    f << "\nMasses\n\n1 39.948\n\nAtoms # charge\n\n";
+    int id = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        for (int k = 0; k < 4; ++k)
+          for (const auto& b : basis)
+            f << fmt::format("{} 1 0.0 {:.15g} {:.15g} {:.15g}\n", ++id, (i + b[0]) * a0,
+                             (j + b[1]) * a0, (k + b[2]) * a0);
+  }
+  const nlohmann::json recipe = {
+      {"name", "lammps-error"},
+      {"seed", 1},
+      {"model", "pp"},
+      {"system",
+       {{"data_file", "q.data"},
+        {"atom_style", "charge"},
+        {"units", "real"},
+        {"forcefield",
+         {"pair_style lj/cut/coul/long 8.5", "pair_coeff * * 0.2381 3.405", "mass 1 39.948",
+          "kspace_style pppm 1e-4", "kspace_modify gewald 0.3 mesh 8 8 8 diff ad",
+          "neighbor 2.0 bin", "neigh_modify every 1 delay 0 check yes"}}}},
+      {"equilibrate", {{"stages", nlohmann::json::array()}}},
+      {"deform",
+       {{"cases", {2, 6}},
+        {"strain_max", 0.0002},
+        {"steps", 2},
+        {"temperature", 0.0},
+        {"minimize", true}}},
+      {"analysis", {{"stress", "virial"}, {"moving_average", 1}, {"reference", "subtract"}}},
+      {"run", {{"jobs", 2}}}};
+  std::ofstream(d / "r.json") << recipe.dump();
+  const std::string base = std::string(PNC_EXE) + " characterize " + (d / "r.json").string() +
+                           " --no-plots --equilibrate-ranks 1 --ranks 1";
+  const auto local =
+      run_command(base + " --out " + (d / "local").string() + " 2>" + (d / "local.err").string());
+  ASSERT_EQ(local.code, 7) << slurp(d / "local.err"); // a ToolError: LAMMPS stopped a stage
+  const std::string out = (d / "out").string(), err = (d / "wait.err").string();
+  const auto sl = run_command(base + " --out " + out + " --executor slurm --wait 2>" + err);
+  const std::string waited = slurp(err);
+  EXPECT_EQ(sl.code, local.code) << waited;
+
+  // LAMMPS's own message: the ERROR line of the unit's LAMMPS log
+  std::string lmp_error;
+  {
+    std::ifstream log(fs::path(out) / "cases" / "case_6" / "lammps.log");
+    for (std::string line; std::getline(log, line);)
+      if (line.rfind("ERROR: ", 0) == 0) lmp_error = line;
+  }
+  ASSERT_NE(lmp_error.find("triclinic"), std::string::npos) << lmp_error;
+  const auto st = status_json(out);
+  ASSERT_TRUE(st.is_object()) << waited;
+  ASSERT_EQ(st["units"].size(), 4u) << st.dump();
+  const auto c6 = unit_of(st, "replica_1/case_6");
+  EXPECT_EQ(c6["state"], "failed") << c6.dump();
+  const std::string job = c6.value("job_id", std::string());
+  ASSERT_FALSE(job.empty()) << c6.dump();
+  const std::string msg = c6.value("message", std::string());
+  EXPECT_NE(msg.find("LAMMPS failed while running stage case 6: " + lmp_error), std::string::npos)
+      << msg;
+  // the others keep going: the equilibration and case 2 ran in their jobs and are done
+  for (const char* u : {"replica_1/equilibrate", "replica_1/case_2"}) {
+    EXPECT_EQ(unit_of(st, u)["state"], "done") << unit_of(st, u).dump();
+    EXPECT_FALSE(unit_of(st, u)["job_id"].get<std::string>().empty()) << u;
+  }
+  const auto fit = unit_of(st, "fit");
+  EXPECT_EQ(fit["state"], "failed") << fit.dump();
+  EXPECT_NE(fit["message"].get<std::string>().find("missing: replica_1/case_6"), std::string::npos)
+      << fit.dump();
+  // the text of pnc status and the --wait report: the unit's line, its job id, LAMMPS's message
+  const auto status = run_command(std::string(PNC_EXE) + " status " + out + " 2>&1");
+  EXPECT_EQ(status.code, 1) << status.out; // a unit failed
+  const auto row = status.out.find("\nreplica_1/case_6 ");
+  ASSERT_NE(row, std::string::npos) << status.out;
+  const std::string line = status.out.substr(row + 1, status.out.find('\n', row + 1) - row - 1);
+  EXPECT_NE(line.find(" failed "), std::string::npos) << line;
+  EXPECT_NE(line.find(" " + job + " "), std::string::npos) << line;
+  EXPECT_NE(line.find(lmp_error), std::string::npos) << line;
+  EXPECT_NE(waited.find("pnc: unit replica_1/case_6: failed (job " + job +
+                        "): LAMMPS failed while running stage case 6: " + lmp_error),
+            std::string::npos)
+      << waited;
+  // the fit's failure in the report names the missing unit with its job id
+  EXPECT_NE(waited.find("missing: replica_1/case_6 (failed, job " + job + ": "), std::string::npos)
+      << waited;
   fs::remove_all(d);
 }
 
