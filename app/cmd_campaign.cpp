@@ -119,7 +119,7 @@ void wait_for_slurm(const PlanDriver& d, const rve::Plan& p, std::vector<std::st
       std::string line = rve::state_name(s.state);
       if (!s.job_id.empty()) line += " (job " + s.job_id + ")";
       if (s.state == rve::UnitState::failed) {
-        line += ": " + s.message + (s.log_path.empty() ? "" : " (log " + s.log_path + ")");
+        line += ": " + with_log(s.message, s.log_path);
         failed.push_back(u.id + ": " + s.message + " (job " + s.job_id + ")");
       }
       if (shown[u.id] != line) {
@@ -226,7 +226,7 @@ int run_status(const std::string& dir, bool json) {
     std::string note = s.message;
     if (have_queue && q.count(s.job_id)) note = q[s.job_id] + (note.empty() ? "" : "; " + note);
     if (!s.log_path.empty() && s.state != rve::UnitState::done)
-      note += (note.empty() ? "log " : " (log ") + s.log_path + (note.empty() ? "" : ")");
+      note = note.empty() ? "log " + s.log_path : with_log(note, s.log_path);
     table += fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", u.id, rve::state_name(s.state),
                          s.job_id.empty() ? "-" : s.job_id,
                          secs > 0 ? fmt::format("{:.1f}", secs) : "-", note);

@@ -91,4 +91,10 @@ int exit_code_of(const std::exception& e) noexcept {
   return exit_code::internal_error;
 }
 
+std::string with_log(const std::string& message, const std::string& log) {
+  const std::string tag = "(log " + log + ")";
+  if (log.empty() || message.find(tag) != std::string::npos) return message;
+  return message + (message.empty() ? "" : " ") + tag;
+}
+
 } // namespace pnc

@@ -263,7 +263,12 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
       fail(prev_state(dir, c.r.rows_done), "", "", "the checkpoint names a missing restart file");
   } else {
     read_state(l, spec, spec.start_state);
-    if (tilted) l.cmd("change_box all triclinic");
+    if (tilted) {
+      l.cmd("change_box all triclinic");
+      // a long-range solver set up on the orthogonal box must be defined again on the
+      // triclinic one (LAMMPS refuses to run otherwise): the force field once more
+      l.cmds(spec.force_field);
+    }
     c.ref_box = l.box().to_vector();
     l.cmd("write_restart " + md::lammps_path(prev_state(dir, 0), "--out"));
     c.r.strain.resize(0, 6);

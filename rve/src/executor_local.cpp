@@ -127,8 +127,7 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
       write_status(dir, u.id, s);
     }
     st[u.id] = S::failed;
-    const std::string line = fmt::format("{}: {}{}", u.id, s.message,
-                                         s.log_path.empty() ? "" : " (log " + s.log_path + ")");
+    const std::string line = u.id + ": " + with_log(s.message, s.log_path);
     out.failed.push_back(line);
     std::cerr << "pnc: unit " << line << " -- FAILED; the other units keep going\n";
   }

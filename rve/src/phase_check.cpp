@@ -88,7 +88,8 @@ Hold hold(md::Lammps& l, const PhaseCheckInput& in, char kind, double strain, lo
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
   if (kind == 's') {
     l.cmd("change_box all triclinic");
-    F(0, 1) = strain; // simple shear 1-2: xy += gamma Ly
+    l.cmds(in.force_field); // a long-range solver is defined again on the triclinic box
+    F(0, 1) = strain;       // simple shear 1-2: xy += gamma Ly
   } else {
     F *= std::cbrt(1.0 + strain); // isotropic volumetric strain
   }

@@ -117,3 +117,15 @@ TEST(ExitCodes, TheUserTableListsTheSameCodesUnderTheSameNames) {
   }
   EXPECT_EQ(table, constants);
 }
+
+// A failure names its log once: a ToolError's message already ends with "(log PATH)", and the
+// unit listings that add the unit's log must not repeat it.
+TEST(ErrorKinds, WithLogNamesTheLogOnce) {
+  const std::string tool = pnc::ToolError(pnc::ToolContext{"LAMMPS", "running stage case 6",
+                                                           "ERROR: Lost atoms", "/r/case.log"})
+                               .what();
+  EXPECT_EQ(pnc::with_log(tool, "/r/case.log"), tool);
+  EXPECT_EQ(pnc::with_log("failed", "/r/case.log"), "failed (log /r/case.log)");
+  EXPECT_EQ(pnc::with_log("failed", ""), "failed");
+  EXPECT_EQ(pnc::with_log(tool, "/r/other.log"), tool + " (log /r/other.log)");
+}

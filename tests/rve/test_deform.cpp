@@ -3,8 +3,8 @@
 // after a kill reproduces the uninterrupted run; moving average and block errors.
 #include "pnc/core/error.hpp"
 #include "pnc/damage/cases.hpp"
-#include "pnc/rve/deform.hpp"
 #include "pnc/md/forcefield.hpp"
+#include "pnc/rve/deform.hpp"
 
 #include <gtest/gtest.h>
 
@@ -162,6 +162,38 @@ TEST(RveDeform, FccLennardJonesElasticConstantsMatchLatticeSums) {
   EXPECT_NEAR(r1.stress_total(5, 0), r1.stress_virial(5, 0), 1e-3 * r1.stress_virial(5, 0));
   EXPECT_LT(std::fabs(r1.stress_virial(0, 0)), 0.01 * r1.stress_virial(1, 0)); // zero-strain row
   EXPECT_EQ(r1.thermo.rows(), 6);
+  fs::remove_all(d);
+}
+
+// A user's force field with a long-range solver (PPPM) on a shear case: the box turns
+// triclinic before the first row and LAMMPS wants the solver defined again on it. The crystal
+// carries zero charges, so the Coulomb part adds nothing and C44 is the LJ lattice sum's.
+TEST(RveDeform, ShearCaseWithPppmRedefinesTheSolverOnTheTriclinicBox) {
+  const Born b = lattice_sums();
+  const auto d = tmpdir("pppm");
+  const std::string start = (d / "start.restart").string();
+  const std::vector<std::string> ff = {"pair_style lj/cut/coul/long " + std::to_string(rc),
+                                       "pair_coeff 1 1 0.238 3.405", "kspace_style pppm 1e-4",
+                                       "kspace_modify gewald 0.3 mesh 8 8 8"};
+  const auto made = run_stage({"crystal", (d / "crystal.log").string(), {}}, [&](Lammps& l) {
+    l.cmds({"units real", "atom_style charge", "boundary p p p",
+            "lattice fcc " + std::to_string(b.a0), "region b block 0 4 0 4 0 4", "create_box 1 b",
+            "create_atoms 1 box", "mass 1 " + std::to_string(mass), "set type 1 charge 0.0"});
+    l.cmds(ff);
+    l.cmd("velocity all set 0 0 0");
+    l.cmd("write_restart " + start);
+  });
+  ASSERT_TRUE(made.ok) << made.error;
+  DeformSpec s = crystal_spec(start, 6);
+  s.atom_style = "charge";
+  s.force_field = ff;
+  const auto o6 = run_case(s, (d / "case_6").string(), false);
+  ASSERT_TRUE(o6.ok) << o6.error;
+  const CaseResult r6 = read_case((d / "case_6").string());
+  ASSERT_EQ(r6.rows_done, 6);
+  const double C44 = slope(r6.strain.col(5), r6.stress_virial.col(5));
+  // the tolerance of the LJ-only test above (1 %: sign, factor and unit errors)
+  EXPECT_NEAR(C44, b.C44, 0.01 * b.C44) << "C44 (GPa) " << C44 * 1e-9 << " vs " << b.C44 * 1e-9;
   fs::remove_all(d);
 }
 

@@ -113,6 +113,10 @@ private:
 [[noreturn]] void fail_simulation(std::string entity, long long step, double time,
                                   std::string time_unit, std::string message);
 
+/// `message` followed by " (log LOG)", unless `log` is empty or the message already names that
+/// log that way (a ToolError's what() does): a failure names its log once.
+std::string with_log(const std::string& message, const std::string& log);
+
 /// The exit code for an exception that ended a command: a pnc::Error's own code, else
 /// exit_code::internal_error. (pnc::Interrupted, core/stop.hpp, is mapped by the application.)
 int exit_code_of(const std::exception& e) noexcept;
