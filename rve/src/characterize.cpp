@@ -411,7 +411,7 @@ MdOutcome collect_md(const Recipe& r, const std::string& dir, const Plan& p) {
     }
   }
   if (nmissing > 0)
-    fail(dir, "units", std::to_string(nmissing),
+    fail(dir, "units not done", std::to_string(nmissing),
          fmt::format("the fit needs every unit done; missing: {}{}; finished work is kept: "
                      "rerun with --resume (pnc status {} shows every unit)",
                      missing, nmissing > 8 ? fmt::format(" and {} more", nmissing - 8) : "", dir));
