@@ -174,10 +174,15 @@ int run_thermo_persistence(PersistenceArgs a) {
   if (!a.no_plots) {
     std::ostringstream c;
     c.precision(12);
-    c << "kind,rate,EI,EI_se,EI_end\n";
+    // SI by the unit rule of every CSV (docs/formats.md): rate m/s, EI N m^2; on the "fit"
+    // row EI is EI(0), EI_err its 95 % half-width and EI_end the fit's slope (N m^2 per m/s)
+    const double mps = units::m_per_s_per_angstrom_per_fs;
+    c << "kind,rate_m_per_s,EI_N_m2,EI_err_N_m2,EI_end_N_m2\n";
     for (const auto& rr : r.rates)
-      c << "rate," << rr.rate << ',' << rr.ei.value << ',' << rr.ei.se << ',' << rr.ei_end << '\n';
-    c << "fit,0," << r.line.c[0] << ',' << r.ei0_ci95 << ',' << r.line.c[1] << '\n';
+      c << "rate," << rr.rate * mps << ',' << rr.ei.value * si << ',' << rr.ei.se * si << ','
+        << rr.ei_end * si << '\n';
+    c << "fit,0," << r.line.c[0] * si << ',' << r.ei0_ci95 * si << ',' << r.line.c[1] * si / mps
+      << '\n';
     const std::string csv = (fs::path(a.out) / "EI_vs_rate.csv").string();
     write_text_atomically(csv, c.str());
     pngs = run_plot({"persistence", csv, a.out}, rep);

@@ -264,11 +264,14 @@ nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
     std::ostringstream c1, c2;
     c1.precision(12);
     c2.precision(12);
-    c1 << "state,lambda,dhdl,dhdl_se\n";
-    c2 << "kind,strain,strain_measure,dA,dA_se\n";
+    // SI by the unit rule of every CSV (docs/formats.md): energies of the whole box in J
+    const double J = units::joule_per_kcal_mol;
+    c1 << "state,lambda,dhdl_J,dhdl_se_J\n";
+    c2 << "kind,strain,strain_measure,dA_J,dA_se_J\n";
     for (const auto& st : r.states) {
       for (const auto& p : st.ti.points)
-        c1 << st.state.id << ',' << p.lambda << ',' << p.dhdl.value << ',' << p.dhdl.se << '\n';
+        c1 << st.state.id << ',' << p.lambda << ',' << p.dhdl.value * J << ',' << p.dhdl.se * J
+           << '\n';
       for (const char* k : {"vol", "dev"})
         if (st.state.kind == k || st.state.kind == "ref") {
           const bool in = st.state.kind == "ref"
@@ -276,8 +279,8 @@ nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
                               : true;
           if (!in) continue;
           const double m = std::string(k) == "vol" ? 3 * st.state.strain : st.state.strain;
-          c2 << k << ',' << st.state.strain << ',' << m << ',' << st.ti.dA.value << ','
-             << st.ti.dA.se << '\n';
+          c2 << k << ',' << st.state.strain << ',' << m << ',' << st.ti.dA.value * J << ','
+             << st.ti.dA.se * J << '\n';
         }
     }
     const fs::path pd = fs::path(a.out) / "plots";

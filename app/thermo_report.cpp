@@ -228,7 +228,7 @@ std::string write_persistence_report(const ThermoRun& run, const thermo::Persist
                       fmt::format("{:.4g}", rr.ei_end), fmt::format("{:.4g}", rr.d_max)});
   page.table(t);
   add_figures(page, run,
-              {{"EI_vs_rate.png", "EI (kcal/mol Å) against the pulling rate and the straight "
+              {{"EI_vs_rate.png", "EI (N m²) against the pulling rate (m/s) and the straight "
                                   "line extrapolated to rate 0."}});
   add_warnings(page, run);
   return page.write_report(run.out);

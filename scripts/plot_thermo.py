@@ -21,6 +21,14 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+JOULE_PER_KCAL_MOL = 4184.0 / 6.02214076e23  # J per kcal/mol (one box's energy)
+
+
+def kcal_mol(v):
+    """A CSV energy in J, as kcal/mol for the axes (the LAMMPS real unit the runs used)."""
+    return float(v) / JOULE_PER_KCAL_MOL
+
+
 def ti(dhdl_csv, da_csv, out):
     rows = read(dhdl_csv)
     states = []
@@ -30,8 +38,8 @@ def ti(dhdl_csv, da_csv, out):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for s in states:
         rr = [r for r in rows if r["state"] == s]
-        ax.errorbar([float(r["lambda"]) for r in rr], [float(r["dhdl"]) for r in rr],
-                    yerr=[float(r["dhdl_se"]) for r in rr], marker="o", capsize=3, label=s)
+        ax.errorbar([float(r["lambda"]) for r in rr], [kcal_mol(r["dhdl_J"]) for r in rr],
+                    yerr=[kcal_mol(r["dhdl_se_J"]) for r in rr], marker="o", capsize=3, label=s)
     ax.set_xlabel("lambda")
     ax.set_ylabel("<dH/dlambda> (kcal/mol)")
     ax.set_title("TI integrand per deformation state (error bars: 1 s.e.)")
@@ -49,7 +57,7 @@ def ti(dhdl_csv, da_csv, out):
             ax.set_visible(False)
             continue
         x = [float(r["strain_measure"]) for r in rr]
-        ax.errorbar(x, [float(r["dA"]) for r in rr], yerr=[float(r["dA_se"]) for r in rr],
+        ax.errorbar(x, [kcal_mol(r["dA_J"]) for r in rr], yerr=[kcal_mol(r["dA_se_J"]) for r in rr],
                     marker="o", capsize=3, ls="-")
         ax.set_xlabel(lab)
         ax.set_ylabel("Delta A = A(lambda=1) - A(lambda=0) (kcal/mol)")
@@ -63,20 +71,20 @@ def ti(dhdl_csv, da_csv, out):
 
 def persistence(rates_csv, out):
     rows = read(rates_csv)
-    x = [float(r["rate"]) for r in rows if r["kind"] == "rate"]
-    y = [float(r["EI"]) for r in rows if r["kind"] == "rate"]
-    e = [float(r["EI_se"]) for r in rows if r["kind"] == "rate"]
-    ye = [float(r["EI_end"]) for r in rows if r["kind"] == "rate"]
+    x = [float(r["rate_m_per_s"]) for r in rows if r["kind"] == "rate"]
+    y = [float(r["EI_N_m2"]) for r in rows if r["kind"] == "rate"]
+    e = [float(r["EI_err_N_m2"]) for r in rows if r["kind"] == "rate"]
+    ye = [float(r["EI_end_N_m2"]) for r in rows if r["kind"] == "rate"]
     fit = [r for r in rows if r["kind"] == "fit"][0]
-    c0, c1, ci = float(fit["EI"]), float(fit["EI_end"]), float(fit["EI_se"])
+    c0, c1, ci = float(fit["EI_N_m2"]), float(fit["EI_end_N_m2"]), float(fit["EI_err_N_m2"])
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.errorbar(x, y, yerr=e, marker="o", ls="none", capsize=3, label="EI = L^3/48 dF/dd")
     ax.plot(x, ye, "s", mfc="none", label="EI = F L^3/(48 d), end of pull (theory.md §4.5)")
     xs = [0.0, max(x) * 1.05]
     ax.plot(xs, [c0 + c1 * v for v in xs], "-", label="linear fit, extrapolated")
     ax.errorbar([0.0], [c0], yerr=[ci], marker="D", color="k", capsize=4, label="EI(0), 95 % CI")
-    ax.set_xlabel("pulling rate (A/fs)")
-    ax.set_ylabel("EI (kcal/mol A)")
+    ax.set_xlabel("pulling rate (m/s)")
+    ax.set_ylabel("EI (N m^2)")
     ax.set_title("bending stiffness vs pulling rate")
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -21,7 +21,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -29,6 +31,19 @@ namespace fs = std::filesystem;
 
 namespace {
 using CmdRun = pnc::test::CommandResult;
+
+/// The header and the rows (cells as text) of a CSV file the plots are drawn from.
+std::vector<std::vector<std::string>> csv_cells(const fs::path& p) {
+  std::ifstream f(p);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(f, line);) {
+    rows.emplace_back();
+    std::istringstream l(line);
+    for (std::string c; std::getline(l, c, ',');)
+      rows.back().push_back(c);
+  }
+  return rows;
+}
 CmdRun run(const std::string& args) {
   return pnc::test::run_command(std::string(PNC_EXE) + " " + args + " 2>/dev/null");
 }
@@ -134,6 +149,24 @@ TEST(ThermoCli, PersistencePageRendersInHeadlessChromium) {
        at = html.find("src=\"data:image/png;base64,iVBORw0KGgo", at + 1))
     ++embedded;
   EXPECT_EQ(embedded, j["plots"].size()) << "every figure drawn is on the page";
+  // the CSV the figure is drawn from: SI names and the numbers of --json (12 digits written)
+  const auto c = csv_cells(out / "EI_vs_rate.csv");
+  ASSERT_EQ(c.size(), 5u); // header, 3 rates, the fit
+  EXPECT_EQ(c[0], (std::vector<std::string>{"kind", "rate_m_per_s", "EI_N_m2", "EI_err_N_m2",
+                                            "EI_end_N_m2"}));
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& jr = j["rates"][i];
+    ASSERT_EQ(c[i + 1].size(), 5u);
+    EXPECT_NEAR(std::stod(c[i + 1][1]), jr["rate_m_per_s"].get<double>(),
+                1e-11 * jr["rate_m_per_s"].get<double>());
+    EXPECT_NEAR(std::stod(c[i + 1][2]), jr["EI_N_m2"].get<double>(),
+                1e-11 * std::fabs(jr["EI_N_m2"].get<double>()));
+    EXPECT_NEAR(std::stod(c[i + 1][3]), jr["EI_stderr_N_m2"].get<double>(),
+                1e-11 * std::fabs(jr["EI_stderr_N_m2"].get<double>()));
+  }
+  EXPECT_EQ(c[4][0], "fit");
+  EXPECT_NEAR(std::stod(c[4][2]), j["EI0_N_m2"].get<double>(),
+              1e-11 * std::fabs(j["EI0_N_m2"].get<double>()));
   const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
   ASSERT_EQ(b.error, "");
   EXPECT_EQ(b.images, std::vector<std::string>(j["plots"].size(), "ok"))
@@ -227,6 +260,18 @@ TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
               std::string::npos)
         << st["id"];
   // the two PNGs plot_thermo.py drew, embedded (base64 of the PNG signature is iVBORw0KGgo)
+  // the CSVs the figures are drawn from: SI names, Delta A of --json in J (12 digits written)
+  const auto dA = csv_cells(out / "plots" / "dA.csv");
+  ASSERT_EQ(dA.size(), 3u); // header, one row per state (both on the volumetric path)
+  EXPECT_EQ(dA[0],
+            (std::vector<std::string>{"kind", "strain", "strain_measure", "dA_J", "dA_se_J"}));
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double want = j["states"][i]["dA_J"].get<double>();
+    ASSERT_EQ(dA[i + 1].size(), 5u);
+    EXPECT_NEAR(std::stod(dA[i + 1][3]), want, 1e-11 * std::fabs(want)) << i;
+  }
+  EXPECT_EQ(csv_cells(out / "plots" / "dhdl.csv").at(0),
+            (std::vector<std::string>{"state", "lambda", "dhdl_J", "dhdl_se_J"}));
   ASSERT_EQ(j["plots"].size(), 2u) << "python3-matplotlib is a test dependency";
   const std::string img = "src=\"data:image/png;base64,iVBORw0KGgo";
   const auto first = html.find(img);
