@@ -1236,24 +1236,12 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   char err[512];
   double plugin_time = 0;
   bool ok = true;
-  const std::array<double, 6> kappa_zero{};
-  // lambda_m(e) and its gradient by central differences (plugin calls from kappa = 0).
+  // lambda_m(e) and its gradient d lambda_m / d e, queried (ABI 1.3, D340).
   auto stretch = [&](const Voigt6& e, int m, double& lam, Voigt6& g) {
-    std::array<double, 6> out;
-    Voigt6 z{}, sg;
-    const int km = kappa_at[m];
-    material.integrate(kappa_zero.data(), out.data(), z.data(), e.data(), sg.data());
-    lam = out[km];
-    for (int j = 0; j < 6; ++j) {
-      const double hh = 1e-7;
-      Voigt6 ep = e, em = e;
-      ep[j] += hh;
-      em[j] -= hh;
-      material.integrate(kappa_zero.data(), out.data(), z.data(), ep.data(), sg.data());
-      const double lp = out[km];
-      material.integrate(kappa_zero.data(), out.data(), z.data(), em.data(), sg.data());
-      g[j] = (lp - out[km]) / (2 * hh);
-    }
+    std::vector<double> grad;
+    lam = material.mode_stretch(e.data(), &grad)[static_cast<std::size_t>(m)];
+    for (int j = 0; j < 6; ++j)
+      g[j] = grad[static_cast<std::size_t>(6 * m + j)];
   };
   // dD_m/dkappa_m at kappa: the law's own slope, queried (ABI 1.3, D340).
   auto damage_slope = [&](int m, double kappa) {
@@ -1273,9 +1261,9 @@ bool FractureProblem<dim>::assemble(const AffineConstraints<double>& c, bool wan
   // already there (the tangents stay in cache) and a few hundred points are enough to amortise
   // the call (D311). The batched entry gives the point entry's numbers bit for bit, so the
   // run is the same to the last bit with 'Entry = point' (D312; ctest
-  // dealii_fracture.material_entry). The other plugin calls of the assembly (stretch above:
-  // finite differences of a few points that are loading; damage_slope, a query) and the
-  // one-off calls (setup_law, secant_of, extrapolate) stay point calls.
+  // dealii_fracture.material_entry). The other plugin calls of the assembly (stretch and
+  // damage_slope above, queries for the few points that are loading) and the one-off calls
+  // (setup_law, secant_of, extrapolate) stay point calls.
   constexpr std::size_t kChunk = 64;
   std::vector<Tangent36> Kchunk(kChunk * nq);
   std::vector<typename DoFHandler<dim>::active_cell_iterator> chunk;

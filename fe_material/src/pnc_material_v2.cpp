@@ -263,4 +263,28 @@ PNC_MATERIAL_API int pnc_material_damage_of_stretch(const pnc_material* m, int m
   return PNC_MATERIAL_OK;
 }
 
+PNC_MATERIAL_API int pnc_material_mode_stretch(const pnc_material* m, const double* strain,
+                                               double* lambda, double* dlambda) {
+  if (!m || !strain || !lambda) return PNC_MATERIAL_BAD_ARGUMENT;
+  pnc::damage::Voigt eps;
+  for (int i = 0; i < 6; ++i)
+    eps[i] = strain[i];
+  if (!eps.allFinite()) return PNC_MATERIAL_BAD_ARGUMENT;
+  // the platelet-frame strain and the kernel's stretch routine, as the integration (D340)
+  const auto& q = m->kernel;
+  const pnc::damage::Voigt el = q.rotated ? pnc::damage::Voigt(q.T * eps) : eps;
+  const pnc::damage::ModeStretch s = pnc::damage::mode_stretches(q.p.model, el, dlambda != nullptr);
+  const int n = n_modes(m);
+  for (int k = 0; k < n; ++k)
+    lambda[k] = s.lambda[static_cast<std::size_t>(k)];
+  if (dlambda) {
+    const Eigen::Matrix<double, 3, 6> g =
+        q.rotated ? Eigen::Matrix<double, 3, 6>(s.dlambda * q.T) : s.dlambda;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < 6; ++j)
+        dlambda[6 * k + j] = g(k, j);
+  }
+  return PNC_MATERIAL_OK;
+}
+
 } // extern "C"

@@ -283,6 +283,55 @@ TEST(FeMaterialV2, DamageOfStretchIsTheLawIntegrate2Applies) {
   }
 }
 
+// ABI 1.3: the mode stretches of a strain are the kappa integrate2 writes from a state with
+// kappa = 0 (up to the rounding of the frame change), and their gradient is the derivative
+// of that map (central differences of the query).
+TEST(FeMaterialV2, ModeStretchIsTheStretchIntegrate2ComparesAndItsGradient) {
+  for (const Case& c : kCases) {
+    auto m = make(params(c.model, c.rotated));
+    const int modes = static_cast<int>(prop(m.get(), "n_damage_modes"));
+    for (const Vec6& e : strains()) {
+      double lambda[3] = {-1, -1, -1}, grad[18] = {};
+      ASSERT_EQ(pnc_material_mode_stretch(m.get(), e.data(), lambda, grad), PNC_MATERIAL_OK);
+      std::vector<double> s0 = virgin(m.get());
+      for (int k = 0; k < modes; ++k)
+        s0[static_cast<std::size_t>(
+            pnc_material_state_index(m.get(), ("kappa" + std::to_string(k + 1)).c_str()))] = 0.0;
+      const Out o = call(m.get(), s0.data(), Vec6::Zero(), e, PNC_MATERIAL_TANGENT_NONE);
+      ASSERT_EQ(o.status, PNC_MATERIAL_OK) << o.err;
+      for (int k = 0; k < modes; ++k) {
+        const std::string at = name_of(c) + " mode " + std::to_string(k + 1);
+        const int ik = pnc_material_state_index(m.get(), ("kappa" + std::to_string(k + 1)).c_str());
+        // rounding of T eps (a sum of six products) and of the stretch: a few 1e-16
+        EXPECT_NEAR(lambda[k], o.state1[static_cast<std::size_t>(ik)], 1e-14) << at;
+        for (int j = 0; j < 6; ++j) {
+          const double h = 1e-6;
+          Vec6 ep = e, em = e;
+          ep[j] += h;
+          em[j] -= h;
+          double lp[3], lm[3];
+          ASSERT_EQ(pnc_material_mode_stretch(m.get(), ep.data(), lp, nullptr), 0);
+          ASSERT_EQ(pnc_material_mode_stretch(m.get(), em.data(), lm, nullptr), 0);
+          // truncation ~h^2 |d3 lambda| / 6 and rounding ~1e-16 / h: both below 1e-8 for
+          // strains away from a switch of the stretch's branch (strains() are)
+          EXPECT_NEAR(grad[6 * k + j], (lp[k] - lm[k]) / (2 * h), 1e-7) << at << " j " << j;
+        }
+      }
+    }
+    // refusals write nothing
+    double lambda[3] = {7, 7, 7};
+    Vec6 bad = Vec6::Zero();
+    bad[2] = std::nan("");
+    EXPECT_EQ(pnc_material_mode_stretch(m.get(), bad.data(), lambda, nullptr),
+              PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(pnc_material_mode_stretch(nullptr, Vec6::Zero().eval().data(), lambda, nullptr),
+              PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(pnc_material_mode_stretch(m.get(), nullptr, lambda, nullptr),
+              PNC_MATERIAL_BAD_ARGUMENT);
+    EXPECT_EQ(lambda[0], 7.0);
+  }
+}
+
 TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {
   void* h = dlopen(PNC_MATERIAL_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(h, nullptr) << dlerror();
@@ -300,6 +349,7 @@ TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {
   const std::string v13 = v1 + ".3";
   EXPECT_NE(dlvsym(h, "pnc_material_damage_of_stretch", v13.c_str()), nullptr) << v13;
   EXPECT_EQ(dlvsym(h, "pnc_material_damage_of_stretch", v11.c_str()), nullptr) << v11;
+  EXPECT_NE(dlvsym(h, "pnc_material_mode_stretch", v13.c_str()), nullptr) << v13;
   dlclose(h);
 }
 

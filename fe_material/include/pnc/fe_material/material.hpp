@@ -345,6 +345,26 @@ public:
     return D;
   }
 
+  /// The mode stretches of a strain (6, engineering Voigt, global frame): lambda[k] for
+  /// k < n_damage_modes() (dimensionless), and, if `dlambda` is not null, d lambda_k / d
+  /// strain_j at (*dlambda)[6 k + j]. Throws Error for a plugin older than ABI 1.3 or a strain
+  /// that is not finite.
+  std::vector<double> mode_stretch(const double* strain,
+                                   std::vector<double>* dlambda = nullptr) const {
+    if (!lib_->api.mode_stretch)
+      throw Error("pnc::fe_material: '" + lib_->path +
+                  "': symbol 'pnc_material_mode_stretch' is missing: the plugin predates ABI " +
+                  std::to_string(PNC_MATERIAL_ABI_VERSION) + ".3; use a newer libpnc_material");
+    const auto n = static_cast<std::size_t>(n_damage_modes());
+    std::vector<double> lambda(n);
+    if (dlambda) dlambda->assign(6 * n, 0.0);
+    if (api().mode_stretch(m_, strain, lambda.data(), dlambda ? dlambda->data() : nullptr) !=
+        PNC_MATERIAL_OK)
+      throw Error("pnc::fe_material::Material::mode_stretch: argument 'strain': must be 6 "
+                  "finite values");
+    return lambda;
+  }
+
   /// The constant names of a model, in the order from_constants() takes (linked library).
   static std::vector<std::string> model_constant_names(const std::string& model) {
     return detail::model_constant_names(*linked(), model);
@@ -413,6 +433,7 @@ private:
     a.model_constant_name = &pnc_material_model_constant_name;
     a.integrate_batch = &pnc_material_integrate_batch;
     a.damage_of_stretch = &pnc_material_damage_of_stretch;
+    a.mode_stretch = &pnc_material_mode_stretch;
     return lib;
   }
   static Material create_card(std::shared_ptr<const detail::Library> lib,
@@ -494,6 +515,7 @@ public:
     resolve_optional(*lib, "pnc_material_model_constant_name", a.model_constant_name);
     resolve_optional(*lib, "pnc_material_integrate_batch", a.integrate_batch);
     resolve_optional(*lib, "pnc_material_damage_of_stretch", a.damage_of_stretch);
+    resolve_optional(*lib, "pnc_material_mode_stretch", a.mode_stretch);
     lib_ = std::move(lib);
   }
 

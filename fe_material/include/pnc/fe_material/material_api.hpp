@@ -63,6 +63,7 @@ struct Api {
   pnc_material_integrate_batch_fn integrate_batch = nullptr;
   // ABI 1.3 (null for a plugin older than minor 3; damage_of_stretch() then throws)
   pnc_material_damage_of_stretch_fn damage_of_stretch = nullptr;
+  pnc_material_mode_stretch_fn mode_stretch = nullptr;
   /// All of ABI 1.1 is there.
   bool has_v2() const noexcept {
     return abi_version_minor && integrate2 && property && n_properties && property_name &&

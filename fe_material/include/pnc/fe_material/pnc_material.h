@@ -374,7 +374,7 @@ PNC_MATERIAL_API int pnc_material_integrate_batch(const pnc_material* m, size_t 
                                                   pnc_material_point_soa* batch);
 
 /* ======================================================================================
- * ABI 1.3: the damage evolution law as a query (docs/plugin.md "ABI 1.3").
+ * ABI 1.3: the damage law's stretches and damage as queries (docs/plugin.md "ABI 1.3").
  * ====================================================================================== */
 
 /* The damage D of damage mode `mode` (0-based, < n_damage_modes) at the largest mode stretch
@@ -386,6 +386,17 @@ PNC_MATERIAL_API int pnc_material_integrate_batch(const pnc_material* m, size_t 
  * NULL material or D, mode out of range, kappa not finite or negative; nothing written). */
 PNC_MATERIAL_API int pnc_material_damage_of_stretch(const pnc_material* m, int mode, double kappa,
                                                     double* D, double* dD_dkappa);
+
+/* The mode stretches of a strain: lambda[k] (k < n_damage_modes; dimensionless) is what
+ * pnc_material_integrate2() compares with the state's kappa(k+1) at the end strain `strain` (6,
+ * engineering Voigt, GLOBAL frame, as the strain arrays of the integration), equal to it up to
+ * the rounding of the frame change; dlambda (if not NULL) receives d lambda_k / d strain_j at
+ * [6 k + j] (global frame). A host that regularises the damage driving stretch (a nonlocal
+ * average, its tangent) needs no probing integrations. Return PNC_MATERIAL_OK, or
+ * PNC_MATERIAL_BAD_ARGUMENT (a NULL material, strain or lambda; a strain that is not finite;
+ * nothing written). */
+PNC_MATERIAL_API int pnc_material_mode_stretch(const pnc_material* m, const double* strain,
+                                               double* lambda, double* dlambda);
 
 /* Function-pointer types, for hosts that resolve the functions with dlsym(). */
 typedef int (*pnc_material_abi_version_fn)(void);
@@ -427,6 +438,7 @@ typedef int (*pnc_material_integrate_batch_fn)(const pnc_material*, size_t,
 /* ABI 1.3 */
 typedef int (*pnc_material_damage_of_stretch_fn)(const pnc_material*, int, double, double*,
                                                  double*);
+typedef int (*pnc_material_mode_stretch_fn)(const pnc_material*, const double*, double*, double*);
 
 #ifdef __cplusplus
 } /* extern "C" */
