@@ -42,10 +42,8 @@ nlohmann::json plan_of(const fs::path& out) {
 // its missing restart); 1 x 1 is not.
 TEST(ThermoTiParallel, WarnsWhenRanksTimesJobsExceedTheCores) {
   const unsigned cores = std::thread::hardware_concurrency();
-  if (cores == 0) GTEST_SKIP() << "the number of cores is not known: pnc does not warn then";
   const fs::path d = pnc::test::fresh_dir("test_ti_parallel_warn");
   const int jobs = 8, ranks = std::max(2, static_cast<int>(cores) / jobs + 1);
-  ASSERT_GT(static_cast<unsigned>(ranks * jobs), cores);
   const auto run = [&](int k, int j) {
     const auto r = pnc::test::run_command(
         fmt::format("{} thermo ti --restart {} --out {} --ranks {} --jobs {} 2>{}", PNC_EXE,
@@ -55,10 +53,15 @@ TEST(ThermoTiParallel, WarnsWhenRanksTimesJobsExceedTheCores) {
     return pnc::test::slurp(d / "err");
   };
   std::string err = run(ranks, jobs);
-  EXPECT_NE(err.find(fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n",
-                                 ranks, jobs, ranks * jobs, cores)),
-            std::string::npos)
-      << err;
+  if (cores == 0) { // the machine does not say how many cores it has: pnc does not guess
+    EXPECT_EQ(err.find("processes on"), std::string::npos) << err;
+  } else {
+    ASSERT_GT(static_cast<unsigned>(ranks * jobs), cores);
+    EXPECT_NE(err.find(fmt::format("pnc: warning: {} ranks x {} jobs = {} processes on {} cores\n",
+                                   ranks, jobs, ranks * jobs, cores)),
+              std::string::npos)
+        << err;
+  }
   EXPECT_NE(err.find("no such LAMMPS restart file"), std::string::npos) << err;
   err = run(1, 1);
   EXPECT_EQ(err.find("processes on"), std::string::npos) << err;
