@@ -73,9 +73,10 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
   f.columns = 4;
   for (const auto& c : data.cases) {
     const auto& dc = damage::deformation_case(c.id);
+    const int driven = damage::single_driven(dc, "the fit report"); // D360
     const auto at_data = damage::stress_path(card.params, c.strain);
     const int n = 200;
-    const double top = c.strain.col(dc.driven).maxCoeff();
+    const double top = c.strain.col(driven).maxCoeff();
     damage::PathMatrix path(n + 1, 6);
     for (int i = 0; i <= n; ++i)
       path.row(i) = damage::case_strain(c.id, top * i / n).transpose();
@@ -89,13 +90,13 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
       p.title = fmt::format("case {} ({}): {}", c.id, case_label(c.id), stress_label(comp)) +
                 (std::isfinite(r2) ? ", R² " + (r2 >= 0.99995 ? r2_text(r2) : "= " + r2_text(r2))
                                    : std::string());
-      p.xlabel = strain_label(dc.driven);
+      p.xlabel = strain_label(driven);
       p.ylabel = stress_label(comp) + " (MPa)";
       Series d{Series::Style::points, errors ? "data ± s.e." : "data", {}, {}, {}, 0, 0.0};
       Series m{Series::Style::line, "NDM fit", {}, {}, {}, 1, 0.0};
       p.residual.style = Series::Style::points;
       for (Eigen::Index k = 0; k < c.stress.rows(); ++k) {
-        const double x = c.strain(k, dc.driven), y = c.stress(k, comp) / 1e6;
+        const double x = c.strain(k, driven), y = c.stress(k, comp) / 1e6;
         const double res = y - at_data(k, comp) / 1e6;
         d.x.push_back(x);
         d.y.push_back(y);
@@ -109,11 +110,11 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
         }
       }
       for (int i = 0; i <= n; ++i) {
-        m.x.push_back(path(i, dc.driven));
+        m.x.push_back(path(i, driven));
         m.y.push_back(model(i, comp) / 1e6);
       }
       p.residual_label = errors ? "residual / s.e." : "residual (MPa)";
-      p.fit_limit = fit_limit(c, dc.driven, card.fit.strain_max);
+      p.fit_limit = fit_limit(c, driven, card.fit.strain_max);
       p.series = {d, m};
       f.panels.push_back(std::move(p));
     }

@@ -17,14 +17,14 @@ Eigen::Matrix3d unit(int a, int b) {
 } // namespace
 
 const std::vector<DeformationCase>& deformation_cases() {
-  // one row per case: id, name, driven Voigt component, active stresses, damage mode, dF/dt
+  // one row per case: id, name, driven Voigt components (D360), active stresses, damage mode, dF/dt
   static const std::vector<DeformationCase> cases = {
-      {1, "extension x1 (x2, x3 held)", 0, {0, 1, 2}, 0, unit(0, 0)},
-      {2, "extension x2 (x1, x3 held)", 1, {0, 1, 2}, 1, unit(1, 1)},
-      {3, "extension x3 (x1, x2 held)", 2, {0, 1, 2}, 2, unit(2, 2)},
-      {4, "simple shear 2-3", 3, {3}, 1, unit(1, 2)},
-      {5, "simple shear 1-3", 4, {4}, 2, unit(0, 2)},
-      {6, "simple shear 1-2", 5, {5}, 1, unit(0, 1)},
+      {1, "extension x1 (x2, x3 held)", {0}, {0, 1, 2}, 0, unit(0, 0)},
+      {2, "extension x2 (x1, x3 held)", {1}, {0, 1, 2}, 1, unit(1, 1)},
+      {3, "extension x3 (x1, x2 held)", {2}, {0, 1, 2}, 2, unit(2, 2)},
+      {4, "simple shear 2-3", {3}, {3}, 1, unit(1, 2)},
+      {5, "simple shear 1-3", {4}, {4}, 2, unit(0, 2)},
+      {6, "simple shear 1-2", {5}, {5}, 1, unit(0, 1)},
   };
   return cases;
 }
@@ -54,13 +54,31 @@ Eigen::Matrix3d deformation_gradient(const DeformationCase& c, double t) {
   return Eigen::Matrix3d::Identity() + t * c.gradient;
 }
 
-Voigt case_strain(int id, double amount) {
-  const Eigen::Matrix3d g = amount * deformation_case(id).gradient; // F - I
+Voigt case_strain(const DeformationCase& c, double amount) {
+  const Eigen::Matrix3d g = amount * c.gradient; // F - I
   static constexpr int row[6] = {0, 1, 2, 1, 0, 0}, col[6] = {0, 1, 2, 2, 2, 1};
   Voigt e;
   for (int v = 0; v < 6; ++v) // engineering shear: gamma_ab = (F - I)_ab + (F - I)_ba
     e[v] = v < 3 ? g(row[v], col[v]) : g(row[v], col[v]) + g(col[v], row[v]);
   return e;
+}
+
+Voigt case_strain(int id, double amount) {
+  return case_strain(deformation_case(id), amount);
+}
+
+int single_driven(const DeformationCase& c, const std::string& user) {
+  if (c.driven.size() == 1) return c.driven.front();
+  // named as the strain columns of the data CSV (docs/formats.md)
+  static constexpr const char* kStrain[6] = {"e11", "e22", "e33", "g23", "g13", "g12"};
+  std::string comps;
+  for (int v : c.driven)
+    comps += fmt::format("{}{}", comps.empty() ? "" : ", ", kStrain[v]);
+  fail("<case " + std::to_string(c.id) + " " + c.name + ">", "driven components", comps,
+       user +
+           " knows only cases with one driven component (uniaxial extension or simple "
+           "shear); this case drives " +
+           std::to_string(c.driven.size()) + " (D360)");
 }
 
 std::vector<int> model_cases(Model m) {

@@ -55,7 +55,6 @@ const UnitMatrices& unit_matrices(Model m) {
   return cache.at(m);
 }
 
-
 // Residuals of one point and d r / d constants (rows x n).
 void point_residual(const PointTerm& t, const std::vector<double>& k, double* r,
                     Eigen::MatrixXd* dr_dk) {
@@ -139,9 +138,10 @@ std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double
 }
 
 void check_cases(const StressStrainData& data, Model m) {
-  // Both models take any of cases 1-6 (D12l: the pure polymer's isotropy pools them).
+  // Both models take any of cases 1-6 (D12l: the pure polymer's isotropy pools them); a
+  // case driving several components (an equibiaxial one) is refused by name (D360).
   for (const auto& c : data.cases) {
-    deformation_case(c.id, data.source);
+    single_driven(deformation_case(c.id, data.source), "the NDM fit");
     if (c.strain.rows() < 3)
       fail(data.source, "case " + std::to_string(c.id), std::to_string(c.strain.rows()) + " points",
            "each case needs at least 3 points");
@@ -188,7 +188,6 @@ bool data_has_errors(const StressStrainData& data) {
   return !data.cases.empty();
 }
 } // namespace fitmodel
-
 
 // ------------------------------------------------------------------ theta map
 namespace detail {
@@ -298,7 +297,7 @@ std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model m,
     std::vector<NdmState> states;
     stress_path(pstate, c.strain, &states);
     const Eigen::Index n = c.strain.rows();
-    Eigen::VectorXd x = c.strain.col(dc.driven), Dx(n);
+    Eigen::VectorXd x = c.strain.col(single_driven(dc, "the NDM fit")), Dx(n);
     const int mode = m == Model::pnc ? dc.damage_mode : 0;
     for (Eigen::Index i = 0; i < n; ++i)
       Dx[i] = states[static_cast<std::size_t>(i)].D[mode] * x[i];

@@ -28,8 +28,8 @@ DerivedModuli derive_moduli(const NdmParameters& p) {
 }
 
 CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strain, int points) {
-  const DeformationCase& dc = deformation_case(case_id);
-  CaseStrength out{case_id, dc.driven, std::nullopt, 0.0, max_strain};
+  const int driven = single_driven(deformation_case(case_id), "the case strength"); // D360
+  CaseStrength out{case_id, driven, std::nullopt, 0.0, max_strain};
   Eigen::Matrix<double, Eigen::Dynamic, 6> path(points + 1, 6);
   for (int i = 0; i <= points; ++i)
     path.row(i) = case_strain(case_id, max_strain * i / points).transpose();
@@ -39,7 +39,7 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   // once damage saturates and C0 + C1(1) > 0, is not a strength). Decision D5.
   Eigen::Index imax = 0;
   for (Eigen::Index i = 1; i < points; ++i) {
-    if (s(i, dc.driven) > s(i - 1, dc.driven) && s(i, dc.driven) >= s(i + 1, dc.driven)) {
+    if (s(i, driven) > s(i - 1, driven) && s(i, driven) >= s(i + 1, driven)) {
       imax = i;
       break;
     }
@@ -50,7 +50,7 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   // function of that strain alone).
   auto f = [&](double t) {
     Eigen::Matrix<double, 1, 6> row = case_strain(case_id, t).transpose();
-    return stress_path(p, row)(0, dc.driven);
+    return stress_path(p, row)(0, driven);
   };
   const double im = static_cast<double>(imax);
   double a = max_strain * (im - 1) / points, b = max_strain * (im + 1) / points;

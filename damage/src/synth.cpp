@@ -3,6 +3,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/damage/reference.hpp"
 
+#include <algorithm>
 #include <random>
 #include <sstream>
 
@@ -33,7 +34,10 @@ StressStrainData synthesize(const NdmParameters& p, const SynthOptions& o) {
   d.source = "<synthetic>";
   for (int id : ids) {
     const DeformationCase& dc = deformation_case(id);
-    const double top = dc.driven < 3 ? o.max_extension : o.max_shear;
+    // extension range when every driven component is a normal strain (D360)
+    const bool extension =
+        std::all_of(dc.driven.begin(), dc.driven.end(), [](int v) { return v < 3; });
+    const double top = extension ? o.max_extension : o.max_shear;
     CaseCurve c;
     c.id = id;
     c.strain.resize(o.points, 6);

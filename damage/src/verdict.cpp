@@ -109,14 +109,14 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
                        "alpha: a fitted one is bounded below by 1/lambda_c)",
                        p.alpha(), p.alpha() * critical_stretch(), 1.0 / critical_stretch()));
   for (const auto& c : curves) {
-    const DeformationCase& dc = deformation_case(c.case_id);
-    if (c.component != dc.driven || !(onset > 0)) continue;
+    const int driven = single_driven(deformation_case(c.case_id), "the card verdict"); // D360
+    if (c.component != driven || !(onset > 0)) continue;
     Eigen::Matrix<double, 1, 6> row = case_strain(c.case_id, 0.5 * onset).transpose();
-    const double s = stress_path(p, row)(0, dc.driven);
+    const double s = stress_path(p, row)(0, driven);
     if (!(s > 0))
       v.refuse(fmt::format("case {}: the stress {} at half the onset strain ({:.3g}) is {:.3g} "
                            "Pa, not positive",
-                           c.case_id, component_name(dc.driven), 0.5 * onset, s));
+                           c.case_id, component_name(driven), 0.5 * onset, s));
   }
 }
 } // namespace

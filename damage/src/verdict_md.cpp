@@ -21,7 +21,7 @@ int points_in_linear_range(const NdmParameters& p, const CaseCurve& c) {
   const auto& names = constant_names(p.model);
   for (std::size_t j = 0; j < names.size(); ++j)
     if (names[j][0] == 'A' || names[j][0] == 'B') elastic.k[j] = 0.0;
-  const int driven = deformation_case(c.id).driven;
+  const int driven = single_driven(deformation_case(c.id), "the linear-range count"); // D360
   NdmState s0, s1, u0, u1;
   Voigt e0 = Voigt::Zero(), sigma, sigma_el;
   ErrorBuffer err;

@@ -243,10 +243,29 @@ void static_row(md::Lammps& l, const DeformSpec& spec, Eigen::RowVectorXd& sv,
   th[3] = l.thermo("density");
 }
 
+/// The progress line's stresses (MPa): every driven component of the case (D360), e.g.
+/// "s11 = +12.3456 MPa" for a static row, "s11 = +12.34 +- 0.56 MPa (total; virial only
+/// +12.10)" for a thermal one; a mixed case lists its components separated by ", ".
+std::string driven_stresses(const damage::DeformationCase& dc, bool is_static,
+                            const Eigen::RowVectorXd& st, const Eigen::RowVectorXd& stse,
+                            const Eigen::RowVectorXd& sv, const Eigen::RowVectorXd& inflated) {
+  static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
+  std::string out;
+  for (int v : dc.driven) {
+    if (!out.empty()) out += ", ";
+    if (is_static)
+      out += fmt::format("s{} = {:+11.4f} MPa", voigt_names[v], st[v] * 1e-6);
+    else
+      out += fmt::format("s{} = {:+9.2f} +- {:.2f} MPa (total; virial only {:+.2f}{})",
+                         voigt_names[v], st[v] * 1e-6, stse[v] * 1e-6, sv[v] * 1e-6,
+                         inflated[v] > 0.5 ? "; blocks too short, error inflated" : "");
+  }
+  return out;
+}
+
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   using clock = std::chrono::steady_clock;
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
-  const int voigt = dc.driven;
   // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
   if (!dc.gradient.isUpperTriangular(0.0))
     fail("<deformation cases>", "case " + std::to_string(dc.id), dc.name,
@@ -295,7 +314,6 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     const std::string change = md::box_change(md::LmpBox::from_vector(c.ref_box, ckpt_path(dir)),
                                               damage::deformation_gradient(dc, t), ckpt_path(dir));
     if (!change.empty()) l.cmd(change);
-    static const char* const voigt_names[6] = {"11", "22", "33", "23", "13", "12"};
     static constexpr int lmp_of_voigt[6] = {0, 1, 2, 5, 4, 3}; // pxx pyy pzz pxy pxz pyz
     Eigen::RowVectorXd sv(6), svse(6), st(6), stse(6), strain = Eigen::RowVectorXd::Zero(6), th(4);
     Eigen::RowVectorXd tv(6), tt(6), iv(6), it(6); // autocorrelation times (fs), inflated flags
@@ -374,19 +392,15 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     fs::remove(prev_state(dir, k), ec);
     const double el = std::chrono::duration<double>(clock::now() - t_start).count();
     const double eta = el / (k - first + 1) * (spec.steps - k);
+    const std::string stress = driven_stresses(dc, spec.temperature == 0, st, stse, sv, it);
     if (spec.temperature == 0)
-      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  s{} = {:+11.4f} MPa "
-                               "(static)  ETA {:.0f} s\n",
-                               spec.case_id, k, spec.steps, t, voigt_names[voigt], st[voigt] * 1e-6,
-                               eta)
+      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  {} (static)  ETA {:.0f} s\n",
+                               spec.case_id, k, spec.steps, t, stress, eta)
                 << std::flush;
     else
-      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.5f}  s{} = {:+9.2f} +- {:.2f} MPa "
-                               "(total; virial only {:+.2f}{})  T = {:.1f} K  ETA {:.0f} s\n",
-                               spec.case_id, k, spec.steps, t, voigt_names[voigt], st[voigt] * 1e-6,
-                               stse[voigt] * 1e-6, sv[voigt] * 1e-6,
-                               it[voigt] > 0.5 ? "; blocks too short, error inflated" : "", th[0],
-                               eta)
+      std::cerr << fmt::format(
+                       "  case {}: step {}/{} strain {:+.5f}  {}  T = {:.1f} K  ETA {:.0f} s\n",
+                       spec.case_id, k, spec.steps, t, stress, th[0], eta)
                 << std::flush;
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }

@@ -277,24 +277,10 @@ void pushoff_stage(md::Lammps& l, const Protocol& pr) {
   l.cmd("fix pnc_lim " + mob + " nve/limit 0.1");
   l.cmd(fmt::format("fix pnc_lan {} langevin {:.10g} {:.10g} {:.10g} {}", mob, s.temperature,
                     s.temperature, s.damp_fs, s.seed + 1));
-  Trace t;
-  double d = 0;
-  int round = 0;
-  const double target = s.pushoff_min_distance_sigma * sig;
-  for (round = 1; round <= s.pushoff_max_rounds; ++round) {
-    if (round == 1) {
-      l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
-      l.cmd("fix pnc_adapt all adapt 1 pair soft a * * v_pnc_A");
-      run_chunks(l, s.pushoff_steps, 5, t, true); // ramp(0, A_max) over the whole round
-      l.cmd("unfix pnc_adapt");
-      l.cmd(fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max));
-    } else {
-      run_chunks(l, s.pushoff_steps, 5, t);
-    }
-    d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig, mob);
-    if (d >= target) break;
-  }
-  finish_pushoff(l, dir, "non-excluded", d, target, s, round, t, recipe_json);
+  run_pushoff(l, s, sig,
+              {"pair soft a * *", fmt::format("pair_coeff * * {:.10g}", s.pushoff_A_max), mob,
+               "non-excluded"},
+              dir, recipe_json);
 }
 
 // Stage "hot": minimised (clay frozen), then hot_steps at hot_temperature by velocity rescaling

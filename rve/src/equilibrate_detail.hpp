@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -143,6 +144,44 @@ void finish_pushoff(md::Lammps& l, const std::string& dir, const char* pairs, do
                           std::min(round, s.pushoff_max_rounds), s.pushoff_steps,
                           met ? "" : " -- NOT met; continuing with minimisation"),
               t, recipe_json);
+}
+
+/// How a pushoff stage pushes: the `fix adapt` target of the soft prefactor (e.g. "pair soft a
+/// * *"), the command that fixes the prefactor at pushoff_A_max after the ramp, the group whose
+/// pairs are measured, and what those pairs are called in the record ("non-excluded",
+/// "unbonded").
+struct PushoffPairs {
+  std::string adapt;
+  std::string coeff_at_max;
+  std::string group;
+  const char* name;
+};
+
+/// The rounds of a pushoff stage (either force field) and its end: round 1 ramps the soft
+/// prefactor from 0 to s.pushoff_A_max over pushoff_steps, later rounds run at A_max, until no
+/// pair of `pp.group` within 2^(1/6) sigma (A) is closer than pushoff_min_distance_sigma * sigma
+/// or after pushoff_max_rounds rounds; then finish_pushoff writes the restart and the record.
+template <class Spec>
+void run_pushoff(md::Lammps& l, const Spec& s, double sigma, const PushoffPairs& pp,
+                 const std::string& dir, const std::string& recipe_json) {
+  Trace t;
+  double d = 0;
+  int round = 0;
+  const double target = s.pushoff_min_distance_sigma * sigma;
+  for (round = 1; round <= s.pushoff_max_rounds; ++round) {
+    if (round == 1) {
+      l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
+      l.cmd("fix pnc_adapt all adapt 1 " + pp.adapt + " v_pnc_A");
+      run_chunks(l, s.pushoff_steps, 5, t, true); // ramp(0, A_max) over the whole round
+      l.cmd("unfix pnc_adapt");
+      l.cmd(pp.coeff_at_max);
+    } else {
+      run_chunks(l, s.pushoff_steps, 5, t);
+    }
+    d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sigma, pp.group);
+    if (d >= target) break;
+  }
+  finish_pushoff(l, dir, pp.name, d, target, s, round, t, recipe_json);
 }
 
 /// Stage "final" (equilibrate.hpp stage 6): from `from_restart`, NPT at spec.pressure_atm

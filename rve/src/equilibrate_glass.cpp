@@ -81,24 +81,9 @@ EquilibratedState equilibrate_glass(const std::string& data_file, const BeadSpri
     l.cmd(fmt::format("fix pnc_lim all nve/limit {:.10g}", 0.02 * sig));
     l.cmd(fmt::format("fix pnc_lan all langevin {0:.10g} {0:.10g} {1:.10g} {2}", s.hot_temperature,
                       s.damp_fs, s.seed + 1));
-    Trace t;
-    double d = 0;
-    int round = 0;
-    const double target = s.pushoff_min_distance_sigma * sig;
-    for (round = 1; round <= s.pushoff_max_rounds; ++round) {
-      if (round == 1) {
-        l.cmd(fmt::format("variable pnc_A equal ramp(0,{:.10g})", s.pushoff_A_max));
-        l.cmd("fix pnc_adapt all adapt 1 " + adapt_pair + " v_pnc_A");
-        run_chunks(l, s.pushoff_steps, 5, t, true);
-        l.cmd("unfix pnc_adapt");
-        l.cmd(soft_pairs(s.pushoff_A_max)[1]); // the soft pair's coefficient at A_max
-      } else {
-        run_chunks(l, s.pushoff_steps, 5, t);
-      }
-      d = min_pair_distance(l, std::pow(2.0, 1.0 / 6.0) * sig);
-      if (d >= target) break;
-    }
-    finish_pushoff(l, dir, "unbonded", d, target, s, round, t, recipe_json);
+    // the soft pair's coefficient at A_max is the second command of soft_pairs
+    run_pushoff(l, s, sig, {adapt_pair, soft_pairs(s.pushoff_A_max)[1], "all", "unbonded"}, dir,
+                recipe_json);
   });
 
   // 2. melt: LJ on, minimisation, then Langevin at hot_temperature at the build density

@@ -72,7 +72,7 @@ std::vector<Eigen::Index> slope_rows(const PathM& strain, int voigt) {
 }
 
 md::SlopeFit slope_of(const PathM& strain, const PathM& stress, const PathM* se, double se_common,
-                  int voigt) {
+                      int voigt) {
   const auto rows = slope_rows(strain, voigt);
   const auto n = static_cast<Eigen::Index>(rows.size());
   // static rows (0 K, D120) have no errors (NaN): the slope then takes the residual scatter
@@ -146,7 +146,7 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
   for (std::size_t ci = 0; ci < ncases; ++ci) {
     CombinedCase cc;
     cc.id = results[0][ci].case_id;
-    cc.voigt = damage::deformation_case(cc.id).driven;
+    cc.voigt = damage::single_driven(damage::deformation_case(cc.id), "the replica slopes"); // D360
     const Eigen::Index first = subtract ? 1 : 0;
     const Eigen::Index n = results[0][ci].rows_done - first;
     for (int rep = 0; rep < nrep; ++rep) {

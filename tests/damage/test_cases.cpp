@@ -8,6 +8,7 @@
 
 #include <set>
 #include <string>
+#include <vector>
 
 using namespace pnc::damage;
 
@@ -17,6 +18,13 @@ Voigt engineering(const Eigen::Matrix3d& e) {
   Voigt v;
   v << e(0, 0), e(1, 1), e(2, 2), 2 * e(1, 2), 2 * e(0, 2), 2 * e(0, 1);
   return v;
+}
+/// A mixed case as one row (D360), test-only: equibiaxial extension in the 1-2 plane,
+/// G = e_1 e_1 + e_2 e_2, x3 held. Not registered: no MD data or NDM damage mode exists for it.
+DeformationCase equibiaxial() {
+  Eigen::Matrix3d g = Eigen::Matrix3d::Zero();
+  g(0, 0) = g(1, 1) = 1.0;
+  return {7, "equibiaxial extension x1-x2 (x3 held)", {0, 1}, {0, 1, 2}, 0, g};
 }
 /// Green-Lagrange strain E = (F^T F - I) / 2.
 Eigen::Matrix3d green(const Eigen::Matrix3d& F) {
@@ -50,17 +58,41 @@ TEST(DeformationCases, IdsAreContiguousAndTheRuleNamesEveryCase) {
 
 // The small strain of F(t) is the linearised Green-Lagrange strain: dE/dt at t = 0 (central
 // difference; E is quadratic in t, so the difference is exact up to round-off) must equal
-// case_strain(id, 1), and that must be the unit vector of the row's `driven` component.
+// case_strain(c, 1), and its non-zero entries must be exactly the row's `driven` set, each
+// 1 (D360). The registered rows drive one component each; the test-only equibiaxial row two.
 TEST(DeformationCases, StrainIsTheLinearisedGreenStrainOfTheGradient) {
   const double h = 1e-3;
-  for (const auto& c : deformation_cases()) {
+  std::vector<DeformationCase> rows = deformation_cases();
+  rows.push_back(equibiaxial());
+  for (const auto& c : rows) {
     const Voigt lin =
         engineering(green(deformation_gradient(c, h)) - green(deformation_gradient(c, -h))) /
         (2 * h);
-    const Voigt e = case_strain(c.id, 1.0);
+    const Voigt e = case_strain(c, 1.0);
     EXPECT_LT((lin - e).cwiseAbs().maxCoeff(), 1e-12) << "case " << c.id;
-    EXPECT_EQ(e, Voigt::Unit(c.driven)) << "case " << c.id;
+    Voigt expect = Voigt::Zero();
+    for (int v : c.driven)
+      expect[v] = 1.0;
+    EXPECT_EQ(e, expect) << "case " << c.id;
     EXPECT_TRUE(c.gradient.isUpperTriangular()) << "case " << c.id << ": LAMMPS box form";
+    if (c.id <= 6) {
+      EXPECT_EQ(case_strain(c.id, 0.37), case_strain(c, 0.37)) << "the id overload";
+      ASSERT_EQ(c.driven.size(), 1u) << "case " << c.id;
+      EXPECT_EQ(single_driven(c, "test"), c.driven[0]);
+    }
+  }
+}
+
+// Code that relates one stress to one strain (the NDM fit, strengths, reports) refuses a row
+// that drives several components, naming the case, its components and who refused (D360).
+TEST(DeformationCases, SingleDrivenRefusesAMixedCaseByName) {
+  try {
+    single_driven(equibiaxial(), "the NDM fit");
+    ADD_FAILURE() << "an equibiaxial case passed as one driven component";
+  } catch (const pnc::InputError& e) {
+    const std::string m = e.what();
+    for (const char* want : {"case 7", "equibiaxial", "e11, e22", "the NDM fit", "one driven"})
+      EXPECT_NE(m.find(want), std::string::npos) << want << " not in: " << m;
   }
 }
 

@@ -102,3 +102,30 @@ TEST(MdBox, BoxChangeOfEachCaseNamesOnlyItsOwnLengthOrTilt) {
     EXPECT_EQ(keywords, 1) << cmd;
   }
 }
+
+// A mixed case is one row (D360): the equibiaxial extension G = e_1 e_1 + e_2 e_2 at t = 0.02
+// stretches x and y by the same factor 1.02 about their centres, scales every tilt by the
+// stretch of its row of F (xy, xz by F11, yz by F22) and leaves z alone. The box below is
+// worked out by hand from the reference box {0..20, 0..21, 0..22, xy 1.5, xz -0.5, yz 2.5}.
+TEST(MdBox, EquibiaxialRowStretchesBothAxesByTheSameFactor) {
+  Eigen::Matrix3d g = Eigen::Matrix3d::Zero();
+  g(0, 0) = g(1, 1) = 1.0;
+  const pnc::damage::DeformationCase biax{
+      7, "equibiaxial extension x1-x2 (x3 held)", {0, 1}, {0, 1, 2}, 0, g};
+  const std::vector<double> ref = {0.0, 0.0, 0.0, 20.0, 21.0, 22.0, 1.5, -0.5, 2.5};
+  const std::string cmd = pnc::md::box_change(pnc::md::LmpBox::from_vector(ref, "test"),
+                                              pnc::damage::deformation_gradient(biax, 0.02));
+  const Box b = parse_change(ref, cmd);
+  const double tol = 1e-12;               // %.15g of lengths ~20 A
+  EXPECT_NEAR(b.lo[0], -0.2, tol) << cmd; // 20 * 1.02 = 20.4 about the centre 10
+  EXPECT_NEAR(b.hi[0], 20.2, tol) << cmd;
+  EXPECT_NEAR(b.lo[1], -0.21, tol) << cmd; // 21 * 1.02 = 21.42 about the centre 10.5
+  EXPECT_NEAR(b.hi[1], 21.21, tol) << cmd;
+  EXPECT_EQ(b.lo[2], 0.0) << cmd; // z not named: kept exactly
+  EXPECT_EQ(b.hi[2], 22.0) << cmd;
+  EXPECT_EQ(cmd.find(" z "), std::string::npos) << cmd;
+  EXPECT_NEAR(b.xy, 1.53, tol) << cmd;
+  EXPECT_NEAR(b.xz, -0.51, tol) << cmd;
+  EXPECT_NEAR(b.yz, 2.55, tol) << cmd;
+  EXPECT_NEAR((b.hi[0] - b.lo[0]) / 20.0, (b.hi[1] - b.lo[1]) / 21.0, tol) << "same stretch";
+}

@@ -32,7 +32,7 @@ CaseResult synthetic_case(int id, const std::vector<double>& s, const std::vecto
   c.strain = PathM::Zero(n, 6);
   c.stress_total = PathM::Zero(n, 6);
   c.stress_total_se = PathM::Constant(n, 6, 1.0);
-  const int v = pnc::damage::deformation_case(id).driven;
+  const int v = pnc::damage::single_driven(pnc::damage::deformation_case(id), "test");
   for (Eigen::Index k = 0; k < n; ++k) {
     c.strain(k, v) = static_cast<double>(k) * h;
     c.stress_total(k, v) = s[static_cast<std::size_t>(k)];

@@ -35,6 +35,27 @@ nlohmann::json plan_of(const fs::path& out) {
   return nlohmann::json::parse(pnc::test::slurp(out / "plan.json"), nullptr, false);
 }
 
+/// A fresh directory `d` with the stand-ins of Slurm's commands and an empty start restart, and
+/// the shell command of `pnc thermo ti` over 2 points of the volume path through the slurm
+/// executor, started by `launcher` (environment assignments, or mpirun and its options).
+struct SlurmTi {
+  fs::path d;
+  std::string path; // the PATH assignment that puts the stand-ins first
+  explicit SlurmTi(const std::string& name)
+      : d(pnc::test::fresh_dir(name)), path(pnc::test::slurm_stand_ins(d)) {
+    std::ofstream(d / "rs.restart") << "";
+  }
+  /// Output into d/`out`, stderr into d/err; `args` appended to the command line.
+  std::string command(const std::string& launcher, const std::string& out,
+                      const std::string& args = "") const {
+    return fmt::format("{}{} {} thermo ti --restart {} --vol 0 --dev none --points 2 --executor "
+                       "slurm --out {} {} 2>{}",
+                       path, launcher, PNC_EXE, (d / "rs.restart").string(), (d / out).string(),
+                       args, (d / "err").string());
+  }
+  std::string err() const { return pnc::test::slurp(d / "err"); }
+};
+
 } // namespace
 
 // More processes than cores (ranks x jobs > std::thread::hardware_concurrency, which pnc
@@ -74,18 +95,14 @@ TEST(ThermoTiParallel, WarnsWhenRanksTimesJobsExceedTheCores) {
 // and plans every point on K ranks, one at a time; --ranks/--jobs given, or the input file's
 // `ranks`, win over K (D301's precedence).
 TEST(ThermoTiParallel, UnderMpirunRankZeroPlansKRanksOneJobAndTheOthersLeave) {
-  const fs::path d = pnc::test::fresh_dir("test_ti_parallel_env");
-  const std::string path = pnc::test::slurm_stand_ins(d);
-  std::ofstream(d / "rs.restart") << "";
+  const SlurmTi ti("test_ti_parallel_env");
+  const fs::path& d = ti.d;
   std::ofstream(d / "ti.toml") << "ranks = 2\n";
   const auto run = [&](int rank, const std::string& out, const std::string& args) {
-    const auto r = pnc::test::run_command(fmt::format(
-        "{}OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK={} {} thermo ti --restart {} --vol 0 "
-        "--dev none --points 2 --executor slurm --out {} {} 2>{}",
-        path, rank, PNC_EXE, (d / "rs.restart").string(), (d / out).string(), args,
-        (d / "err").string()));
-    EXPECT_EQ(r.code, 0) << pnc::test::slurp(d / "err");
-    return pnc::test::slurp(d / "err");
+    const auto r = pnc::test::run_command(
+        ti.command(fmt::format("OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK={}", rank), out, args));
+    EXPECT_EQ(r.code, 0) << ti.err();
+    return ti.err();
   };
   EXPECT_EQ(run(1, "f", ""), "");
   EXPECT_FALSE(fs::exists(d / "f"));
@@ -120,14 +137,12 @@ TEST(ThermoTiParallel, UnderMpirunRankZeroPlansKRanksOneJobAndTheOthersLeave) {
 // The same under a real `mpirun -np 2`: one supervisor plans and submits (one message, one
 // submission of 2 jobs), the follower adds nothing.
 TEST(ThermoTiParallel, MpirunNp2SubmitsOncePlannedOnTwoRanks) {
-  const fs::path d = pnc::test::fresh_dir("test_ti_parallel_mpirun");
-  const std::string path = pnc::test::slurm_stand_ins(d);
-  std::ofstream(d / "rs.restart") << "";
-  const auto r = pnc::test::run_command(fmt::format(
-      "{}OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 --bind-to none "
-      "{} thermo ti --restart {} --vol 0 --dev none --points 2 --executor slurm --out {} 2>{}",
-      path, PNC_EXE, (d / "rs.restart").string(), (d / "o").string(), (d / "err").string()));
-  const std::string err = pnc::test::slurp(d / "err");
+  const SlurmTi ti("test_ti_parallel_mpirun");
+  const fs::path& d = ti.d;
+  const auto r = pnc::test::run_command(ti.command(
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 --bind-to none",
+      "o"));
+  const std::string err = ti.err();
   ASSERT_EQ(r.code, 0) << err;
   EXPECT_EQ(count_of(err, "pnc: started by mpirun with 2 ranks: each LAMMPS stage runs on 2 "
                           "rank(s), 1 unit(s) at a time\n"),

@@ -8,6 +8,13 @@
 // engineering shear for shear). Its deformation gradient is F(t) = I + t G with G a constant
 // 3x3 matrix (`gradient`), imposed on the reference box; the small-strain tensor of F in
 // engineering Voigt form (order 11, 22, 33, 23, 13, 12) is `case_strain`.
+//
+// A row carries the SET of strain components its gradient drives (D360): one for the six
+// registered uniaxial-extension and simple-shear cases, two for an equibiaxial extension
+// (G = e_1 e_1 + e_2 e_2), and so on. What only deforms the box (md::box_change of F(t), the
+// strain path) works for any set; what plots or fits one stress against one strain (the NDM
+// fit, strengths, reports, replica slopes) asks for `single_driven`, which refuses a mixed
+// case by name instead of silently taking its first component.
 #include "pnc/damage/ndm.hpp"
 
 #include <Eigen/Dense>
@@ -18,9 +25,12 @@
 namespace pnc::damage {
 
 struct DeformationCase {
-  int id;                  ///< 1-based id used in files (cases.h5 /case_<id>, CSV `case`)
-  const char* name;        ///< words for reports, e.g. "simple shear 1-2"
-  int driven;              ///< Voigt index 0..5 of the imposed strain component
+  int id;           ///< 1-based id used in files (cases.h5 /case_<id>, CSV `case`)
+  const char* name; ///< words for reports, e.g. "simple shear 1-2"
+  /// Voigt indices 0..5 of the imposed (driven) strain components, ascending, at least one:
+  /// the components whose stresses are reported against t; exactly the non-zero entries of
+  /// case_strain(c, 1) (D360)
+  std::vector<int> driven;
   std::vector<int> active; ///< stress components (Voigt 0..5) the model makes non-zero
   int damage_mode;         ///< D index driven (docs/theory.md §2.1, D12): 0=D1, 1=D2, 2=D3
   /// dF/dt, dimensionless; upper triangular (the LAMMPS box tilts xy, xz, yz are the
@@ -40,8 +50,16 @@ std::string deformation_case_rule();
 
 /// F(t) = I + t G of a case (dimensionless).
 Eigen::Matrix3d deformation_gradient(const DeformationCase& c, double t);
-/// The small-strain tensor sym(F - I) of case `id` at load t in engineering Voigt form.
+/// The small-strain tensor sym(F - I) of case `c` at load t in engineering Voigt form
+/// (dimensionless; shear entries are engineering shears).
+Voigt case_strain(const DeformationCase& c, double amount);
+/// case_strain of the registered case `id`.
 Voigt case_strain(int id, double amount);
+/// The one driven Voigt component of `c`, for code that relates one stress to one strain
+/// (`user` says which: "NDM fit", "case strength", ...). Throws pnc::InputError naming the
+/// case id and name, its driven components, `user` and the rule "`user` knows only cases with
+/// one driven component (uniaxial extension or simple shear)" when the row drives several (D360).
+int single_driven(const DeformationCase& c, const std::string& user);
 /// The cases a model is characterised with: pnc 1..6, pp 2 and 6.
 std::vector<int> model_cases(Model m);
 

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""ctest docs.no_timings_in_decisions: no timing or machine load in a decision record.
+
+A decision record (docs/decisions/*.md) says what was chosen, why and what it changes; the
+measurements behind it (run times, speeds, the machine's load) live in the results or bench
+section of the matching guide (bench/README.md, gimp_coupler/bench/README.md, docs/<part>.md
+"Measurements behind the decision records", docs/dealii_demo.md) and the record links there
+(decision D361). Fails (exit 1, one line per finding "FILE:LINE: KIND 'TEXT'") when a record
+line holds
+  * a number with a unit of time spent: ns, µs, us, ms, s, min (e.g. "267 ns", "~9 s",
+    "2–4 s", "6 min", "0.5 s per step"). Simulated times (fs, ps) are physics, not timings;
+    "s.e." (standard error) and a mesh size h are not units of time;
+  * a machine load: "load 13", "load average of 5.5", "load 5–11";
+  * a speed ratio: a number with × next to "wall time" or "speed" ("0.11× the wall time").
+Deliberate exceptions are listed in ALLOWED below, each with its reason.
+
+    python3 tests/docs/no_timings_in_decisions.py [--root DIR]
+    python3 tests/docs/no_timings_in_decisions.py --self-test   # the patterns on planted lines
+Python 3 standard library only.
+"""
+
+import argparse
+import glob
+import os
+import re
+import sys
+
+NUM = r"~?≈?\s?\d+(?:[.,]\d+)?(?:\s?[–-]\s?\d+(?:[.,]\d+)?)?"
+PATTERNS = [
+    ("a timing", re.compile(r"(?<![\w.])" + NUM + r"\s?(?:ns|µs|us|ms|s|min)\b(?!\.e\b|\.e\.)")),
+    ("a machine load", re.compile(r"\bload(?: average)?(?: of)?\s?[≈~]?\s?\d", re.I)),
+    ("a speed ratio", re.compile(NUM + r"\s?×[^;]{0,45}\b(?:wall time|speed)\b"
+                                 r"|\b(?:wall time|speed)\b[^;]{0,45}\d\s?×")),
+]
+
+# (file name, text that may appear, reason). Keep this list short; each entry says why the
+# number is part of the decision rather than a measurement of one run.
+ALLOWED = [
+    # none yet: every timing found so far was moved to its guide
+]
+
+
+def findings(name, text):
+    """Findings of one file; a line is read together with the next one (a phrase broken by a
+    line wrap is still found) and a match is reported at the line it starts on."""
+    out = []
+    lines = text.split("\n")
+    for n, line in enumerate(lines, 1):
+        joined = line + " " + (lines[n] if n < len(lines) else "")
+        for kind, pat in PATTERNS:
+            for m in pat.finditer(joined):
+                if m.start() >= len(line):
+                    continue
+                hit = m.group(0).strip()
+                if any(f == name and a in line for f, a, _ in ALLOWED):
+                    continue
+                out.append(f"{name}:{n}: {kind} '{hit}'")
+    return out
+
+
+def check(root):
+    bad = []
+    files = sorted(glob.glob(os.path.join(root, "docs", "decisions", "*.md")))
+    if not files:
+        return [f"{root}/docs/decisions: no decision records found"]
+    for path in files:
+        with open(path, encoding="utf-8") as f:
+            bad += findings("docs/decisions/" + os.path.basename(path), f.read())
+    return bad
+
+
+def self_test():
+    must = ["a point 267 ns against 61 ns", "the test takes ~9 s", "in 2–4 s of wall",
+            "at ≈ 6 min on an idle machine", "under a load average of 13", "(2 cores, load 5–11)",
+            "costs 0.5 s per step", "0.11× the wall time of the default",
+            "the batch is 0.84–1.19× the single-point speed", "12.5 ms per call", "3 µs",
+            "the campaign took 0.11× the\nwall time of the default", "62 s on\nan idle core",
+            "it takes 1.19× (1.17–1.25) the local executor's wall time"]
+    must_not = ["within 4 s.e. of a sample sd", "holds of 2500 steps (50 ps)", "r_out = 4h",
+                "0.5 h / c_L ≈ 175 fs", "wall time in s", "`wall_s` 12.5", "the load ramp",
+                "5000× below k_BT", "a few seconds"]
+    errors = []
+    for line in must:
+        if not findings("t.md", line):
+            errors.append(f"not caught: {line}")
+    for line in must_not:
+        got = findings("t.md", line)
+        if got:
+            errors.append(f"caught wrongly: {line}: {got}")
+    for e in errors:
+        print(e)
+    print(f"self-test: {len(must)} planted timings, {len(must_not)} non-timings, "
+          f"{len(errors)} errors")
+    return 1 if errors else 0
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--root", default=os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))))
+    ap.add_argument("--self-test", action="store_true")
+    a = ap.parse_args(argv)
+    if a.self_test:
+        return self_test()
+    bad = check(a.root)
+    for b in bad:
+        print(b)
+    if bad:
+        print(f"{len(bad)} timings or loads in decision records: move them to the guide's "
+              "results section and link it (D361)")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
