@@ -122,7 +122,8 @@ TEST_F(Cli, BadCsvGivesOneLineErrorAndNoCard) {
   const Result r = run("fit --data bad.csv --out card.h5");
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(lines(r.err), 1) << r.err;
-  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's22_MPa (line 2)': value 'oops'", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's22_MPa (line 2)': value 'oops'", 0), 0u)
+      << r.err;
   EXPECT_EQ(listing(), std::vector<std::string>{"bad.csv"}) << "no card, no temporary file";
 }
 
@@ -190,9 +191,8 @@ TEST_F(Cli, StressesInPascalAreRefusedAsAUnitMistake) {
   std::ofstream out(p("pa.csv"));
   std::string line;
   while (std::getline(in, line)) {
-    for (std::size_t at = 0; line.rfind("case", 0) == 0 &&
-                             (at = line.find("_Pa", at)) != std::string::npos;
-         at += 4)
+    for (std::size_t at = 0;
+         line.rfind("case", 0) == 0 && (at = line.find("_Pa", at)) != std::string::npos; at += 4)
       line.replace(at, 3, "_MPa");
     out << line << '\n';
   }
@@ -239,9 +239,8 @@ TEST_F(Cli, SynthFitGivesTheSameCardFromEverySpellingOfTheStressColumns) {
   nlohmann::json card[3];
   const char* files[3] = {"si.csv", "mpa.csv", "legacy.csv"};
   for (int i = 0; i < 3; ++i) {
-    const Result f =
-        run(std::string("fit --data ") + files[i] + " --model pp --out c" + std::to_string(i) +
-            ".h5 --no-plots --json");
+    const Result f = run(std::string("fit --data ") + files[i] + " --model pp --out c" +
+                         std::to_string(i) + ".h5 --no-plots --json");
     ASSERT_EQ(f.code, 0) << files[i] << ": " << f.err;
     card[i] = nlohmann::json::parse(f.out)["constants"];
     const bool warned = f.err.find("pnc: warning: legacy.csv: columns s11,s22,s33,s23,s13,s12,"

@@ -188,7 +188,8 @@ TEST_F(PncErrors, BadInputFileExitsOneNamingFileFieldValue) {
   const PncRun r = run({"fit", "--data", "bad.csv", "--out", "c.h5", "--no-plots"});
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
-  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's12_Pa (line 2)': value 'zero'", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's12_Pa (line 2)': value 'zero'", 0), 0u)
+      << r.err;
 }
 
 // A solver stopped after one iteration has not converged: exit 3, the card written (the

@@ -121,6 +121,39 @@ void expect_md_figure(const std::string& out, const pnc::damage::StressStrainDat
     }
   }
 }
+
+/// What the plot script drew from that job list, read back from the matplotlib artists
+/// (`plot_figures.py --describe`): every panel of the MD figure is an axes with its title, six
+/// component lines with their points and one error-bar set per line, a bar on every point.
+void expect_md_figure_drawn(const std::string& out) {
+  const std::string desc = out + "/plots/describe.json";
+  const Proc p = pnc::test::run_command(
+      std::string("'" PNC_PYTHON "' '" PNC_SOURCE_DIR "/scripts/plot_figures.py' --describe '") +
+      desc + "' '" + out + "/plots/figures.json' 2>&1");
+  ASSERT_EQ(p.code, 0) << p.out;
+  const auto jobs = nlohmann::json::parse(slurp(out + "/plots/figures.json"));
+  const auto drawn = nlohmann::json::parse(slurp(desc), nullptr, false);
+  ASSERT_FALSE(drawn.is_discarded());
+  ASSERT_EQ(drawn["figures"].size(), jobs["figures"].size());
+  for (std::size_t f = 0; f < jobs["figures"].size(); ++f) {
+    const auto& job = jobs["figures"][f];
+    if (job["png"].get<std::string>().find("stress.png") == std::string::npos) continue;
+    const auto& axes = drawn["figures"][f]["axes"];
+    ASSERT_EQ(axes.size(), job["panels"].size()) << "one axes per panel (no residuals here)";
+    for (std::size_t a = 0; a < axes.size(); ++a) {
+      const auto& panel = job["panels"][a];
+      EXPECT_EQ(axes[a]["title"], panel["title"]);
+      ASSERT_EQ(axes[a]["lines"].size(), 6u) << panel["title"];
+      ASSERT_EQ(axes[a]["error_bars"].size(), 6u) << panel["title"];
+      for (std::size_t j = 0; j < 6; ++j) {
+        const auto n = panel["series"][j]["y"].size();
+        EXPECT_EQ(axes[a]["lines"][j]["label"], panel["series"][j]["label"]);
+        EXPECT_EQ(axes[a]["lines"][j]["points"].get<std::size_t>(), n) << panel["title"];
+        EXPECT_EQ(axes[a]["error_bars"][j].get<std::size_t>(), n) << panel["title"];
+      }
+    }
+  }
+}
 } // namespace
 
 TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
@@ -203,6 +236,7 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   EXPECT_EQ(fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5"), t2);
   expect_report_page(out, j, slurp((d / "err2.txt").string()));
   expect_md_figure(out, data);
+  expect_md_figure_drawn(out);
   // the page in a real browser (here, not in the slower two-replica test): both figures decode, no
   // console error, not blank
   const auto page = pnc::test::render_in_chromium(out + "/report.html", d.string());

@@ -38,9 +38,9 @@ struct CaseCurve {
 };
 
 struct StressStrainData {
-  std::string source;            ///< file it came from
-  std::string stress_definition; ///< e.g. "virial (no kinetic term)", "synthetic"
-  std::vector<CaseCurve> cases;  ///< sorted by id, at most one per id
+  std::string source;                ///< file it came from
+  std::string stress_definition;     ///< e.g. "virial (no kinetic term)", "synthetic"
+  std::vector<CaseCurve> cases;      ///< sorted by id, at most one per id
   std::vector<std::string> warnings; ///< for the user, one line each (legacy CSV columns, D342)
   const CaseCurve* find(int id) const;
   std::size_t points() const;
