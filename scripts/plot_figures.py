@@ -102,7 +102,7 @@ def draw_panel(fig, cell, p, legend):
 
 
 def describe(fig, png):
-    """What `fig` shows, from its artists (not from the job list)."""
+    """What `fig` shows, from its artists (not from the job list; D343)."""
     axes = []
     for ax in fig.axes:
         axes.append({

@@ -123,8 +123,8 @@ void expect_md_figure(const std::string& out, const pnc::damage::StressStrainDat
 }
 
 /// What the plot script drew from that job list, read back from the matplotlib artists
-/// (`plot_figures.py --describe`): every panel of the MD figure is an axes with its title, six
-/// component lines with their points and one error-bar set per line, a bar on every point.
+/// (`plot_figures.py --describe`, D343): every panel of the MD figure is an axes with its title,
+/// six component lines with their points and one error-bar set per line, a bar on every point.
 void expect_md_figure_drawn(const std::string& out) {
   const std::string desc = out + "/plots/describe.json";
   const Proc p = pnc::test::run_command(
