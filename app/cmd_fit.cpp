@@ -41,6 +41,8 @@ int run_fit(const FitArgs& a) {
   }
   o.validate();
   const StressStrainData data = read_stress_strain(a.data);
+  for (const auto& w : data.warnings) // legacy CSV column names (D342)
+    std::cerr << "pnc: warning: " << w << "\n";
   const FitReport rep = fit_ndm(data, o);
   Card card = card_from_fit(rep, data, a.loss);
   write_card(a.out, card, a.command_line);

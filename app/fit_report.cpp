@@ -150,7 +150,7 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md) {
       md ? "more replicas (`\"run\": {\"replicas\": N}`, N >= 3) or longer holds "
            "(`deform.hold_steps`)"
          : "more points per curve, or curves averaged over replicas with their standard "
-           "errors in the sd11..sd12 columns";
+           "errors in the sd11_Pa..sd12_Pa columns";
   struct Rule {
     const char* key;
     std::string advice;
@@ -185,7 +185,7 @@ std::vector<std::string> next_steps(const damage::Verdict& v, bool md) {
                               "so that the errors include the structure-to-structure scatter."},
       {"no point errors", md ? "The data carry no errors (static 0 K rows): run at a finite "
                                "temperature with replicas to get them."
-                             : "Give the data standard errors (columns sd11..sd12) so that "
+                             : "Give the data standard errors (columns sd11_Pa..sd12_Pa) so that "
                                "chi²/dof can be checked."},
       {"linear range", "Too few points in the linear range: more strain steps at small strain "
                        "(`deform.steps`, or a smaller `deform.strain_max`)."},

@@ -36,7 +36,8 @@ CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
   auto* fit =
       app.add_subcommand("fit", "Joint NDM fit (Ceres) of stress-strain curves -> card + plots");
   fit->add_option("--data", fa.data,
-                  "Stress-strain data: CSV (case,e11..g12,s11..s12; stress in MPa) or cases.h5")
+                  "Stress-strain data: CSV (case,e11..g12,s11_Pa..s12_Pa; _MPa, _GPa or the bare "
+                  "s11.. of older files, MPa, too) or cases.h5")
       ->required();
   fit->add_option("--model", fa.model,
                   "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-6 "

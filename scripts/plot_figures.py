@@ -8,7 +8,11 @@ Input: the JSON job list written by pnc (app/figures.hpp, "pnc figure jobs v1"):
                    "colour", "width"?}],
        "residual"?: {same as a series}, "residual_label"?}]}]}
 Numbers are plotted as given (units are in the labels; null is a gap). Prints 'wrote <png>'
-per figure; each PNG is written to a fresh temporary file and renamed into place."""
+per figure; each PNG is written to a fresh temporary file and renamed into place.
+
+--describe OUT.json: also writes what was drawn, read back from the matplotlib artists (for
+tests of a figure's content): {"figures": [{"png", "title", "axes": [{"title", "xlabel",
+"ylabel", "lines": [{"label", "points"}], "error_bars": [segments of each error-bar set]}]}]}."""
 import json
 import math
 import os
@@ -97,7 +101,21 @@ def draw_panel(fig, cell, p, legend):
                 fontsize=7, color="0.35")
 
 
-def draw_figure(f):
+def describe(fig, png):
+    """What `fig` shows, from its artists (not from the job list; D343)."""
+    axes = []
+    for ax in fig.axes:
+        axes.append({
+            "title": ax.get_title(), "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+            "lines": [{"label": ln.get_label(), "points": len(ln.get_xdata())}
+                      for ln in ax.get_lines() if not ln.get_label().startswith("_")],
+            "error_bars": [len(c.get_segments()) for c in ax.collections
+                           if isinstance(c, LineCollection)]})
+    title = fig._suptitle.get_text() if fig._suptitle is not None else ""
+    return {"png": png, "title": title, "axes": axes}
+
+
+def draw_figure(f, described=None):
     panels = f["panels"]
     cols = max(1, min(int(f.get("columns", 3)), len(panels)))
     rows = math.ceil(len(panels) / cols)
@@ -125,18 +143,39 @@ def draw_figure(f):
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+    if described is not None:
+        described.append(describe(fig, out))
     plt.close(fig)
     print("wrote " + out, flush=True)
 
 
-def main(jobs):
+def write_atomically(path, text):
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".",
+                               dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def main(jobs, describe_out=None):
     with open(jobs) as f:
         spec = json.load(f)
+    described = [] if describe_out else None
     for fig in spec["figures"]:
-        draw_figure(fig)
+        draw_figure(fig, described)
+    if describe_out:
+        write_atomically(describe_out, json.dumps({"figures": described}, ensure_ascii=False))
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_figures.py JOBS.json")
-    main(sys.argv[1])
+    args = sys.argv[1:]
+    if len(args) == 3 and args[0] == "--describe":
+        main(args[2], args[1])
+    elif len(args) == 1 and not args[0].startswith("--"):
+        main(args[0])
+    else:
+        sys.exit("usage: plot_figures.py [--describe OUT.json] JOBS.json")

@@ -30,6 +30,55 @@ double stress_scale(const h5::File& f, const std::string& path, const std::strin
   if (*su == "GPa") return 1e9;
   fail(path, ds + "@units", *su, "stress units must be Pa, MPa or GPa");
 }
+
+// D342: a stress column of the CSV is <base>_<unit> with unit Pa, MPa or GPa, or (files
+// written before the unit rule) the bare <base> in MPa. One spelling per column.
+const char* kStressColumnRule =
+    "a stress column is named <name>_Pa, <name>_MPa or <name>_GPa (the unit rule of "
+    "docs/formats.md); the bare <name> of older files is read as MPa";
+
+struct StressColumn {
+  bool found = false;
+  bool legacy = false; ///< the bare name (MPa)
+  std::size_t index = 0;
+  double scale = 1.0; ///< Pa per unit of the column
+};
+
+StressColumn find_stress_column(const CsvTable& t, const std::string& base, bool required) {
+  StressColumn c;
+  std::string first;
+  for (std::size_t j = 0; j < t.header.size(); ++j) {
+    const std::string& h = t.header[j];
+    double scale = 0;
+    if (h == base)
+      scale = kMPa;
+    else if (h.rfind(base + "_", 0) == 0) {
+      const std::string unit = h.substr(base.size() + 1);
+      scale = unit == "Pa" ? 1.0 : unit == "MPa" ? 1e6 : unit == "GPa" ? 1e9 : 0.0;
+      if (scale == 0)
+        fail(t.source, h, unit, std::string("unknown unit suffix: ") + kStressColumnRule);
+    } else
+      continue;
+    if (c.found)
+      fail(t.source, first + "/" + h, "both",
+           "two columns give " + base + ": " + kStressColumnRule + "; keep one of them");
+    c = {true, h == base, j, scale};
+    first = h;
+  }
+  if (required && !c.found)
+    fail(t.source, base + "_Pa", "",
+         std::string("required column is missing from the header: ") + kStressColumnRule);
+  return c;
+}
+
+std::string legacy_warning(const std::string& path, const std::vector<std::string>& cols) {
+  std::string names;
+  for (const auto& n : cols)
+    names += (names.empty() ? "" : ",") + n;
+  return path + ": columns " + names +
+         " have no unit suffix and are read as MPa (deprecated; name them " + cols.front() +
+         "_MPa ..., or write Pa as " + cols.front() + "_Pa ...)";
+}
 } // namespace
 
 const CaseCurve* StressStrainData::find(int id) const {
@@ -57,20 +106,19 @@ StressStrainData read_stress_strain(const std::string& path) {
 StressStrainData read_stress_strain_csv(const std::string& path) {
   const CsvTable t = read_csv(path);
   const std::size_t jc = t.column("case");
-  std::size_t js[6], je[6];
+  std::size_t je[6];
+  StressColumn js[6], jd[6];
+  std::vector<std::string> legacy;
+  bool has_sd = true;
   for (int i = 0; i < 6; ++i) {
     je[i] = t.column(kStrainCols[i]);
-    js[i] = t.column(kStressCols[i]);
+    js[i] = find_stress_column(t, kStressCols[i], true);
+    jd[i] = find_stress_column(t, kStderrCols[i], false);
+    has_sd = has_sd && jd[i].found;
+    if (js[i].legacy) legacy.push_back(kStressCols[i]);
   }
-  bool has_sd = true;
-  std::size_t jd[6] = {0, 0, 0, 0, 0, 0};
-  for (int i = 0; i < 6; ++i) {
-    auto it = std::find(t.header.begin(), t.header.end(), kStderrCols[i]);
-    if (it == t.header.end())
-      has_sd = false;
-    else
-      jd[i] = static_cast<std::size_t>(it - t.header.begin());
-  }
+  for (int i = 0; i < 6; ++i)
+    if (has_sd && jd[i].legacy) legacy.push_back(kStderrCols[i]);
   std::map<int, std::vector<std::size_t>> rows_of;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const double c = t.rows[r][jc];
@@ -82,16 +130,16 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
     rows_of[static_cast<int>(c)].push_back(r);
     if (has_sd) {
       for (int i = 0; i < 6; ++i)
-        if (t.rows[r][jd[i]] < 0)
-          fail(path,
-               std::string(kStderrCols[i]) + " (line " + std::to_string(t.line_numbers[r]) + ")",
-               std::to_string(t.rows[r][jd[i]]), "a standard error must be >= 0");
+        if (t.rows[r][jd[i].index] < 0)
+          fail(path, t.header[jd[i].index] + " (line " + std::to_string(t.line_numbers[r]) + ")",
+               std::to_string(t.rows[r][jd[i].index]), "a standard error must be >= 0");
     }
   }
   if (rows_of.empty()) fail(path, "", "", "no data rows");
   StressStrainData d;
   d.source = path;
   d.stress_definition = "as supplied (CSV)";
+  if (!legacy.empty()) d.warnings.push_back(legacy_warning(path, legacy));
   for (const auto& [id, rows] : rows_of) {
     CaseCurve c;
     c.id = id;
@@ -103,8 +151,8 @@ StressStrainData read_stress_strain_csv(const std::string& path) {
       const auto& row = t.rows[rows[static_cast<std::size_t>(k)]];
       for (int i = 0; i < 6; ++i) {
         c.strain(k, i) = row[je[i]];
-        c.stress(k, i) = row[js[i]] * kMPa;
-        if (has_sd) c.stress_stderr(k, i) = row[jd[i]] * kMPa;
+        c.stress(k, i) = row[js[i].index] * js[i].scale;
+        if (has_sd) c.stress_stderr(k, i) = row[jd[i].index] * jd[i].scale;
       }
     }
     d.cases.push_back(std::move(c));
@@ -171,8 +219,9 @@ StressStrainData read_stress_strain_h5(const std::string& path) {
 
 void write_stress_strain_csv(const std::string& path, const StressStrainData& d) {
   std::ostringstream s;
-  s.precision(10);
-  s << "# pnc stress-strain data; strain dimensionless (engineering shear), stress in MPa\n";
+  s.precision(17); // max_digits10: the file reads back to the same doubles as the .h5 (D342)
+  s << "# pnc stress-strain data; units in the column names (D342): strain dimensionless "
+       "(engineering shear g = 2 e), stress and its standard error in Pa\n";
   s << "# source: " << d.stress_definition << "\n";
   bool sd = !d.cases.empty();
   for (const auto& c : d.cases)
@@ -181,10 +230,10 @@ void write_stress_strain_csv(const std::string& path, const StressStrainData& d)
   for (auto* n : kStrainCols)
     s << ',' << n;
   for (auto* n : kStressCols)
-    s << ',' << n;
+    s << ',' << n << "_Pa";
   if (sd)
     for (auto* n : kStderrCols)
-      s << ',' << n;
+      s << ',' << n << "_Pa";
   s << '\n';
   for (const auto& c : d.cases) {
     for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
@@ -192,10 +241,10 @@ void write_stress_strain_csv(const std::string& path, const StressStrainData& d)
       for (int i = 0; i < 6; ++i)
         s << ',' << c.strain(k, i);
       for (int i = 0; i < 6; ++i)
-        s << ',' << c.stress(k, i) / kMPa;
+        s << ',' << c.stress(k, i);
       if (sd)
         for (int i = 0; i < 6; ++i)
-          s << ',' << c.stress_stderr(k, i) / kMPa;
+          s << ',' << c.stress_stderr(k, i);
       s << '\n';
     }
   }

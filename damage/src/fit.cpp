@@ -245,8 +245,10 @@ void check_stiffness_units(const FitReport& rep, const FitOptions& opt, const st
         << opt.stiffness_min / 1e6 << " MPa, " << opt.stiffness_max / 1e9
         << " GPa] of polymers and composites: "
         << (v > opt.stiffness_max
-                ? "are the stresses in Pa instead of MPa (CSV columns s11..s12 are MPa)?"
-                : "are the stresses in GPa or kPa instead of MPa, or is the data noise?")
+                ? "are the stresses in Pa instead of MPa (CSV columns s11_MPa.., and the "
+                  "bare s11.. of older files, are MPa)?"
+                : "are the stresses in GPa or kPa instead of MPa (or MPa values under "
+                  "s11_Pa..), or is the data noise?")
         << " (check the units, or pass --no-unit-check)";
     fail(src, nm, std::to_string(v) + " Pa", msg.str());
   }

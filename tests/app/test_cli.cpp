@@ -116,12 +116,14 @@ TEST_F(Cli, FitDrawsOneFigureOfEveryCase) {
 }
 
 TEST_F(Cli, BadCsvGivesOneLineErrorAndNoCard) {
-  std::ofstream(p("bad.csv")) << "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12\n"
-                                 "1,0.01,0,0,0,0,0,1,oops,3,0,0,0\n";
+  std::ofstream(p("bad.csv"))
+      << "case,e11,e22,e33,g23,g13,g12,s11_MPa,s22_MPa,s33_MPa,s23_MPa,s13_MPa,s12_MPa\n"
+         "1,0.01,0,0,0,0,0,1,oops,3,0,0,0\n";
   const Result r = run("fit --data bad.csv --out card.h5");
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(lines(r.err), 1) << r.err;
-  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's22 (line 2)': value 'oops'", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's22_MPa (line 2)': value 'oops'", 0), 0u)
+      << r.err;
   EXPECT_EQ(listing(), std::vector<std::string>{"bad.csv"}) << "no card, no temporary file";
 }
 
@@ -153,7 +155,7 @@ namespace {
 // sigma = C eps cannot have, scattered by +-1 MPa, with hardly any strain dependence.
 void write_offset_csv(const std::string& path, double stress_scale) {
   std::ofstream f(path);
-  f << "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12\n";
+  f << "case,e11,e22,e33,g23,g13,g12,s11_MPa,s22_MPa,s33_MPa,s23_MPa,s13_MPa,s12_MPa\n";
   for (int c = 1; c <= 6; ++c)
     for (int k = 1; k <= 20; ++k) {
       double e[6] = {0, 0, 0, 0, 0, 0};
@@ -183,27 +185,83 @@ TEST_F(Cli, NotUsableCardIsWrittenMarkedAndExitsFour) {
 }
 
 TEST_F(Cli, StressesInPascalAreRefusedAsAUnitMistake) {
-  // Synthetic curves of the tables' law, written in Pa under the MPa header.
+  // Synthetic curves of the tables' law, their Pa values under MPa column names.
   ASSERT_EQ(run("synth --model pnc --points 30 --noise-mpa 1 --seed 3 --out d.csv").code, 0);
   std::ifstream in(p("d.csv"));
   std::ofstream out(p("pa.csv"));
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line.rfind("case", 0) == 0) {
-      out << line << '\n';
-      continue;
-    }
-    std::stringstream ss(line);
-    std::string cell;
-    for (int col = 0; std::getline(ss, cell, ','); ++col)
-      out << (col ? "," : "") << (col >= 7 ? std::to_string(std::stod(cell) * 1e6) : cell);
-    out << '\n';
+    for (std::size_t at = 0;
+         line.rfind("case", 0) == 0 && (at = line.find("_Pa", at)) != std::string::npos; at += 4)
+      line.replace(at, 3, "_MPa");
+    out << line << '\n';
   }
   out.close();
   const Result r = run("fit --data pa.csv --out card.h5 --no-plots");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("Pa instead of MPa"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(p("card.h5")));
+}
+
+// D342: `pnc synth` writes the stresses in Pa under names that say so; the same curves in
+// MPa columns, or under the bare names of older files (read as MPa, with a warning), give
+// the same card.
+TEST_F(Cli, SynthFitGivesTheSameCardFromEverySpellingOfTheStressColumns) {
+  ASSERT_EQ(run("synth --model pp --points 40 --noise-mpa 1 --seed 5 --out si.csv").code, 0);
+  std::ifstream in(p("si.csv"));
+  std::string line, header;
+  std::vector<std::string> rows;
+  while (std::getline(in, line))
+    if (line.rfind("case", 0) == 0)
+      header = line;
+    else if (!line.empty() && line[0] != '#')
+      rows.push_back(line);
+  ASSERT_EQ(header, "case,e11,e22,e33,g23,g13,g12,s11_Pa,s22_Pa,s33_Pa,s23_Pa,s13_Pa,s12_Pa,"
+                    "sd11_Pa,sd22_Pa,sd33_Pa,sd23_Pa,sd13_Pa,sd12_Pa");
+  for (const auto& [name, suffix] : {std::pair{"mpa.csv", "_MPa"}, std::pair{"legacy.csv", ""}}) {
+    std::string h = header;
+    for (std::size_t at = 0; (at = h.find("_Pa", at)) != std::string::npos;)
+      h.replace(at, 3, suffix);
+    std::ofstream out(p(name));
+    out.precision(17);
+    out << h << '\n';
+    for (const auto& r : rows) {
+      std::stringstream ss(r);
+      std::string cell;
+      for (int col = 0; std::getline(ss, cell, ','); ++col)
+        if (col < 7)
+          out << (col ? "," : "") << cell;
+        else
+          out << ',' << std::stod(cell) / 1e6; // Pa -> MPa, 17 significant digits
+      out << '\n';
+    }
+  }
+  nlohmann::json card[3];
+  const char* files[3] = {"si.csv", "mpa.csv", "legacy.csv"};
+  for (int i = 0; i < 3; ++i) {
+    const Result f = run(std::string("fit --data ") + files[i] + " --model pp --out c" +
+                         std::to_string(i) + ".h5 --no-plots --json");
+    ASSERT_EQ(f.code, 0) << files[i] << ": " << f.err;
+    card[i] = nlohmann::json::parse(f.out)["constants"];
+    const bool warned = f.err.find("pnc: warning: legacy.csv: columns s11,s22,s33,s23,s13,s12,"
+                                   "sd11,sd22,sd33,sd23,sd13,sd12 have no unit suffix and are "
+                                   "read as MPa (deprecated;") != std::string::npos;
+    EXPECT_EQ(warned, i == 2) << files[i] << ": " << f.err;
+  }
+  ASSERT_FALSE(card[0].empty());
+  for (const auto& [name, c] : card[0].items()) {
+    const double a = c["value"], b = card[1][name]["value"], legacy = card[2][name]["value"];
+    // the same text and the same MPa -> Pa conversion: the same doubles, the same fit
+    EXPECT_EQ(legacy, b) << name;
+    // Pa and MPa texts of one value read to doubles at most 1 ulp apart; the fit moves by
+    // (condition) x 1e-16, or, if that flips the solver's stop, by one last step, which
+    // changes the cost by < function_tolerance (1e-12) x cost (~ N/2 = 120 for 240 points):
+    // |da|/SE ~ sqrt(2 x 1e-12 x 120) = 1.5e-5. 1e-4 SE bounds both.
+    if (c["std_error"].is_number())
+      EXPECT_LE(std::abs(a - b), 1e-4 * c["std_error"].get<double>()) << name;
+    else
+      EXPECT_EQ(a, b) << name;
+  }
 }
 
 TEST_F(Cli, CardShowReportsTheFirstStrengthPeak) {

@@ -182,12 +182,14 @@ TEST_F(PncErrors, HelpShowsDefaultsAndHelpAndVersionExitZero) {
 // ------------------------------------------------------------------ each exit code, for real
 
 TEST_F(PncErrors, BadInputFileExitsOneNamingFileFieldValue) {
-  std::ofstream(p("bad.csv")) << "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12\n"
-                                 "1,0.01,0,0,0,0,0,1,2,3,0,0,zero\n";
+  std::ofstream(p("bad.csv"))
+      << "case,e11,e22,e33,g23,g13,g12,s11_Pa,s22_Pa,s33_Pa,s23_Pa,s13_Pa,s12_Pa\n"
+         "1,0.01,0,0,0,0,0,1e6,2e6,3e6,0,0,zero\n";
   const PncRun r = run({"fit", "--data", "bad.csv", "--out", "c.h5", "--no-plots"});
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
-  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's12 (line 2)': value 'zero'", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.rfind("pnc: error: bad.csv: field 's12_Pa (line 2)': value 'zero'", 0), 0u)
+      << r.err;
 }
 
 // A solver stopped after one iteration has not converged: exit 3, the card written (the

@@ -9,9 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <unistd.h>
 
 using namespace pnc::damage;
@@ -54,7 +56,8 @@ std::string error_of(const std::function<void()>& f) {
   return "<no error>";
 }
 
-const char* kHeader = "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12\n";
+const char* kHeader =
+    "case,e11,e22,e33,g23,g13,g12,s11_MPa,s22_MPa,s33_MPa,s23_MPa,s13_MPa,s12_MPa\n";
 
 } // namespace
 
@@ -72,28 +75,130 @@ TEST_F(DataFiles, CsvAndHdf5RoundTrip) {
     ASSERT_EQ(r.cases.size(), d.cases.size()) << f;
     for (std::size_t i = 0; i < d.cases.size(); ++i) {
       EXPECT_EQ(r.cases[i].id, d.cases[i].id);
-      // CSV keeps 10 significant digits of MPa; HDF5 is exact.
-      const double tol = f == "d.csv" ? 1e-9 : 0.0;
-      EXPECT_LE((r.cases[i].stress - d.cases[i].stress).cwiseAbs().maxCoeff(),
-                tol * d.cases[i].stress.cwiseAbs().maxCoeff());
-      EXPECT_LE((r.cases[i].strain - d.cases[i].strain).cwiseAbs().maxCoeff(), 1e-10);
-      EXPECT_EQ(r.cases[i].stress_stderr.rows(), d.cases[i].stress.rows());
+      // both exact: the CSV is in Pa with 17 significant digits (max_digits10, D342), which
+      // read back to the same doubles, and HDF5 stores the doubles
+      EXPECT_EQ(r.cases[i].stress, d.cases[i].stress) << f;
+      EXPECT_EQ(r.cases[i].strain, d.cases[i].strain) << f;
+      EXPECT_EQ(r.cases[i].stress_stderr, d.cases[i].stress_stderr) << f;
+      EXPECT_TRUE(r.warnings.empty()) << f;
     }
   }
   EXPECT_EQ(listing(), (std::vector<std::string>{"d.csv", "d.h5"})); // no temporaries
 }
 
-TEST_F(DataFiles, CsvStressIsReadAsMPa) {
-  write("one.csv", std::string(kHeader) + "2,0,0.01,0,0,0,0,7.08,11.53,5.63,0,0,0\n");
-  const StressStrainData d = read_stress_strain(path("one.csv"));
-  EXPECT_DOUBLE_EQ(d.cases[0].stress(0, 1), 11.53e6);
+// ------------------------------------------------------------ the unit in the column name (D342)
+namespace {
+/// A header whose stress columns are `s11<suffix>` and, if `sd`, `sd11<suffix>`.
+std::string header_with(const std::string& suffix, bool sd) {
+  std::string h = "case,e11,e22,e33,g23,g13,g12";
+  for (const char* n : {"s11", "s22", "s33", "s23", "s13", "s12"})
+    h += std::string(",") + n + suffix;
+  if (sd)
+    for (const char* n : {"sd11", "sd22", "sd33", "sd23", "sd13", "sd12"})
+      h += std::string(",") + n + suffix;
+  return h + "\n";
+}
+} // namespace
+
+TEST_F(DataFiles, CsvStressColumnsAreReadInTheUnitTheirNameStates) {
+  // 0.25 GPa = 250 MPa = 2.5e8 Pa, and 0.5 of it as the standard error: exact in every unit,
+  // so the three spellings and the legacy bare name (MPa) read to the same doubles.
+  const std::pair<const char*, double> per_unit[] = {
+      {"_Pa", 1e6}, {"_MPa", 1.0}, {"_GPa", 1e-3}, {"", 1.0}};
+  for (const auto& [suffix, from_mpa] : per_unit) {
+    std::ostringstream row;
+    row.precision(17);
+    row << "2,0,0.01,0,0,0,0";
+    for (int k = 0; k < 6; ++k)
+      row << ',' << (k == 1 ? 250 * from_mpa : 0.0);
+    for (int k = 0; k < 6; ++k)
+      row << ',' << (k == 1 ? 125 * from_mpa : 0.0);
+    write("u.csv", header_with(suffix, true) + row.str() + "\n");
+    const StressStrainData d = read_stress_strain(path("u.csv"));
+    EXPECT_EQ(d.cases.at(0).stress(0, 1), 2.5e8) << suffix;
+    EXPECT_EQ(d.cases.at(0).stress_stderr(0, 1), 1.25e8) << suffix;
+    // only the bare names warn, once, naming the file and the columns read as MPa
+    ASSERT_EQ(d.warnings.size(), std::string(suffix).empty() ? 1u : 0u) << suffix;
+    if (!d.warnings.empty()) {
+      EXPECT_EQ(d.warnings[0].rfind(path("u.csv") + ": columns s11,s22", 0), 0u) << d.warnings[0];
+      EXPECT_NE(d.warnings[0].find("sd12 have no unit suffix and are read as MPa"),
+                std::string::npos)
+          << d.warnings[0];
+    }
+  }
+}
+
+TEST_F(DataFiles, SynthesizedCurvesReadTheSameFromPaMPaAndLegacyColumns) {
+  // Stresses rounded to multiples of 2^-16 MPa (< 2^26 of them: |s| < 1000 MPa): such a
+  // number times 1e6 = 2^6 * 15625 needs at most 26 + 14 bits, so the reader's MPa -> Pa
+  // product is exact and every spelling gives the same doubles (then the fit of them is
+  // the same fit, test Cli.SynthFitGivesTheSameCardFromEverySpellingOfTheStressColumns).
+  SynthOptions o;
+  o.points = 15;
+  o.noise_sd = 1e6;
+  StressStrainData d = synthesize(dissertation_parameters(Model::pp), o);
+  const double q = std::ldexp(1.0, -16);
+  for (auto& c : d.cases) {
+    c.stress = ((c.stress / 1e6 / q).array().round() * q * 1e6).matrix();
+    c.stress_stderr = ((c.stress_stderr / 1e6 / q).array().round() * q * 1e6).matrix();
+  }
+  write_stress_strain_csv(path("pa.csv"), d);
+  for (const std::string suffix : {"_MPa", ""}) {
+    std::ostringstream f;
+    f.precision(17);
+    f << header_with(suffix, true);
+    for (const auto& c : d.cases)
+      for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {
+        f << c.id;
+        for (int i = 0; i < 6; ++i)
+          f << ',' << c.strain(k, i);
+        for (int i = 0; i < 6; ++i)
+          f << ',' << c.stress(k, i) / 1e6;
+        for (int i = 0; i < 6; ++i)
+          f << ',' << c.stress_stderr(k, i) / 1e6;
+        f << '\n';
+      }
+    write("mpa.csv", f.str());
+    const StressStrainData a = read_stress_strain(path("pa.csv"));
+    const StressStrainData b = read_stress_strain(path("mpa.csv"));
+    ASSERT_EQ(a.cases.size(), b.cases.size());
+    for (std::size_t i = 0; i < a.cases.size(); ++i) {
+      EXPECT_EQ(a.cases[i].stress, d.cases[i].stress);
+      EXPECT_EQ(b.cases[i].stress, a.cases[i].stress) << "'" << suffix << "'";
+      EXPECT_EQ(b.cases[i].stress_stderr, a.cases[i].stress_stderr) << "'" << suffix << "'";
+      EXPECT_EQ(b.cases[i].strain, a.cases[i].strain);
+    }
+  }
+}
+
+TEST_F(DataFiles, TwoSpellingsOfOneStressColumnOrAnUnknownSuffixAreRefused) {
+  const std::string row = "2,0,0.01,0,0,0,0,7.08,11.53,5.63,0,0,0,9\n";
+  const std::string base = header_with("_Pa", false);
+  const std::string head = base.substr(0, base.size() - 1);
+  for (const char* extra : {"s22", "s22_MPa"}) {
+    write("two.csv", head + "," + extra + "\n" + row);
+    const std::string m = error_of([&] { read_stress_strain(path("two.csv")); });
+    EXPECT_NE(m.find("two.csv: field 's22_Pa/" + std::string(extra) + "': value 'both'"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("two columns give s22"), std::string::npos) << m;
+    EXPECT_NE(m.find("<name>_Pa, <name>_MPa or <name>_GPa"), std::string::npos) << m;
+  }
+  write("kpa.csv", head + ",sd13_kPa\n" + row);
+  const std::string m = error_of([&] { read_stress_strain(path("kpa.csv")); });
+  EXPECT_NE(m.find("kpa.csv: field 'sd13_kPa': value 'kPa': unknown unit suffix"),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find("docs/formats.md"), std::string::npos) << m;
 }
 
 TEST_F(DataFiles, MissingColumnIsNamed) {
-  write("bad.csv", "case,e11,e22,e33,g23,g13,g12,s11,s33,s23,s13,s12\n1,0,0,0,0,0,0,0,0,0,0,0\n");
+  write("bad.csv", "case,e11,e22,e33,g23,g13,g12,s11_Pa,s33_Pa,s23_Pa,s13_Pa,s12_Pa\n"
+                   "1,0,0,0,0,0,0,0,0,0,0,0\n");
   const std::string m = error_of([&] { read_stress_strain(path("bad.csv")); });
   EXPECT_NE(m.find("bad.csv"), std::string::npos) << m;
-  EXPECT_NE(m.find("'s22'"), std::string::npos) << m;
+  EXPECT_NE(m.find("'s22_Pa'"), std::string::npos) << m; // the name a column has now
+  EXPECT_NE(m.find("_MPa"), std::string::npos) << m;     // and the rule
   EXPECT_NE(m.find("missing"), std::string::npos) << m;
 }
 
@@ -102,7 +207,7 @@ TEST_F(DataFiles, NonNumericCellIsNamedWithLineAndValue) {
         std::string(kHeader) + "1,0.01,0,0,0,0,0,1,2,3,0,0,0\n1,0.02,0,0,0,0,0,abc,2,3,0,0,0\n");
   const std::string m = error_of([&] { read_stress_strain(path("bad.csv")); });
   EXPECT_NE(m.find("bad.csv"), std::string::npos) << m;
-  EXPECT_NE(m.find("s11 (line 3)"), std::string::npos) << m;
+  EXPECT_NE(m.find("s11_MPa (line 3)"), std::string::npos) << m;
   EXPECT_NE(m.find("'abc'"), std::string::npos) << m;
   EXPECT_NE(m.find("finite number"), std::string::npos) << m;
 }
@@ -199,10 +304,10 @@ TEST_F(DataFiles, CsvWithByteOrderMarkIsReadAndDuplicatedColumnIsRefused) {
   ASSERT_EQ(d.cases.size(), 1u);
   EXPECT_EQ(d.cases[0].id, 2);
   EXPECT_DOUBLE_EQ(d.cases[0].stress(0, 1), 11.53e6);
-  write("dup.csv", "case,e11,e22,e33,g23,g13,g12,s11,s22,s33,s23,s13,s12,s11\n" +
+  write("dup.csv", std::string(kHeader).substr(0, std::string(kHeader).size() - 1) + ",s11_MPa\n" +
                        row.substr(0, row.size() - 1) + ",9\n");
   const std::string m = error_of([&] { read_stress_strain(path("dup.csv")); });
-  EXPECT_NE(m.find("dup.csv: field 's11'"), std::string::npos) << m;
+  EXPECT_NE(m.find("dup.csv: field 's11_MPa'"), std::string::npos) << m;
   EXPECT_NE(m.find("duplicated column"), std::string::npos) << m;
 }
 

@@ -68,6 +68,92 @@ void expect_report_page(const std::string& out, const nlohmann::json& j, const s
   EXPECT_NE(md.find("](plots/stress.png)"), std::string::npos);
   EXPECT_NE(md.find("## Verdict: "), std::string::npos);
 }
+/// The MD figure's content, from the job list the plot script drew it from
+/// (plots/figures.json, app/figures.hpp): per case the stress as measured next to the stress
+/// minus the reference hold, all six components (a shear case's normal stresses too), an
+/// error bar on every averaged point; the subtracted panel is the data that was fitted.
+void expect_md_figure(const std::string& out, const pnc::damage::StressStrainData& data) {
+  const auto jobs = nlohmann::json::parse(slurp(out + "/plots/figures.json"), nullptr, false);
+  ASSERT_FALSE(jobs.is_discarded());
+  const nlohmann::json* fig = nullptr;
+  for (const auto& f : jobs["figures"])
+    if (f["png"].get<std::string>().find("stress.png") != std::string::npos) fig = &f;
+  ASSERT_NE(fig, nullptr) << jobs.dump();
+  const auto& panels = (*fig)["panels"];
+  ASSERT_EQ(panels.size(), 2 * data.cases.size()) << "two panels per case";
+  const char* comp[6] = {"11", "22", "33", "23", "13", "12"};
+  for (std::size_t c = 0; c < data.cases.size(); ++c) {
+    const auto& cc = data.cases[c];
+    const auto& raw = panels[2 * c];
+    const auto& rel = panels[2 * c + 1];
+    const std::string id = std::to_string(cc.id);
+    EXPECT_EQ(raw["title"].get<std::string>().rfind("case " + id + " (", 0), 0u) << raw["title"];
+    EXPECT_NE(raw["title"].get<std::string>().find("as measured"), std::string::npos);
+    EXPECT_EQ(rel["title"], "case " + id + ": minus the reference (fitted)");
+    ASSERT_EQ(raw["series"].size(), 6u);
+    ASSERT_EQ(rel["series"].size(), 6u);
+    const auto k = static_cast<std::size_t>(cc.strain.rows());
+    for (int j = 0; j < 6; ++j) {
+      const auto& a = raw["series"][static_cast<std::size_t>(j)];
+      const auto& b = rel["series"][static_cast<std::size_t>(j)];
+      EXPECT_EQ(a["label"], std::string("σ") + comp[j]);
+      // raw: the reference hold at zero strain, then the k points; subtracted: the k points
+      ASSERT_EQ(a["y"].size(), k + 1) << "case " << id << " σ" << comp[j];
+      ASSERT_EQ(b["y"].size(), k) << "case " << id << " σ" << comp[j];
+      EXPECT_EQ(a["x"][0].get<double>(), 0.0);
+      for (const auto* s : {&a, &b}) {
+        ASSERT_TRUE(s->contains("yerr")) << "case " << id << " σ" << comp[j];
+        ASSERT_EQ((*s)["yerr"].size(), (*s)["y"].size());
+        for (const auto& e : (*s)["yerr"])
+          EXPECT_GT(e.get<double>(), 0.0) << "case " << id << " σ" << comp[j];
+      }
+      for (std::size_t i = 0; i < k; ++i) {
+        const auto r = static_cast<Eigen::Index>(i);
+        // MPa as plotted; JSON keeps 17 digits: the fitted data divided by 1e6, exactly
+        EXPECT_EQ(b["y"][i].get<double>(), cc.stress(r, j) / 1e6);
+        EXPECT_EQ(b["yerr"][i].get<double>(), cc.stress_stderr(r, j) / 1e6);
+        // one replica: raw = subtracted + reference, to the rounding of the two sums
+        // (|values| <~ 1e3 MPa: 1e-9 MPa is far above it, far below any stress)
+        EXPECT_NEAR(a["y"][i + 1].get<double>() - a["y"][0].get<double>(), b["y"][i].get<double>(),
+                    1e-9);
+        EXPECT_EQ(a["x"][i + 1].get<double>(), b["x"][i].get<double>());
+      }
+    }
+  }
+}
+
+/// What the plot script drew from that job list, read back from the matplotlib artists
+/// (`plot_figures.py --describe`, D343): every panel of the MD figure is an axes with its title,
+/// six component lines with their points and one error-bar set per line, a bar on every point.
+void expect_md_figure_drawn(const std::string& out) {
+  const std::string desc = out + "/plots/describe.json";
+  const Proc p = pnc::test::run_command(
+      std::string("'" PNC_PYTHON "' '" PNC_SOURCE_DIR "/scripts/plot_figures.py' --describe '") +
+      desc + "' '" + out + "/plots/figures.json' 2>&1");
+  ASSERT_EQ(p.code, 0) << p.out;
+  const auto jobs = nlohmann::json::parse(slurp(out + "/plots/figures.json"));
+  const auto drawn = nlohmann::json::parse(slurp(desc), nullptr, false);
+  ASSERT_FALSE(drawn.is_discarded());
+  ASSERT_EQ(drawn["figures"].size(), jobs["figures"].size());
+  for (std::size_t f = 0; f < jobs["figures"].size(); ++f) {
+    const auto& job = jobs["figures"][f];
+    if (job["png"].get<std::string>().find("stress.png") == std::string::npos) continue;
+    const auto& axes = drawn["figures"][f]["axes"];
+    ASSERT_EQ(axes.size(), job["panels"].size()) << "one axes per panel (no residuals here)";
+    for (std::size_t a = 0; a < axes.size(); ++a) {
+      const auto& panel = job["panels"][a];
+      EXPECT_EQ(axes[a]["title"], panel["title"]);
+      ASSERT_EQ(axes[a]["lines"].size(), 6u) << panel["title"];
+      ASSERT_EQ(axes[a]["error_bars"].size(), 6u) << panel["title"];
+      for (std::size_t j = 0; j < 6; ++j) {
+        const auto n = panel["series"][j]["y"].size();
+        EXPECT_EQ(axes[a]["lines"][j]["label"], panel["series"][j]["label"]);
+        EXPECT_EQ(axes[a]["lines"][j]["points"].get<std::size_t>(), n) << panel["title"];
+        EXPECT_EQ(axes[a]["error_bars"][j].get<std::size_t>(), n) << panel["title"];
+      }
+    }
+  }
+}
 } // namespace
 
 TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
@@ -149,6 +235,8 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
   EXPECT_EQ(again.code, r.code); // the same data, the same fit and verdict
   EXPECT_EQ(fs::last_write_time(fs::path(out) / "cases/case_2/checkpoint.h5"), t2);
   expect_report_page(out, j, slurp((d / "err2.txt").string()));
+  expect_md_figure(out, data);
+  expect_md_figure_drawn(out);
   // the page in a real browser (here, not in the slower two-replica test): both figures decode, no
   // console error, not blank
   const auto page = pnc::test::render_in_chromium(out + "/report.html", d.string());
