@@ -100,7 +100,7 @@ template <int D> void BM_Step(benchmark::State& st) {
     s->step(dt);
   const auto n = static_cast<double>(s->particles.size());
   st.counters["particles"] = n;
-  // first-touch test of the README's bimodal step cost: page faults in the timed steps
+  // first-touch test of the README's bimodal step cost (D356): page faults in the timed steps
   st.counters["faults_per_step"] =
       static_cast<double>(minor_faults() - faults0) /
       static_cast<double>(std::max<benchmark::IterationCount>(1, st.iterations()));
@@ -242,7 +242,8 @@ BENCHMARK_TEMPLATE(BM_StepShuffled, 3)
     ->UseRealTime();
 
 // --ftz (our flag, removed before Google Benchmark reads the rest): flush-to-zero and
-// denormals-are-zero in MXCSR, for the denormal hypothesis of the README's bimodal step cost.
+// denormals-are-zero in MXCSR, for the denormal hypothesis of the README's bimodal step cost
+// (D356).
 int main(int argc, char** argv) {
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Interleaved repetitions of the GIMP step benchmarks (gimp_coupler/bench/README.md).
+"""Interleaved repetitions of the GIMP step benchmarks (gimp_coupler/bench/README.md, D356).
 
 Runs every (binary, benchmark) pair once per round, rounds repeated --reps times, the order of
 the pairs rotated each round, so that a slow phase of a shared machine hits every variant

@@ -147,7 +147,7 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     pool_ = std::make_shared<ThreadPool>(threads);
   if (threads == 1) pool_.reset();
   buf_.resize(threads > 1 ? static_cast<std::size_t>(threads) : 0);
-  scratch_.resize(static_cast<std::size_t>(threads));
+  scratch_.resize(static_cast<std::size_t>(threads)); // D355: no allocation per step
   for (auto& sc : scratch_) {
     sc.sts.resize(Scratch::kChunk);
     sc.F0.resize(Scratch::kChunk);

@@ -73,7 +73,10 @@ template <int D> void Solver<D>::sort_particles() {
       std::copy_n(P.state.data() + perm[q] * stride, stride, tmp.data() + q * stride);
     P.state.swap(tmp);
   }
-  // wcache_ and fmask_ are recomputed by the next P2G for every particle.
+  // The next P2G recomputes these for every particle; permuted anyway so that nothing read
+  // between steps sees another particle's weights or crack fields.
+  if (wcache_.size() == n) permute(wcache_, perm);
+  if (fmask_.size() == n) permute(fmask_, perm);
   std::vector<std::size_t> where(n); // old index -> new index
   for (std::size_t q = 0; q < n; ++q)
     where[perm[q]] = q;
