@@ -6,12 +6,26 @@
 
 #include <benchmark/benchmark.h>
 
+#include <sys/resource.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <memory>
+#include <vector>
 
 using namespace pnc::gimp;
 
 namespace {
+
+/// Minor page faults of the process so far (all threads).
+long minor_faults() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_minflt;
+}
 
 /// A block of N (about) particles, 2 per cell per axis, in a grid with a 2-cell margin,
 /// small random-ish velocities so that stresses are non-zero; the left face is fixed.
@@ -81,15 +95,52 @@ template <int D> void BM_Step(benchmark::State& st) {
   const double dt = 0.5 * s->stable_dt();
   for (int i = 0; i < 3; ++i)
     s->step(dt); // warm-up
+  const long faults0 = minor_faults();
   for (auto _ : st)
     s->step(dt);
   const auto n = static_cast<double>(s->particles.size());
   st.counters["particles"] = n;
+  // first-touch test of the README's bimodal step cost (D356): page faults in the timed steps
+  st.counters["faults_per_step"] =
+      static_cast<double>(minor_faults() - faults0) /
+      static_cast<double>(std::max<benchmark::IterationCount>(1, st.iterations()));
   st.counters["threads"] = static_cast<double>(st.range(1));
   st.counters["psteps_per_s"] =
       benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
   st.counters["psteps_per_s_per_thread"] = benchmark::Counter(
       n / static_cast<double>(st.range(1)), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// The step of a block whose particles were added in a shuffled order (as after much motion
+/// or an unordered input), with the cell sort (D354) every `range(1)` steps (0: never).
+template <int D> void BM_StepShuffled(benchmark::State& st) {
+  auto s = make_block<D>(st.range(0), 1);
+  auto& P = s->particles;
+  std::vector<std::size_t> perm(P.size());
+  for (std::size_t k = 0; k < perm.size(); ++k)
+    perm[k] = k;
+  std::uint64_t r = 12345;
+  for (std::size_t k = perm.size() - 1; k > 0; --k) { // Fisher-Yates with a fixed LCG
+    r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+    std::swap(perm[k], perm[static_cast<std::size_t>((r >> 33) % (k + 1))]);
+  }
+  auto shuffled = std::make_unique<Solver<D>>();
+  shuffled->grid = s->grid;
+  shuffled->materials = s->materials;
+  shuffled->bcs = s->bcs;
+  for (std::size_t k : perm)
+    shuffled->particles.add(P.x[k], P.l[k], P.m[k], P.V0[k], P.mat[k], P.v[k]);
+  shuffled->sort_every = static_cast<int>(st.range(1));
+  shuffled->initialize();
+  const double dt = 0.5 * shuffled->stable_dt();
+  for (int i = 0; i < 3; ++i)
+    shuffled->step(dt);
+  for (auto _ : st)
+    shuffled->step(dt);
+  const auto n = static_cast<double>(P.size());
+  st.counters["particles"] = n;
+  st.counters["psteps_per_s"] =
+      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 /// One J / G_I / G_II evaluation (crack_tips, D38-D39) of the edge-cracked 2-D block of
@@ -181,5 +232,31 @@ BENCHMARK_TEMPLATE(BM_Stream, 3)
     ->Arg(1000000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HyperelasticUpdate);
+BENCHMARK_TEMPLATE(BM_StepShuffled, 2)
+    ->ArgsProduct({{100000}, {0, 10}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_TEMPLATE(BM_StepShuffled, 3)
+    ->ArgsProduct({{100000}, {0, 10}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
-BENCHMARK_MAIN();
+// --ftz (our flag, removed before Google Benchmark reads the rest): flush-to-zero and
+// denormals-are-zero in MXCSR, for the denormal hypothesis of the README's bimodal step cost
+// (D356).
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (i > 0 && std::strcmp(argv[i], "--ftz") == 0) {
+      _mm_setcsr(_mm_getcsr() | 0x8040); // FTZ (bit 15) | DAZ (bit 6)
+      continue;
+    }
+    args.push_back(argv[i]);
+  }
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

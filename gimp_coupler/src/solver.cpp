@@ -12,6 +12,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -140,10 +141,18 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   gvn_.assign(nn, Vec::Zero());
   active_.assign(nn, 0);
   wcache_.resize(n);
+  order_.resize(n);
+  std::iota(order_.begin(), order_.end(), std::size_t{0});
   if (threads > 1 && (!pool_ || pool_->size() != threads))
     pool_ = std::make_shared<ThreadPool>(threads);
   if (threads == 1) pool_.reset();
   buf_.resize(threads > 1 ? static_cast<std::size_t>(threads) : 0);
+  scratch_.resize(static_cast<std::size_t>(threads)); // D355: no allocation per step
+  for (auto& sc : scratch_) {
+    sc.sts.resize(Scratch::kChunk);
+    sc.F0.resize(Scratch::kChunk);
+    sc.F1.resize(Scratch::kChunk);
+  }
   for (auto& b : buf_) {
     b.m.assign(nn, 0.0);
     b.p.assign(nn, Vec::Zero());
@@ -249,6 +258,8 @@ template <int D> void Solver<D>::step(double dt) {
   auto& P = particles;
   const double t = time;
 
+  if (sort_every > 0 && steps % sort_every == 0) sort_particles(); // D354
+
   // 0. P2G at x^t with f^ext(t + dt).
   external_forces(t + dt);
   if (!has_fext_ && !fext_zeroed_) {
@@ -267,7 +278,6 @@ template <int D> void Solver<D>::step(double dt) {
 
   // 2. F, stress (weights at x^t), and 3. f^int,* = -sum sigma* grad S V^t in the same pass.
   update_stress(dt);
-  reduce(false);
 
   // 4. p^t+dt, v^t+dt (with the damping work, D41), reactions.
   const double wdamp = advance_grid(dt);

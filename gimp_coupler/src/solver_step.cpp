@@ -73,7 +73,8 @@ template <int D> void Solver<D>::scatter() {
           fe[st.node[k]] += st.S[k] * P.fext[p];
     }
   });
-  reduce(true);
+  // The per-thread copies are summed by grid_velocities (D355); the displacement scatter
+  // below reads only wcache_, the particles and gu_.
   if (nfields_ > 1) { // nodal displacements per field for the contact gap test (serial)
     std::fill(gu_.begin(), gu_.end(), Vec::Zero());
     Stencil<D> st;
@@ -88,30 +89,29 @@ template <int D> void Solver<D>::scatter() {
   }
 }
 
-template <int D> void Solver<D>::reduce(bool first) {
+// Sums the per-thread grid copies of nodes [b, e) in thread order (f^int; with `first` also m,
+// p, f^ext). Called inside the node-block passes that use the sums (grid_velocities,
+// advance_grid) on the same blocks, so that the reduction costs no extra hand-over (D355).
+template <int D> void Solver<D>::reduce_nodes(bool first, std::size_t b, std::size_t e) {
   const int T = threads;
-  if (T <= 1) return;
-  par(pool_.get(), [&](int t) {
-    const auto [b, e] = block(t, T, gm_.size());
-    for (std::size_t i = b; i < e; ++i) {
-      Vec fi = buf_[0].fi[i];
-      for (int s = 1; s < T; ++s)
-        fi += buf_[s].fi[i];
-      gfi_[i] = fi;
-      if (first) {
-        double m = buf_[0].m[i];
-        Vec pp = buf_[0].p[i], fe = buf_[0].fe[i];
-        for (int s = 1; s < T; ++s) {
-          m += buf_[s].m[i];
-          pp += buf_[s].p[i];
-          fe += buf_[s].fe[i];
-        }
-        gm_[i] = m;
-        gp_[i] = pp;
-        gfe_[i] = fe;
+  for (std::size_t i = b; i < e; ++i) {
+    Vec fi = buf_[0].fi[i];
+    for (int s = 1; s < T; ++s)
+      fi += buf_[s].fi[i];
+    gfi_[i] = fi;
+    if (first) {
+      double m = buf_[0].m[i];
+      Vec pp = buf_[0].p[i], fe = buf_[0].fe[i];
+      for (int s = 1; s < T; ++s) {
+        m += buf_[s].m[i];
+        pp += buf_[s].p[i];
+        fe += buf_[s].fe[i];
       }
+      gm_[i] = m;
+      gp_[i] = pp;
+      gfe_[i] = fe;
     }
-  });
+  }
 }
 
 template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool) const {
@@ -130,12 +130,13 @@ template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool
           prescribed_velocity[k];
 }
 
-// Step 1: nodal velocities v^t (kept in gp_) and v*.
+// Step 1: the P2G sums of the thread copies, nodal velocities v^t (kept in gp_) and v*.
 template <int D> void Solver<D>::grid_velocities(double dt) {
   const std::size_t nn = gm_.size();
   const int T = threads;
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, nn);
+    if (T > 1) reduce_nodes(true, b, e);
     for (std::size_t i = b; i < e; ++i) {
       active_[i] = gm_[i] > mass_floor_;
       if (active_[i]) {
@@ -167,9 +168,12 @@ template <int D> void Solver<D>::update_stress(double dt) {
     // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of
     // one material (Material::update_many, the plugin's batched entry for a damage card), then
     // the forces in particle order as before.
-    constexpr std::size_t kChunk = 64;
-    std::vector<Stencil<D>> sts(kChunk);
-    std::vector<Mat3> F0(kChunk), F1(kChunk);
+    // Per-thread scratch kept between steps (no allocation per step, D355).
+    Scratch& sc = scratch_[static_cast<std::size_t>(th)];
+    constexpr std::size_t kChunk = Scratch::kChunk;
+    auto& sts = sc.sts;
+    auto& F0 = sc.F0;
+    auto& F1 = sc.F1;
     for (std::size_t c0 = b; c0 < e; c0 += kChunk) {
       const std::size_t c1 = std::min(e, c0 + kChunk);
       for (std::size_t p = c0; p < c1; ++p) {
@@ -237,12 +241,14 @@ template <int D> void Solver<D>::update_stress(double dt) {
   });
 }
 
-// Step 4: v^t+dt at the nodes; returns the work of the damping forces (D41).
+// Step 4: the f^int,* sums of the thread copies, v^t+dt at the nodes; returns the work of the
+// damping forces (D41).
 template <int D> double Solver<D>::advance_grid(double dt) {
   const std::size_t nn = gm_.size();
   const int T = threads;
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, nn);
+    if (T > 1) reduce_nodes(false, b, e);
     for (std::size_t i = b; i < e; ++i)
       gvn_[i] = active_[i] ? Vec(gvs_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) -
                                  (0.5 * dt * damping) * gvs_[i])
@@ -357,8 +363,8 @@ template <int D> void Solver<D>::g2p(double dt) {
 
 template void Solver<2>::scatter();
 template void Solver<3>::scatter();
-template void Solver<2>::reduce(bool);
-template void Solver<3>::reduce(bool);
+template void Solver<2>::reduce_nodes(bool, std::size_t, std::size_t);
+template void Solver<3>::reduce_nodes(bool, std::size_t, std::size_t);
 template void Solver<2>::constrain(std::vector<Vec>&, double, bool) const;
 template void Solver<3>::constrain(std::vector<Vec>&, double, bool) const;
 template void Solver<2>::grid_velocities(double);

@@ -6,7 +6,8 @@
 //             pair sums for lambda and both neighbouring nodes): lj_sampling method "pairs"
 //   t_virial: the N steps as lj_sampling method "virial" runs them (the default, D64):
 //             one run (in 5 pieces) with fix vector of the pair energy and pair virial
-// and prints the overheads relative to t_plain. Units: LAMMPS real.
+// and prints the overheads relative to t_plain: median and range (min-max) over the interleaved
+// repetitions, the overheads from the ratios of the same repetition. Units: LAMMPS real; s.
 // usage: bench_thermo RESTART [steps=10000] [every=100, the TI default] [repetitions=3]
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/runner.hpp"
@@ -19,6 +20,25 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
+
+namespace {
+/// Median and range of xs (non-empty), as "median (min-max)" with fmt format f per value.
+std::string med_range(std::vector<double> xs, const char* f) {
+  std::sort(xs.begin(), xs.end());
+  const std::size_t n = xs.size();
+  const double med = n % 2 ? xs[n / 2] : 0.5 * (xs[n / 2 - 1] + xs[n / 2]);
+  return fmt::format(fmt::runtime(std::string(f) + " (" + f + "-" + f + ")"), med, xs.front(),
+                     xs.back());
+}
+/// Overheads 100 (a_k / b_k - 1) % of the same repetitions.
+std::vector<double> overhead(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> r;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    r.push_back(100 * (a[k] / b[k] - 1));
+  return r;
+}
+} // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -29,6 +49,10 @@ int main(int argc, char** argv) {
   const long steps = argc > 2 ? std::atol(argv[2]) : 10000;
   const int every = argc > 3 ? std::atoi(argv[3]) : 100;
   const int reps = argc > 4 ? std::atoi(argv[4]) : 3;
+  if (reps < 1) {
+    std::fprintf(stderr, "bench_thermo: repetitions '%s': must be an integer >= 1\n", argv[4]);
+    return 1;
+  }
   const auto o = pnc::md::run_stage({"bench", "bench_thermo.log", {}}, [&](pnc::md::Lammps& l) {
     using clk = std::chrono::steady_clock;
     auto secs = [](clk::time_point a) {
@@ -43,18 +67,20 @@ int main(int argc, char** argv) {
     l.cmd("timestep 0.5");
     l.cmd("thermo 100000");
     l.cmd("run 1000");
-    // each variant `reps` times, interleaved; the minimum is reported (the machine is shared)
-    double plain = 1e30, chunk = 1e30, sampled = 1e30, virial = 1e30, acc = 0, accv = 0;
+    // each variant `reps` times, interleaved; median and range over the repetitions (the
+    // machine is shared: a slow phase shows as a wide range, not as a biased minimum)
+    std::vector<double> plain, chunk, sampled, virial, speed, dsample;
+    double acc = 0, accv = 0;
     std::size_t nv = 1;
     for (int rep = 0; rep < reps; ++rep) {
       auto t = clk::now();
       l.cmd(fmt::format("run {}", steps));
-      plain = std::min(plain, secs(t));
+      plain.push_back(secs(t));
       t = clk::now();
       l.cmd(fmt::format("run {}", every));
       for (long k = 1; k < steps / every; ++k)
         l.cmd(fmt::format("run {} pre no post no", every));
-      chunk = std::min(chunk, secs(t));
+      chunk.push_back(secs(t));
       t = clk::now();
       acc = 0;
       l.cmd(fmt::format("run {}", every));
@@ -63,26 +89,33 @@ int main(int argc, char** argv) {
         l.cmd(fmt::format("run {} pre no post no", every));
         acc += sys.sample(l, 0.5, 0.1127, 0.8873).dhdl;
       }
-      sampled = std::min(sampled, secs(t));
+      sampled.push_back(secs(t));
       t = clk::now();
       const auto vs = vir.production(l, 0.5, 0.1127, 0.8873, steps, every);
-      virial = std::min(virial, secs(t));
+      virial.push_back(secs(t));
       accv = 0;
       for (const auto& v : vs)
         accv += v.dhdl;
       nv = vs.size();
+      speed.push_back(static_cast<double>(steps) / plain.back());
+      dsample.push_back(100 * (sampled.back() - chunk.back()) / plain.back());
     }
     std::printf("atoms %ld, %ld steps, sample every %d steps (mean dH/dl %.3f kcal/mol)\n",
                 l.natoms(), steps, every, acc / static_cast<double>(steps / every));
-    std::printf("plain run:            %.3f s  (%.1f steps/s)\n", plain,
-                static_cast<double>(steps) / plain);
-    std::printf("chunked, no sampling: %.3f s  (+%.1f %% vs plain)\n", chunk,
-                100 * (chunk / plain - 1));
-    std::printf("chunked + dH/dl:      %.3f s  (+%.1f %% vs plain; dH/dl alone +%.1f %%)\n",
-                sampled, 100 * (sampled / plain - 1), 100 * (sampled - chunk) / plain);
-    std::printf("virial method:        %.3f s  (+%.1f %% vs plain; mean dH/dl %.3f kcal/mol)\n",
-                virial, 100 * (virial / plain - 1), accv / static_cast<double>(nv));
-    std::printf("(minimum of %d interleaved repetitions each)\n", reps);
+    std::printf("plain run:            %s s  (%s steps/s)\n", med_range(plain, "{:.3f}").c_str(),
+                med_range(speed, "{:.1f}").c_str());
+    std::printf("chunked, no sampling: %s s  (%s %% vs plain)\n",
+                med_range(chunk, "{:.3f}").c_str(),
+                med_range(overhead(chunk, plain), "{:+.1f}").c_str());
+    std::printf("chunked + dH/dl:      %s s  (%s %% vs plain; dH/dl alone %s %%)\n",
+                med_range(sampled, "{:.3f}").c_str(),
+                med_range(overhead(sampled, plain), "{:+.1f}").c_str(),
+                med_range(dsample, "{:+.1f}").c_str());
+    std::printf("virial method:        %s s  (%s %% vs plain; mean dH/dl %.3f kcal/mol)\n",
+                med_range(virial, "{:.3f}").c_str(),
+                med_range(overhead(virial, plain), "{:+.1f}").c_str(),
+                accv / static_cast<double>(nv));
+    std::printf("(median (min-max) of %d interleaved repetitions each)\n", reps);
     std::fflush(stdout);
   });
   if (!o.ok) {

@@ -195,6 +195,12 @@ public:
   /// Grid velocity damping alpha, 1/s (D41): nodal accelerations get -alpha v (0: none). For
   /// quasi-static loading; its work is energy.damping_work.
   double damping = 0.0;
+  /// Reorder the particles by grid cell (a stable counting sort on the cell of the centroid)
+  /// before every `sort_every`-th step; 0: never (the default). Locality of the grid
+  /// transfers; same answers to round-off (summation order). Off by default because hosts
+  /// that keep particle indices (tractions are remapped; ESCM maps are not) would break: see
+  /// particle_order() and decision D354.
+  int sort_every = 0;
 
   double time = 0.0; ///< s
   long steps = 0;
@@ -213,6 +219,11 @@ public:
   void update_energies();
   /// Total reaction of all BCs (N).
   Vec total_reaction() const;
+  /// Reorders the particles now by grid cell of the centroid (stable counting sort, D354):
+  /// every particle array, the material states and the traction particle lists follow.
+  void sort_particles();
+  /// particle_order()[p] = the index particle p had at initialize() (identity until a sort).
+  const std::vector<std::size_t>& particle_order() const { return order_; }
 
   // --- Coupling hooks (ESCM, docs/escm.md) ---
   /// Nodes whose velocity (all components, every velocity field) is prescribed to
@@ -235,6 +246,11 @@ private:
     std::vector<double> m;
     std::vector<Vec> p, fi, fe;
   };
+  struct Scratch { // per-thread chunk buffers of the stress update (solver_step.cpp)
+    static constexpr std::size_t kChunk = 64;
+    std::vector<Stencil<D>> sts;
+    std::vector<Mat3> F0, F1;
+  };
   // The parts of step() (solver_step.cpp): P2G, the nodal velocities v^t and v* (1), the
   // stress update with the internal forces (2, 3), v^t+dt with the damping work (4), the
   // reactions and their work, G2P with the energies (5).
@@ -245,7 +261,7 @@ private:
   double advance_grid(double dt);
   double reactions(double dt, double t);
   void g2p(double dt);
-  void reduce(bool first);
+  void reduce_nodes(bool first, std::size_t b, std::size_t e);
   void constrain(std::vector<Vec>& vel, double t, bool with_mass) const;
   void apply_fields(std::size_t p, Stencil<D>& st) const;
   void contact(std::vector<Vec>& vel) const;
@@ -254,12 +270,13 @@ private:
   Vec crack_normal(const Vec& X) const;
   [[noreturn]] void left_grid(std::size_t p) const;
 
-  std::vector<Buffer> buf_;    // per-thread grid copies
-  std::vector<double> gm_;     // node mass, kg
-  std::vector<Vec> gp_;        // node momentum, then v_i^t (m/s)
-  std::vector<Vec> gfi_, gfe_; // internal, external force, N
-  std::vector<Vec> gfi0_;      // f^int,t kept for the reaction and velocity update
-  std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
+  std::vector<Buffer> buf_;      // per-thread grid copies
+  std::vector<Scratch> scratch_; // per-thread scratch of update_stress
+  std::vector<double> gm_;       // node mass, kg
+  std::vector<Vec> gp_;          // node momentum, then v_i^t (m/s)
+  std::vector<Vec> gfi_, gfe_;   // internal, external force, N
+  std::vector<Vec> gfi0_;        // f^int,t kept for the reaction and velocity update
+  std::vector<Vec> gvs_, gvn_;   // v*, v^t+dt
   std::vector<unsigned char> active_;
   std::vector<unsigned char> bcmask_; // per node: bit a = component a prescribed by a BC
   std::size_t nnodes_ = 0;            // grid nodes; arrays hold nfields_ x nnodes_ entries
@@ -273,6 +290,7 @@ private:
       if (x[a] < crack_lo_[a] || x[a] > crack_hi_[a]) return false;
     return true;
   }
+  std::vector<std::size_t> order_;     // initial index of each particle (sort_particles)
   std::vector<AxisWeights<D>> wcache_; // per-particle weights at x^t, reused within a step
   std::shared_ptr<ThreadPool> pool_;   // threads - 1 workers; null for one thread
   bool has_fext_ = false;              // any body force or traction this step
