@@ -135,25 +135,64 @@ inline bool general_mode(double ekk, double ea, double eb, double v0, double v1,
 // Pass 2 (pnc): the mode stretches of D7 as compute_stretch() forms them. Block-diagonal
 // strains (g23 = g13 = 0) in closed form; general strains with the uncapped stretch where the
 // cap certainly does not bind, the kernel path otherwise.
+// Three loops over the chunk, chosen once per chunk: every point block-diagonal (a 2-D run:
+// the general stretches are not formed), no point block-diagonal (a 3-D run: the closed form
+// is not formed), or a mix (both formed, one selected per point). Each point gets the same
+// numbers in all three (D352).
+enum class Blocks { all, none, mixed };
+
+Blocks block_kind(std::size_t m, const Chunk& c) {
+  double nb = 0.0; // number of block-diagonal points (a sum: the loop vectorises)
+  for (std::size_t i = 0; i < m; ++i)
+    nb += (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0) ? 1.0 : 0.0;
+  return nb == static_cast<double>(m) ? Blocks::all : nb == 0.0 ? Blocks::none : Blocks::mixed;
+}
+
+// The general stretches of point i (general_stretch()); true when no cap can bind.
+[[gnu::always_inline]] inline bool general_stretches(const Chunk& c, std::size_t i,
+                                                     double (&gl)[3]) {
+  const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i], v4 = c.el[4][i],
+               v5 = c.el[5][i];
+  const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
+  // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
+  const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
+  const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
+  const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
+  return s0 & s1 & s2;
+}
+
 void pnc_stretches(std::size_t m, Chunk& c) {
+  const Blocks kind = block_kind(m, c);
+  double un[2], g[2], t, lmax;
+  if (kind == Blocks::all) {
+    for (std::size_t i = 0; i < m; ++i) {
+      double b[3];
+      detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
+      for (int k = 0; k < 3; ++k)
+        c.lam[k][i] = b[k];
+      c.scalar_stretch[i] = 0.0;
+    }
+    return;
+  }
+  if (kind == Blocks::none) {
+    for (std::size_t i = 0; i < m; ++i) {
+      double gl[3];
+      const bool sure = general_stretches(c, i, gl);
+      for (int k = 0; k < 3; ++k)
+        c.lam[k][i] = gl[k];
+      c.scalar_stretch[i] = sure ? 0.0 : 1.0;
+    }
+    return;
+  }
   for (std::size_t i = 0; i < m; ++i) {
-    const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i],
-                 v4 = c.el[4][i], v5 = c.el[5][i];
     // block-diagonal (compute_stretch's closed form, detail::block_stretches)
-    double b[3], un[2], g[2], t, lmax;
-    detail::block_stretches(v0, v1, v2, v5, lmax, b, un, g, t);
+    double b[3], gl[3];
+    detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
     // general (general_stretch(), the cap by Sylvester's criterion)
-    const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
-    // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
-    double gl[3];
-    const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
-    const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
-    const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
-    const bool sure = s0 & s1 & s2;
-    const bool block = v3 == 0.0 && v4 == 0.0;
-    c.lam[0][i] = block ? b[0] : gl[0];
-    c.lam[1][i] = block ? b[1] : gl[1];
-    c.lam[2][i] = block ? b[2] : gl[2];
+    const bool sure = general_stretches(c, i, gl);
+    const bool block = c.el[3][i] == 0.0 && c.el[4][i] == 0.0;
+    for (int k = 0; k < 3; ++k)
+      c.lam[k][i] = block ? b[k] : gl[k];
     c.scalar_stretch[i] = (!block & !sure) ? 1.0 : 0.0;
   }
 }

@@ -57,8 +57,8 @@ inline void uncapped_stretch(double ekk, double t, double& lambda, double& dlamb
 /// Row `a` (a[0..5]) of a matrix times a strain e (engineering Voigt) as every route of the
 /// kernel forms the products with a strain (the rotation el = T eps, the stress C eps; D351):
 /// the full row in column order, or for a plane strain (e33 = g23 = g13 = 0, every point of a
-/// 2-D run) columns 1, 2 and 6 only. Both are written once here; the single-point route picks
-/// one per strain (times()), the batched route selects without a branch (times_row()).
+/// 2-D run) columns 1, 2 and 6 only. The batched route selects without a branch (times_row()),
+/// the single-point route picks one per strain (times()).
 template <class Row>
 inline double row_full(const Row& a, double e0, double e1, double e2, double e3, double e4,
                        double e5) {
@@ -77,17 +77,14 @@ inline double times_row(const Row& a, double e0, double e1, double e2, double e3
   const double pl = row_plane(a, e0, e1, e5);
   return is_plane(e2, e3, e4) ? pl : full;
 }
-/// A e, row by row with row_full() / row_plane().
+/// A e: the sums of row_full() / row_plane(), in the same column order, written column-wise so
+/// that Eigen keeps the rows in vector registers; each entry is the same sequence of IEEE
+/// products and sums as times_row() (the batched route's), so the two agree bit for bit
+/// (FeMaterialBatch.* and FeMaterialV2.ModeStretchQueryAndIntegrationAgreeBitForBit check it).
 inline Voigt times(const Matrix6& A, const Voigt& e) {
-  Voigt o;
-  if (is_plane(e[2], e[3], e[4])) {
-    for (int r = 0; r < 6; ++r)
-      o[r] = row_plane(A.row(r), e[0], e[1], e[5]);
-  } else {
-    for (int r = 0; r < 6; ++r)
-      o[r] = row_full(A.row(r), e[0], e[1], e[2], e[3], e[4], e[5]);
-  }
-  return o;
+  if (is_plane(e[2], e[3], e[4])) return A.col(0) * e[0] + A.col(1) * e[1] + A.col(5) * e[5];
+  return A.col(0) * e[0] + A.col(1) * e[1] + A.col(2) * e[2] + A.col(3) * e[3] + A.col(4) * e[4] +
+         A.col(5) * e[5];
 }
 
 /// t_k = sqrt(e_ka^2 + e_kb^2), the shear on the plane normal to x_k (D7), without the square
