@@ -248,9 +248,7 @@ void general_stretch(Stretch& s) {
   };
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const double ea = e(k, a), eb = e(k, b);
-    // plane strain and plane stress have one of the two shears zero: no square root
-    s.shear[k] = eb == 0.0 ? std::abs(ea) : ea == 0.0 ? std::abs(eb) : std::sqrt(ea * ea + eb * eb);
+    s.shear[k] = mode_shear(e(k, a), e(k, b));
     double uncapped;
     uncapped_stretch(e(k, k), s.shear[k], uncapped, s.dshear[k]);
     // The cap binds when the uncapped stretch exceeds lambda_max (ties at rounding level
@@ -273,27 +271,17 @@ void general_stretch(Stretch& s) {
   }
   if (v[3] == 0.0 && v[4] == 0.0) {
     // Block-diagonal strain (every plane strain or plane stress point with x3 out of plane):
-    // the largest singular value of the 2x2 block [[1 + e11, g12], [0, 1 + e22]] of F in
-    // closed form, and the capped stretches of D7 as min(uncapped, lambda_max) without
-    // branches on the cap.
-    const double p = 1.0 + v[0], q = v[5], r = 1.0 + v[1];
-    const double smax =
-        0.5 * (std::sqrt((p + r) * (p + r) + q * q) + std::sqrt((p - r) * (p - r) + q * q));
-    s.lambda_max = std::max(1.0 + v[2], smax);
+    // the closed form shared with the batched route (D351).
+    double lam[3], un[2], grow[2], t;
+    block_stretches(v[0], v[1], v[2], v[5], s.lambda_max, lam, un, grow, t);
     s.have_lambda_max = true;
-    const double t = 0.5 * std::abs(q);
     s.shear = {t, t, 0.0};
-    double grow;
     for (int k = 0; k < 2; ++k) {
-      double uncapped;
-      uncapped_stretch(v[k], t, uncapped, grow);
-      s.dshear[k] = grow;
-      s.clipped[k] = uncapped > s.lambda_max;
-      s.lambda[k] = std::min(uncapped, s.lambda_max);
+      s.dshear[k] = grow[k];
+      s.clipped[k] = un[k] > s.lambda_max;
     }
-    // mode 3: 1 + e33 is a principal stretch of F, never above lambda_max
     s.clipped[2] = false;
-    s.lambda[2] = 1.0 + v[2];
+    s.lambda = {lam[0], lam[1], lam[2]};
     return s;
   }
   general_stretch(s);
@@ -437,6 +425,10 @@ Matrix6 damage_piece(const PreparedNdm& q, int m) {
 
 } // namespace
 
+Voigt local_strain(const PreparedNdm& q, const Voigt& eps) {
+  return q.rotated ? times(q.T, eps) : eps; // D351: the one platelet-frame strain
+}
+
 PreparedNdm prepare(const NdmParameters& p) {
   PreparedNdm q = prepare_base(p);
   for (int m = 0; m < 3; ++m)
@@ -473,13 +465,8 @@ Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0
   if (kind == TangentKind::none) K = nullptr;
   const bool rotated = q.rotated;
   // A plane strain in the global x1-x2 plane (e33 = g23 = g13 = 0, every point of a 2-D run)
-  // needs only columns 1, 2 and 6 of T and of the stiffness.
-  const bool plane = eps[2] == 0.0 && eps[3] == 0.0 && eps[4] == 0.0;
-  auto times = [ plane, &eps ](const Matrix6& A) __attribute__((always_inline))->Voigt {
-    if (plane) return A.col(0) * eps[0] + A.col(1) * eps[1] + A.col(5) * eps[5];
-    return A * eps;
-  };
-  const Voigt el = rotated ? times(q.T) : eps;
+  // needs only columns 1, 2 and 6 of T and of the stiffness (detail::times, D351).
+  const Voigt el = local_strain(q, eps);
   // mode stretches (decisions D6/D7), derivatives only where the tangent needs them
   const bool pnc = p.model == Model::pnc;
   const int n = pnc ? 3 : 1;
@@ -500,7 +487,7 @@ Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0
   if (below_onset) {
     // Every mode below the damage onset (D = dD = 0, and so D0 = 0: kappa never decreases):
     // C0g is the stress matrix and every tangent, exactly what the general branch would form.
-    sigma = times(q.C0g);
+    sigma = times(q.C0g, eps);
     if (K) *K = q.C0g;
     if (energy) *energy = NdmEnergy{0.5 * sigma.dot(eps), 0.0};
     s1 = out;
@@ -517,7 +504,7 @@ Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0
     else
       Cd.noalias() += out.D[m] * damage_piece(q, m);
   }
-  sigma = times(*Cg);
+  sigma = times(*Cg, eps);
   if (K) *K = kind == TangentKind::elastic ? q.C0g : *Cg;
   if (K && kind == TangentKind::consistent) {
     bool have_N = false;

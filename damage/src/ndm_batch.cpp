@@ -88,20 +88,15 @@ void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t
     std::memcpy(c.el, c.eps, sizeof c.el);
     return;
   }
-  // el = T eps as the kernel's times(T): columns 1, 2, 6 only for a plane strain, else the
-  // full product, summed in column order.
-  const Matrix6& T = q.T;
+  // el = T eps as local_strain() forms it (detail::times_row, D351).
   for (int r = 0; r < 6; ++r) {
-    const double t0 = T(r, 0), t1 = T(r, 1), t2 = T(r, 2), t3 = T(r, 3), t4 = T(r, 4), t5 = T(r, 5);
+    double t[6];
+    for (int j = 0; j < 6; ++j)
+      t[j] = q.T(r, j);
     double* __restrict o = c.el[r];
-    for (std::size_t i = 0; i < m; ++i) {
-      const double e0 = c.eps[0][i], e1 = c.eps[1][i], e2 = c.eps[2][i], e3 = c.eps[3][i],
-                   e4 = c.eps[4][i], e5 = c.eps[5][i];
-      const bool plane = e2 == 0.0 && e3 == 0.0 && e4 == 0.0;
-      const double full = t0 * e0 + t1 * e1 + t2 * e2 + t3 * e3 + t4 * e4 + t5 * e5;
-      const double pl = t0 * e0 + t1 * e1 + t5 * e5;
-      o[i] = plane ? pl : full;
-    }
+    for (std::size_t i = 0; i < m; ++i)
+      o[i] = detail::times_row(t, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
+                               c.eps[5][i]);
   }
 }
 
@@ -132,43 +127,72 @@ inline bool surely_not_capped(double v0, double v1, double v2, double v3, double
 // that it is the mode's stretch (else the kernel path decides). ekk, ea, eb: e_kk, e_ka, e_kb.
 inline bool general_mode(double ekk, double ea, double eb, double v0, double v1, double v2,
                          double v3, double v4, double v5, double& un) {
-  const double root = std::sqrt(ea * ea + eb * eb);
-  const double sh_b = ea == 0.0 ? std::abs(eb) : root;
-  const double sh = eb == 0.0 ? std::abs(ea) : sh_b;
   double g;
-  detail::uncapped_stretch(ekk, sh, un, g);
+  detail::uncapped_stretch(ekk, detail::mode_shear(ea, eb), un, g);
   return !(un > 0.0) | surely_not_capped(v0, v1, v2, v3, v4, v5, un * un);
 }
 
 // Pass 2 (pnc): the mode stretches of D7 as compute_stretch() forms them. Block-diagonal
 // strains (g23 = g13 = 0) in closed form; general strains with the uncapped stretch where the
 // cap certainly does not bind, the kernel path otherwise.
+// Three loops over the chunk, chosen once per chunk: every point block-diagonal (a 2-D run:
+// the general stretches are not formed), no point block-diagonal (a 3-D run: the closed form
+// is not formed), or a mix (both formed, one selected per point). Each point gets the same
+// numbers in all three (D352).
+enum class Blocks { all, none, mixed };
+
+Blocks block_kind(std::size_t m, const Chunk& c) {
+  double nb = 0.0; // number of block-diagonal points (a sum: the loop vectorises)
+  for (std::size_t i = 0; i < m; ++i)
+    nb += (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0) ? 1.0 : 0.0;
+  return nb == static_cast<double>(m) ? Blocks::all : nb == 0.0 ? Blocks::none : Blocks::mixed;
+}
+
+// The general stretches of point i (general_stretch()); true when no cap can bind.
+[[gnu::always_inline]] inline bool general_stretches(const Chunk& c, std::size_t i,
+                                                     double (&gl)[3]) {
+  const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i], v4 = c.el[4][i],
+               v5 = c.el[5][i];
+  const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
+  // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
+  const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
+  const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
+  const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
+  return s0 & s1 & s2;
+}
+
 void pnc_stretches(std::size_t m, Chunk& c) {
+  const Blocks kind = block_kind(m, c);
+  double un[2], g[2], t, lmax;
+  if (kind == Blocks::all) {
+    for (std::size_t i = 0; i < m; ++i) {
+      double b[3];
+      detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
+      for (int k = 0; k < 3; ++k)
+        c.lam[k][i] = b[k];
+      c.scalar_stretch[i] = 0.0;
+    }
+    return;
+  }
+  if (kind == Blocks::none) {
+    for (std::size_t i = 0; i < m; ++i) {
+      double gl[3];
+      const bool sure = general_stretches(c, i, gl);
+      for (int k = 0; k < 3; ++k)
+        c.lam[k][i] = gl[k];
+      c.scalar_stretch[i] = sure ? 0.0 : 1.0;
+    }
+    return;
+  }
   for (std::size_t i = 0; i < m; ++i) {
-    const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i],
-                 v4 = c.el[4][i], v5 = c.el[5][i];
-    // block-diagonal (compute_stretch's closed form)
-    const double p = 1.0 + v0, qq = v5, r = 1.0 + v1;
-    const double smax =
-        0.5 * (std::sqrt((p + r) * (p + r) + qq * qq) + std::sqrt((p - r) * (p - r) + qq * qq));
-    const double lmax = std::max(1.0 + v2, smax);
-    const double t = 0.5 * std::abs(qq);
-    double u0, u1, g;
-    detail::uncapped_stretch(v0, t, u0, g);
-    detail::uncapped_stretch(v1, t, u1, g);
-    const double b0 = std::min(u0, lmax), b1 = std::min(u1, lmax), b2 = 1.0 + v2;
+    // block-diagonal (compute_stretch's closed form, detail::block_stretches)
+    double b[3], gl[3];
+    detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
     // general (general_stretch(), the cap by Sylvester's criterion)
-    const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
-    // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
-    double gl[3];
-    const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
-    const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
-    const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
-    const bool sure = s0 & s1 & s2;
-    const bool block = v3 == 0.0 && v4 == 0.0;
-    c.lam[0][i] = block ? b0 : gl[0];
-    c.lam[1][i] = block ? b1 : gl[1];
-    c.lam[2][i] = block ? b2 : gl[2];
+    const bool sure = general_stretches(c, i, gl);
+    const bool block = c.el[3][i] == 0.0 && c.el[4][i] == 0.0;
+    for (int k = 0; k < 3; ++k)
+      c.lam[k][i] = block ? b[k] : gl[k];
     c.scalar_stretch[i] = (!block & !sure) ? 1.0 : 0.0;
   }
 }
@@ -219,15 +243,6 @@ template <int N> void classify(const PreparedNdm& q, std::size_t m, Chunk& c) {
   }
 }
 
-// sigma = A eps as the kernel's times(A) (see load()).
-inline double row_times(const double* a, double e0, double e1, double e2, double e3, double e4,
-                        double e5) {
-  const bool plane = e2 == 0.0 && e3 == 0.0 && e4 == 0.0;
-  const double full = a[0] * e0 + a[1] * e1 + a[2] * e2 + a[3] * e3 + a[4] * e4 + a[5] * e5;
-  const double pl = a[0] * e0 + a[1] * e1 + a[5] * e5;
-  return plane ? pl : full;
-}
-
 // The secant stiffness entry (r, c) of a point as the kernel forms Cd: C0g, plus D_m dC1g_m
 // for every mode with D_m != 0, in mode order.
 inline double secant_entry(const PreparedNdm& q, int r, int col, int n, const double* D) {
@@ -248,8 +263,8 @@ void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
       a[j] = q.C0g(r, j);
     double* __restrict o = c.sig[r];
     for (std::size_t i = 0; i < m; ++i)
-      o[i] = row_times(a, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
-                       c.eps[5][i]);
+      o[i] = detail::times_row(a, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
+                               c.eps[5][i]);
   }
   for (std::size_t i = 0; i < m; ++i) {
     c.stored[i] = half_dot(c.sig, c.eps, i);
@@ -288,7 +303,7 @@ void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t 
         row[col] = x;
         bad[j] += nf(x); // a tangent entry: finite unless the constants overflow
       }
-      s[r][j] = row_times(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
+      s[r][j] = detail::times_row(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
     }
   }
   for (std::size_t j = 0; j < u; ++j) {

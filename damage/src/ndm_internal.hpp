@@ -1,10 +1,12 @@
 #pragma once
 // Pieces of the NDM kernel shared by its one integration routine (ndm.cpp, D210) and the
 // batched route (ndm_batch.cpp, D261), so that both evaluate the same expressions, operation
-// for operation: lambda_c, the damage function D(x) with its slope, the onset margin and the
-// uncapped mode stretch of D7. Internal to the damage library.
+// for operation: lambda_c, the damage function D(x) with its slope, the onset margin, the
+// products with a strain (the platelet-frame strain, the stress), the uncapped mode stretch of
+// D7, the mode shear and the block-diagonal stretches (D351). Internal to the damage library.
 #include "pnc/damage/ndm.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -50,6 +52,68 @@ inline void uncapped_stretch(double ekk, double t, double& lambda, double& dlamb
   const double r = std::sqrt(1.0 + t * t);
   lambda = ekk + t + r;
   dlambda_dt = 1.0 + t / r;
+}
+
+/// Row `a` (a[0..5]) of a matrix times a strain e (engineering Voigt) as every route of the
+/// kernel forms the products with a strain (the rotation el = T eps, the stress C eps; D351):
+/// the full row in column order, or for a plane strain (e33 = g23 = g13 = 0, every point of a
+/// 2-D run) columns 1, 2 and 6 only. The batched route selects without a branch (times_row()),
+/// the single-point route picks one per strain (times()).
+template <class Row>
+inline double row_full(const Row& a, double e0, double e1, double e2, double e3, double e4,
+                       double e5) {
+  return a[0] * e0 + a[1] * e1 + a[2] * e2 + a[3] * e3 + a[4] * e4 + a[5] * e5;
+}
+template <class Row> inline double row_plane(const Row& a, double e0, double e1, double e5) {
+  return a[0] * e0 + a[1] * e1 + a[5] * e5;
+}
+inline bool is_plane(double e2, double e3, double e4) {
+  return e2 == 0.0 && e3 == 0.0 && e4 == 0.0;
+}
+template <class Row>
+inline double times_row(const Row& a, double e0, double e1, double e2, double e3, double e4,
+                        double e5) {
+  const double full = row_full(a, e0, e1, e2, e3, e4, e5);
+  const double pl = row_plane(a, e0, e1, e5);
+  return is_plane(e2, e3, e4) ? pl : full;
+}
+/// A e: the sums of row_full() / row_plane(), in the same column order, written column-wise so
+/// that Eigen keeps the rows in vector registers; each entry is the same sequence of IEEE
+/// products and sums as times_row() (the batched route's), so the two agree bit for bit
+/// (FeMaterialBatch.* and FeMaterialV2.ModeStretchQueryAndIntegrationAgreeBitForBit check it).
+inline Voigt times(const Matrix6& A, const Voigt& e) {
+  if (is_plane(e[2], e[3], e[4])) return A.col(0) * e[0] + A.col(1) * e[1] + A.col(5) * e[5];
+  return A.col(0) * e[0] + A.col(1) * e[1] + A.col(2) * e[2] + A.col(3) * e[3] + A.col(4) * e[4] +
+         A.col(5) * e[5];
+}
+
+/// t_k = sqrt(e_ka^2 + e_kb^2), the shear on the plane normal to x_k (D7), without the square
+/// root when one of the two shears is 0 (plane strain, plane stress); the root is formed and
+/// then not selected, so that a loop over points vectorises.
+inline double mode_shear(double ea, double eb) {
+  const double root = std::sqrt(ea * ea + eb * eb);
+  const double sh_b = ea == 0.0 ? std::abs(eb) : root;
+  return eb == 0.0 ? std::abs(ea) : sh_b;
+}
+
+/// The pnc mode stretches of D6/D7 of a block-diagonal platelet-frame strain (g23 = g13 = 0;
+/// every plane strain or plane stress point with x3 out of plane) in closed form: lambda_max
+/// is the larger of 1 + e33 and the largest singular value of the 2x2 block [[1 + e11, g12],
+/// [0, 1 + e22]] of F; modes 1 and 2 are min(uncapped, lambda_max) (no branch on the cap), mode
+/// 3 is 1 + e33 (a principal stretch of F, never above lambda_max). un[k] and grow[k]: the
+/// uncapped stretch of mode k and its d lambda / d t; t = |g12| / 2, the shear of modes 1, 2.
+inline void block_stretches(double v0, double v1, double v2, double v5, double& lmax,
+                            double (&lam)[3], double (&un)[2], double (&grow)[2], double& t) {
+  const double p = 1.0 + v0, q = v5, r = 1.0 + v1;
+  const double smax =
+      0.5 * (std::sqrt((p + r) * (p + r) + q * q) + std::sqrt((p - r) * (p - r) + q * q));
+  lmax = std::max(1.0 + v2, smax);
+  t = 0.5 * std::abs(q);
+  uncapped_stretch(v0, t, un[0], grow[0]);
+  uncapped_stretch(v1, t, un[1], grow[1]);
+  lam[0] = std::min(un[0], lmax);
+  lam[1] = std::min(un[1], lmax);
+  lam[2] = 1.0 + v2;
 }
 
 /// The mode stretches of D6/D7 of a platelet-frame strain v exactly as integrate() forms them

@@ -272,7 +272,7 @@ PNC_MATERIAL_API int pnc_material_mode_stretch(const pnc_material* m, const doub
   if (!eps.allFinite()) return PNC_MATERIAL_BAD_ARGUMENT;
   // the platelet-frame strain and the kernel's stretch routine, as the integration (D340)
   const auto& q = m->kernel;
-  const pnc::damage::Voigt el = q.rotated ? pnc::damage::Voigt(q.T * eps) : eps;
+  const pnc::damage::Voigt el = pnc::damage::local_strain(q, eps); // D351
   const pnc::damage::ModeStretch s = pnc::damage::mode_stretches(q.p.model, el, dlambda != nullptr);
   const int n = n_modes(m);
   for (int k = 0; k < n; ++k)

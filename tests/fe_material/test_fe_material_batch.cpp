@@ -46,13 +46,15 @@ Vec6 damaging_strain(Model model, std::mt19937_64& g, bool plane) {
 // n points: `share` of them elastic (small strain, virgin), damaging (loading past a history at
 // 98 % of the strain) and unloading (back to 70 % of the history); every fifth point a plane
 // strain, every seventh elastic one a pure extension (the kernel's tie case of the cap).
+// `plane_every` = 1: every point a plane strain; 0: none, and no pure extension (no
+// block-diagonal strain at all in an aligned frame).
 std::vector<Point> make_points(const pnc_material* m, Model model, std::size_t n, unsigned seed,
-                               double elastic = 0.7, double damaging = 0.2) {
+                               double elastic = 0.7, double damaging = 0.2, int plane_every = 5) {
   std::mt19937_64 g(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), pick(0.0, 1.0);
   std::vector<Point> pts;
   for (std::size_t i = 0; i < n; ++i) {
-    const bool plane = i % 5 == 0;
+    const bool plane = plane_every > 0 && i % static_cast<std::size_t>(plane_every) == 0;
     const double r = pick(g);
     Point p;
     if (r < elastic) {
@@ -60,7 +62,7 @@ std::vector<Point> make_points(const pnc_material* m, Model model, std::size_t n
       for (int k = 0; k < 6; ++k)
         e[k] = 0.01 * u(g);
       if (plane) e[2] = e[3] = e[4] = 0.0;
-      if (i % 7 == 0) { // pure extension along x1, x2 or x3
+      if (plane_every > 0 && i % 7 == 0) { // pure extension along x1, x2 or x3
         e.setZero();
         e[static_cast<long>(i % 3)] = 0.02;
       }
@@ -196,6 +198,39 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryOnEveryPathModelFrameAndRequest) 
       }
     }
   }
+}
+
+// The batch's stretch pass takes one of three loops per chunk of 32 points (D352): every point
+// block-diagonal (plane strains, aligned or rotated about x3), none (general strains, aligned
+// or rotated in 3-D) or a mix (the test above). Each must give integrate2's numbers.
+TEST(FeMaterialBatch, EqualsTheSinglePointEntryWhenAChunkIsAllPlaneOrAllGeneral) {
+  const Eigen::Matrix3d about_x3 = rotation_zx(25.0, 0.0), in_3d = rotation_zx(30.0, 20.0);
+  const struct {
+    int plane_every;
+    const Eigen::Matrix3d* R;
+    const char* what;
+  } runs[] = {{1, nullptr, "all plane, aligned"},
+              {1, &about_x3, "all plane, rotated about x3"},
+              {0, nullptr, "all general, aligned"},
+              {0, &in_3d, "all general, rotated"}};
+  for (Model model : {Model::pnc, Model::pp})
+    for (const auto& r : runs) {
+      NdmParameters p = params(model, false);
+      if (r.R) p.R = *r.R;
+      auto m = make(p);
+      const auto pts = make_points(m.get(), model, 160, 352, 0.7, 0.2, r.plane_every);
+      for (int request : {PNC_MATERIAL_TANGENT_NONE, PNC_MATERIAL_TANGENT_CONSISTENT}) {
+        Blocks b(pts, pnc_material_n_state(m.get()));
+        char err[512] = {0};
+        pnc_material_point_soa v = b.view(request, err, sizeof err);
+        ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
+        EXPECT_EQ(v.n_failed, 0u);
+        const std::string what = std::string(pnc::damage::model_name(model)) + " " + r.what +
+                                 " request " + std::to_string(request);
+        for (std::size_t i = 0; i < b.n; ++i)
+          expect_point_equal(m.get(), pts, b, i, request, what);
+      }
+    }
 }
 
 TEST(FeMaterialBatch, SizesZeroOneOddAndLargeWithPaddedBlocksAndInPlaceState) {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <spawn.h>
@@ -284,8 +286,8 @@ TEST(FeMaterialV2, DamageOfStretchIsTheLawIntegrate2Applies) {
 }
 
 // ABI 1.3: the mode stretches of a strain are the kappa integrate2 writes from a state with
-// kappa = 0 (up to the rounding of the frame change), and their gradient is the derivative
-// of that map (central differences of the query).
+// kappa = 0 (bit for bit: the next test), and their gradient is the derivative of that map
+// (central differences of the query).
 TEST(FeMaterialV2, ModeStretchIsTheStretchIntegrate2ComparesAndItsGradient) {
   for (const Case& c : kCases) {
     auto m = make(params(c.model, c.rotated));
@@ -330,6 +332,40 @@ TEST(FeMaterialV2, ModeStretchIsTheStretchIntegrate2ComparesAndItsGradient) {
               PNC_MATERIAL_BAD_ARGUMENT);
     EXPECT_EQ(lambda[0], 7.0);
   }
+}
+
+// D351: the query and the integration form the platelet-frame strain and the stretches by
+// the same routines, so from kappa = 0 the kappa that integrate2 writes (max(lambda, 0) =
+// lambda) is the queried lambda exactly, for plane strains (the kernel's plane columns) and
+// general ones, aligned, rotated about x3 (block-diagonal local strain) and rotated in 3-D.
+TEST(FeMaterialV2, ModeStretchQueryAndIntegrationAgreeBitForBit) {
+  std::mt19937_64 g(351);
+  std::uniform_real_distribution<double> u(-0.25, 0.25);
+  const Eigen::Matrix3d frames[] = {Eigen::Matrix3d::Identity(), rotation_zx(25.0, 0.0),
+                                    rotation_zx(30.0, 20.0)};
+  for (Model model : {Model::pnc, Model::pp})
+    for (const Eigen::Matrix3d& R : frames) {
+      NdmParameters p = params(model, false);
+      p.R = R;
+      auto m = make(p);
+      const int modes = static_cast<int>(prop(m.get(), "n_damage_modes"));
+      std::vector<double> s0 = virgin(m.get());
+      for (int k = 0; k < modes; ++k)
+        s0[static_cast<std::size_t>(k)] = 0.0; // kappa1..n come first (state_names)
+      for (int i = 0; i < 200; ++i) {
+        Vec6 e;
+        for (int j = 0; j < 6; ++j)
+          e[j] = u(g);
+        if (i % 2 == 0) e[2] = e[3] = e[4] = 0.0; // plane strain in x1-x2
+        double lambda[3] = {-1, -1, -1};
+        ASSERT_EQ(pnc_material_mode_stretch(m.get(), e.data(), lambda, nullptr), PNC_MATERIAL_OK);
+        const Out o = call(m.get(), s0.data(), Vec6::Zero(), e, PNC_MATERIAL_TANGENT_NONE);
+        ASSERT_EQ(o.status, PNC_MATERIAL_OK) << o.err;
+        for (int k = 0; k < modes; ++k)
+          ASSERT_EQ(lambda[k], o.state1[static_cast<std::size_t>(k)])
+              << pnc::damage::model_name(model) << " point " << i << " mode " << k + 1;
+      }
+    }
 }
 
 TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {

@@ -210,6 +210,12 @@ struct PreparedNdm {
   std::array<Matrix6, 3> dC1g{};
 };
 PreparedNdm prepare(const NdmParameters& p);
+/// The platelet-frame strain el = T(R) eps of a global-frame strain eps (both engineering
+/// Voigt, dimensionless), as every route forms it (integrate(), integrate_batch() and the
+/// plugin's mode-stretch query, so that they agree bit for bit; decision D351): eps itself for
+/// an aligned platelet; for a plane strain (e33 = g23 = g13 = 0) columns 1, 2 and 6 of T only,
+/// else the full product, each row summed in column order.
+Voigt local_strain(const PreparedNdm& q, const Voigt& eps);
 /// integrate() with prepared parameters (same contract as above); `kind` chooses the tangent
 /// written into K (ignored when K is null) and `energy`, when not null, receives the energy
 /// densities of the increment.

@@ -389,12 +389,12 @@ PNC_MATERIAL_API int pnc_material_damage_of_stretch(const pnc_material* m, int m
 
 /* The mode stretches of a strain: lambda[k] (k < n_damage_modes; dimensionless) is what
  * pnc_material_integrate2() compares with the state's kappa(k+1) at the end strain `strain` (6,
- * engineering Voigt, GLOBAL frame, as the strain arrays of the integration), equal to it up to
- * the rounding of the frame change; dlambda (if not NULL) receives d lambda_k / d strain_j at
- * [6 k + j] (global frame). A host that regularises the damage driving stretch (a nonlocal
- * average, its tangent) needs no probing integrations. Return PNC_MATERIAL_OK, or
- * PNC_MATERIAL_BAD_ARGUMENT (a NULL material, strain or lambda; a strain that is not finite;
- * nothing written). */
+ * engineering Voigt, GLOBAL frame, as the strain arrays of the integration), the same number
+ * bit for bit (one platelet-frame strain and one stretch routine, D351); dlambda (if not
+ * NULL) receives d lambda_k / d strain_j at [6 k + j] (global frame). A host that regularises
+ * the damage driving stretch (a nonlocal average, its tangent) needs no probing integrations.
+ * Return PNC_MATERIAL_OK, or PNC_MATERIAL_BAD_ARGUMENT (a NULL material, strain or lambda; a
+ * strain that is not finite; nothing written). */
 PNC_MATERIAL_API int pnc_material_mode_stretch(const pnc_material* m, const double* strain,
                                                double* lambda, double* dlambda);
 
