@@ -13,6 +13,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -51,22 +52,14 @@ nlohmann::json jnum(double v) {
 
 /// Draws with plot_thermo.py; a failure is printed once and kept for the report.
 std::vector<std::string> run_plot(const std::vector<std::string>& args, ThermoRun& run) {
-  const auto t0 = std::chrono::steady_clock::now(); // announced: no silent seconds after ETA 0 s
-  std::cerr << "  plotting (" << args.front() << ") ..." << std::endl;
+  // announced: no silent seconds after ETA 0 s (D344)
+  Phase phase("pnc thermo", "plotting (" + args.front() + ")");
   run.pngs = run_plot_script("plot_thermo.py", args, &run.plot_warning);
   if (!run.plot_warning.empty())
     std::cerr << "pnc: warning: no plot: " << run.plot_warning << "\n";
   else
-    std::cerr << fmt::format(
-        "  plotted {} figure(s) in {:.1f} s\n", run.pngs.size(),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    phase.done(fmt::format("plotted {} figure(s)", run.pngs.size()));
   return run.pngs;
-}
-
-void print_progress(const std::string& what, int done, int total, double el, double eta) {
-  std::cerr << fmt::format("  [{}/{}] {}  (elapsed {:.0f} s, ETA {:.0f} s)\n", done, total, what,
-                           el, eta)
-            << std::flush;
 }
 
 std::vector<double> parse_list(const std::string& text, const char* field) {
@@ -120,7 +113,7 @@ void persistence_stopped(const PersistenceArgs& a, const std::string& reason, bo
 
 thermo::PersistenceResult run_persistence_reported(const PersistenceArgs& a) {
   try {
-    return thermo::run_persistence(a.spec, a.out, a.resume, print_progress);
+    return thermo::run_persistence(a.spec, a.out, a.resume, pnc::print_progress);
   } catch (const pnc::Interrupted& e) {
     persistence_stopped(a, signal_reason(e.signal()), false);
     throw;

@@ -318,7 +318,7 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
           rve::run_unit_recorded(
               dir, u,
               [&] {
-                thermo::run_ti_point(spec, pt, restart, ff, print_progress);
+                thermo::run_ti_point(spec, pt, restart, ff, pnc::print_progress);
                 const thermo::PointResult r = thermo::read_point(pt.job.h5);
                 return nlohmann::json{{"h5", pt.job.h5},
                                       {"dhdl_kcal_mol", jnum(r.dhdl.value)},

@@ -6,6 +6,7 @@
 #include "pnc/core/csv.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/progress.hpp"
 
 #include <fmt/format.h>
 
@@ -184,13 +185,9 @@ std::string plot_drive(const DriveResult& r, const DriveMeta& meta, const std::s
       fs::path(meta.card).filename().string() + " along " + fs::path(meta.path).filename().string();
   // announced, as every plotting phase: it takes seconds (starting matplotlib), and the summary
   // lines come after it
-  std::cerr << "pnc material drive: plotting " << png << " ..." << std::endl;
-  const auto t0 = std::chrono::steady_clock::now();
+  Phase phase("pnc material drive", "plotting " + png); // D344
   const auto wrote = run_plot_script("plot_drive.py", {data.temp_path(), png, title});
-  if (!wrote.empty())
-    std::cerr << fmt::format(
-        "pnc material drive: plotted {} in {:.1f} s\n", wrote.front(),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  if (!wrote.empty()) phase.done("plotted " + wrote.front());
   return wrote.empty() ? std::string() : wrote.front(); // no PNG: run_plot_script warned
 }
 

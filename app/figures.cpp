@@ -5,6 +5,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/locate.hpp"
+#include "pnc/core/progress.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -81,9 +82,8 @@ PlotOutcome draw_figures(const std::vector<Figure>& figures, const std::string& 
   }
   write_text_atomically(jobs_json, jobs.dump());
 
-  std::cerr << fmt::format("{}: plotting {} figure{} ...\n", who, figures.size(),
-                           figures.size() == 1 ? "" : "s")
-            << std::flush;
+  Phase phase(who, fmt::format("plotting {} figure{}", figures.size(),
+                               figures.size() == 1 ? "" : "s")); // D344
   // a missing script is a broken installation (or a wrong PNC_SCRIPTS_DIR): an error
   (void)require_shipped(ShippedDir::scripts, "plot_figures.py", plot_scripts_variable());
   const auto t0 = std::chrono::steady_clock::now();
@@ -97,8 +97,8 @@ PlotOutcome draw_figures(const std::vector<Figure>& figures, const std::string& 
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.warning.empty())
-    std::cerr << fmt::format("{}: plotted {} figure{} in {:.1f} s\n", who, out.pngs.size(),
-                             out.pngs.size() == 1 ? "" : "s", out.seconds);
+    phase.done(
+        fmt::format("plotted {} figure{}", out.pngs.size(), out.pngs.size() == 1 ? "" : "s"));
   else
     std::cerr << fmt::format("{}: warning: figures not drawn: {}\n", who, out.warning);
   return out;

@@ -22,8 +22,6 @@ constexpr long kMaxRunSteps = 2000000000L;
 nlohmann::json jnum(double v);
 /// Draws with plot_thermo.py; a failure is printed once and kept in `run` for the report.
 std::vector<std::string> run_plot(const std::vector<std::string>& args, ThermoRun& run);
-/// One progress line on stderr: "[done/total] what (elapsed, ETA)", seconds.
-void print_progress(const std::string& what, int done, int total, double el, double eta);
 /// "a,b,c" -> numbers ("none" or "": none); a bad item names `field` (<command line>).
 std::vector<double> parse_list(const std::string& text, const char* field);
 

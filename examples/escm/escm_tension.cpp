@@ -17,6 +17,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/plot.hpp"
+#include "pnc/core/progress.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
            << ",md\n";
   };
   const auto w0 = std::chrono::steady_clock::now();
+  pnc::Progress bar("escm_tension", static_cast<double>(nsteps), "steps"); // D344
   for (long k = 0; k < nsteps; ++k) {
     const double tl = s.time + 0.5 * c.dt - t_settle;
     s.bcs[2].velocity[0] = (tl > 0 && tl < t_load)
@@ -120,11 +122,9 @@ int main(int argc, char** argv) {
       const long f = (k + 1) / frame_every;
       cp.write_atoms_vtu(out + "/atoms_" + std::to_string(f) + ".vtu");
       profile();
-      const double el =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-      std::fprintf(stderr, "step %ld/%ld  t = %.1f ps  elapsed %.1f s  ETA %.1f s\n", k + 1, nsteps,
-                   s.time * 1e12, el,
-                   el / static_cast<double>(k + 1) * static_cast<double>(nsteps - k - 1));
+      char t_ps[48];
+      std::snprintf(t_ps, sizeof t_ps, "t = %.1f ps", s.time * 1e12);
+      bar.set(static_cast<double>(k + 1), t_ps);
     }
   }
   pnc::write_text_atomically(out + "/profile.csv", prof.str());

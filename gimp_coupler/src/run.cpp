@@ -4,6 +4,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/plot.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/gimp_coupler/fracture.hpp"
@@ -250,10 +251,14 @@ template <int D> void GimpRun<D>::frame() {
 template <int D> void GimpRun<D>::loop() {
   step0 = s.steps;
   t_begin = s.time;
-  auto last_report = Clock::now();
   run0 = Clock::now();
   dt = 0.0;
   eps_t = 1e-12 * rc.t_end;
+  ProgressOptions po; // a line every 2 s; the time simulated before a resume is not in the rate
+  po.every_s = 2.0;
+  po.enabled = o.progress;
+  Progress bar("pnc gimp", rc.t_end, "s simulated", po); // D344, D345
+  bar.skip(std::min(t_begin, rc.t_end));
   last_framed = true;
   while (s.time < rc.t_end - eps_t && (rc.max_steps == 0 || s.steps < rc.max_steps) &&
          (o.stop_after_steps == 0 || s.steps < o.stop_after_steps) && !stop_requested()) {
@@ -274,16 +279,8 @@ template <int D> void GimpRun<D>::loop() {
         write_checkpoint<D>(ckpt, s, x);
       }
     }
-    const auto now = Clock::now();
-    if (o.progress && std::chrono::duration<double>(now - last_report).count() > 2.0) {
-      last_report = now;
-      const double el = std::chrono::duration<double>(now - run0).count();
-      const double frac = (s.time - t_begin) / std::max(rc.t_end - t_begin, 1e-300);
-      const double eta = frac > 0 ? el * (1 - frac) / frac : 0.0;
-      std::cerr << fmt::format("pnc gimp: step {} t = {:.6g} s ({:.1f}%) dt = {:.3g} s, "
-                               "elapsed {:.0f} s, ETA {:.0f} s\n",
-                               s.steps, s.time, 100 * s.time / rc.t_end, dt, el, eta);
-    }
+    bar.set(s.time >= rc.t_end - eps_t ? rc.t_end : std::min(s.time, rc.t_end),
+            fmt::format("step {} t = {:.6g} s dt = {:.3g} s", s.steps, s.time, dt));
   }
 }
 
@@ -374,9 +371,8 @@ template <int D> void GimpRun<D>::fill_summary() {
   }
   fill_outcomes();
   if (o.plot) {
-    // the plotting phase is announced: no silent seconds after the last step's ETA 0 s
-    const auto plot0 = Clock::now();
-    if (o.progress) std::cerr << "plotting energy.png (and G.png for cracks) ..." << std::endl;
+    // the plotting phase is announced: no silent seconds after the last step's ETA 0 s (D344)
+    Phase phase("pnc gimp", "plotting energy.png (and G.png for cracks)", o.progress);
     const std::string png = (fs::path(o.out_dir) / "energy.png").string();
     sum.plot_warning = plot_energy(
         hist_csv, png, fs::path(o.input).filename().string(), "plot_energy.py",
@@ -397,9 +393,7 @@ template <int D> void GimpRun<D>::fill_summary() {
       else
         sum.plot_warning += (sum.plot_warning.empty() ? "" : "; ") + w;
     }
-    if (o.progress)
-      std::cerr << fmt::format("plotting done in {:.1f} s\n",
-                               std::chrono::duration<double>(Clock::now() - plot0).count());
+    phase.done("plotting done");
   }
   sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
 }

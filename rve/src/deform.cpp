@@ -7,6 +7,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/version.hpp"
 #include "pnc/md/forcefield.hpp"
@@ -16,12 +17,10 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 
 namespace pnc::rve {
 
@@ -264,7 +263,6 @@ std::string driven_stresses(const damage::DeformationCase& dc, bool is_static,
 }
 
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
-  using clock = std::chrono::steady_clock;
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
   if (!dc.gradient.isUpperTriangular(0.0))
@@ -303,8 +301,11 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     c.r.rows_done = 0;
     write_checkpoint(dir, spec, c);
   }
-  const auto t_start = clock::now();
   const int first = c.r.rows_done;
+  // strain points 0..steps; those of an earlier session are reused, not in the rate (D345)
+  pnc::Progress bar(fmt::format("case {} deformation", spec.case_id), spec.steps + 1,
+                    "strain points");
+  if (first > 0) bar.skip(first, "resumed");
   for (int k = first; k <= spec.steps; ++k) {
     const double t = spec.amplitude() * k / spec.steps;
     read_state(l, spec, prev_state(dir, k));
@@ -390,18 +391,13 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     write_checkpoint(dir, spec, c);
     std::error_code ec;
     fs::remove(prev_state(dir, k), ec);
-    const double el = std::chrono::duration<double>(clock::now() - t_start).count();
-    const double eta = el / (k - first + 1) * (spec.steps - k);
     const std::string stress = driven_stresses(dc, spec.temperature == 0, st, stse, sv, it);
     if (spec.temperature == 0)
-      std::cerr << fmt::format("  case {}: step {}/{} strain {:+.6f}  {} (static)  ETA {:.0f} s\n",
-                               spec.case_id, k, spec.steps, t, stress, eta)
-                << std::flush;
+      bar.set(k + 1,
+              fmt::format("step {}/{} strain {:+.6f}  {} (static)", k, spec.steps, t, stress));
     else
-      std::cerr << fmt::format(
-                       "  case {}: step {}/{} strain {:+.5f}  {}  T = {:.1f} K  ETA {:.0f} s\n",
-                       spec.case_id, k, spec.steps, t, stress, th[0], eta)
-                << std::flush;
+      bar.set(k + 1, fmt::format("step {}/{} strain {:+.5f}  {}  T = {:.1f} K", k, spec.steps, t,
+                                 stress, th[0]));
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }
 }

@@ -281,7 +281,7 @@ TEST_F(PncErrors, InterruptedRunExitsWith128PlusTheSignal) {
   const pid_t pid = start({"gimp", "run", "in.json", "--out", "o", "--no-plot"});
   // running: the first progress line comes after the t = 0 checkpoint
   const auto t0 = std::chrono::steady_clock::now();
-  while (!has(slurp(p("stderr.txt")), "pnc gimp: step") &&
+  while (!has(slurp(p("stderr.txt")), "s simulated (") &&
          std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   ::kill(pid, SIGINT);

@@ -105,7 +105,7 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   const std::string err = (d / "b_err.txt").string();
   const pid_t pid = pnc::test::spawn(run_args(in, out) + " 2>" + err);
   // running: the first progress line (every 2 s) comes after the t = 0 checkpoint
-  ASSERT_TRUE(pnc::test::wait_for_text(err, "pnc gimp: step", 30)) << slurp(err);
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "s simulated (", 30)) << slurp(err);
   ::kill(pid, SIGINT);
   const auto e = pnc::test::wait_for(pid, 30);
   ASSERT_TRUE(e.ended);
@@ -150,7 +150,8 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   const std::string log = slurp((out / "pnc.log").string());
   const auto stopped_end = log.find("--- pnc finished: exit code " + std::to_string(128 + SIGINT));
   const auto second = log.find("--resume --json", log.find("started in"));
-  EXPECT_NE(log.find(" err pnc gimp: step"), std::string::npos) << log;
+  EXPECT_NE(log.find(" err pnc gimp: "), std::string::npos) << log;
+  EXPECT_NE(log.find("s simulated ("), std::string::npos) << "the progress line (D344)\n" << log;
   EXPECT_NE(log.find(" err pnc: interrupted by SIGINT"), std::string::npos) << log;
   ASSERT_NE(stopped_end, std::string::npos) << log;
   EXPECT_NE(second, std::string::npos) << log;

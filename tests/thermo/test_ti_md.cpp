@@ -140,11 +140,10 @@ TEST(ThermoTi, EinsteinCrystalThroughTheTiMachinery) {
   const auto jobs = node_jobs(q, (d / "gauss").string(), "einstein gauss", 100);
   const auto t0 = fs::last_write_time(jobs[0].h5);
   int calls = 0;
-  run_points(s, with(jobs, sys), true, 1,
-             [&](const std::string&, int done, int total, double, double) {
-               ++calls;
-               EXPECT_EQ(done, total);
-             });
+  run_points(s, with(jobs, sys), true, 1, [&](const pnc::ProgressState& p) {
+    ++calls;
+    EXPECT_EQ(p.done, p.total);
+  });
   EXPECT_EQ(fs::last_write_time(jobs[0].h5), t0);
   EXPECT_EQ(calls, 1);
 }

@@ -5,6 +5,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
@@ -264,8 +265,11 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
   PersistenceResult res;
   res.spec = spec;
   res.length = g.length;
-  const auto t0 = std::chrono::steady_clock::now();
-  int ran = 0;
+  pnc::ProgressOptions po; // reused rates are done but not in the rate (D345)
+  po.enabled = static_cast<bool>(progress);
+  po.sink = progress;
+  pnc::Progress bar("pnc thermo persistence", static_cast<double>(spec.rates.size()),
+                    "bending rates", po);
   for (std::size_t i = 0; i < spec.rates.size(); ++i) {
     const RateFiles rf = rate_files(dir, i);
     bool have = resume && fs::exists(rf.h5);
@@ -276,23 +280,22 @@ PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string
       const double rate = spec.rates[i];
       const std::uint64_t seed = spec.seed * 100 + i * 2;
       const auto o = md::run_stage({fmt::format("bending rate {}", rate), rf.log, {}},
-                                    md::stoppable([&spec, &g, rate, seed, &rf](md::Lammps& l) {
-                                      rate_child(l, spec, g, rate, seed, rf.h5);
-                                    }));
+                                   md::stoppable([&spec, &g, rate, seed, &rf](md::Lammps& l) {
+                                     rate_child(l, spec, g, rate, seed, rf.h5);
+                                   }));
       pnc::throw_if_stopped(fmt::format("bending rate {} stopped; finished rates are kept", rate));
       if (!o.ok) md::throw_stage_failure(o, fmt::format("bending rate {} A/fs", rate));
-      ++ran;
     }
     res.rates.push_back(read_rate(rf.h5));
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto& r = res.rates.back();
-    if (progress)
-      progress(fmt::format("rate {:.4g} A/fs: EI = {:.4g} +- {:.2g} kcal/mol*A (slope), {:.4g} "
-                           "(end ratio), d_end {:.3f} A{}",
-                           r.rate, r.ei.value, r.ei.se, r.ei_end, r.d_max,
-                           have ? " (resumed)" : ""),
-               static_cast<int>(i + 1), static_cast<int>(spec.rates.size()), el,
-               ran > 0 ? el / ran * static_cast<double>(spec.rates.size() - i - 1) : 0.0);
+    const std::string detail =
+        fmt::format("rate {:.4g} A/fs: EI = {:.4g} +- {:.2g} kcal/mol*A (slope), {:.4g} "
+                    "(end ratio), d_end {:.3f} A{}",
+                    r.rate, r.ei.value, r.ei.se, r.ei_end, r.d_max, have ? " (resumed)" : "");
+    if (have)
+      bar.skip(1, detail);
+    else
+      bar.advance(1, detail);
   }
   std::vector<double> x, y, sy;
   for (const auto& r : res.rates) {

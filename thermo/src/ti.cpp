@@ -6,6 +6,7 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
@@ -163,7 +164,7 @@ void point_child(md::Lammps& l, const SamplingSpec& s, const LambdaSystem& sys, 
     if (static_cast<long>(r.dhdl_s.size()) != n)
       fail(j.h5, "samples", std::to_string(r.dhdl_s.size()), fmt::format("expected {}", n));
   }
-  const auto tp = std::chrono::steady_clock::now();
+  pnc::Progress bar(j.label, static_cast<double>(n), "samples"); // D344
   long next_report = n / 5;
   for (long k = 0; k < (sys.production ? 0 : n); ++k) {
     // the first chunk sets the run up (a check may have changed coefficients)
@@ -173,14 +174,10 @@ void point_child(md::Lammps& l, const SamplingSpec& s, const LambdaSystem& sys, 
     r.u_s.push_back(smp.u);
     r.dprev_s.push_back(smp.du_prev);
     r.dnext_s.push_back(smp.du_next);
-    if (k + 1 == next_report && k + 1 < n) {
-      const double el = seconds_since(tp);
-      std::cerr << fmt::format("    {}: sample {}/{}, running mean dH/dl {:.4f} kcal/mol, "
-                               "ETA {:.0f} s\n",
-                               j.label, k + 1, n, block_mean(r.dhdl_s, 1).value,
-                               el / static_cast<double>(k + 1) * static_cast<double>(n - k - 1))
-                << std::flush;
-      next_report += n / 5;
+    if (k + 1 == next_report || k + 1 == n) {
+      bar.set(static_cast<double>(k + 1),
+              fmt::format("running mean dH/dl {:.4f} kcal/mol", block_mean(r.dhdl_s, 1).value));
+      if (k + 1 == next_report) next_report += n / 5;
     }
   }
   r.dhdl = block_mean(r.dhdl_s, s.blocks);
@@ -221,11 +218,15 @@ void run_points(const SamplingSpec& s,
   std::vector<const std::pair<PointJob, LambdaSystem>*> pending;
   for (const auto& t : point_jobs)
     if (!(resume && fs::exists(t.first.h5))) pending.push_back(&t);
-  const int total = static_cast<int>(point_jobs.size());
-  int done = total - static_cast<int>(pending.size());
-  if (progress && done > 0) progress("resumed: finished points reused", done, total, 0, 0);
-  const auto t0 = std::chrono::steady_clock::now();
   jobs = std::max(1, jobs);
+  pnc::ProgressOptions po; // the points of a batch end together: rounds of `jobs` (D345)
+  po.lanes = jobs;
+  po.enabled = static_cast<bool>(progress);
+  po.sink = progress;
+  pnc::Progress bar("pnc thermo ti", static_cast<double>(point_jobs.size()), "lambda points", po);
+  if (pending.size() < point_jobs.size())
+    bar.skip(static_cast<double>(point_jobs.size() - pending.size()),
+             "resumed: finished points reused");
   for (std::size_t b = 0; b < pending.size(); b += static_cast<std::size_t>(jobs)) {
     std::vector<std::pair<md::StageSpec, md::StageBody>> stages;
     for (std::size_t i = b; i < std::min(pending.size(), b + static_cast<std::size_t>(jobs)); ++i) {
@@ -240,19 +241,14 @@ void run_points(const SamplingSpec& s,
     pnc::throw_if_stopped("the running lambda points stopped; finished points are kept");
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       if (!outcomes[i].ok) md::throw_stage_failure(outcomes[i], "lambda point " + outcomes[i].name);
-      ++done;
-      const double el = seconds_since(t0);
-      const int left = total - done;
-      // the points of a batch end together: time per batch x batches left
-      const double batches_done = static_cast<double>(b / static_cast<std::size_t>(jobs) + 1);
-      const double batches_left = std::ceil(static_cast<double>(left) / jobs);
+      std::string detail;
       if (progress) {
         const PointResult r = read_point(pending[b + i]->first.h5);
-        progress(fmt::format("{}: <dH/dl> = {:.4f} +- {:.4f} kcal/mol ({:.1f} s)",
-                             pending[b + i]->first.label, r.dhdl.value, r.dhdl.se,
-                             outcomes[i].seconds),
-                 done, total, el, el / batches_done * batches_left);
+        detail =
+            fmt::format("{}: <dH/dl> = {:.4f} +- {:.4f} kcal/mol ({:.1f} s)",
+                        pending[b + i]->first.label, r.dhdl.value, r.dhdl.se, outcomes[i].seconds);
       }
+      bar.advance(1, detail);
     }
   }
 }

@@ -4,6 +4,7 @@
 #include "pnc/thermo/ti.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
@@ -11,10 +12,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 
 namespace pnc::thermo {
 
@@ -120,22 +119,15 @@ LambdaSystem lj_sampling(const LjPath& p, double h, const std::string& method) {
       const double nktv2p = l.extract_global_double("nktv2p");
       // five pieces for progress; fix vector appends across runs
       const int pieces = steps >= 5L * every ? 5 : 1;
-      const auto t0 = std::chrono::steady_clock::now();
+      pnc::Progress bar(fmt::format("lambda {:.4f}", lambda), static_cast<double>(steps),
+                        "production steps"); // D344
       long done = 0;
       for (int k = 0; k < pieces; ++k) {
         long chunk = (steps / every / pieces) * every;
         if (k == pieces - 1) chunk = steps - done;
         l.cmd(fmt::format("run {}", chunk)); // pre yes: fix vector sizes its storage per run
         done += chunk;
-        if (k + 1 < pieces) {
-          const double el =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          std::cerr << fmt::format("    lambda {:.4f}: {}/{} production steps, ETA {:.0f} s\n",
-                                   lambda, done, steps,
-                                   el / static_cast<double>(done) *
-                                       static_cast<double>(steps - done))
-                    << std::flush;
-        }
+        bar.advance(static_cast<double>(chunk));
       }
       // rows: the first run's start step (end of equilibration) and every `every` steps after
       const long rows = steps / every + 1;

@@ -10,6 +10,7 @@
 #include "observers.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/gimp_coupler/escm_checkpoint.hpp"
 
@@ -121,18 +122,14 @@ double run_steps(CoupledRun& run, const CoupleOptions& o, Checkpointer& ckpt, do
   const Schedule& sc = run.schedule();
   const long k0 = run.steps_done(), nsteps = sc.nsteps;
   const auto w0 = Clock::now();
-  auto last = w0;
+  ProgressOptions po; // a line every 2 s and the last; steps before a resume not in the rate
+  po.every_s = 2.0;
+  po.enabled = o.progress;
+  Progress bar("pnc gimp couple", static_cast<double>(nsteps), "steps", po); // D344, D345
+  bar.skip(static_cast<double>(k0));
   for (long k = k0; k < nsteps; ++k) {
     run.step();
-    const auto now = Clock::now();
-    if (o.progress && (std::chrono::duration<double>(now - last).count() > 2 || k + 1 == nsteps)) {
-      last = now;
-      const double el = std::chrono::duration<double>(now - w0).count();
-      std::cerr << fmt::format("step {}/{}  t = {:.2f} ps  elapsed {:.1f} s  ETA {:.1f} s\n", k + 1,
-                               nsteps, run.solver().time / kPs, el,
-                               el / static_cast<double>(k + 1 - k0) *
-                                   static_cast<double>(nsteps - k - 1));
-    }
+    bar.set(static_cast<double>(k + 1), fmt::format("t = {:.2f} ps", run.solver().time / kPs));
     const long done = k + 1;
     const bool stop = stop_now(o.stop, done, sc.checkpoint_every, o.progress);
     if (done < nsteps && (stop || (o.stop_after_steps > 0 && done >= o.stop_after_steps))) {
@@ -193,14 +190,10 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   ckpt.write(run.schedule().nsteps, r.wall_s);
   collect(run, run.schedule().nsteps, r);
   write_couple_summary(run, *region, o, r);
-  if (o.plot) { // announced: no silent seconds after the last step's ETA
-    const auto plot0 = std::chrono::steady_clock::now();
-    if (o.progress) std::cerr << "plotting profile.png, energy.png ..." << std::endl;
+  if (o.plot) { // announced: no silent seconds after the last step's ETA (D344)
+    Phase phase("pnc gimp couple", "plotting profile.png, energy.png", o.progress);
     plot_couple(o.out_dir, p.crack, r);
-    if (o.progress)
-      std::cerr << fmt::format(
-          "plotting done in {:.1f} s\n",
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - plot0).count());
+    phase.done("plotting done");
   }
   return r;
 }

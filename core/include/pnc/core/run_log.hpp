@@ -4,7 +4,7 @@
 // While a run log is active, every line pnc writes on std::cout or std::cerr still goes to the
 // terminal and is also appended to `<dir>/pnc.log`, one line per printed line:
 //
-//     2026-12-03T14:40:01.123Z err step 3/10  t = 1.50 ps  ETA 4.1 s
+//     2026-12-03T14:40:01.123Z err pnc gimp couple: 3/10 steps (30.0%), elapsed 1.8 s, ETA 4.1 s
 //
 // (UTC time with milliseconds, the stream `out` or `err`, the text as printed). The first line
 // of a session names pnc's version, the process id, the working directory and the command line;

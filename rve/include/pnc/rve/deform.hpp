@@ -87,7 +87,8 @@ struct CaseResult {
 
 /// Runs (or resumes, when `resume` and `dir`/checkpoint.h5 exists) one case in a child
 /// process; results in `dir`/checkpoint.h5, LAMMPS log in `dir`/lammps.log. The child prints
-/// one progress line per strain step on stderr (case, step, strain, stress, ETA).
+/// one pnc::Progress line per strain step on stderr (core/progress.hpp, D344: the strain points
+/// done, elapsed, ETA; then the step, strain and stress).
 md::StageOutcome run_case(const DeformSpec& spec, const std::string& dir, bool resume);
 /// The body that run_case runs in the child (exposed for run_stages / --jobs).
 md::StageBody case_body(const DeformSpec& spec, const std::string& dir, bool resume);

@@ -30,6 +30,7 @@
 // bend angle phi = pi - theta, E = (k_theta/2) phi^2 with k_theta = 2 K, continuum limit
 // EI = k_theta l0, xi_p = k_theta l0 / (kB T); for a finite chain the exact small-deflection
 // answer of this loading is discrete_bending_stiffness().
+#include "pnc/core/progress.hpp"
 #include "pnc/md/forcefield.hpp"
 #include "pnc/thermo/analysis.hpp"
 
@@ -90,7 +91,8 @@ struct PersistenceResult {
 /// discrete chain). kcal/mol/A^2 when k_theta is in kcal/mol and b in A.
 double discrete_bending_stiffness(int beads, double b, double k_theta);
 
-using RateProgress = std::function<void(const std::string&, int, int, double, double)>;
+/// One pnc::Progress line (core/progress.hpp, D344) per bending rate done or reused.
+using RateProgress = pnc::ProgressSink;
 
 /// Runs (or resumes: dir/rate_<i>.h5 reused) every rate, writes dir/persistence.h5.
 PersistenceResult run_persistence(const PersistenceSpec& spec, const std::string& dir, bool resume,

@@ -25,6 +25,7 @@
 //   du/dl = 4 (eps1-eps0) [(s/r)^12 - (s/r)^6] + 4 eps (sig1-sig0) (12 s^11/r^12 - 6 s^5/r^6)
 // and is checked once per point, after equilibration, against a central finite difference
 // of LAMMPS's own pair energy (evdwl at lambda -+ h on the same configuration).
+#include "pnc/core/progress.hpp"
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/runner.hpp"
 #include "pnc/thermo/analysis.hpp"
@@ -120,8 +121,9 @@ struct LambdaIntegral {
   std::vector<Estimate> fep_forward, fep_backward, ti_trapezoid;
 };
 
-/// Progress callback: (label, points done, points total, seconds elapsed, ETA seconds).
-using Progress = std::function<void(const std::string&, int, int, double, double)>;
+/// Progress callback: one pnc::Progress line (core/progress.hpp, D344) per finished point,
+/// "pnc thermo ti: <done>/<total> lambda points ..."; the detail names the point and its <dH/dl>.
+using Progress = pnc::ProgressSink;
 
 struct PointJob {
   double lambda = 0, lambda_prev = 0, lambda_next = 0; ///< NaN: no neighbour
