@@ -76,6 +76,8 @@ def read_names(header):
 
 
 def self_test():
+    """Two guarded directories lib_a, lib_b with planted uses and pnc's own names, and lib_md
+    (not guarded) with a real use."""
     header = """#ifndef LAMMPS_LIB_H
 enum _LMP_STYLE_CONST { LMP_STYLE_GLOBAL = 0 };
 void *lammps_open(int argc, char **argv, void *comm, void **ptr);
@@ -85,24 +87,24 @@ typedef void (*FixExternalFnPtr)(void *, int, int, int *, double **, double **);
 #endif
 """
     planted = {
-        "gimp_coupler/src/a.cpp": "#include <lammps/library.h>\nint x;\n",
-        "gimp_coupler/src/b.cpp": "void f(void* h) {\n  lammps_command(h, \"run 1\");\n}\n",
-        "gimp_coupler/src/c.hpp": "int k = LMP_STYLE_GLOBAL;\nFixExternalFnPtr p;\n",
-        "thermo/CMakeLists.txt": "target_link_libraries(x PRIVATE LAMMPS::lammps)\n",
+        "lib_a/src/a.cpp": "#include <lammps/library.h>\nint x;\n",
+        "lib_a/src/b.cpp": "void f(void* h) {\n  lammps_command(h, \"run 1\");\n}\n",
+        "lib_a/src/c.hpp": "int k = LMP_STYLE_GLOBAL;\nFixExternalFnPtr p;\n",
+        "lib_b/CMakeLists.txt": "target_link_libraries(x PRIVATE LAMMPS::lammps)\n",
     }
     clean = {
-        "gimp_coupler/src/ok.cpp": "c.lammps_log = \"x\";\nj[\"outside_lammps_share\"] = 1;\n"
+        "lib_a/src/ok.cpp": "c.lammps_log = \"x\";\nj[\"outside_lammps_share\"] = 1;\n"
                                    "auto p = pnc::md::lammps_path(d, \"data\");\n"
                                    "#include \"pnc/md/lammps_path.hpp\"\n"
                                    "void lammps_command_count();\n",
-        "md/src/fine.cpp": "#include <lammps/library.h>\nvoid g(void* h) { lammps_command(h, \"\"); }\n",
+        "lib_md/src/fine.cpp": "#include <lammps/library.h>\nvoid g(void* h) { lammps_command(h, \"\"); }\n",
     }
     want = [
-        "gimp_coupler/src/a.cpp:1: includes a LAMMPS header",
-        "gimp_coupler/src/b.cpp:2: lammps_command (LAMMPS C API)",
-        "gimp_coupler/src/c.hpp:1: LMP_STYLE_GLOBAL (LAMMPS C API)",
-        "gimp_coupler/src/c.hpp:2: FixExternalFnPtr (LAMMPS C API)",
-        "thermo/CMakeLists.txt:1: links LAMMPS::lammps",
+        "lib_a/src/a.cpp:1: includes a LAMMPS header",
+        "lib_a/src/b.cpp:2: lammps_command (LAMMPS C API)",
+        "lib_a/src/c.hpp:1: LMP_STYLE_GLOBAL (LAMMPS C API)",
+        "lib_a/src/c.hpp:2: FixExternalFnPtr (LAMMPS C API)",
+        "lib_b/CMakeLists.txt:1: links LAMMPS::lammps",
     ]
     with tempfile.TemporaryDirectory() as d:
         for rel, text in {**planted, **clean}.items():
@@ -111,7 +113,7 @@ typedef void (*FixExternalFnPtr)(void *, int, int, int *, double **, double **);
                 fh.write(text)
         with open(os.path.join(d, "library.h"), "w", encoding="utf-8") as fh:
             fh.write(header)
-        got = findings(d, GUARDED, read_names(os.path.join(d, "library.h")))
+        got = findings(d, ("lib_a", "lib_b"), read_names(os.path.join(d, "library.h")))
     if sorted(got) != sorted(want):
         print("self-test failed:\n got:  " + "\n       ".join(sorted(got)) + "\n want: " +
               "\n       ".join(sorted(want)))
