@@ -53,10 +53,10 @@ struct LocalAtoms {
   double** f = nullptr;
 };
 
-/// The callback of a `fix ID external pf/callback` (Lammps::set_external_force): called by
-/// LAMMPS at every step the fix applies, with the step, the n local atoms, their ids, positions
-/// x[i][0..2] (Angstrom in `real`) and the force fext[i][0..2] it must fill (kcal/(mol
-/// Angstrom) in `real`; LAMMPS adds it to the atom's force).
+/// The callback of a `fix ID external pf/callback` (Lammps::set_external_force), called by
+/// LAMMPS at every step the fix applies with the step, the n local atoms, their ids, positions
+/// x[i][0..2] (Angstrom in `real`) and fext[i][0..2] to fill (kcal/(mol Angstrom) in `real`,
+/// added to the atom's force). It must not throw: an exception escaping it ends the process.
 using ExternalForce =
     std::function<void(Step step, int n, const AtomId* id, double** x, double** fext)>;
 
