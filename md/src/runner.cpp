@@ -58,6 +58,7 @@ std::vector<double> Lammps::call(char op, const std::string& text, int i, int j,
 
 Lammps::~Lammps() {
   if (input_fd_ >= 0) ::close(input_fd_);
+  if (owned_ && h_) lammps_close(h_); // open_in_process (lammps_local.cpp)
 }
 
 bool Lammps::record_input(const std::string& path, const std::string& header) {

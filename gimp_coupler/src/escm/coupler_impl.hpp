@@ -4,13 +4,13 @@
 // restore) and escm_output.cpp (CSV, VTU). Private to the coupler library. Units as in
 // escm.hpp: continuum SI, LAMMPS real (Angstrom, fs, kcal/mol).
 #include "pnc/gimp_coupler/escm.hpp"
-
-#include <lammps/library.h>
+#include "pnc/md/runner.hpp"
 
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,21 +26,10 @@ inline double seconds(Clock::time_point a, Clock::time_point b) {
 [[noreturn]] void bad_config(const std::string& field, const std::string& value,
                              const std::string& rule);
 
-#if defined(LAMMPS_BIGBIG)
-using lmp_tag = int64_t;
-#else
-using lmp_tag = int;
-#endif
-#if defined(LAMMPS_SMALLSMALL)
-using lmp_step = int;
-#else
-using lmp_step = int64_t;
-#endif
-
 struct Coupler::Impl {
   Solver<2>& solver;
   Config cfg;
-  void* lmp = nullptr;
+  std::unique_ptr<md::Lammps> lmp; // in-process, through md/ only (D346)
   std::vector<Cell> cells;
   std::vector<int> ivc_cells;          // indices into cells
   std::vector<int> cell_of_id;         // id -> cell index or -1 (INT)
@@ -70,11 +59,11 @@ struct Coupler::Impl {
 
   explicit Impl(Solver<2>& s, Config c) : solver(s), cfg(std::move(c)) {}
 
-  void cmd(const std::string& c) { lammps_command(lmp, c.c_str()); }
+  void cmd(const std::string& c) { lmp->cmd(c); }
 
   // escm.cpp: the coupled step
-  static void callback(void* ptr, lmp_step step, int nlocal, lmp_tag* ids, double** x,
-                       double** fext);
+  /// The fix-external callback (md::ExternalForce): IVC forces, IVC centroid sums.
+  void callback(md::Step step, int nlocal, const md::AtomId* ids, double** x, double** fext);
   std::vector<Eigen::Vector2d> centroids() const; ///< of the IVC cells now (A)
   double compute_scalar(const char* id) const;
   double fix_scalar(const char* id) const;
@@ -90,7 +79,7 @@ struct Coupler::Impl {
                                 const std::map<std::pair<int, int>, std::vector<int>>& atoms);
   void remove_interior(const std::vector<char>& remove);
   void gamma_nodes();
-  void lammps_groups_and_fixes();
+  void md_groups_and_fixes();
   void langevin_fixes();
 
   // escm_state.cpp: checkpoint and restore

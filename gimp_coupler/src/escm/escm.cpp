@@ -9,35 +9,35 @@
 
 namespace pnc::gimp::escm {
 
-void Coupler::Impl::callback(void* ptr, lmp_step step, int nlocal, lmp_tag* ids, double** x,
+void Coupler::Impl::callback(md::Step step, int nlocal, const md::AtomId* ids, double** x,
                              double** fext) {
-  auto* self = static_cast<Impl*>(ptr);
   const auto t0 = Clock::now();
-  const bool count = step > self->block_start;
+  const bool count = step > block_start;
   for (int i = 0; i < nlocal; ++i) {
-    const int k = self->cell_of_id[static_cast<std::size_t>(ids[i])];
+    const int k = cell_of_id[static_cast<std::size_t>(ids[i])];
     if (k < 0) {
       fext[i][0] = fext[i][1] = fext[i][2] = 0.0;
       continue;
     }
-    fext[i][0] = self->fx[static_cast<std::size_t>(k)];
-    fext[i][1] = self->fy[static_cast<std::size_t>(k)];
+    fext[i][0] = fx[static_cast<std::size_t>(k)];
+    fext[i][1] = fy[static_cast<std::size_t>(k)];
     fext[i][2] = 0.0;
     if (count) {
-      auto& s = self->csum[static_cast<std::size_t>(k)];
+      auto& s = csum[static_cast<std::size_t>(k)];
       s[0] += x[i][0];
       s[1] += x[i][1];
     }
   }
-  if (count) ++self->nsub;
-  self->timing.callback += seconds(t0, Clock::now());
+  if (count) ++nsub;
+  timing.callback += seconds(t0, Clock::now());
 }
 
 // Centroids of the IVC cells now (A), from the local arrays.
 std::vector<Eigen::Vector2d> Coupler::Impl::centroids() const {
-  const int nlocal = lammps_extract_setting(lmp, "nlocal");
-  auto* id = static_cast<lmp_tag*>(lammps_extract_atom(lmp, "id"));
-  auto** x = static_cast<double**>(lammps_extract_atom(lmp, "x"));
+  const md::LocalAtoms a = lmp->local_atoms();
+  const int nlocal = a.n;
+  const auto* id = a.id;
+  auto** x = a.x;
   std::vector<Eigen::Vector2d> c(ivc_cells.size(), Eigen::Vector2d::Zero());
   for (int i = 0; i < nlocal; ++i) {
     const int k = cell_of_id[static_cast<std::size_t>(id[i])];
@@ -48,19 +48,14 @@ std::vector<Eigen::Vector2d> Coupler::Impl::centroids() const {
   return c;
 }
 
+// Both exist from set-up on (md_groups_and_fixes, langevin_fixes); md/ throws naming the
+// compute or fix otherwise.
 double Coupler::Impl::compute_scalar(const char* id) const {
-  auto* p =
-      static_cast<double*>(lammps_extract_compute(lmp, id, LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR));
-  return p ? *p : std::nan("");
+  return lmp->compute_value(id);
 }
 
 double Coupler::Impl::fix_scalar(const char* id) const {
-  auto* p =
-      static_cast<double*>(lammps_extract_fix(lmp, id, LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR, 0, 0));
-  if (!p) return 0.0;
-  const double v = *p;
-  lammps_free(p);
-  return v;
+  return lmp->fix_scalar(id);
 }
 
 void Coupler::Impl::step() {
@@ -118,10 +113,11 @@ void Coupler::Impl::step() {
   // SVC atoms: velocity v* of the grid at the atom (D72), z velocity 0.
   const auto& vs = solver.grid_velocity_star();
   {
-    const int nlocal = lammps_extract_setting(lmp, "nlocal");
-    auto* id = static_cast<lmp_tag*>(lammps_extract_atom(lmp, "id"));
-    auto** x = static_cast<double**>(lammps_extract_atom(lmp, "x"));
-    auto** v = static_cast<double**>(lammps_extract_atom(lmp, "v"));
+    const md::LocalAtoms la = lmp->local_atoms();
+    const int nlocal = la.n;
+    const auto* id = la.id;
+    auto** x = la.x;
+    auto** v = la.v;
     for (int i = 0; i < nlocal; ++i) {
       if (zone_of_id[static_cast<std::size_t>(id[i])] != Zone::svc) continue;
       const Eigen::Vector2d xc = cfg.md_offset + units::m_per_A * Eigen::Vector2d(x[i][0], x[i][1]);
@@ -147,7 +143,7 @@ void Coupler::Impl::step() {
   const std::vector<Eigen::Vector2d> cstart = centroids();
   // 2. MD block.
   nsub = 0;
-  block_start = static_cast<long>(lammps_get_thermo(lmp, "step"));
+  block_start = static_cast<long>(lmp->thermo("step"));
   const auto t3 = Clock::now();
   const double cb0 = timing.callback;
   cmd("run " + std::to_string(cfg.substeps) + " pre no post no");
@@ -193,7 +189,7 @@ void Coupler::Impl::step() {
 Coupler::Coupler(Solver<2>& solver, Config cfg)
     : d_(std::make_unique<Impl>(solver, std::move(cfg))) {}
 Coupler::~Coupler() {
-  if (d_->lmp) lammps_close(d_->lmp);
+  d_->lmp.reset(); // closes LAMMPS before the state its callback uses
 }
 void Coupler::setup() {
   d_->setup();
@@ -233,7 +229,7 @@ Zone Coupler::zone_of(int id) const {
   return d_->zone_of_id[static_cast<std::size_t>(id)];
 }
 void* Coupler::lammps() const {
-  return d_->lmp;
+  return d_->lmp ? d_->lmp->handle() : nullptr;
 }
 const std::vector<Eigen::Vector3d>& Coupler::atoms_initial() const {
   return d_->x_init;
@@ -245,10 +241,7 @@ Eigen::Vector2d Coupler::to_continuum(const Eigen::Vector3d& xA) const {
 void Coupler::atoms(std::vector<int>& ids, std::vector<Eigen::Vector3d>& x,
                     std::vector<Eigen::Vector3d>& v) const {
   const int n = d_->natoms;
-  std::vector<double> xs(static_cast<std::size_t>(n) * 3), vs(xs.size());
-  std::string nx = "x", nv = "v";
-  lammps_gather_atoms(d_->lmp, nx.data(), 1, 3, xs.data());
-  lammps_gather_atoms(d_->lmp, nv.data(), 1, 3, vs.data());
+  const std::vector<double> xs = d_->lmp->gather("x", 3), vs = d_->lmp->gather("v", 3);
   ids.resize(static_cast<std::size_t>(n));
   x.resize(ids.size());
   v.resize(ids.size());

@@ -10,8 +10,6 @@
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
 
-#include <lammps/library.h>
-
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -38,30 +36,18 @@ std::string num(double v) {
   return s.str();
 }
 
-/// Unwrapped positions (A) of all atoms by id, from x and the packed image flags
-/// (md::ImageFlags).
+/// Unwrapped positions (A) of all atoms by id, from x and the unpacked image flags
+/// (md/atoms.hpp; the in-process stage instance holds every atom).
 std::vector<Vec> unwrapped(pnc::md::Lammps& L) {
-  void* h = L.handle();
-  const int n = static_cast<int>(lammps_get_natoms(h));
-  std::vector<double> x(static_cast<std::size_t>(n) * 3);
-  std::vector<int> img(static_cast<std::size_t>(n));
-  std::string nx = "x", ni = "image";
-  if (lammps_extract_setting(h, "imageint") != 4)
-    pnc::fail_tool("LAMMPS", "reading the polymer block's positions",
-                   "this LAMMPS build's image flags are not 32 bit", "");
-  lammps_gather_atoms(h, nx.data(), 1, 3, x.data());
-  lammps_gather_atoms(h, ni.data(), 0, 1, img.data());
-  double lo[3], hi[3], xy, yz, xz;
-  int per[3], changed;
-  lammps_extract_box(h, lo, hi, &xy, &yz, &xz, per, &changed);
-  std::vector<Vec> u(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const auto f = pnc::md::ImageFlags::unpack(img[static_cast<std::size_t>(i)]);
-    for (int a = 0; a < 3; ++a)
-      u[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] =
-          x[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(a)] +
-          (per[a] ? f[static_cast<std::size_t>(a)] * (hi[a] - lo[a]) : 0.0);
-  }
+  const std::vector<double> x = L.gather("x", 3);
+  const std::vector<double> img = pnc::md::gather_local(L.handle(), "image", 3);
+  const pnc::md::LmpBox box = L.box();
+  const auto per = L.periodic();
+  const std::size_t n = x.size() / 3;
+  std::vector<Vec> u(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t a = 0; a < 3; ++a)
+      u[i][a] = x[3 * i + a] + (per[a] ? img[3 * i + a] * (box.hi[a] - box.lo[a]) : 0.0);
   return u;
 }
 

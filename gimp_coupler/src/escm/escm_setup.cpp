@@ -90,7 +90,7 @@ void Coupler::Impl::setup() {
   csum.assign(ivc_cells.size(), Eigen::Vector2d::Zero());
   fx.assign(ivc_cells.size(), 0.0);
   fy.assign(ivc_cells.size(), 0.0);
-  lammps_groups_and_fixes();
+  md_groups_and_fixes();
   block_start = 0;
   cmd("run 0");
   pe0 = compute_scalar("escm_pe");
@@ -122,38 +122,25 @@ std::map<std::pair<int, int>, std::size_t> Coupler::Impl::particle_cells() const
 
 // LAMMPS with md_setup, its checks, the initial atom positions; the atoms of each grid cell.
 std::map<std::pair<int, int>, std::vector<int>> Coupler::Impl::start_lammps() {
-  std::vector<std::string> args = {"escm", "-screen", "none", "-log", cfg.lammps_log, "-nocite"};
-  std::vector<char*> argv;
-  for (auto& a : args)
-    argv.push_back(a.data());
-  lmp = lammps_open_no_mpi(static_cast<int>(argv.size()), argv.data(), nullptr);
-  if (!lmp)
-    pnc::fail_tool("LAMMPS", "starting the ESCM MD region", "lammps_open returned no instance", "");
+  lmp = md::Lammps::open_in_process({"escm", "-screen", "none", "-log", cfg.lammps_log, "-nocite"},
+                                    "starting the ESCM MD region");
   for (const auto& c : cfg.md_setup)
     cmd(c);
   // Checks of what md_setup built (before any command of ours that depends on it).
-  const char* u = static_cast<const char*>(lammps_extract_global(lmp, "units"));
-  if (!u || std::string(u) != "real")
+  if (lmp->extract_global_string("units") != "real")
     bad_config("md_setup", "units", "the MD region must use `units real`");
-  if (lammps_extract_setting(lmp, "dimension") != 3)
-    bad_config("md_setup", "dimension", "must be 3");
-  double lo[3], hi[3], xy, yz, xz;
-  int per[3], changed;
-  lammps_extract_box(lmp, lo, hi, &xy, &yz, &xz, per, &changed);
+  if (lmp->extract_setting("dimension") != 3) bad_config("md_setup", "dimension", "must be 3");
+  const md::LmpBox box = lmp->box();
+  const auto per = lmp->periodic();
   if (per[0] || per[1] || !per[2])
     bad_config("md_setup", "boundary", "x and y must be non-periodic, z periodic (the slab)");
-  if (xy != 0 || xz != 0 || yz != 0) bad_config("md_setup", "box", "must be orthogonal");
-  Lz_A = hi[2] - lo[2];
-  natoms = static_cast<int>(lammps_get_natoms(lmp));
+  if (box.xy != 0 || box.xz != 0 || box.yz != 0)
+    bad_config("md_setup", "box", "must be orthogonal");
+  Lz_A = box.hi[2] - box.lo[2];
+  natoms = static_cast<int>(lmp->natoms());
   if (natoms <= 0) bad_config("md_setup", "atoms", "no atoms");
-  if (lammps_extract_setting(lmp, "tagint") != static_cast<int>(sizeof(lmp_tag)))
-    pnc::fail_tool("LAMMPS", "setting up the ESCM MD region",
-                   "this LAMMPS build's atom id size differs from pnc's", "");
-  std::vector<lmp_tag> ids(static_cast<std::size_t>(natoms));
-  std::vector<double> xs(static_cast<std::size_t>(natoms) * 3);
-  std::string nid = "id", nx = "x";
-  lammps_gather_atoms(lmp, nid.data(), 0, 1, ids.data());
-  lammps_gather_atoms(lmp, nx.data(), 1, 3, xs.data());
+  const std::vector<md::AtomId> ids = lmp->gather_ids();
+  const std::vector<double> xs = lmp->gather("x", 3);
   // gather_atoms orders by id: requires ids 1..natoms.
   for (int i = 0; i < natoms; ++i)
     if (ids[static_cast<std::size_t>(i)] != i + 1)
@@ -294,7 +281,7 @@ void Coupler::Impl::gamma_nodes() {
 }
 
 // Groups, fixes, computes.
-void Coupler::Impl::lammps_groups_and_fixes() {
+void Coupler::Impl::md_groups_and_fixes() {
   auto group = [&](const std::string& name, Zone z) {
     std::ostringstream s;
     int n = 0;
@@ -335,7 +322,9 @@ void Coupler::Impl::lammps_groups_and_fixes() {
   heat_off_int = heat_off_ivc = 0.0;
   langevin_fixes();
   cmd("fix escm_ext all external pf/callback 1 1");
-  lammps_set_fix_external_callback(lmp, "escm_ext", &Impl::callback, this);
+  lmp->set_external_force("escm_ext",
+                          [this](md::Step step, int n, const md::AtomId* ids, double** x,
+                                 double** f) { callback(step, n, ids, x, f); });
   cmd("fix escm_svcnve escm_svc nve");
   cmd("fix escm_svcsf escm_svc setforce 0.0 0.0 0.0");
   cmd("thermo_style custom step c_escm_ke c_escm_pe");

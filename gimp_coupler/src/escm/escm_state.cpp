@@ -9,13 +9,13 @@
 namespace pnc::gimp::escm {
 
 // Per-atom arrays by id - 1 straight from the local arrays (md/atoms.hpp: one MPI rank;
-// lammps_scatter_atoms goes through the atom map, which can name a ghost copy).
+// LAMMPS's own scatter goes through the atom map, which can name a ghost copy).
 std::vector<double> Coupler::Impl::gather(const char* name, int count) const {
-  return md::gather_local(lmp, name, count);
+  return md::gather_local(lmp->handle(), name, count);
 }
 
 void Coupler::Impl::scatter(const char* name, const std::vector<double>& v) const {
-  md::scatter_local(lmp, name, v);
+  md::scatter_local(lmp->handle(), name, v);
 }
 
 // Puts atoms into LAMMPS and makes a restart point: x, v, image; new Langevin fixes
@@ -27,7 +27,7 @@ void Coupler::Impl::apply_atoms(const std::vector<double>& x, const std::vector<
   scatter("v", v);
   scatter("image", image);
   langevin_fixes();
-  block_start = static_cast<long>(lammps_get_thermo(lmp, "step"));
+  block_start = static_cast<long>(lmp->thermo("step"));
   cmd("run 0 post no");
   scatter("f", f);
 }
@@ -49,7 +49,7 @@ CouplerState Coupler::Impl::save() const {
   st.heat_offset_ivc = heat_off_ivc;
   st.prescribed_work = solver.prescribed_work;
   st.segment = segment;
-  st.md_step = static_cast<long>(lammps_get_thermo(lmp, "step"));
+  st.md_step = static_cast<long>(lmp->thermo("step"));
   st.timing = timing;
   st.x = gather("x", 3);
   st.v = gather("v", 3);

@@ -143,7 +143,7 @@ void write_point_cloud_vtu(const std::string& path, const std::vector<Eigen::Vec
 
 /// Wall-clock split of the coupled steps so far, s.
 struct Timing {
-  double lammps = 0.0;    ///< inside lammps_command("run ...") minus the callback time
+  double lammps = 0.0;    ///< inside LAMMPS's `run` command minus the callback time
   double callback = 0.0;  ///< inside the fix external callback (coupling work)
   double continuum = 0.0; ///< Solver::step
   double coupling = 0.0;  ///< everything else of Coupler::step

@@ -16,13 +16,49 @@
 // The parent must not have initialised MPI (the child does, through lammps_open_no_mpi).
 #include "pnc/md/box.hpp"
 
+#include <array>
+#include <cstdint>
 #include <exception>
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace pnc::md {
+
+/// LAMMPS's atom id (tagint) and time step (bigint) types of the linked build: the
+/// LAMMPS_BIGBIG / LAMMPS_SMALLSMALL definitions come with the LAMMPS::lammps target.
+#if defined(LAMMPS_BIGBIG)
+using AtomId = std::int64_t;
+#else
+using AtomId = int;
+#endif
+#if defined(LAMMPS_SMALLSMALL)
+using Step = int;
+#else
+using Step = std::int64_t;
+#endif
+
+/// The local per-atom arrays of an in-process instance, LAMMPS's own storage (no copy), index
+/// i < n in LAMMPS's local order: id[i] the atom id, x[i][0..2] position (Angstrom in `real`),
+/// v[i][0..2] velocity (Angstrom/fs), f[i][0..2] force (kcal/(mol Angstrom)). Valid until the
+/// next command (a run can sort or reallocate them); writes through v, x, f change the atoms.
+struct LocalAtoms {
+  int n = 0; ///< atoms on this process (LAMMPS "nlocal")
+  const AtomId* id = nullptr;
+  double** x = nullptr;
+  double** v = nullptr;
+  double** f = nullptr;
+};
+
+/// The callback of a `fix ID external pf/callback` (Lammps::set_external_force), called by
+/// LAMMPS at every step the fix applies with the step, the n local atoms, their ids, positions
+/// x[i][0..2] (Angstrom in `real`) and fext[i][0..2] to fill (kcal/(mol Angstrom) in `real`,
+/// added to the atom's force). It must not throw: an exception escaping it ends the process.
+using ExternalForce =
+    std::function<void(Step step, int n, const AtomId* id, double** x, double** fext)>;
 
 /// A LAMMPS instance inside a stage child: in the child's own process (1 rank), or the
 /// LAMMPS server on K ranks (lammps_server.hpp) behind the same calls. `cmd` runs one
@@ -35,6 +71,12 @@ public:
   /// server's LAMMPS log (for the error message when the server ends).
   Lammps(int fd, std::string log_path) : fd_(fd), log_(std::move(log_path)) {}
   ~Lammps();
+  /// A LAMMPS instance in this process without MPI (lammps_open_no_mpi) with the command-line
+  /// `args` (args[0] the program name, e.g. {"pnc", "-screen", "none", "-log", path}), owned:
+  /// closed by the destructor. A pnc::ToolError naming `doing` when LAMMPS gives no instance.
+  /// Unlike a stage child's instance it shares the process, so a LAMMPS error ends the caller.
+  static std::unique_ptr<Lammps> open_in_process(const std::vector<std::string>& args,
+                                                 const std::string& doing);
   Lammps(const Lammps&) = delete;
   Lammps& operator=(const Lammps&) = delete;
   /// From now on every command (and `file` as `include PATH`) is also appended to the LAMMPS
@@ -66,6 +108,30 @@ public:
   std::vector<double> gather(const std::string& name, int count);
   /// The current simulation box (Angstrom in `real` units).
   LmpBox box();
+
+  // In-process instance only (a remote one throws std::logic_error, a bug); docs/decisions
+  // D346: the one way pnc code outside md/ reaches a LAMMPS instance.
+  /// An integer setting of LAMMPS by name (lammps_extract_setting), e.g. "dimension", "nlocal",
+  /// "tagint" (bytes); a pnc::InputError naming the setting when LAMMPS knows no such name.
+  int extract_setting(const std::string& name);
+  /// A global string of LAMMPS by name (lammps_extract_global), e.g. "units" ("real", "lj",
+  /// ...); a pnc::InputError naming it when LAMMPS has no global string of that name.
+  std::string extract_global_string(const std::string& name);
+  /// Periodicity of the box along x, y, z (LAMMPS `boundary p`).
+  std::array<bool, 3> periodic();
+  /// The atom ids by id order as lammps_gather_atoms gives them: {1, ..., natoms} when the ids
+  /// are consecutive from 1 (LAMMPS refuses to gather otherwise and the entries stay 0). A
+  /// pnc::ToolError when the build's atom id size differs from AtomId.
+  std::vector<AtomId> gather_ids();
+  /// The local per-atom arrays (no copy; see LocalAtoms). A pnc::ToolError when one is missing.
+  LocalAtoms local_atoms();
+  /// The global scalar of fix `id` (e.g. the energy a `fix langevin ... tally yes` removed,
+  /// kcal/mol in `real`); a pnc::InputError naming the fix when it has none.
+  double fix_scalar(const std::string& id);
+  /// Registers `cb` as the callback of the `fix <fix_id> external pf/callback ...` defined
+  /// before; the instance keeps it (a later call for the same fix replaces it). A
+  /// pnc::InputError naming the fix when there is no fix of that id.
+  void set_external_force(const std::string& fix_id, ExternalForce cb);
   /// Remote: asks the server to close LAMMPS and end; no-op in-process.
   void quit();
 
@@ -75,7 +141,10 @@ private:
   std::vector<double> call(char op, const std::string& text, int i = 0, int j = 0,
                            bool* found = nullptr);
   void record(const std::string& line);
+  void* local(const char* what) const; ///< h_, or std::logic_error naming `what` if remote
   void* h_ = nullptr;
+  bool owned_ = false; ///< open_in_process: the destructor closes h_
+  std::map<std::string, std::unique_ptr<ExternalForce>> external_; ///< by fix id
   int fd_ = -1;
   std::string log_;
   int input_fd_ = -1; ///< record_input's file, or -1
