@@ -1,6 +1,6 @@
 #pragma once
 // `pnc characterize`, `pnc run-unit`, `pnc status`: the MD -> fit pipeline as a plan of units
-// run locally or through Slurm (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp;
+// run locally or through Slurm (pnc/campaign/: campaign.hpp, executor.hpp, slurm.hpp;
 // docs/rve.md, docs/cluster.md, decisions D240-D246).
 #include "campaign_driver.hpp"
 

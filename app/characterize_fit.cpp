@@ -1,5 +1,6 @@
 // The fit unit of `pnc characterize`: cases.h5 -> NDM fit -> card, figures, report.html and
-// report.md (characterize_report.hpp) and summary.json (app/characterize.hpp). Units: cases.h5 and cards in Pa (SI).
+// report.md (characterize_report.hpp) and summary.json (app/characterize.hpp). Units: cases.h5 and
+// cards in Pa (SI).
 #include "characterize.hpp"
 #include "characterize_report.hpp"
 #include "figures.hpp"
@@ -37,7 +38,6 @@ struct MdFit {
   damage::Card card;
   rve::ReplicaTrend trend;
 };
-
 
 /// The joint NDM fit of cases.h5 with the replicas' honest errors and the MD verdict gates.
 MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
@@ -146,10 +146,20 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
   write_card(card_path, f.card, command);
   // every figure of the run in one plotting process, after the card is written (a plotting
   // failure is a warning: the run and its report are complete without figures)
-  CharacterizeRun run{r,        md,           f.data,          f.rep,
-                      f.card,   f.replica_fits, f.trend,       f.o.model,
-                      a.out,    command,      read_clay_info(r, md), 0.0,
-                      !a.no_plots, {}};
+  CharacterizeRun run{r,
+                      md,
+                      f.data,
+                      f.rep,
+                      f.card,
+                      f.replica_fits,
+                      f.trend,
+                      f.o.model,
+                      a.out,
+                      command,
+                      read_clay_info(r, md),
+                      0.0,
+                      !a.no_plots,
+                      {}};
   if (!a.no_plots) {
     const std::string plots = (fs::path(a.out) / "plots").string();
     make_output_directory(plots, "--out");
@@ -157,7 +167,7 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
                              (fs::path(plots) / "figures.json").string(), "pnc characterize");
   }
   // the campaign's wall time: from the first unit's start to now (every unit of this run)
-  run.seconds = rve::epoch_seconds() - md.started_s;
+  run.seconds = campaign::epoch_seconds() - md.started_s;
   const std::string report_path = write_characterize_report(run);
   const std::string html_path = (fs::path(a.out) / "report.html").string();
   print_characterize_summary(run, card_path, report_path, html_path);

@@ -7,15 +7,15 @@
 #include "run_control.hpp"
 #include "stopped_report.hpp"
 
+#include "pnc/campaign/campaign.hpp"
+#include "pnc/campaign/executor.hpp"
+#include "pnc/campaign/slurm.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/error_record.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/md/lammps_server.hpp"
-#include "pnc/rve/campaign.hpp"
-#include "pnc/rve/executor.hpp"
-#include "pnc/rve/slurm.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -65,12 +65,12 @@ std::map<std::string, PlanUnitRunner>& plan_commands() {
 
 /// Runs unit `u` of a characterization in this process and records its state; returns the
 /// exit code (0; the fit's 3 or 4; else as guarded_unit).
-int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, const rve::Unit& u,
-              bool print_errors) {
+int unit_main(const std::string& dir, const campaign::Plan& p, const rve::Recipe& r,
+              const campaign::Unit& u, bool print_errors) {
   return guarded_unit(u, print_errors, [&] {
     if (u.kind == "fit") {
       int code = 0;
-      rve::run_unit_recorded(dir, u, [&] {
+      campaign::run_unit_recorded(dir, u, [&] {
         const rve::MdOutcome md = rve::collect_md(r, dir, p);
         FitUnitArgs fa{p.parameters.value("recipe", std::string(dir)), dir,
                        p.parameters.value("no_plots", false)};
@@ -79,16 +79,16 @@ int unit_main(const std::string& dir, const rve::Plan& p, const rve::Recipe& r, 
       });
       return code;
     }
-    rve::run_unit_recorded(dir, u, [&] { return rve::run_md_unit(r, dir, u); });
+    campaign::run_unit_recorded(dir, u, [&] { return rve::run_md_unit(r, dir, u); });
     return 0;
   });
 }
 
 /// After the executor: the fit's result (its summary and exit code), or the failures.
-int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
-             const std::vector<std::string>& not_run) {
+int conclude(const CharacterizeArgs& a, const campaign::Plan& p,
+             const std::vector<std::string>& failed, const std::vector<std::string>& not_run) {
   throw_unless_final_done({"characterize", a.out, "fit", a.json}, p, failed, not_run);
-  const rve::UnitStatus fit = rve::read_status(a.out, "fit");
+  const campaign::UnitStatus fit = campaign::read_status(a.out, "fit");
   if (a.json) {
     std::ifstream f(summary_path(a.out));
     std::stringstream ss;
@@ -100,25 +100,26 @@ int conclude(const CharacterizeArgs& a, const rve::Plan& p, const std::vector<st
 
 /// Polls the unit states until the final unit ended, printing every change; a stop request
 /// ends the wait (the jobs keep running).
-void wait_for_slurm(const PlanDriver& d, const rve::Plan& p, std::vector<std::string>& failed,
+void wait_for_slurm(const PlanDriver& d, const campaign::Plan& p, std::vector<std::string>& failed,
                     int poll_s) {
   std::map<std::string, std::string> shown;
   for (;;) {
     std::map<std::string, std::string> q;
     bool have_queue = true;
     try {
-      q = rve::slurm_queue();
+      q = campaign::slurm_queue();
     } catch (const pnc::InputError& e) {
       have_queue = false;
       std::cerr << "pnc: warning: " << e.what() << "\n";
     }
     failed.clear();
-    rve::UnitStatus last;
+    campaign::UnitStatus last;
     for (const auto& u : p.units) {
-      const rve::UnitStatus s = rve::effective_status(d.dir, u.id, have_queue ? &q : nullptr);
-      std::string line = rve::state_name(s.state);
+      const campaign::UnitStatus s =
+          campaign::effective_status(d.dir, u.id, have_queue ? &q : nullptr);
+      std::string line = campaign::state_name(s.state);
       if (!s.job_id.empty()) line += " (job " + s.job_id + ")";
-      if (s.state == rve::UnitState::failed) {
+      if (s.state == campaign::UnitState::failed) {
         line += ": " + with_log(s.message, s.log_path);
         failed.push_back(u.id + ": " + s.message + " (job " + s.job_id + ")");
       }
@@ -128,8 +129,9 @@ void wait_for_slurm(const PlanDriver& d, const rve::Plan& p, std::vector<std::st
       }
       if (u.id == d.final_unit) last = s;
     }
-    if (last.state == rve::UnitState::done || last.state == rve::UnitState::failed) return;
-    if (last.state == rve::UnitState::pending)
+    if (last.state == campaign::UnitState::done || last.state == campaign::UnitState::failed)
+      return;
+    if (last.state == campaign::UnitState::pending)
       fail(d.dir, d.final_unit, "",
            "the " + d.final_unit + " unit has no job: rerun with --resume to submit it");
     for (int k = 0; k < poll_s * 10; ++k) {
@@ -140,14 +142,14 @@ void wait_for_slurm(const PlanDriver& d, const rve::Plan& p, std::vector<std::st
   }
 }
 
-int run_slurm(const CharacterizeArgs& a, const rve::Recipe& r, const rve::Plan& p) {
+int run_slurm(const CharacterizeArgs& a, const rve::Recipe& r, const campaign::Plan& p) {
   return run_plan_slurm(
       {"characterize", a.out, "fit", a.json}, p, r.slurm, a.slurm, job_prefix_of(r.name),
       [&](const std::vector<std::string>& failed) { return conclude(a, p, failed, {}); });
 }
 
 int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
-  const rve::Plan p = rve::read_plan(dir);
+  const campaign::Plan p = campaign::read_plan(dir);
   std::string id = ids.size() == 1 ? ids[0] : "";
   if (ids.size() > 1) { // a job array: task i runs the i-th unit
     const char* t = std::getenv("SLURM_ARRAY_TASK_ID");
@@ -157,19 +159,19 @@ int run_unit_cli(const std::string& dir, const std::vector<std::string>& ids) {
            "several units need $SLURM_ARRAY_TASK_ID = 0..n-1 to pick one (a Slurm job array)");
     id = ids[static_cast<std::size_t>(k)];
   }
-  rve::check_unit_id(id, "<command line>");
-  const rve::Unit& u = p.unit(id);
-  if (rve::read_status(dir, id).state == rve::UnitState::done) { // e.g. a resubmitted job
+  campaign::check_unit_id(id, "<command line>");
+  const campaign::Unit& u = p.unit(id);
+  if (campaign::read_status(dir, id).state == campaign::UnitState::done) { // e.g. a resubmitted job
     std::cerr << fmt::format("pnc run-unit {} {}: already done, nothing to do\n", dir, id);
     return 0;
   }
   const auto other = plan_commands().find(p.command);
   if (p.command != "characterize" && other == plan_commands().end())
-    fail(rve::plan_path(dir), "command", p.command,
+    fail(campaign::plan_path(dir), "command", p.command,
          "is not a command whose units this pnc runs (characterize, thermo ti)");
   const StopSignals signals; // scancel's SIGTERM: stop at the next checkpoint, pending again
   start_run_log(dir, command_line()); // the unit's lines join the run folder's pnc.log
-  std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, rve::host_name(),
+  std::cerr << fmt::format("pnc run-unit {} {} on {} (pid {})\n", dir, id, campaign::host_name(),
                            ::getpid());
   if (p.command != "characterize") return other->second(dir, p, u, true);
   const rve::Recipe r = rve::read_run_recipe(dir);
@@ -194,14 +196,14 @@ nlohmann::json status_detail_json(const nlohmann::json& detail) {
 }
 
 int run_status(const std::string& dir, bool json) {
-  const rve::Plan p = rve::read_plan(dir);
+  const campaign::Plan p = campaign::read_plan(dir);
   bool slurm = false;
   for (const auto& u : p.units)
-    slurm = slurm || !rve::read_status(dir, u.id).job_id.empty();
+    slurm = slurm || !campaign::read_status(dir, u.id).job_id.empty();
   std::map<std::string, std::string> q;
   bool have_queue = false;
   if (slurm) try {
-      q = rve::slurm_queue();
+      q = campaign::slurm_queue();
       have_queue = true;
     } catch (const pnc::InputError& e) {
       std::cerr << "pnc: warning: " << e.what() << "; states as recorded\n";
@@ -210,27 +212,27 @@ int run_status(const std::string& dir, bool json) {
   std::map<std::string, int> count;
   std::string table = fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", "unit", "state", "job",
                                   "seconds", "queue / message / log");
-  const std::string me = rve::host_name();
+  const std::string me = campaign::host_name();
   UnitStates states;
   for (const auto& u : p.units) {
-    rve::UnitStatus s = rve::effective_status(dir, u.id, have_queue ? &q : nullptr);
+    campaign::UnitStatus s = campaign::effective_status(dir, u.id, have_queue ? &q : nullptr);
     states[u.id] = s;
     // a local unit that is "running" in a process that is gone ended without a report
-    if (s.state == rve::UnitState::running && s.job_id.empty() && s.host == me && s.pid > 0 &&
+    if (s.state == campaign::UnitState::running && s.job_id.empty() && s.host == me && s.pid > 0 &&
         ::kill(static_cast<pid_t>(s.pid), 0) != 0 && errno == ESRCH) {
-      s.state = rve::UnitState::failed;
+      s.state = campaign::UnitState::failed;
       s.message = fmt::format("process {} ended without a report", s.pid);
     }
-    ++count[rve::state_name(s.state)];
+    ++count[campaign::state_name(s.state)];
     const double secs = s.detail.value("seconds", 0.0);
     std::string note = s.message;
     if (have_queue && q.count(s.job_id)) note = q[s.job_id] + (note.empty() ? "" : "; " + note);
-    if (!s.log_path.empty() && s.state != rve::UnitState::done)
+    if (!s.log_path.empty() && s.state != campaign::UnitState::done)
       note = note.empty() ? "log " + s.log_path : with_log(note, s.log_path);
-    table += fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", u.id, rve::state_name(s.state),
+    table += fmt::format("{:<28} {:<8} {:<10} {:>9}  {}\n", u.id, campaign::state_name(s.state),
                          s.job_id.empty() ? "-" : s.job_id,
                          secs > 0 ? fmt::format("{:.1f}", secs) : "-", note);
-    nlohmann::json j = rve::status_json(s);
+    nlohmann::json j = campaign::status_json(s);
     j["detail"] = status_detail_json(s.detail);
     j["unit"] = u.id;
     j["kind"] = u.kind;
@@ -256,7 +258,7 @@ void register_plan_command(const std::string& command, PlanUnitRunner runner) {
   plan_commands()[command] = std::move(runner);
 }
 
-int guarded_unit(const rve::Unit& u, bool print_errors, const std::function<int()>& body) {
+int guarded_unit(const campaign::Unit& u, bool print_errors, const std::function<int()>& body) {
   try {
     return body();
   } catch (const pnc::Interrupted& e) {
@@ -319,16 +321,16 @@ std::string job_prefix_of(const std::string& name) {
   return s.substr(0, 40);
 }
 
-void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
+void throw_unless_final_done(const PlanDriver& d, const campaign::Plan& p,
                              const std::vector<std::string>& failed,
                              const std::vector<std::string>& not_run) {
-  if (rve::read_status(d.dir, d.final_unit).state == rve::UnitState::done) return;
+  if (campaign::read_status(d.dir, d.final_unit).state == campaign::UnitState::done) return;
   // a unit stopped by LAMMPS (or by a simulation failure): the driver ends with that error
   // and its exit code (7 or 6, docs/errors.md), the other failures counted on the line before
   for (const auto& u : p.units) {
-    const rve::UnitStatus s = rve::read_status(d.dir, u.id);
+    const campaign::UnitStatus s = campaign::read_status(d.dir, u.id);
     const auto e = s.detail.find("error");
-    if (s.state != rve::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
+    if (s.state != campaign::UnitState::failed || e == s.detail.end() || !e->is_object()) continue;
     const int code = e->value("exit_code", 0);
     if (code != pnc::exit_code::tool_failed && code != pnc::exit_code::simulation_failed) continue;
     std::cerr << fmt::format("pnc {}: {} unit(s) failed{}; finished units are kept: "
@@ -353,7 +355,7 @@ void throw_unless_final_done(const PlanDriver& d, const rve::Plan& p,
                    d.dir));
 }
 
-int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::string& title,
+int run_local_reported(const PlanDriver& d, const campaign::Plan& p, const std::string& title,
                        const std::function<int()>& body) {
   try {
     return body();
@@ -366,7 +368,7 @@ int run_local_reported(const PlanDriver& d, const rve::Plan& p, const std::strin
   }
 }
 
-int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
+int run_plan_slurm(const PlanDriver& d, const campaign::Plan& p, campaign::SlurmSpec spec,
                    const SlurmOptions& o, const std::string& default_prefix,
                    const std::function<int(const std::vector<std::string>&)>& conclude) {
   if (!o.partition.empty()) spec.partition = o.partition;
@@ -377,7 +379,7 @@ int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
   spec.validate("<command line>");
   const std::string exe = fs::canonical("/proc/self/exe").string();
   const std::string prefix = o.job_name.empty() ? default_prefix : o.job_name;
-  const rve::SlurmSubmission sub = rve::submit_slurm(d.dir, p, spec, exe, prefix);
+  const campaign::SlurmSubmission sub = campaign::submit_slurm(d.dir, p, spec, exe, prefix);
   std::map<std::string, std::vector<std::string>> by_job;
   for (const auto& [unit, job] : sub.job_of_unit)
     by_job[job.substr(0, job.find('_'))].push_back(unit);
@@ -411,7 +413,7 @@ int run_plan_slurm(const PlanDriver& d, const rve::Plan& p, rve::SlurmSpec spec,
   try {
     return conclude(failed);
   } catch (const pnc::Error& e) { // the final unit did not run: its page was not written
-    if (rve::read_status(d.dir, d.final_unit).state != rve::UnitState::done) {
+    if (campaign::read_status(d.dir, d.final_unit).state != campaign::UnitState::done) {
       bool have_queue = false;
       RunStop stop;
       stop.reason = e.what();
@@ -450,25 +452,27 @@ int run_characterize(const CharacterizeArgs& a) {
   rve::prepare_run_folder(r, a.out, a.resume);
   // the fit runs again on every --resume: it takes seconds, reads only what the MD units left
   // on disk, and follows this command's options (--no-plots) rather than the first run's
-  if (a.resume) rve::clear_status(a.out, "fit");
+  if (a.resume) campaign::clear_status(a.out, "fit");
   const nlohmann::json params = {
       {"recipe", a.recipe},
       {"no_plots", a.no_plots},
       {"executor", a.executor},
       {"jobs", jobs},
       {"command_line", command_line()}}; // pnc status offers it with --resume (D300)
-  const rve::Plan p = rve::characterize_plan(r, ranks, eq_ranks, params);
-  rve::write_plan(a.out, p);
+  const campaign::Plan p = rve::characterize_plan(r, ranks, eq_ranks, params);
+  campaign::write_plan(a.out, p);
   if (a.executor == "slurm") return run_slurm(a, r, p);
   std::cerr << fmt::format("pnc characterize: {} unit(s), {} at a time; cases on {} MPI rank(s), "
                            "equilibrations on {}; states in {}/state, pnc status {} shows them\n",
                            p.units.size(), jobs, ranks, eq_ranks, a.out, a.out);
-  return run_local_reported(
-      {"characterize", a.out, "fit", a.json}, p, "pnc characterize: " + r.name, [&] {
-        const rve::LocalRun lr = rve::run_local(
-            a.out, p, jobs, [&](const rve::Unit& u) { return unit_main(a.out, p, r, u, false); });
-        return conclude(a, p, lr.failed, lr.not_run);
-      });
+  return run_local_reported({"characterize", a.out, "fit", a.json}, p,
+                            "pnc characterize: " + r.name, [&] {
+                              const campaign::LocalRun lr =
+                                  campaign::run_local(a.out, p, jobs, [&](const campaign::Unit& u) {
+                                    return unit_main(a.out, p, r, u, false);
+                                  });
+                              return conclude(a, p, lr.failed, lr.not_run);
+                            });
 }
 
 void register_campaign(CLI::App& app, Action& action) {

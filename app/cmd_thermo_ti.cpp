@@ -9,6 +9,8 @@
 #include "thermo_cli.hpp"
 #include "thermo_report.hpp"
 
+#include "pnc/campaign/campaign.hpp"
+#include "pnc/campaign/executor.hpp"
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/parameters.hpp"
@@ -17,9 +19,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/md/builder.hpp"
-#include "pnc/rve/campaign.hpp"
 #include "pnc/rve/equilibrate.hpp"
-#include "pnc/rve/executor.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/ti.hpp"
 #include "pnc/thermo/ti_parameters.hpp"
@@ -186,15 +186,16 @@ std::string relative_to(const std::string& path, const std::string& dir) {
 }
 
 /// The plan: every point (one group, one Slurm array), then the join unit `analysis`.
-rve::Plan ti_plan(const thermo::TiSpec& spec, const std::string& dir,
-                  const nlohmann::json& parameters) {
-  rve::Plan p;
+campaign::Plan ti_plan(const thermo::TiSpec& spec, const std::string& dir,
+                       const nlohmann::json& parameters) {
+  campaign::Plan p;
   p.command = kCommand;
   p.parameters = parameters;
-  rve::Unit an{"analysis", "analysis", "analysis", {}, true, 1, {}, {}};
+  campaign::Unit an{"analysis", "analysis", "analysis", {}, true, 1, {}, {}};
   for (const auto& pt : thermo::ti_points(spec, dir)) {
     // D324: each point's LAMMPS on spec.ranks MPI ranks (Slurm: --ntasks of its job)
-    rve::Unit u{point_unit_id(pt), "lambda_point", "lambda_points", {}, false, spec.ranks, {}, {}};
+    campaign::Unit u{
+        point_unit_id(pt), "lambda_point", "lambda_points", {}, false, spec.ranks, {}, {}};
     u.inputs = {"ti_spec.json"};
     u.outputs = {relative_to(pt.job.h5, dir)};
     an.needs.push_back(u.id);
@@ -213,16 +214,16 @@ rve::Plan ti_plan(const thermo::TiSpec& spec, const std::string& dir,
 void sync_point_states(const std::string& dir, const thermo::TiSpec& spec) {
   for (const auto& pt : thermo::ti_points(spec, dir)) {
     const std::string id = point_unit_id(pt);
-    rve::UnitStatus s = rve::read_status(dir, id);
+    campaign::UnitStatus s = campaign::read_status(dir, id);
     const bool have = fs::exists(pt.job.h5);
-    if (have && s.state != rve::UnitState::done &&
-        !(s.state == rve::UnitState::running && !s.job_id.empty())) {
-      s.state = rve::UnitState::done;
+    if (have && s.state != campaign::UnitState::done &&
+        !(s.state == campaign::UnitState::running && !s.job_id.empty())) {
+      s.state = campaign::UnitState::done;
       s.message = "its lambda file exists (reused)";
       s.detail = {{"h5", pt.job.h5}, {"reused", true}};
-      rve::write_status(dir, id, s);
-    } else if (!have && s.state == rve::UnitState::done) {
-      rve::clear_status(dir, id);
+      campaign::write_status(dir, id, s);
+    } else if (!have && s.state == campaign::UnitState::done) {
+      campaign::clear_status(dir, id);
     }
   }
 }
@@ -300,7 +301,7 @@ nlohmann::json report_ti(const TiReportArgs& a, const thermo::TiResult& r) {
 }
 
 /// Runs one unit of a `thermo ti` plan in this process (PlanUnitRunner).
-int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
+int ti_unit_main(const std::string& dir, const campaign::Plan& p, const campaign::Unit& u,
                  bool print_errors) {
   return guarded_unit(u, print_errors, [&] {
     const std::string sj = read_text(spec_path(dir));
@@ -315,7 +316,7 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
         if (point_unit_id(pt) == u.id) {
           fs::path log(pt.job.h5);
           log.replace_extension(".log");
-          rve::run_unit_recorded(
+          campaign::run_unit_recorded(
               dir, u,
               [&] {
                 thermo::run_ti_point(spec, pt, restart, ff, pnc::print_progress);
@@ -327,10 +328,11 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
               log.string());
           return 0;
         }
-      fail(rve::plan_path(dir), "unit", u.id, "names no point of the spec in ti_spec.json");
+      fail(campaign::plan_path(dir), "unit", u.id, "names no point of the spec in ti_spec.json");
     }
-    if (u.kind != "analysis") fail(rve::plan_path(dir), u.id + ".kind", u.kind, "unknown kind");
-    rve::run_unit_recorded(dir, u, [&] {
+    if (u.kind != "analysis")
+      fail(campaign::plan_path(dir), u.id + ".kind", u.kind, "unknown kind");
+    campaign::run_unit_recorded(dir, u, [&] {
       std::vector<std::string> missing;
       for (const auto& pt : thermo::ti_points(spec, dir))
         if (!fs::exists(pt.job.h5))
@@ -340,9 +342,9 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
              fmt::format("the lambda point(s) {} did not finish: rerun with --resume (pnc status "
                          "{} says why)",
                          fmt::join(missing, ", "), dir));
-      const double t0 = p.parameters.value("started_s", rve::epoch_seconds());
+      const double t0 = p.parameters.value("started_s", campaign::epoch_seconds());
       const thermo::TiResult r =
-          thermo::finish_ti(spec, dir, sj, std::max(0.0, rve::epoch_seconds() - t0));
+          thermo::finish_ti(spec, dir, sj, std::max(0.0, campaign::epoch_seconds() - t0));
       const TiReportArgs ra{spec, dir, p.parameters.value("command_line", std::string()),
                             p.parameters.value("no_plots", false)};
       write_text_atomically(summary_file(dir), report_ti(ra, r).dump() + "\n");
@@ -353,7 +355,7 @@ int ti_unit_main(const std::string& dir, const rve::Plan& p, const rve::Unit& u,
 }
 
 /// After the executor: the analysis's summary (--json), or the failures.
-int conclude_ti(const TiArgs& a, const rve::Plan& p, const std::vector<std::string>& failed,
+int conclude_ti(const TiArgs& a, const campaign::Plan& p, const std::vector<std::string>& failed,
                 const std::vector<std::string>& not_run) {
   throw_unless_final_done({kCommand, a.out, "analysis", a.json}, p, failed, not_run);
   if (a.json) std::cout << read_text(summary_file(a.out)) << std::flush;
@@ -409,12 +411,12 @@ int run_thermo_ti(TiArgs a) {
            "holds a TI with other settings; use a new --out directory (or the same settings)");
     refuse_existing_run(a.out, a.resume, {"ti_spec.json"});
   }
-  if (fs::exists(rve::plan_path(a.out)) && rve::read_plan(a.out).command != kCommand)
-    fail(rve::plan_path(a.out), "--out", a.out,
+  if (fs::exists(campaign::plan_path(a.out)) && campaign::read_plan(a.out).command != kCommand)
+    fail(campaign::plan_path(a.out), "--out", a.out,
          "holds the plan of another command; use a new --out directory");
   const auto [restart, ff] = start_state(a);
   thermo::check_ti_start(a.spec, restart);
-  const double started = rve::epoch_seconds(); // the wall time of the TI, as before the plan
+  const double started = campaign::epoch_seconds(); // the wall time of the TI, as before the plan
   write_text_atomically(sp, sj);
   const auto states = thermo::ti_states(a.spec);
   std::cerr << fmt::format("pnc thermo ti: {} state(s) x {} lambda point(s) ({} rule), {} + {} "
@@ -432,10 +434,10 @@ int run_thermo_ti(TiArgs a) {
                                  // D302: --resume reads the same file again
                                  {"input", a.input.empty() ? "" : fs::absolute(a.input).string()},
                                  {"started_s", started}};
-  const rve::Plan p = ti_plan(a.spec, a.out, params);
+  const campaign::Plan p = ti_plan(a.spec, a.out, params);
   sync_point_states(a.out, a.spec);
-  rve::clear_status(a.out, "analysis"); // the analysis runs again on every --resume (seconds)
-  rve::write_plan(a.out, p);
+  campaign::clear_status(a.out, "analysis"); // the analysis runs again on every --resume (seconds)
+  campaign::write_plan(a.out, p);
   if (a.executor == "slurm") { // the file's slurm section, the options merged in (D301)
     SlurmOptions o;
     o.wait = a.slurm.wait;
@@ -449,9 +451,10 @@ int run_thermo_ti(TiArgs a) {
                            p.units.size(), a.spec.jobs, a.spec.ranks, a.out, a.out);
   return run_local_reported(
       {kCommand, a.out, "analysis", a.json}, p, "pnc thermo ti: " + a.out, [&] {
-        const rve::LocalRun lr = rve::run_local(a.out, p, a.spec.jobs, [&](const rve::Unit& u) {
-          return ti_unit_main(a.out, p, u, false);
-        });
+        const campaign::LocalRun lr =
+            campaign::run_local(a.out, p, a.spec.jobs, [&](const campaign::Unit& u) {
+              return ti_unit_main(a.out, p, u, false);
+            });
         return conclude_ti(a, p, lr.failed, lr.not_run);
       });
 }

@@ -28,42 +28,42 @@ std::string some_ids(const std::vector<std::string>& ids, std::size_t n = 6) {
 
 /// "id", or for a Slurm unit "id (job J: message)" ("id: message" when the message names the
 /// job): where to look and why it stopped.
-std::string unit_note(const std::string& id, const rve::UnitStatus& s) {
+std::string unit_note(const std::string& id, const campaign::UnitStatus& s) {
   if (s.job_id.empty()) return id;
   if (s.message.find("job " + s.job_id + " ") != std::string::npos) return id + ": " + s.message;
   return fmt::format("{} (job {}{})", id, s.job_id, s.message.empty() ? "" : ": " + s.message);
 }
 
-const rve::UnitStatus& status_of(const UnitStates& states, const std::string& id) {
-  static const rve::UnitStatus pending;
+const campaign::UnitStatus& status_of(const UnitStates& states, const std::string& id) {
+  static const campaign::UnitStatus pending;
   const auto it = states.find(id);
   return it == states.end() ? pending : it->second;
 }
 } // namespace
 
-UnitStates recorded_states(const std::string& dir, const rve::Plan& p) {
+UnitStates recorded_states(const std::string& dir, const campaign::Plan& p) {
   UnitStates s;
   for (const auto& u : p.units)
-    s[u.id] = rve::read_status(dir, u.id);
+    s[u.id] = campaign::read_status(dir, u.id);
   return s;
 }
 
-UnitStates slurm_states(const std::string& dir, const rve::Plan& p, bool& have_queue) {
+UnitStates slurm_states(const std::string& dir, const campaign::Plan& p, bool& have_queue) {
   std::map<std::string, std::string> q;
   have_queue = false;
   try {
-    q = rve::slurm_queue();
+    q = campaign::slurm_queue();
     have_queue = true;
   } catch (const pnc::InputError& e) {
     std::cerr << "pnc: warning: " << e.what() << "; states as recorded\n";
   }
   UnitStates s;
   for (const auto& u : p.units)
-    s[u.id] = rve::effective_status(dir, u.id, have_queue ? &q : nullptr);
+    s[u.id] = campaign::effective_status(dir, u.id, have_queue ? &q : nullptr);
   return s;
 }
 
-std::string plan_report_title(const std::string& dir, const rve::Plan& p) {
+std::string plan_report_title(const std::string& dir, const campaign::Plan& p) {
   if (p.command == "characterize") try {
       return "pnc characterize: " + rve::read_run_recipe(dir).name;
     } catch (const std::exception&) { // the page names the folder instead
@@ -71,19 +71,19 @@ std::string plan_report_title(const std::string& dir, const rve::Plan& p) {
   return "pnc " + p.command + ": " + dir;
 }
 
-std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+std::string write_plan_stopped_report(const PlanDriver& d, const campaign::Plan& p,
                                       const UnitStates& states, const std::string& title,
                                       RunStop stop) {
   std::vector<std::string> done, failed, open;
   for (const auto& u : p.units) {
-    const rve::UnitStatus& s = status_of(states, u.id);
-    if (s.state == rve::UnitState::done) {
+    const campaign::UnitStatus& s = status_of(states, u.id);
+    if (s.state == campaign::UnitState::done) {
       done.push_back(u.id);
       if (!u.outputs.empty() && stop.valid.size() < 8)
         stop.valid.push_back(
             fmt::format("unit `{}` (done): `{}`", u.id, fmt::join(u.outputs, "`, `")));
     } else {
-      (s.state == rve::UnitState::failed ? failed : open).push_back(unit_note(u.id, s));
+      (s.state == campaign::UnitState::failed ? failed : open).push_back(unit_note(u.id, s));
     }
   }
   if (done.size() > stop.valid.size())
@@ -102,7 +102,7 @@ std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
   return html;
 }
 
-std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
+std::string write_plan_stopped_report(const PlanDriver& d, const campaign::Plan& p,
                                       const std::string& title, const std::string& reason,
                                       bool failure) {
   RunStop stop;
@@ -112,16 +112,17 @@ std::string write_plan_stopped_report(const PlanDriver& d, const rve::Plan& p,
   return write_plan_stopped_report(d, p, recorded_states(d.dir, p), title, stop);
 }
 
-std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
+std::string ended_slurm_plan_report(const std::string& dir, const campaign::Plan& p,
                                     const UnitStates& states, const std::string& final_unit) {
-  if (status_of(states, final_unit).state == rve::UnitState::done) return "";
+  if (status_of(states, final_unit).state == campaign::UnitState::done) return "";
   std::vector<std::string> failed;
   std::string
       first; // the first failure that is not the final unit's (it only names what it missed)
   for (const auto& u : p.units) {
-    const rve::UnitStatus& s = status_of(states, u.id);
-    if (s.state == rve::UnitState::queued || s.state == rve::UnitState::running) return "";
-    if (s.state != rve::UnitState::failed) continue;
+    const campaign::UnitStatus& s = status_of(states, u.id);
+    if (s.state == campaign::UnitState::queued || s.state == campaign::UnitState::running)
+      return "";
+    if (s.state != campaign::UnitState::failed) continue;
     failed.push_back(unit_note(u.id, s));
     if (first.empty() && u.id != final_unit) first = failed.back();
   }
@@ -142,14 +143,14 @@ std::string ended_slurm_plan_report(const std::string& dir, const rve::Plan& p,
                                    plan_report_title(dir, p), stop);
 }
 
-int slurm_wait_interrupted(const PlanDriver& d, const rve::Plan& p, int sig) {
+int slurm_wait_interrupted(const PlanDriver& d, const campaign::Plan& p, int sig) {
   bool have_queue = false;
   const UnitStates states = slurm_states(d.dir, p, have_queue);
   std::vector<std::string> jobs; // the live jobs, an array once by its id (scancel takes it whole)
   for (const auto& u : p.units) {
-    const rve::UnitStatus& s = status_of(states, u.id);
+    const campaign::UnitStatus& s = status_of(states, u.id);
     if (s.job_id.empty() ||
-        (s.state != rve::UnitState::queued && s.state != rve::UnitState::running))
+        (s.state != campaign::UnitState::queued && s.state != campaign::UnitState::running))
       continue;
     const std::string job = s.job_id.substr(0, s.job_id.find('_'));
     if (std::find(jobs.begin(), jobs.end(), job) == jobs.end()) jobs.push_back(job);

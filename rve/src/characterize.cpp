@@ -6,9 +6,9 @@
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/stop.hpp"
 #include "pnc/damage/data.hpp"
-#include "pnc/rve/clay.hpp"
 #include "pnc/md/runner.hpp"
 #include "pnc/md/stage_stop.hpp"
+#include "pnc/rve/clay.hpp"
 
 #include <fmt/format.h>
 
@@ -23,6 +23,15 @@
 namespace pnc::rve {
 
 namespace fs = std::filesystem;
+// the generic plan layer (pnc/campaign/campaign.hpp); the plan of characterize is made here
+using campaign::check_plan;
+using campaign::epoch_seconds;
+using campaign::Plan;
+using campaign::plan_path;
+using campaign::read_status;
+using campaign::Unit;
+using campaign::UnitState;
+using campaign::UnitStatus;
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -76,10 +85,11 @@ void prepare_replica(const Recipe& r, const std::string& rdir, bool resume,
                              r.build.chains, r.build.beads_per_chain, r.build.density, r.seed);
     CompositeInfo ci;
     PlateletInfo pi;
-    const md::System s = r.model == "pnc"           ? build_composite(r.build, r.ff, r.clay, &ci)
-                     : r.model == "kg"          ? build_bead_spring(r.build, r.kg)
-                     : r.model == "kg_platelet" ? build_kg_platelet(r.build, r.kg, r.platelet, &pi)
-                                                : md::build_polymer(r.build, r.ff);
+    const md::System s = r.model == "pnc"  ? build_composite(r.build, r.ff, r.clay, &ci)
+                         : r.model == "kg" ? build_bead_spring(r.build, r.kg)
+                         : r.model == "kg_platelet"
+                             ? build_kg_platelet(r.build, r.kg, r.platelet, &pi)
+                             : md::build_polymer(r.build, r.ff);
     md::write_data_file(ro.data_file, s, "pnc characterize " + r.name);
     if (r.model == "kg_platelet") { // decision D170: what was built, next to build.h5
       const double dmin = min_polymer_platelet_distance(s);

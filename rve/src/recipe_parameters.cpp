@@ -3,8 +3,8 @@
 // reads through them; `pnc recipe parameters` prints them, and the key tables of docs/rve.md
 // are generated from that printout (decisions D230-D232). Units: LAMMPS real (A, fs, kcal/mol,
 // g/mol, atm, K).
+#include "pnc/campaign/slurm_parameters.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/slurm_parameters.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/parameters.hpp"
@@ -259,11 +259,12 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
 }
 
 void declare_slurm(Parameters& p, Recipe& r) {
-  declare_slurm_section(p, r.slurm,
-                        "the Slurm executor (docs/cluster.md, D245): where and how long the unit "
-                        "jobs run; the command-line options override it; in the expanded recipe "
-                        "only when given",
-                        true);
+  campaign::declare_slurm_section(
+      p, r.slurm,
+      "the Slurm executor (docs/cluster.md, D245): where and how long the unit "
+      "jobs run; the command-line options override it; in the expanded recipe "
+      "only when given",
+      true);
 }
 
 } // namespace

@@ -39,7 +39,7 @@ MISSING_FILE_PATTERNS = [
     (re.compile(r"\bARCHITECTURE\.md\b"), "a design file the repository does not contain"),
 ]
 # A path into the repository's own folders, e.g. rve/src/deform.cpp or tests/install/check.sh.
-TOPS = ("core", "damage", "fe_material", "rve", "thermo", "gimp_coupler", "app", "examples",
+TOPS = ("core", "damage", "fe_material", "campaign", "rve", "thermo", "gimp_coupler", "app", "examples",
         "tests", "bench", "fuzz", "docs", "scripts", "cmake")
 REPO_PATH = re.compile(r"(?<![\w./$-])((?:" + "|".join(TOPS) + r")/[\w./-]*\w\.(?:hpp|h|cpp|cc|c|py|sh|"
                        r"md|json|toml|prm|cmake|txt|f90|in|map))\b")

@@ -14,8 +14,8 @@
 //     and its job id, the other units finish, the fit names the missing unit;
 //  5. `pnc thermo ti` through Slurm gives the numbers of a local run.
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
+#include "pnc/campaign/campaign.hpp"
 #include "pnc/core/hdf5_io.hpp"
-#include "pnc/rve/campaign.hpp"
 
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"

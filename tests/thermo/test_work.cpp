@@ -257,6 +257,60 @@ TEST(ThermoWork, MismatchedRunsAreClearErrors) {
                      {"--from", "recipe.json"});
 }
 
+namespace {
+/// The declared default of the recipe key `name` (pnc recipe parameters --format json).
+double declared_default(const std::string& name) {
+  const auto r =
+      pnc::test::run_command(std::string(PNC_EXE) + " recipe parameters --format json 2>/dev/null");
+  EXPECT_EQ(r.code, 0) << r.out;
+  std::function<const nlohmann::json*(const nlohmann::json&)> find =
+      [&](const nlohmann::json& j) -> const nlohmann::json* {
+    if (j.is_object() && j.value("name", "") == name && j.contains("default")) return &j;
+    if (j.is_structured())
+      for (const auto& x : j)
+        if (const auto* hit = find(x)) return hit;
+    return nullptr;
+  };
+  const nlohmann::json all = nlohmann::json::parse(r.out);
+  const nlohmann::json* entry = find(all);
+  EXPECT_NE(entry, nullptr) << name << " is not declared";
+  return entry ? entry->at("default").get<double>() : -1;
+}
+} // namespace
+
+// D349: thermo work reads deform.temperature (K) of recipe.json itself, not through rve/. The
+// expanded recipe pnc characterize writes (here: pnc recipe show --expanded of two presets)
+// carries the temperature the preset gives (demo_glass: 80 K), else the declared default (demo),
+// bit for bit; a recipe.json without it, with a string or a negative value, or not JSON at all,
+// is refused naming the file, key and rule.
+TEST(ThermoWork, RecipeTemperatureIsReadAndBadOnesAreRefused) {
+  const auto lin = [](double x) { return 1e9 * x; };
+  for (const std::string preset : {"demo", "demo_glass"}) {
+    const auto given = pnc::test::run_command(std::string(PNC_EXE) + " recipe show " + preset);
+    ASSERT_EQ(given.code, 0) << given.out;
+    const nlohmann::json deform = nlohmann::json::parse(given.out).at("deform");
+    const double t = deform.contains("temperature") ? deform.at("temperature").get<double>()
+                                                    : declared_default("deform.temperature");
+    const auto d = make_run(scratch("rt_" + preset), 1, {1}, uniaxial(4, 1e-4), lin, 1e5);
+    const auto expanded = pnc::test::run_command(std::string(PNC_EXE) + " recipe show " + preset +
+                                                 " --expanded > " + d + "/recipe.json");
+    ASSERT_EQ(expanded.code, 0) << expanded.out;
+    EXPECT_EQ(thermo::read_work_run(d).temperature, t) << preset;
+  }
+  const auto d = make_run(scratch("rt_bad"), 300, {1}, uniaxial(4, 1e-4), lin, 1e5);
+  const auto with = [&](const std::string& text) {
+    std::ofstream(fs::path(d) / "recipe.json") << text;
+    return d;
+  };
+  expect_input_error([&] { thermo::read_work_run(with(R"({"deform": {"steps": 4}})")); },
+                     {"recipe.json", "deform.temperature", "is missing"});
+  expect_input_error([&] { thermo::read_work_run(with(R"({"deform": {"temperature": "hot"}})")); },
+                     {"recipe.json", "deform.temperature", "hot", "must be a number"});
+  expect_input_error([&] { thermo::read_work_run(with(R"({"deform": {"temperature": -1}})")); },
+                     {"recipe.json", "deform.temperature", "-1", ">= 0 K"});
+  expect_input_error([&] { thermo::read_work_run(with("{\"deform\": ")); }, {"recipe.json"});
+}
+
 TEST(ThermoWork, SofteningIsFlagged) {
   // rises to a peak at eps = 0.01 and falls by 40 %: yield/damage, work is not free energy
   const auto r = thermo::stress_work(thermo::read_work_run(make_run(

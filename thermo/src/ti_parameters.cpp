@@ -71,11 +71,12 @@ void declare_ti(Parameters& p, TiInput& in) {
 Parameters ti_input_parameters(TiInput& in) {
   Parameters p("pnc thermo ti input");
   declare_ti(p, in);
-  rve::declare_slurm_section(p, in.slurm,
-                             "the Slurm executor (docs/cluster.md, D245, D301): where and how "
-                             "long the (state, lambda) unit jobs run, `ranks` tasks each (D324), "
-                             "srun's MPI plugin (D332); the command-line options override it",
-                             false);
+  campaign::declare_slurm_section(
+      p, in.slurm,
+      "the Slurm executor (docs/cluster.md, D245, D301): where and how "
+      "long the (state, lambda) unit jobs run, `ranks` tasks each (D324), "
+      "srun's MPI plugin (D332); the command-line options override it",
+      false);
   return p;
 }
 

@@ -4,11 +4,12 @@
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/core/params.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
-#include "pnc/rve/recipe.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +29,21 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 bool contains(const std::string& s, const char* what) {
   return s.find(what) != std::string::npos;
 }
+
+/// deform.temperature (K) of a run's recipe.json. D349: thermo reads the one key it needs of
+/// the expanded recipe that `pnc characterize` writes (every key present), not rve's Recipe.
+double recipe_temperature(const std::string& rp) {
+  const nlohmann::json j = parse_json(read_text_file(rp, "the run's recipe"), rp);
+  const nlohmann::json* t = nullptr;
+  if (j.is_object() && j.contains("deform") && j.at("deform").is_object() &&
+      j.at("deform").contains("temperature"))
+    t = &j.at("deform").at("temperature");
+  if (!t)
+    fail(rp, "deform.temperature", "",
+         "is missing: the expanded recipe that pnc characterize writes always gives it (K)");
+  if (!t->is_number()) fail(rp, "deform.temperature", t->dump(), "must be a number (K)");
+  return t->get<double>();
+}
 } // namespace
 
 WorkRun read_work_run(const std::string& dir) {
@@ -38,8 +54,7 @@ WorkRun read_work_run(const std::string& dir) {
   const std::string cp = (fs::path(dir) / "cases.h5").string();
   if (!fs::is_regular_file(rp))
     fail(dir, "--from", dir, "is not a `pnc characterize` output (no recipe.json)");
-  const rve::Recipe r = rve::read_recipe(rp);
-  w.temperature = r.deform.temperature;
+  w.temperature = recipe_temperature(rp);
   if (!(std::isfinite(w.temperature) && w.temperature >= 0))
     fail(rp, "deform.temperature", fmt::format("{}", w.temperature), "must be >= 0 K");
   // a run with replicas ("run": {"replicas": N}, D130) keeps one equilibrated state per replica

@@ -1,7 +1,7 @@
 #pragma once
 // pnc/rve/characterize.hpp: the MD half of `pnc characterize`: build -> equilibrate ->
-// deformation cases -> cases.h5 (SI) for the fit, as units of a plan (campaign.hpp) that an
-// executor runs (executor.hpp: local children or Slurm jobs).
+// deformation cases -> cases.h5 (SI) for the fit, as units of a plan (pnc/campaign/campaign.hpp)
+// that an executor runs (pnc/campaign/executor.hpp: local children; slurm.hpp: Slurm jobs).
 //
 // Units: LAMMPS `real` inside; cases.h5 in Pa (tension positive).
 //
@@ -11,13 +11,13 @@
 //   equilibrate/<stage>.{log,h5,restart}
 //   phase/phase.{h5,log}             phase check (phase_check.hpp), when the recipe enables it
 //   cases/case_<n>/{checkpoint.h5,lammps.log,state_<k>.restart}
-//   plan.json, state/<unit>.json     the plan of units and their states (campaign.hpp)
+//   plan.json, state/<unit>.json     the plan of units and their states (pnc/campaign)
 //   cases.h5                         strain/stress (+ standard errors) per case, the stress
 //                                    chosen by the recipe, never smoothed (replicas.hpp)
 // With "run": {"replicas": N >= 2} (decision D130) build/, equilibrate/ and cases/ are in
 // replica_<r>/ (r = 1..N), each replica with its own build seed and equilibration; recipe.json
 // and cases.h5 stay at the top.
-#include "pnc/rve/campaign.hpp"
+#include "pnc/campaign/campaign.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replicas.hpp"
@@ -53,8 +53,8 @@ struct MdOutcome {
 ///   fit                       cases.h5 -> fit -> card, report (join: needs every unit above)
 /// Unit ids are the same for one replica (its files then sit in the run folder itself).
 /// `parameters` is stored in plan.json as is (ranks, the command's options for the fit).
-Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
-                       const nlohmann::json& parameters);
+campaign::Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
+                                 const nlohmann::json& parameters);
 
 /// Checks the run folder against the recipe and writes recipe.json (the expanded recipe):
 /// without `resume` a folder holding another run is refused; with `resume` the recipe (and a
@@ -68,13 +68,13 @@ Recipe read_run_recipe(const std::string& dir);
 /// a case continues from its checkpoint). Returns the unit's detail for its state file
 /// (seconds). Throws (throw_stage_failure) ToolError with LAMMPS's message and log,
 /// InputError, SimulationError, or Interrupted.
-nlohmann::json run_md_unit(const Recipe& r, const std::string& dir, const Unit& u);
+nlohmann::json run_md_unit(const Recipe& r, const std::string& dir, const campaign::Unit& u);
 
 /// The fit's input: every unit `fit` needs must be done (else InputError listing the missing
 /// units with their states); reads replicas, phase check and cases from disk and writes
 /// cases.h5. Seconds come from the units' state files (build and equilibration summed over the
 /// replicas, cases as the wall-time span of the case units).
-MdOutcome collect_md(const Recipe& r, const std::string& dir, const Plan& p);
+MdOutcome collect_md(const Recipe& r, const std::string& dir, const campaign::Plan& p);
 
 /// cases.h5 from the case checkpoints of one replica (write_replica_cases_h5 with N = 1).
 void write_cases_h5(const std::string& path, const Recipe& r, const std::vector<CaseResult>& cases);

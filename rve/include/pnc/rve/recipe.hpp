@@ -8,21 +8,21 @@
 // "name", "seed", "model" and the sections "build", "clay" (model pnc), "forcefield" (one set
 // of keys for models pp and pnc, another for kg and kg_platelet), "platelet" (model
 // kg_platelet), "equilibrate", "deform", "phase_check", "analysis", "fit", "run", "slurm"
-// (slurm.hpp), or, instead of the builder, "system" (user_system.hpp). Every key is declared
-// once, with its type, default (the values of the structs below), range, unit and text, in
+// (pnc/campaign/slurm.hpp), or, instead of the builder, "system" (user_system.hpp). Every key is
+// declared once, with its type, default (the values of the structs below), range, unit and text, in
 // recipe_parameters.cpp (declare_recipe); `pnc recipe parameters` prints them (JSON, a TOML
 // template, the Markdown tables of docs/rve.md). Every key is optional; unknown keys are
 // errors. Errors name the file, the field (dotted path), the value and the rule.
-#include "pnc/rve/bead_spring.hpp"
 #include "pnc/md/builder.hpp"
+#include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/phase_check.hpp"
 #include "pnc/rve/platelet.hpp"
-#include "pnc/rve/slurm.hpp"
 #include "pnc/rve/user_system.hpp"
 
+#include "pnc/campaign/slurm.hpp"
 #include "pnc/core/parameters.hpp"
 
 #include <nlohmann/json.hpp>
@@ -78,9 +78,9 @@ struct Recipe {
   UserSystem system;
   /// independent replicas: own build seed, own equilibration, every case (decision D130)
   int replicas = 1;
-  /// "slurm": where and how the Slurm executor runs the units (slurm.hpp, decision D245); in
+  /// "slurm": where and how the Slurm executor runs the units (pnc/campaign/slurm.hpp, D245); in
   /// the expanded recipe only when given
-  SlurmSpec slurm;
+  campaign::SlurmSpec slurm;
   nlohmann::json source_json; ///< the recipe as given (stored in every output)
 };
 

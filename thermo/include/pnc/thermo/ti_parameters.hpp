@@ -6,10 +6,10 @@
 // The top-level keys are the TI settings the command-line options give, named as the options
 // (`--equil-steps` is `equil_steps`), in the options' units: LAMMPS real (kcal/mol, A, fs, K);
 // strains dimensionless. The optional section "slurm" is the one of a `pnc characterize` recipe
-// without the rank keys (rve::declare_slurm_section; its `mpi` key too, D332); the ranks per
+// without the rank keys (campaign::declare_slurm_section; its `mpi` key too, D332); the ranks per
 // (state, lambda) unit are the top-level key `ranks` (D324).
 // An option given on the command line overrides the file's key (override_ti_input, D301).
-#include "pnc/rve/slurm_parameters.hpp"
+#include "pnc/campaign/slurm_parameters.hpp"
 #include "pnc/thermo/ti.hpp"
 
 #include <nlohmann/json.hpp>
@@ -28,7 +28,7 @@ namespace pnc::thermo {
 struct TiInput {
   TiSpec spec;
   std::string executor = "local"; ///< "local" or "slurm"
-  rve::SlurmSpec slurm;           ///< the "slurm" section (slurm.given: the file has it)
+  campaign::SlurmSpec slurm;      ///< the "slurm" section (slurm.given: the file has it)
   /// The top-level keys the file gives (parse_ti_input; none for TiInput{}): e.g. whether its
   /// `ranks` and `jobs` were set rather than defaulted (D333).
   std::vector<std::string> file_keys;

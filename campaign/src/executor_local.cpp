@@ -1,5 +1,5 @@
 // The local executor: units as child processes, at most `jobs` at a time (executor.hpp, D241).
-#include "pnc/rve/executor.hpp"
+#include "pnc/campaign/executor.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/stop.hpp"
@@ -18,7 +18,7 @@
 #include <map>
 #include <set>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 namespace {
 
@@ -137,4 +137,4 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
   return out;
 }
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

@@ -1,7 +1,7 @@
 // The Slurm executor: job arrays per group, afterok/afterany dependencies, held submission,
 // queue checks (slurm.hpp, decisions D243-D245).
-#include "pnc/rve/slurm.hpp"
-#include "pnc/rve/slurm_parameters.hpp"
+#include "pnc/campaign/slurm.hpp"
+#include "pnc/campaign/slurm_parameters.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -20,7 +20,7 @@
 #include <set>
 #include <sstream>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 namespace fs = std::filesystem;
 
@@ -380,4 +380,4 @@ SlurmSubmission submit_slurm(const std::string& dir, const Plan& p, const SlurmS
   return out;
 }
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

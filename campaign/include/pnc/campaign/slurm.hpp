@@ -1,5 +1,5 @@
 #pragma once
-// pnc/rve/slurm.hpp: the Slurm executor of a plan of units (campaign.hpp, decisions D243-D245,
+// pnc/campaign/slurm.hpp: the Slurm executor of a plan of units (campaign.hpp, decisions D243-D245,
 // docs/cluster.md).
 //
 // Every unit runs as a Slurm job executing `pnc run-unit DIR UNIT...` in the shared run
@@ -16,7 +16,7 @@
 // argument vectors; the job script is a template file whose {{placeholders}} take validated
 // values only (names of [A-Za-z0-9_.-], numbers, Slurm time limits), and the command the job
 // runs comes as the script's arguments ("$@").
-#include "pnc/rve/campaign.hpp"
+#include "pnc/campaign/campaign.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 /// Recipe section "slurm" (all optional; CLI options override): where and how long the jobs
 /// run, ranks per unit, the job-script template, the MPI plugin of srun.
@@ -74,4 +74,4 @@ std::map<std::string, std::string> slurm_queue();
 UnitStatus effective_status(const std::string& dir, const std::string& id,
                             const std::map<std::string, std::string>* queue);
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

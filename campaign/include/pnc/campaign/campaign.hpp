@@ -1,6 +1,6 @@
 #pragma once
-// pnc/rve/campaign.hpp: a long command as a plan of units with dependencies, and each unit's
-// state on disk (decisions D240-D242, docs/cluster.md).
+// pnc/campaign/campaign.hpp: a long command as a plan of units with dependencies, and each unit's
+// state on disk (decisions D240-D242; a library below rve/ and thermo/, D348; docs/cluster.md).
 //
 // A unit is one piece of work that one process does from the files in the run folder:
 // `replica_2/equilibrate`, `replica_2/case_4`, `fit`. Its dependencies (`needs`) are other
@@ -8,7 +8,7 @@
 // not) and checks them itself (the fit names the units that are missing), any other unit runs
 // when its needs are DONE. Units of one `group` are independent of each other and alike (one
 // Slurm job array). The plan knows nothing of LAMMPS: `pnc characterize` makes one
-// (characterize_units.hpp); other commands (thermodynamic integration) can make theirs.
+// (pnc/rve/characterize.hpp); `pnc thermo ti` makes its own (app/cmd_thermo_ti.cpp).
 //
 // Files in the run folder DIR:
 //   DIR/plan.json                 the plan (written once by the command that made it)
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 struct Unit {
   std::string id;                 ///< [a-z0-9_]+ (/ [a-z0-9_]+)*, e.g. "replica_2/case_4"
@@ -97,4 +97,4 @@ void run_unit_recorded(const std::string& dir, const Unit& u,
                        const std::function<nlohmann::json()>& body,
                        const std::string& fallback_log = "");
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

@@ -1,5 +1,5 @@
 #pragma once
-// pnc/rve/executor.hpp: the local executor of a plan of units (campaign.hpp, decision D241):
+// pnc/campaign/executor.hpp: the local executor of a plan of units (campaign.hpp, decision D241):
 // the units that are not done run as child processes of this one, at most `jobs` at a time,
 // each as soon as its needs are done (a join unit: as soon as they ended). The Slurm executor
 // is in slurm.hpp.
@@ -10,13 +10,13 @@
 // new unit, lets the running ones stop at their next checkpoint, and throws pnc::Interrupted
 // once they have ended. A unit child must not outlive this process (it gets SIGKILL when it
 // ends), as the stage children do (runner.hpp).
-#include "pnc/rve/campaign.hpp"
+#include "pnc/campaign/campaign.hpp"
 
 #include <functional>
 #include <string>
 #include <vector>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 struct LocalRun {
   std::vector<std::string> ran;     ///< units started by this run, in start order
@@ -30,4 +30,4 @@ using UnitMain = std::function<int(const Unit&)>;
 /// Runs every unit of `p` that is not done (per its state file in `dir`), as above.
 LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMain& unit_main);
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

@@ -1,5 +1,5 @@
 // Plan of units and per-unit state files (campaign.hpp, decisions D240-D242).
-#include "pnc/rve/campaign.hpp"
+#include "pnc/campaign/campaign.hpp"
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
@@ -19,7 +19,7 @@
 #include <set>
 #include <sstream>
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 namespace fs = std::filesystem;
 
@@ -297,4 +297,4 @@ void run_unit_recorded(const std::string& dir, const Unit& u,
   }
 }
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

@@ -1,8 +1,8 @@
 #pragma once
-// pnc/rve/slurm_parameters.hpp: the "slurm" section of an input file declared once on the
+// pnc/campaign/slurm_parameters.hpp: the "slurm" section of an input file declared once on the
 // parameter layer (pnc/core/parameters.hpp) for every planned command: a `pnc characterize`
 // recipe and a `pnc thermo ti --input` file (decisions D245, D301; docs/cluster.md).
-#include "pnc/rve/slurm.hpp"
+#include "pnc/campaign/slurm.hpp"
 
 #include <string>
 
@@ -10,7 +10,7 @@ namespace pnc {
 class Parameters;
 }
 
-namespace pnc::rve {
+namespace pnc::campaign {
 
 /// Declares the optional section "slurm" bound to `s` (`s.given`: the input has it):
 /// partition, account, time (a Slurm time limit), template (a job-script file path), mpi
@@ -19,4 +19,4 @@ namespace pnc::rve {
 /// checked by SlurmSpec::validate's rules. `text` says what the section is.
 void declare_slurm_section(Parameters& p, SlurmSpec& s, const std::string& text, bool ranks);
 
-} // namespace pnc::rve
+} // namespace pnc::campaign

@@ -1,17 +1,14 @@
-// The plan of units, its state files, the local executor and the Slurm executor's inputs
-// (rve/campaign.hpp, rve/executor.hpp, rve/slurm.hpp; decisions D240-D245, D332), without LAMMPS:
-// the units here sleep, fail or stop on purpose. The runs through a real Slurm cluster are in
-// test_slurm_cli.cpp.
-#include "pnc/core/error.hpp"
-#include "pnc/core/stop.hpp"
+// The commands on a plan of units (pnc run-unit, pnc status, pnc characterize --executor slurm
+// without a cluster), the recipe's "slurm" section and the Slurm peer check of the stage
+// channel (decisions D244, D245, D300, D332). The plan layer itself is tested in
+// tests/campaign/test_campaign.cpp, the runs through a real Slurm cluster in test_slurm_cli.cpp.
+#include "pnc/campaign/campaign.hpp"
 #include "pnc/md/private_channel.hpp"
-#include "pnc/rve/campaign.hpp"
-#include "pnc/rve/executor.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/rve/slurm.hpp"
 
 #include "common/run_command.hpp"
 #include "common/slurm_stand_ins.hpp"
+#include "common/toy_plan.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,8 +24,10 @@
 #include <thread>
 
 namespace fs = std::filesystem;
-using namespace pnc::rve;
+using namespace pnc::campaign;
 using namespace pnc::md;
+using namespace pnc::rve;
+using pnc::test::toy_plan;
 
 namespace {
 
@@ -39,211 +38,10 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-std::string what_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const pnc::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-/// a1, a2 (one group), b needs a1, fit (join) needs a2 and b.
-Plan toy_plan() {
-  Plan p;
-  p.command = "toy";
-  p.parameters = {{"x", 1}};
-  p.units = {{"a/u_1", "a", "a", {}, false, 1, {}, {"a1"}},
-             {"a/u_2", "a", "a", {}, false, 1, {}, {"a2"}},
-             {"b", "b", "b", {"a/u_1"}, false, 2, {"a1"}, {"b"}},
-             {"fit", "fit", "fit", {"a/u_2", "b"}, true, 1, {}, {}}};
-  return p;
-}
-
 } // namespace
 
-TEST(RveCampaign, PlanRoundTripsAndBadPlansNameTheRule) {
-  const Plan p = toy_plan();
-  const Plan q = plan_from_json(plan_json(p), "test");
-  ASSERT_EQ(q.units.size(), p.units.size());
-  for (std::size_t i = 0; i < p.units.size(); ++i) {
-    EXPECT_EQ(q.units[i].id, p.units[i].id);
-    EXPECT_EQ(q.units[i].needs, p.units[i].needs);
-    EXPECT_EQ(q.units[i].join, p.units[i].join);
-    EXPECT_EQ(q.units[i].ranks, p.units[i].ranks);
-  }
-  EXPECT_EQ(q.parameters, p.parameters);
-  EXPECT_TRUE(q.has("b"));
-  EXPECT_NE(what_of([&] { q.unit("nope"); }).find("no such unit"), std::string::npos);
-
-  Plan bad = p;
-  bad.units[0].id = "A/../x";
-  EXPECT_NE(what_of([&] { check_plan(bad, "plan.json"); }).find("lower-case letters"),
-            std::string::npos);
-  bad = p;
-  std::swap(bad.units[0], bad.units[2]); // b before the unit it needs
-  EXPECT_NE(what_of([&] { check_plan(bad, "plan.json"); }).find("listed before it"),
-            std::string::npos);
-  bad = p;
-  bad.units[1].kind = "other"; // two kinds in group "a"
-  EXPECT_NE(what_of([&] { check_plan(bad, "plan.json"); }).find("one kind"), std::string::npos);
-  for (const char* id : {"", "/a", "a/", "a//b", "a b", "a;b", "a/./b"})
-    EXPECT_NE(what_of([&] { check_unit_id(id, "x"); }), "") << id;
-}
-
-TEST(RveCampaign, StateFilesArePendingWithoutAFileAndRoundTrip) {
-  const auto d = scratch("pnc_test_campaign_state");
-  EXPECT_EQ(read_status(d.string(), "a/u_1").state, UnitState::pending);
-  UnitStatus s;
-  s.state = UnitState::failed;
-  s.job_id = "12_3";
-  s.message = "ERROR: Lost atoms | Last command: run 100";
-  s.log_path = "x.log";
-  s.detail = {{"seconds", 1.5}};
-  write_status(d.string(), "a/u_1", s);
-  EXPECT_TRUE(fs::exists(d / "state" / "a" / "u_1.json"));
-  const UnitStatus r = read_status(d.string(), "a/u_1");
-  EXPECT_EQ(r.state, UnitState::failed);
-  EXPECT_EQ(r.job_id, "12_3");
-  EXPECT_EQ(r.message, s.message);
-  EXPECT_EQ(r.detail["seconds"], 1.5);
-  std::ofstream(d / "state" / "b.json") << "{\"state\": \"exploded\"}";
-  const std::string w = what_of([&] { read_status(d.string(), "b"); });
-  EXPECT_NE(w.find("b.json"), std::string::npos) << w;
-  EXPECT_NE(w.find("exploded"), std::string::npos) << w;
-  clear_status(d.string(), "a/u_1");
-  EXPECT_EQ(read_status(d.string(), "a/u_1").state, UnitState::pending);
-  fs::remove_all(d);
-}
-
-TEST(RveCampaign, RunUnitRecordedRecordsDoneFailedAndStopped) {
-  const auto d = scratch("pnc_test_campaign_record").string();
-  const Plan p = toy_plan();
-  run_unit_recorded(d, p.unit("b"), [] { return nlohmann::json{{"n", 3}}; });
-  UnitStatus s = read_status(d, "b");
-  EXPECT_EQ(s.state, UnitState::done);
-  EXPECT_EQ(s.detail["n"], 3);
-  EXPECT_GE(s.detail["seconds"].get<double>(), 0.0);
-  EXPECT_GE(s.ended_s, s.started_s);
-  EXPECT_THROW(run_unit_recorded(d, p.unit("a/u_1"),
-                                 []() -> nlohmann::json {
-                                   throw UnitFailure("case 2: ERROR: Lost atoms", "c2.log");
-                                 }),
-               UnitFailure);
-  s = read_status(d, "a/u_1");
-  EXPECT_EQ(s.state, UnitState::failed);
-  EXPECT_EQ(s.message, "case 2: ERROR: Lost atoms");
-  EXPECT_EQ(s.log_path, "c2.log");
-  EXPECT_THROW(run_unit_recorded(d, p.unit("a/u_2"),
-                                 []() -> nlohmann::json { throw pnc::Interrupted(15, "here"); }),
-               pnc::Interrupted);
-  s = read_status(d, "a/u_2");
-  EXPECT_EQ(s.state, UnitState::pending); // stopped: run again by --resume
-  EXPECT_NE(s.message.find("signal 15"), std::string::npos) << s.message;
-  // one process per unit: a second run of the same unit while it runs is refused
-  const std::string w = what_of([&] {
-    run_unit_recorded(d, p.unit("fit"), [&] {
-      run_unit_recorded(d, p.unit("fit"), [] { return nlohmann::json::object(); });
-      return nlohmann::json::object();
-    });
-  });
-  EXPECT_NE(w.find("another process"), std::string::npos) << w;
-  fs::remove_all(d);
-}
-
-namespace {
-/// Each unit sleeps `sleep_s` and records itself; unit "a/u_1" fails when `fail_a1`.
-LocalRun run_toy(const std::string& d, int jobs, double sleep_s, bool fail_a1) {
-  const Plan p = toy_plan();
-  return run_local(d, p, jobs, [&](const Unit& u) {
-    try {
-      run_unit_recorded(d, u, [&]() -> nlohmann::json {
-        std::this_thread::sleep_for(std::chrono::duration<double>(sleep_s));
-        if (fail_a1 && u.id == "a/u_1") throw UnitFailure("a1 broke", "a1.log");
-        return nlohmann::json::object();
-      });
-      return 0;
-    } catch (...) {
-      return 1;
-    }
-  });
-}
-} // namespace
-
-TEST(RveCampaign, LocalExecutorRunsIndependentUnitsAtOnceAndNeedsInOrder) {
-  for (int jobs : {1, 2}) {
-    const auto d = scratch("pnc_test_campaign_local").string();
-    const LocalRun lr = run_toy(d, jobs, 1.0, false);
-    EXPECT_TRUE(lr.failed.empty());
-    EXPECT_TRUE(lr.not_run.empty());
-    ASSERT_EQ(lr.ran.size(), 4u);
-    std::map<std::string, UnitStatus> s;
-    for (const char* id : {"a/u_1", "a/u_2", "b", "fit"}) {
-      s[id] = read_status(d, id);
-      EXPECT_EQ(s[id].state, UnitState::done) << id;
-    }
-    // needs first: b after a/u_1, the join after a/u_2 and b
-    EXPECT_GE(s["b"].started_s, s["a/u_1"].ended_s);
-    EXPECT_GE(s["fit"].started_s, std::max(s["a/u_2"].ended_s, s["b"].ended_s));
-    // the two independent units of group a: together with 2 jobs, one after the other with 1
-    const bool overlap =
-        s["a/u_2"].started_s < s["a/u_1"].ended_s && s["a/u_1"].started_s < s["a/u_2"].ended_s;
-    EXPECT_EQ(overlap, jobs == 2) << "jobs " << jobs;
-    // a second run finds everything done and runs nothing
-    EXPECT_TRUE(run_toy(d, jobs, 0.0, false).ran.empty());
-    fs::remove_all(d);
-  }
-}
-
-TEST(RveCampaign, AFailedUnitStopsItsDependentsButNotTheOthers) {
-  const auto d = scratch("pnc_test_campaign_fail").string();
-  const LocalRun lr = run_toy(d, 2, 0.1, true);
-  ASSERT_EQ(lr.failed.size(), 1u);
-  EXPECT_NE(lr.failed[0].find("a/u_1: a1 broke (log a1.log)"), std::string::npos) << lr.failed[0];
-  ASSERT_EQ(lr.not_run.size(), 1u);
-  EXPECT_NE(lr.not_run[0].find("b (needs a/u_1"), std::string::npos) << lr.not_run[0];
-  EXPECT_EQ(read_status(d, "a/u_2").state, UnitState::done); // the other keeps going
-  EXPECT_EQ(read_status(d, "b").state, UnitState::pending);  // never started
-  EXPECT_EQ(read_status(d, "fit").state, UnitState::done);   // a join runs and judges
-  // --resume: only what is not done runs again
-  const LocalRun again = run_toy(d, 2, 0.0, false);
-  EXPECT_EQ(again.ran, (std::vector<std::string>{"a/u_1", "b"}));
-  fs::remove_all(d);
-}
-
-TEST(RveCampaign, SlurmTemplateAndOptionsTakeValidatedValuesOnly) {
-  const std::map<std::string, std::string> v = {{"kind", "case"}, {"ranks", "2"}};
-  EXPECT_EQ(render_template("#SBATCH --ntasks={{ranks}} # {{kind}}\n", v, "t"),
-            "#SBATCH --ntasks=2 # case\n");
-  std::string w = what_of([&] { render_template("x {{partion}} y", v, "my.sbatch"); });
-  EXPECT_NE(w.find("my.sbatch"), std::string::npos) << w;
-  EXPECT_NE(w.find("{{partion}}"), std::string::npos) << w;
-  EXPECT_NE(w.find("unknown placeholder"), std::string::npos) << w;
-  EXPECT_NE(what_of([&] { render_template("x {{kind", v, "t"); }).find("without its"),
-            std::string::npos);
-  // the built-in template runs the command it is given as its arguments, nothing else
-  const std::string t = render_template(default_sbatch_template(),
-                                        {{"job_name", "j"}, {"kind", "case"}, {"ranks", "1"}}, "b");
-  EXPECT_NE(t.find("exec \"$@\""), std::string::npos);
-
-  SlurmSpec s;
-  s.partition = "gpu;rm -rf";
-  w = what_of([&] { s.validate("recipe.json"); });
-  EXPECT_NE(w.find("slurm.partition"), std::string::npos) << w;
-  s.partition = "compute-1";
-  s.time = "1h";
-  EXPECT_NE(what_of([&] { s.validate("r"); }).find("slurm.time"), std::string::npos);
-  for (const char* ok : {"30", "30:00", "2:00:00", "1-12", "1-12:30", "1-12:30:00"}) {
-    s.time = ok;
-    EXPECT_EQ(what_of([&] { s.validate("r"); }), "") << ok;
-  }
-  w = what_of([&] { parse_slurm_spec({{"queue", "x"}}, "r.json"); });
-  EXPECT_NE(w.find("slurm.queue"), std::string::npos) << w;
-  EXPECT_NE(what_of([&] {
-              parse_slurm_spec({{"ranks", 0}}, "r.json");
-            }).find("1 to 4096"),
-            std::string::npos);
-  // a recipe's slurm section is kept in the expanded recipe; without one nothing is added
+// D245: a recipe's slurm section is kept in the expanded recipe; without one nothing is added
+TEST(RveCampaign, RecipeSlurmSectionIsKeptInTheExpandedRecipe) {
   nlohmann::json j = preset_json("demo_glass");
   EXPECT_FALSE(expanded_json(parse_recipe(j, "t")).contains("slurm"));
   j["slurm"] = {{"partition", "short"}, {"time", "0:30:00"}, {"ranks", 2}};
