@@ -7,6 +7,7 @@
 #include "stopped_report.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -351,9 +352,12 @@ void register_gimp(CLI::App& app, Action& action) {
   run->add_flag("--resume", args->resume,
                 "Continue from OUT/checkpoint.h5 (the input file must be unchanged)");
   // the input's `threads`: checked by its declaration (D359); --max-steps is not time.max_steps
+  const Parameters declared = gimp::input_parameters(2, false);
+  const Parameter& threads = declared.at("threads");
   bind_declared_option(
-      run->add_option("--threads", args->threads, "Threads (default: the input's `threads`)"),
-      gimp::input_parameters(2, false).at("threads"));
+      run->add_option("--threads", args->threads,
+                      "Threads (default: the input's `threads`); " + threads.rule()),
+      threads);
   run->add_option("--max-steps", args->max_steps,
                   "Stop after this many steps in total (the run can then be resumed)")
       ->check(CLI::PositiveNumber);

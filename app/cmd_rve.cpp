@@ -11,6 +11,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
@@ -254,10 +255,13 @@ void register_rve(CLI::App& app, Action& action) {
                  "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
       ->check(CLI::Range(1, 256));
   // the recipe's run.jobs: checked by its declaration (D359)
+  const Parameters recipe_keys = rve::recipe_parameters("");
+  const Parameter& jobs = recipe_keys.at("run.jobs");
   bind_declared_option(ch->add_option("--jobs", ca->jobs,
                                       "local: units (equilibrations, cases) run at the same time "
-                                      "(default: the recipe's run.jobs)"),
-                       rve::recipe_parameters("").at("run.jobs"));
+                                      "(default: the recipe's run.jobs); " +
+                                          jobs.rule()),
+                       jobs);
   ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
                  "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
                  "machine's cores, shared by the equilibrations that run at once)")

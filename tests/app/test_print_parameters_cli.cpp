@@ -27,9 +27,7 @@ void expect_same_printout(const std::string& cmd, const std::string& subcommand)
     ASSERT_EQ(b.code, 0) << subcommand << " " << f;
     EXPECT_GT(a.out.size(), 200u) << cmd << " " << f;
     EXPECT_EQ(a.out, b.out) << cmd << " --print-parameters=" << f;
-    if (f == "json") {
-      EXPECT_NO_THROW((void)nlohmann::json::parse(a.out)) << cmd;
-    }
+    if (f == "json") EXPECT_FALSE(nlohmann::json::parse(a.out).empty()) << cmd;
   }
   const auto bare = run_command(exe + " " + cmd + " --print-parameters 2>/dev/null");
   EXPECT_EQ(bare.code, 0) << cmd;

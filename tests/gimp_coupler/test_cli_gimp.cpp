@@ -242,7 +242,7 @@ TEST(GimpCli, PrintedTomlTemplateRunsOnceTheRequiredKeysAreGiven) {
        "0.375]}]"},
       {"# cells =   (required)", "cells = [8, 4]"},
       {"# cell_size =   (required)", "cell_size = 0.125"},
-      {"# end =   (required)", "end = 1.0e-3"}};
+      {"# end =   (required)", "end = 1.0"}};
   std::string toml = t.out;
   for (const auto& [from, to] : fill) {
     const auto at = toml.find(from + "\n");
