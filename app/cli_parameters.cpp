@@ -131,17 +131,20 @@ std::vector<DeclaredOption>
 bind_declared_options(CLI::App* cmd, const Parameters& declared,
                       const std::function<std::string(const std::string&)>& option_of) {
   std::vector<DeclaredOption> out;
-  for (const auto& p : declared.parameters()) {
-    CLI::Option* o = cmd->get_option(option_of(p.path)); // throws when missing
-    const bool one_element = o->get_expected_max() > 1;
-    if (p.type != ParamType::boolean) o->check(declared_check(p, one_element));
-    if (o->get_description().empty()) {
-      o->description(declared_help(p, one_element));
-      o->default_str(declared_default(p));
-    }
-    out.push_back({p.path, o});
-  }
+  for (const auto& p : declared.parameters())
+    out.push_back(
+        bind_declared_option(cmd->get_option(option_of(p.path)), p)); // throws when missing
   return out;
+}
+
+DeclaredOption bind_declared_option(CLI::Option* o, const Parameter& p) {
+  const bool one_element = o->get_expected_max() > 1;
+  if (p.type != ParamType::boolean) o->check(declared_check(p, one_element));
+  if (o->get_description().empty()) {
+    o->description(declared_help(p, one_element));
+    o->default_str(declared_default(p));
+  }
+  return {p.path, o};
 }
 
 std::vector<std::string> given_keys(const std::vector<DeclaredOption>& options) {
@@ -151,9 +154,41 @@ std::vector<std::string> given_keys(const std::vector<DeclaredOption>& options) 
   return keys;
 }
 
+ParametersPrintout declared_printout(std::function<Parameters()> declare) {
+  return [declare = std::move(declare)](const std::string& format) {
+    const Parameters p = declare();
+    if (format == "toml") return p.to_toml();
+    if (format == "json") return p.to_json().dump(2) + "\n";
+    return p.to_markdown(4);
+  };
+}
+
+void add_print_parameters_option(CLI::App* cmd, ParametersPrintout printout,
+                                 const std::string& what) {
+  cmd->add_option_function<std::string>(
+         "--print-parameters",
+         [printout](const std::string& format) {
+           std::cout << printout(format) << std::flush;
+           throw CLI::Success(); // D358: like --help, before the required arguments
+         },
+         "Print every key of " + what +
+             " and exit: markdown (tables, the default), json, or toml (a commented template "
+             "with the defaults); the same as the `parameters` subcommand")
+      ->expected(0, 1)
+      ->default_str("markdown")
+      ->check(CLI::IsMember({"markdown", "json", "toml"}));
+}
+
 void add_parameters_command(CLI::App* parent, const std::string& name, const std::string& what,
                             const std::string& toml_note, std::function<Parameters()> declare,
                             Action& action) {
+  add_parameters_command(parent, name, what, toml_note, declared_printout(std::move(declare)),
+                         action);
+}
+
+CLI::App* add_parameters_command(CLI::App* parent, const std::string& name, const std::string& what,
+                                 const std::string& toml_note, ParametersPrintout printout,
+                                 Action& action) {
   auto format = std::make_shared<std::string>("markdown");
   auto* c = parent->add_subcommand(name, "Print every key " + what +
                                              ": type, default, range, unit, meaning");
@@ -162,18 +197,13 @@ void add_parameters_command(CLI::App* parent, const std::string& name, const std
                 "defaults; " +
                     toml_note + ")")
       ->check(CLI::IsMember({"markdown", "json", "toml"}));
-  c->callback([format, declare, &action] {
-    action = [format, declare] {
-      const Parameters p = declare();
-      if (*format == "toml")
-        std::cout << p.to_toml();
-      else if (*format == "json")
-        std::cout << p.to_json().dump(2) << "\n";
-      else
-        std::cout << p.to_markdown(4);
+  c->callback([format, printout, &action] {
+    action = [format, printout] {
+      std::cout << printout(*format);
       return 0;
     };
   });
+  return c;
 }
 
 } // namespace pnc::app

@@ -71,9 +71,28 @@ std::vector<DeclaredOption>
 bind_declared_options(CLI::App* cmd, const Parameters& declared,
                       const std::function<std::string(const std::string&)>& option_of);
 
+/// Binds one declared entry `p` to the option `o` as bind_declared_options does: for a command
+/// whose options are only partly keys of its input (`pnc gimp run --threads` is the input's
+/// `threads`, its --max-steps is not `time.max_steps`; D359).
+DeclaredOption bind_declared_option(CLI::Option* o, const Parameter& p);
+
 /// The keys whose option the command line gave (CLI11 count > 0): they override an input
 /// file's (D301).
 std::vector<std::string> given_keys(const std::vector<DeclaredOption>& options);
+
+/// What a `parameters` subcommand prints for `--format` F ("markdown", "json" or "toml").
+using ParametersPrintout = std::function<std::string(const std::string& format)>;
+
+/// The printout of `declare()`: Markdown tables (heading level 4), JSON (indented 2) or a
+/// commented TOML template with every default (Parameters::to_markdown, to_json, to_toml).
+ParametersPrintout declared_printout(std::function<Parameters()> declare);
+
+/// Adds --print-parameters[=markdown|json|toml] (default markdown) to `cmd`, the command that
+/// reads the input `what` describes ("the run input"): it prints printout(format) on stdout and
+/// ends pnc with exit code 0 like --help, before the command's required arguments are checked
+/// (D358). The same printout as the command's `parameters` subcommand.
+void add_print_parameters_option(CLI::App* cmd, ParametersPrintout printout,
+                                 const std::string& what);
 
 /// Adds the subcommand `name` to `parent` ("ti-parameters"): it prints `declare()` as
 /// Markdown tables (--format markdown, the default; the generated regions of docs/*.md), JSON
@@ -82,5 +101,10 @@ std::vector<std::string> given_keys(const std::vector<DeclaredOption>& options);
 void add_parameters_command(CLI::App* parent, const std::string& name, const std::string& what,
                             const std::string& toml_note, std::function<Parameters()> declare,
                             Action& action);
+/// The same with its own printout (declared_printout or a command's, e.g. `pnc gimp
+/// parameters` with --dimension).
+CLI::App* add_parameters_command(CLI::App* parent, const std::string& name, const std::string& what,
+                                 const std::string& toml_note, ParametersPrintout printout,
+                                 Action& action);
 
 } // namespace pnc::app

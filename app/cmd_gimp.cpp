@@ -1,5 +1,5 @@
-// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md); pnc gimp parameters:
-// the declared keys of its input (input_parameters.cpp).
+// pnc gimp run: the explicit uGIMP solver (gimp_coupler/, docs/gimp.md); pnc gimp parameters
+// and run --print-parameters: the declared keys of its input (input_parameters.cpp, D358).
 #include "cli_parameters.hpp"
 #include "gimp_report.hpp"
 #include "registrars.hpp"
@@ -7,6 +7,7 @@
 #include "stopped_report.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -285,7 +286,10 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
   auto* c = gimp->add_subcommand(
       "couple", "ESCM GIMP-MD coupling: Case I tension, Case II/III mode I/II crack growing into "
                 "the MD region (docs/escm.md)");
-  c->add_option("input", args->input, "Input file (JSON)")->required()->check(CLI::ExistingFile);
+  c->add_option("input", args->input,
+                "Input file (.json or .toml; its keys: pnc gimp couple-parameters)")
+      ->required()
+      ->check(CLI::ExistingFile);
   c->add_option("--out", args->out, "Output folder")->required();
   c->add_flag("--short", args->short_mode, "Apply the input's \"short\" overrides");
   c->add_flag("--no-plot", args->no_plot, "Do not draw profile.png, energy.png");
@@ -296,6 +300,8 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
   c->add_option("--max-steps", args->max_steps,
                 "Stop after N coupled steps in total, with a checkpoint (continue with --resume)")
       ->check(CLI::PositiveNumber);
+  add_print_parameters_option(c, declared_printout(gimp::escm::couple_input_parameters),
+                              "the couple input"); // D358
   c->callback([args, &action] { action = [args] { return run_gimp_couple(*args); }; });
 }
 
@@ -304,7 +310,8 @@ void register_gimp_couple(CLI::App* gimp, Action& action) {
 // template.
 void register_gimp_couple_parameters(CLI::App* gimp, Action& action) {
   add_parameters_command(gimp, "couple-parameters", "of the couple input",
-                         "the input itself is JSON", gimp::escm::couple_input_parameters, action);
+                         "pnc gimp couple reads it as a .toml file",
+                         declared_printout(gimp::escm::couple_input_parameters), action);
 }
 } // namespace
 #endif
@@ -314,16 +321,18 @@ struct GimpParametersArgs {
   std::string format = "markdown", dimension = "all";
 };
 
-// `pnc gimp parameters`: the declared input keys as Markdown tables (the generated region of
-// docs/gimp.md), JSON or a commented TOML template of one dimension.
+// `pnc gimp parameters` and `pnc gimp run --print-parameters` (D358): the declared input keys
+// as Markdown tables (the generated region of docs/gimp.md), JSON or a commented TOML template
+// of one dimension ("all": 2).
+std::string gimp_parameters_text(const std::string& format, const std::string& dimension) {
+  const int dim = dimension == "all" ? 0 : std::stoi(dimension);
+  if (format == "toml") return gimp::input_parameters(dim == 0 ? 2 : dim, false).to_toml();
+  if (format == "json") return gimp::input_parameters(dim).to_json().dump(2) + "\n";
+  return gimp::input_parameters(dim).to_markdown(4);
+}
+
 int run_gimp_parameters(const GimpParametersArgs& a) {
-  const int dim = a.dimension == "all" ? 0 : std::stoi(a.dimension);
-  if (a.format == "toml")
-    std::cout << gimp::input_parameters(dim == 0 ? 2 : dim, false).to_toml();
-  else if (a.format == "json")
-    std::cout << gimp::input_parameters(dim).to_json().dump(2) << "\n";
-  else
-    std::cout << gimp::input_parameters(dim).to_markdown(4);
+  std::cout << gimp_parameters_text(a.format, a.dimension);
   return 0;
 }
 } // namespace
@@ -332,28 +341,41 @@ void register_gimp(CLI::App& app, Action& action) {
   auto args = std::make_shared<GimpRunArgs>();
   auto* gimp = app.add_subcommand("gimp", "GIMP material-point solver (uGIMP, explicit; SI units)");
   gimp->require_subcommand(1);
-  auto* run = gimp->add_subcommand("run", "Run a GIMP simulation from a JSON input (docs/gimp.md)");
-  run->add_option("input", args->input, "Input file (JSON)")->required()->check(CLI::ExistingFile);
+  auto* run =
+      gimp->add_subcommand("run", "Run a GIMP simulation from a JSON or TOML input (docs/gimp.md)");
+  run->add_option("input", args->input,
+                  "Input file (.json or .toml, D357; its keys: pnc gimp parameters)")
+      ->required()
+      ->check(CLI::ExistingFile);
   run->add_option("--out", args->out, "Output folder (VTU/PVD frames, history.csv, checkpoint.h5)")
       ->required();
   run->add_flag("--resume", args->resume,
                 "Continue from OUT/checkpoint.h5 (the input file must be unchanged)");
-  run->add_option("--threads", args->threads, "Threads (default: the input's `threads`)")
-      ->check(CLI::Range(1, 256));
+  // the input's `threads`: checked by its declaration (D359); --max-steps is not time.max_steps
+  const Parameters declared = gimp::input_parameters(2, false);
+  const Parameter& threads = declared.at("threads");
+  bind_declared_option(
+      run->add_option("--threads", args->threads,
+                      "Threads (default: the input's `threads`); " + threads.rule()),
+      threads);
   run->add_option("--max-steps", args->max_steps,
                   "Stop after this many steps in total (the run can then be resumed)")
       ->check(CLI::PositiveNumber);
   run->add_flag("--no-plot", args->no_plot, "Do not draw energy.png");
   run->add_flag("--quiet", args->quiet, "No progress lines");
   run->add_flag("--json", args->json, "Print one JSON object with the key numbers on stdout");
+  add_print_parameters_option(
+      run, [](const std::string& format) { return gimp_parameters_text(format, "all"); },
+      "the run input (toml: of dimension 2)"); // D358
   run->callback([args, &action] { action = [args] { return run_gimp(*args); }; });
   auto pa = std::make_shared<GimpParametersArgs>();
   auto* params = gimp->add_subcommand(
       "parameters", "Print every key of the run input: type, default, range, unit, meaning");
   params
       ->add_option("--format", pa->format,
-                   "markdown (tables, default), json or toml (a commented list of the keys with "
-                   "their defaults; the input itself is JSON)")
+                   "markdown (tables, default), json or toml (a commented template with the "
+                   "defaults; pnc gimp run reads it as a .toml file once the required keys are "
+                   "given)")
       ->check(CLI::IsMember({"markdown", "json", "toml"}));
   params
       ->add_option("--dimension", pa->dimension,

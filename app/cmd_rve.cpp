@@ -3,6 +3,7 @@
 // section 3). Units inside rve/: LAMMPS real; cases.h5 and cards in Pa.
 #include "characterize.hpp"
 #include "checks.hpp"
+#include "cli_parameters.hpp"
 #include "figures.hpp"
 #include "registrars.hpp"
 #include "report.hpp"
@@ -10,6 +11,7 @@
 
 #include "pnc/core/atomic_file.hpp"
 #include "pnc/core/error.hpp"
+#include "pnc/core/parameters.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/core/version.hpp"
@@ -156,16 +158,17 @@ struct RecipeParametersArgs {
 
 // `pnc recipe parameters`: the declared recipe keys (recipe_parameters.cpp) as Markdown tables
 // (the generated region of docs/rve.md), JSON or a commented TOML template of one model.
+/// `pnc recipe parameters` and `pnc characterize --print-parameters` (D358): the recipe keys of
+/// one model ("all": every model; toml: pp) as Markdown, JSON or a commented TOML template.
+std::string recipe_parameters_text(const std::string& format, const std::string& model) {
+  const std::string variant = model == "all" ? "" : model;
+  if (format == "toml") return rve::recipe_parameters(variant.empty() ? "pp" : variant).to_toml();
+  if (format == "json") return rve::recipe_parameters(variant).to_json().dump(2) + "\n";
+  return rve::recipe_parameters(variant).to_markdown(3);
+}
+
 int run_recipe_parameters(const RecipeParametersArgs& a) {
-  const std::string variant = a.model == "all" ? "" : a.model;
-  if (a.format == "toml") {
-    const std::string m = variant.empty() ? "pp" : variant;
-    std::cout << rve::recipe_parameters(m).to_toml();
-  } else if (a.format == "json") {
-    std::cout << rve::recipe_parameters(variant).to_json().dump(2) << "\n";
-  } else {
-    std::cout << rve::recipe_parameters(variant).to_markdown(3);
-  }
+  std::cout << recipe_parameters_text(a.format, a.model);
   return 0;
 }
 
@@ -251,10 +254,14 @@ void register_rve(CLI::App& app, Action& action) {
   ch->add_option("--ranks", ca->ranks,
                  "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
       ->check(CLI::Range(1, 256));
-  ch->add_option("--jobs", ca->jobs,
-                 "local: units (equilibrations, cases) run at the same time (default: the "
-                 "recipe's run.jobs)")
-      ->check(CLI::Range(1, 64));
+  // the recipe's run.jobs: checked by its declaration (D359)
+  const Parameters recipe_keys = rve::recipe_parameters("");
+  const Parameter& jobs = recipe_keys.at("run.jobs");
+  bind_declared_option(ch->add_option("--jobs", ca->jobs,
+                                      "local: units (equilibrations, cases) run at the same time "
+                                      "(default: the recipe's run.jobs); " +
+                                          jobs.rule()),
+                       jobs);
   ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
                  "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
                  "machine's cores, shared by the equilibrations that run at once)")
@@ -266,6 +273,9 @@ void register_rve(CLI::App& app, Action& action) {
   add_slurm_options(ch, ca->slurm, "the recipe");
   ch->add_flag("--no-plots", ca->no_plots, "Do not draw plots");
   ch->add_flag("--json", ca->json, "Print one JSON object with the key numbers on stdout");
+  add_print_parameters_option(
+      ch, [](const std::string& format) { return recipe_parameters_text(format, "all"); },
+      "a recipe (toml: of model pp)"); // D358
   ch->callback([ca, &action] { action = [ca] { return run_characterize(*ca); }; });
   register_campaign(app, action); // pnc run-unit, pnc status
 }

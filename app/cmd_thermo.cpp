@@ -358,6 +358,9 @@ void register_thermo(CLI::App& app, Action& action) {
   pe->add_flag("--json", pa->json, "Print one JSON object with the key numbers on stdout");
   const auto pkeys =
       bind_declared_options(pe, thermo::persistence_input_parameters(), option_of_key);
+  add_print_parameters_option(
+      pe, declared_printout([] { return thermo::persistence_input_parameters(); }),
+      "a persistence input file"); // D358
   pe->callback([pa, pkeys, &action] {
     pa->given = given_keys(pkeys);
     action = [pa] { return run_thermo_persistence(*pa); };

@@ -510,6 +510,8 @@ void register_thermo_ti(CLI::App* th, Action& action) {
   // D301, D320: every declared key has its option (pnc refuses to start otherwise), checked by
   // its declaration; the ones given explicitly override the file
   const auto keyed = bind_declared_options(ti, thermo::ti_input_parameters(), thermo::ti_option_of);
+  add_print_parameters_option(ti, declared_printout([] { return thermo::ti_input_parameters(); }),
+                              "a TI input file"); // D358
   ti->callback([ta, keyed, &action] {
     ta->given = given_keys(keyed);
     action = [ta] { return run_thermo_ti(*ta); };

@@ -1,5 +1,6 @@
 // TOML <-> JSON (pnc/core/params.hpp): TOML inputs are converted to JSON so that one set of
-// checks (pnc/core/parameters.hpp) serves both formats; JSON objects are printed as TOML.
+// checks (pnc/core/parameters.hpp) serves both formats; an input file is read by its extension
+// (read_input_file, D357); JSON objects are printed as TOML.
 #include "pnc/core/error.hpp"
 #include "pnc/core/params.hpp"
 
@@ -7,7 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <toml.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -85,12 +89,34 @@ std::size_t invalid_utf8_at(std::string_view s) {
   return std::string::npos;
 }
 
-void write_toml_table(const json& t, const std::string& name, std::string& out) {
-  if (!name.empty()) out += "\n[" + name + "]\n";
+/// A key as TOML writes it: bare when it is letters, digits, '_' and '-', else quoted.
+std::string toml_key(const std::string& k) {
+  const bool bare = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  return bare ? k : json(k).dump();
+}
+
+/// A non-empty array of objects: written as an array of tables ([[name]]).
+bool is_table_array(const json& v) {
+  return v.is_array() && !v.empty() &&
+         std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_object(); });
+}
+
+/// The table `t` under the header `head` ("" at the top, "[a.b]" or "[[a.b]]"): its values,
+/// then its subtables, then its arrays of tables (D357: the GIMP input's materials, bodies, ...).
+void write_toml_table(const json& t, const std::string& name, const std::string& head,
+                      std::string& out) {
+  if (!head.empty()) out += "\n" + head + "\n";
+  const auto sub = [&](const std::string& k) { return name.empty() ? k : name + "." + k; };
   for (const auto& [k, v] : t.items())
-    if (!v.is_object()) out += k + " = " + toml_value(v) + "\n";
+    if (!v.is_object() && !is_table_array(v)) out += toml_key(k) + " = " + toml_value(v) + "\n";
   for (const auto& [k, v] : t.items())
-    if (v.is_object()) write_toml_table(v, name.empty() ? k : name + "." + k, out);
+    if (v.is_object()) write_toml_table(v, sub(toml_key(k)), "[" + sub(toml_key(k)) + "]", out);
+  for (const auto& [k, v] : t.items())
+    if (is_table_array(v))
+      for (const auto& e : v)
+        write_toml_table(e, sub(toml_key(k)), "[[" + sub(toml_key(k)) + "]]", out);
 }
 
 } // namespace
@@ -125,14 +151,26 @@ std::string toml_value(const json& j) {
       a += (i ? ", " : "") + toml_value(j[i]);
     return a + "]";
   }
-  if (j.is_object() || j.is_null())
-    throw std::logic_error("toml_value: objects and null are not TOML scalars");
+  if (j.is_object()) { // an inline table (objects inside arrays that also hold non-objects)
+    std::string t = "{";
+    for (const auto& [k, v] : j.items())
+      t += (t.size() > 1 ? ", " : "") + toml_key(k) + " = " + toml_value(v);
+    return t + "}";
+  }
+  if (j.is_null()) throw std::logic_error("toml_value: null is not a TOML value");
   return j.dump(); // booleans, integers, strings: JSON's spelling is TOML's
+}
+
+json read_input_file(const std::string& path, const std::string& what, const std::string& key) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext != ".json" && ext != ".toml") fail(path, key, ext, what + " ends in .json or .toml");
+  const std::string text = read_text_file(path, what);
+  return ext == ".toml" ? parse_toml(text, path) : parse_json(text, path);
 }
 
 std::string to_toml(const json& object) {
   std::string out;
-  write_toml_table(object, "", out);
+  write_toml_table(object, "", "", out);
   return out;
 }
 

@@ -1,5 +1,5 @@
-// The JSON input of `pnc gimp run` (input.hpp, docs/gimp.md): the file, its top level, the
-// grid, materials, boundaries, loads and run controls. Bodies: input_bodies.cpp; cracks:
+// The input of `pnc gimp run` (JSON or TOML, D357) (input.hpp, docs/gimp.md): the file, its top
+// level, the grid, materials, boundaries, loads and run controls. Bodies: input_bodies.cpp; cracks:
 // input_cracks.cpp.
 #include "pnc/gimp_coupler/input.hpp"
 
@@ -175,7 +175,7 @@ template void read_loads<3>(const Node&, Solver<3>&);
 } // namespace input_detail
 
 int input_dimension(const std::string& path) {
-  const json j = parse_json(read_text_file(path), path);
+  const json j = read_input_file(path, "a GIMP input file", "input"); // D357
   if (!j.is_object()) fail(path, "", "", "the input must be one JSON object");
   if (!j.contains("dimension")) fail(path, "dimension", "<missing>", "required key (2 or 3)");
   const json& d = j["dimension"];
@@ -185,14 +185,19 @@ int input_dimension(const std::string& path) {
 }
 
 template <int D> RunConfig load_input(const std::string& path, Solver<D>& solver) {
-  return load_input_text<D>(read_text_file(path), path, fs::path(path).parent_path().string(),
-                            solver);
+  return load_input_json<D>(read_input_file(path, "a GIMP input file", "input"), path,
+                            fs::path(path).parent_path().string(), solver); // D357
 }
 
 template <int D>
 RunConfig load_input_text(const std::string& text, const std::string& source,
                           const std::string& base_dir, Solver<D>& s) {
-  const json raw = parse_json(text, source);
+  return load_input_json<D>(parse_json(text, source), source, base_dir, s);
+}
+
+template <int D>
+RunConfig load_input_json(const json& raw, const std::string& source, const std::string& base_dir,
+                          Solver<D>& s) {
   if (!raw.is_object()) fail(source, "", "", "the input must be one JSON object");
   if (raw.contains("dimension") && raw["dimension"].is_number_integer() &&
       raw["dimension"].get<long>() != D)
@@ -238,6 +243,10 @@ template RunConfig load_input<3>(const std::string&, Solver<3>&);
 template RunConfig load_input_text<2>(const std::string&, const std::string&, const std::string&,
                                       Solver<2>&);
 template RunConfig load_input_text<3>(const std::string&, const std::string&, const std::string&,
+                                      Solver<3>&);
+template RunConfig load_input_json<2>(const json&, const std::string&, const std::string&,
+                                      Solver<2>&);
+template RunConfig load_input_json<3>(const json&, const std::string&, const std::string&,
                                       Solver<3>&);
 
 } // namespace pnc::gimp

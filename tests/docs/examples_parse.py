@@ -6,8 +6,8 @@
 Each file is matched by the first rule below that fits its path; a file that no rule fits is
 an error (a new example file needs a rule here, or a test of its own that the rule names):
 
-  * GIMP inputs (examples/gimp/*.json): `pnc gimp run FILE --max-steps 1` (the whole input
-    read and checked by pnc's parser, the model set up, one explicit step);
+  * GIMP inputs (examples/gimp/*.json, *.toml): `pnc gimp run FILE --max-steps 1` (the whole
+    input read and checked by pnc's parser, the model set up, one explicit step);
   * point-driver paths (examples/drive/*.toml): `pnc material drive` over the whole path with
     the dissertation's card (`pnc card tables --model pnc`);
   * ESCM inputs (examples/escm/*.json; running them needs LAMMPS) and RVE recipes
@@ -74,14 +74,15 @@ class Checker:
         path = os.path.join(self.root, rel)
         parts = rel.split("/")
         name, ext = parts[-1], os.path.splitext(parts[-1])[1]
-        if parts[1] == "gimp" and ext == ".json":
+        if parts[1] == "gimp" and ext in (".json", ".toml"):
             # Run from a copy in a folder of its own; a card the input names relative to its
             # folder and that the folder lacks is made as examples/gimp/README.md says
             # (`pnc card tables --model pp` for a pp_* card, else the nanocomposite's).
             here = tempfile.mkdtemp(prefix="gimp_", dir=self.work)
             text = read(path)
             made = []
-            for m in json.loads(text).get("materials", []):
+            doc = tomllib.loads(text) if ext == ".toml" else json.loads(text)
+            for m in doc.get("materials", []):
                 card = m.get("card") if isinstance(m, dict) else None
                 if card and not os.path.isabs(card) and not os.path.exists(
                         os.path.join(os.path.dirname(path), card)):

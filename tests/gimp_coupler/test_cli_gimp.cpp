@@ -14,6 +14,8 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -216,4 +218,51 @@ TEST(GimpCli, ParametersPrintsTheDeclarations) {
   pnc::test::expect_prints(cmd + " --format toml --dimension 3", "\ncfl = 0.5\n");
   pnc::test::expect_prints(cmd + " --format toml --dimension 3", "exactly 3 elements");
   EXPECT_NE(sh(cmd + " --dimension 4 2>&1").code, 0);
+}
+
+// The TOML template of `pnc gimp run --print-parameters=toml` (= `pnc gimp parameters --format
+// toml`, D358) is an input `pnc gimp run` reads as a .toml file (D357) once its six lines marked
+// "(required)" get values; every other key keeps the default the template states. A --threads
+// the input's declaration refuses is refused with that rule (D359).
+TEST(GimpCli, PrintedTomlTemplateRunsOnceTheRequiredKeysAreGiven) {
+  const fs::path d =
+      fs::temp_directory_path() / ("pnc_gimp_cli_template_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string exe = PNC_EXE;
+  const Result t = sh(exe + " gimp run --print-parameters=toml 2>/dev/null");
+  ASSERT_EQ(t.code, 0);
+  const std::vector<std::pair<std::string, std::string>> fill = {
+      {"# dimension =   (required)", "dimension = 2"},
+      {"# materials =   (required)",
+       "materials = [{name = \"m\", type = \"linear_elastic\", density = 1000.0, E = 1.0e7, "
+       "nu = 0.3}]"},
+      {"# bodies =   (required)",
+       "bodies = [{material = \"m\", shape = \"box\", min = [0.25, 0.125], max = [0.75, "
+       "0.375]}]"},
+      {"# cells =   (required)", "cells = [8, 4]"},
+      {"# cell_size =   (required)", "cell_size = 0.125"},
+      {"# end =   (required)", "end = 1.0"}};
+  std::string toml = t.out;
+  for (const auto& [from, to] : fill) {
+    const auto at = toml.find(from + "\n");
+    ASSERT_NE(at, std::string::npos) << "the template has no line '" << from << "'";
+    toml.replace(at, from.size(), to);
+  }
+  EXPECT_EQ(toml.find("(required)"), std::string::npos) << "a required key left unfilled";
+  std::ofstream(d / "template.toml") << toml;
+  const Result r = sh(exe + " gimp run " + (d / "template.toml").string() + " --out " +
+                      (d / "out").string() + " --json --quiet --no-plot --max-steps 3 2>/dev/null");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["dimension"], 2);
+  EXPECT_EQ(j["steps"], 3);
+  EXPECT_EQ(j["threads"], 1);               // the template's default
+  EXPECT_EQ(j["particles"], 4 * 2 * 2 * 2); // 4 x 2 cells, particles_per_cell 2 per axis
+  const Result bad = sh(exe + " gimp run " + (d / "template.toml").string() + " --out " +
+                        (d / "bad").string() + " --threads 0 2>&1");
+  EXPECT_EQ(bad.code, 1) << bad.out;
+  EXPECT_NE(bad.out.find("--threads: value '0': must be an integer in [1, 256]"), std::string::npos)
+      << bad.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -352,4 +353,75 @@ TEST(CoupleParameters, PrintedTemplateReadBackGivesTheDefaults) {
   const json in = pnc::parse_toml(toml, "<template>");
   expect_same(read_ok(in), expected(json::object(), false), "template");
   expect_same(read_ok(json::object()), CoupleInput{}, "empty input");
+}
+
+// ------------------------------------------------------------ the input as TOML (D357)
+// Every example converted to TOML (to_toml) is read to the same values as its JSON file, with
+// and without "short"; the printed template, written as a .toml file, is read to the defaults.
+TEST(CoupleParameters, TomlInputsReadAsTheirJsonTwins) {
+  CoupleInputFile tmp;
+  const fs::path dir = fs::path(PNC_SOURCE_DIR) / "examples" / "escm";
+  const fs::path t = fs::path(tmp.write(json::object())).parent_path() / "in.toml";
+  int n = 0;
+  for (const auto& f : fs::directory_iterator(dir)) {
+    if (f.path().extension() != ".json") continue;
+    const json j = read_json(f.path());
+    std::ofstream(t) << pnc::to_toml(j);
+    for (const bool short_mode : {false, true})
+      expect_same(read_couple_input(t.string(), short_mode), expected(j, short_mode),
+                  f.path().filename().string() + " as TOML" + (short_mode ? " --short" : ""));
+    ++n;
+  }
+  EXPECT_GE(n, 6);
+  std::ofstream(t) << couple_input_parameters().to_toml();
+  expect_same(read_couple_input(t.string(), false), expected(json::object(), false),
+              "template.toml");
+}
+
+// --resume compares the input as values (D339): a run started from the JSON file (its bytes
+// stored, as checkpoints before D357 hold) or from TOML resumes from the other syntax; a changed
+// value is refused naming its key; a TOML syntax error names the file and the line; another
+// extension is refused.
+TEST(CoupleParameters, TomlInputResumesFromItsJsonTwinAndErrorsNameLineAndKey) {
+  CoupleInputFile tmp;
+  const fs::path src = fs::path(PNC_SOURCE_DIR) / "examples" / "escm" / "case1_lj_tension.json";
+  const json j = read_json(src);
+  const fs::path t = fs::path(tmp.write(json::object())).parent_path() / "in.toml";
+  std::ofstream(t) << pnc::to_toml(j);
+  std::ifstream js(src);
+  const std::string json_bytes{std::istreambuf_iterator<char>(js), {}};
+  EXPECT_NO_THROW(
+      check_same_input(t.string(), json_bytes, read_input_as_json_text(t.string()), "ckpt.h5"));
+  EXPECT_NO_THROW(check_same_input(src.string(), read_input_as_json_text(t.string()),
+                                   read_input_as_json_text(src.string()), "ckpt.h5"));
+  json changed = j;
+  changed["cells"][0] = j.at("cells")[0].get<int>() + 2;
+  std::ofstream(t) << pnc::to_toml(changed);
+  try {
+    check_same_input(t.string(), json_bytes, read_input_as_json_text(t.string()), "ckpt.h5");
+    ADD_FAILURE() << "a changed cells was accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().source, t.string());
+    EXPECT_EQ(e.context().field.rfind("cells", 0), 0u) << e.what();
+  }
+  std::ofstream(t) << "cells = [30, 20]\ntemperature = \n";
+  try {
+    (void)read_couple_input(t.string(), false);
+    ADD_FAILURE() << "invalid TOML was accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().source, t.string());
+    EXPECT_NE(e.context().rule.find("not valid TOML"), std::string::npos) << e.what();
+    EXPECT_NE(e.context().rule.find(" 2 | temperature ="), std::string::npos)
+        << "no line: " << e.what();
+  }
+  const fs::path y = t.parent_path() / "in.yaml";
+  std::ofstream(y) << j.dump();
+  try {
+    (void)read_couple_input(y.string(), false);
+    ADD_FAILURE() << "in.yaml was accepted";
+  } catch (const pnc::InputError& e) {
+    EXPECT_EQ(e.context().field, "input");
+    EXPECT_EQ(e.context().value, ".yaml");
+    EXPECT_EQ(e.context().rule, "a couple input file ends in .json or .toml");
+  }
 }

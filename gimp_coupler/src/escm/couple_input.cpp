@@ -1,5 +1,5 @@
-// The JSON input of `pnc gimp couple` (couple_input.hpp, docs/escm.md "Input file"): read
-// through the declarations of couple_parameters.cpp, then the rules between keys.
+// The input of `pnc gimp couple` (JSON or TOML, D357) (couple_input.hpp, docs/escm.md "Input
+// file"): read through the declarations of couple_parameters.cpp, then the rules between keys.
 #include "couple_input.hpp"
 
 #include "md_region.hpp"
@@ -10,9 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <set>
-#include <sstream>
 
 namespace pnc::gimp::escm {
 
@@ -74,7 +72,7 @@ void check_crack(const CoupleInput& p, const std::string& src) {
 } // namespace
 
 CoupleInput read_couple_input(const std::string& src, bool short_mode) {
-  const json j = parse_json(read_text_file(src), src);
+  const json j = read_input_file(src, "a couple input file", "input"); // D357
   if (!j.is_object()) fail(src, "", "", "the input must be a JSON object");
   CoupleInput p;
   read_level(j, p, src, true, "");
@@ -95,11 +93,8 @@ CoupleInput read_couple_input(const std::string& src, bool short_mode) {
   return p;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+std::string read_input_as_json_text(const std::string& path) {
+  return read_input_file(path, "a couple input file", "input").dump(); // D357
 }
 
 /// except `checkpoint_every_ps` and `comment` (top level and in "short"). The error names the

@@ -1,8 +1,8 @@
 #pragma once
-// The JSON input of `pnc gimp couple` (keys and units in docs/escm.md, "Input file"): read and
-// checked before LAMMPS starts. Internal to the coupler library (escm_run.hpp is the public
-// entry). Units: LAMMPS real for the MD keys (kcal/mol, Angstrom, g/mol, fs, K), ps for the
-// schedule, J/m^2 and Pa where the key says so.
+// The input of `pnc gimp couple`, JSON or TOML by extension (D357; keys and units in docs/escm.md,
+// "Input file"): read and checked before LAMMPS starts. Internal to the coupler library
+// (escm_run.hpp is the public entry). Units: LAMMPS real for the MD keys (kcal/mol, Angstrom,
+// g/mol, fs, K), ps for the schedule, J/m^2 and Pa where the key says so.
 #include "pnc/gimp_coupler/escm_run.hpp"
 
 #include "pnc/core/parameters.hpp"
@@ -56,12 +56,15 @@ void declare_couple_input(Parameters& p, CoupleInput& in, bool top, bool& crack_
 /// pnc::InputError naming the file, the key, the value and the rule.
 CoupleInput read_couple_input(const std::string& src, bool short_mode);
 
-/// The file's bytes ("" if it cannot be read).
-std::string read_text(const std::string& path);
+/// The input file read as JSON (".json" or ".toml", pnc::read_input_file) and printed as compact
+/// JSON: what the checkpoint stores and `--resume` compares, so a run started from a TOML
+/// file resumes from its JSON conversion and back (D357). Throws InputError like the reader.
+std::string read_input_as_json_text(const std::string& path);
 
-/// --resume: the input must be the one the run was started with (`stored`, from the checkpoint
-/// `ckpt`), except `checkpoint_every_ps` and `comment` (top level and in "short"). The error
-/// names the input file and the first key that differs.
+/// --resume: the input must be the one the run was started with (`stored`, JSON text from the
+/// checkpoint `ckpt`; `now`: read_input_as_json_text), compared as JSON values, except
+/// `checkpoint_every_ps` and `comment` (top level and in "short"). The error names the input file
+/// and the first key that differs.
 void check_same_input(const std::string& src, const std::string& stored, const std::string& now,
                       const std::string& ckpt);
 

@@ -150,7 +150,7 @@ CoupleSummary run_couple(const CoupleOptions& o) {
   const std::string& src = o.input;
   const CoupleInput p = read_couple_input(src, o.short_mode);
   const std::string ckpt_file = checkpoint_path(o.out_dir);
-  const std::string input_text = read_text(src);
+  const std::string input_text = read_input_as_json_text(src); // D357
   const std::unique_ptr<CoupledCheckpoint> resume_from = open_resume(o, input_text, ckpt_file);
   // The MD region and the continuum's calibration to it: the LJ crystal's lattice sums (D76) or
   // the measured (or given) constants of the built polymer block (D101, D102).

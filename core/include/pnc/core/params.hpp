@@ -49,14 +49,23 @@ nlohmann::json parse_json(std::string_view text, const std::string& source);
 /// their key; every parser failure becomes an InputError naming `source` ("not valid TOML").
 nlohmann::json parse_toml(std::string_view text, const std::string& source);
 
-/// A JSON object printed as TOML: the keys of each table, then its subtables as [a.b] tables.
+/// A JSON object printed as TOML: the keys of each table, then its subtables as [a.b] tables,
+/// then its arrays of objects as [[a.b]] arrays of tables (D357); parse_toml reads it back to
+/// the same JSON (keys quoted where TOML needs it).
 std::string to_toml(const nlohmann::json& object);
-/// The TOML spelling of a JSON scalar or array (floats always with a point or an exponent, so
-/// that they read back as floats); std::logic_error for null and objects.
+/// The TOML spelling of a JSON scalar, array or object (an inline table; floats always with a
+/// point or an exponent, so that they read back as floats); std::logic_error for null.
 std::string toml_value(const nlohmann::json& v);
 
 /// Reads a whole file as text; InputError "cannot open ..." naming the path.
 std::string read_text_file(const std::string& path, const std::string& what = "the input file");
+
+/// An input file as JSON, the syntax chosen by its extension (D357): ".toml" through
+/// parse_toml, ".json" through parse_json, so one set of checks serves both; any other
+/// extension is refused naming `path`, `key` (the option or field that named the file, may be
+/// empty), the extension and the rule "`what` ends in .json or .toml".
+nlohmann::json read_input_file(const std::string& path, const std::string& what,
+                               const std::string& key = "");
 
 /// An integer in [min, max] from a JSON value. Refuses non-numbers, non-integers (2.5, 3.0,
 /// 1e3), values outside the range and values beyond 64 bits, with the message

@@ -1,12 +1,16 @@
 #pragma once
-// pnc/gimp_coupler/input.hpp: the JSON input file of `pnc gimp run` (docs/gimp.md).
+// pnc/gimp_coupler/input.hpp: the input file of `pnc gimp run` (docs/gimp.md).
 //
-// One JSON object; SI units (m, kg, s, Pa). Every key is declared once (input_parameters):
-// unknown keys are refused naming the allowed ones and the nearest, every value is checked
-// against its type and range, then the rules between keys. Every error is a pnc::InputError
-// naming the file, the key (e.g. "bodies[1].radius"), the value and the rule it broke.
+// One JSON object (".json"), or the same keys as TOML (".toml", tables for objects; read into
+// the same JSON by pnc::read_input_file, D357); SI units (m, kg, s, Pa). Every key is declared once
+// (input_parameters): unknown keys are refused naming the allowed ones and the nearest, every value
+// is checked against its type and range, then the rules between keys. Every error is a
+// pnc::InputError naming the file, the key (e.g. "bodies[1].radius"), the value and the rule it
+// broke.
 #include "pnc/core/parameters.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
+
+#include <nlohmann/json_fwd.hpp>
 
 #include <string>
 #include <vector>
@@ -44,13 +48,18 @@ pnc::Parameters input_parameters(int dimension, bool tables = true);
 /// The `dimension` of an input file (2 or 3); throws InputError.
 int input_dimension(const std::string& path);
 
-/// Reads an input file into a solver (particles, materials, BCs, loads) and the run
-/// controls. Does not call Solver::initialize(). Relative paths (cards, particle CSVs) are
-/// relative to the input file's folder.
+/// Reads an input file (".json" or ".toml", by its extension) into a solver (particles,
+/// materials, BCs, loads) and the run controls. Does not call Solver::initialize(). Relative
+/// paths (cards, particle CSVs) are relative to the input file's folder.
 template <int D> RunConfig load_input(const std::string& path, Solver<D>& solver);
 /// Same from JSON text; `source` names it in errors; `base_dir` resolves relative paths.
 template <int D>
 RunConfig load_input_text(const std::string& text, const std::string& source,
+                          const std::string& base_dir, Solver<D>& solver);
+
+/// Same from the input already read as JSON (from either syntax).
+template <int D>
+RunConfig load_input_json(const nlohmann::json& input, const std::string& source,
                           const std::string& base_dir, Solver<D>& solver);
 
 extern template RunConfig load_input<2>(const std::string&, Solver<2>&);
@@ -58,6 +67,11 @@ extern template RunConfig load_input<3>(const std::string&, Solver<3>&);
 extern template RunConfig load_input_text<2>(const std::string&, const std::string&,
                                              const std::string&, Solver<2>&);
 extern template RunConfig load_input_text<3>(const std::string&, const std::string&,
+                                             const std::string&, Solver<3>&);
+
+extern template RunConfig load_input_json<2>(const nlohmann::json&, const std::string&,
+                                             const std::string&, Solver<2>&);
+extern template RunConfig load_input_json<3>(const nlohmann::json&, const std::string&,
                                              const std::string&, Solver<3>&);
 
 } // namespace pnc::gimp
