@@ -45,7 +45,8 @@ TEST(RveCharacterizeStop, SigintStopsTheCasesAndResumeContinuesTheirCheckpoints)
   const std::string err = (d / "err.txt").string();
   const pid_t pid = pnc::test::spawn(cmd + " 2>" + err);
   // a case child has written a checkpoint after its first strain step
-  ASSERT_TRUE(pnc::test::wait_for_text(err, "case 2: step 1/", 60)) << slurp(err);
+  ASSERT_TRUE(pnc::test::wait_for_text(err, "case 2 deformation: 2/13 strain points", 60))
+      << slurp(err);
   ::kill(pid, SIGINT); // the parent only: it must stop its children itself
   const auto e = pnc::test::wait_for(pid, 30);
   ASSERT_TRUE(e.ended) << "still running 30 s after SIGINT";
