@@ -113,6 +113,7 @@ inline void write_stage(const std::string& path, const std::string& stage,
   AtomicOutput out(path);
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
+    h5::write_provenance(f);
     stamp_stage_file(f, stage, criterion, recipe_json);
     if (!t.rows.empty()) {
       h5::RowMatrix m(static_cast<Eigen::Index>(t.rows.size()), 6);

@@ -221,6 +221,21 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
     EXPECT_NE(cmd.find("characterize"), std::string::npos) << cmd;
     EXPECT_NE(cmd.find("tiny.json"), std::string::npos) << cmd;
     EXPECT_EQ(f.read_string("/provenance/software"), pnc::version_string());
+    // every HDF5 file of the run folder (build, equilibration, case checkpoints, cases, card)
+    // carries the same provenance block (docs/formats.md "Conventions")
+    int n_h5 = 0;
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+      if (e.path().extension() != ".h5") continue;
+      ++n_h5;
+      pnc::h5::File h(e.path().string(), pnc::h5::File::Mode::read);
+      const std::string where = e.path().string();
+      ASSERT_TRUE(h.exists("/provenance/software")) << where;
+      EXPECT_EQ(h.read_string("/provenance/software"), pnc::version_string()) << where;
+      EXPECT_EQ(h.attr_string("/", "software").value_or(""), pnc::version_string()) << where;
+      EXPECT_FALSE(h.attr_string("/provenance", "created").value_or("").empty()) << where;
+      EXPECT_FALSE(h.attr_string("/provenance", "command").value_or("").empty()) << where;
+    }
+    EXPECT_GE(n_h5, 4) << "build.h5, a case checkpoint, cases.h5 and card.h5 at least";
     // counts are integers (readable as numbers too)
     pnc::h5::File b((fs::path(out) / "build/build.h5").string(), pnc::h5::File::Mode::read);
     EXPECT_TRUE(b.is_integer("/result/atoms"));
