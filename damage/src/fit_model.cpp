@@ -147,29 +147,38 @@ void check_cases(const StressStrainData& data, Model m) {
            "each case needs at least 3 points");
   }
   if (m == Model::pnc) {
-    for (int id : {1, 2, 3})
-      if (!data.find(id))
-        fail(data.source, "case", std::to_string(id),
+    // every uniaxial extension row of the registry (one driven normal component, D362)
+    for (const DeformationCase& dc : deformation_cases())
+      if (dc.driven.size() == 1 && dc.driven[0] < 3 && !data.find(dc.id))
+        fail(data.source, "case", std::to_string(dc.id),
              "is required: the pnc normal stiffness block cannot be determined without it");
     return;
   }
-  if (!data.find(1) && !data.find(2) && !data.find(3))
+  // an extension case: one whose row drives a normal component (D362)
+  const bool extension = std::any_of(data.cases.begin(), data.cases.end(), [](const CaseCurve& c) {
+    return deformation_case(c.id).driven[0] < 3;
+  });
+  if (!extension)
     fail(data.source, "cases", "no extension case",
          "the pp model needs at least one of cases 1-3 (extension): C11 and C12 cannot be "
          "determined without it");
 }
 
 LabelPair regression_labels(Model m, int case_id, int comp) {
-  if (m == Model::pp) { // isotropic reading (D3): every extension case gives C11/2B1 and C12/B2
-    if (case_id <= 3) return comp == case_id - 1 ? LabelPair{"C11", "2B1"} : LabelPair{"C12", "B2"};
+  // Which constants a case's stress component informs follows from the component the case's
+  // registry row drives (D362, docs/decisions/damage.md): an extension along a gives C_ab in component b, a shear
+  // (Voigt 3..5) its own shear modulus; no case-id ranges.
+  const int d = single_driven(deformation_case(case_id), "the start regression");
+  if (m == Model::pp) { // isotropic reading (D3): every extension gives C11/2B1 and C12/B2
+    if (d < 3) return comp == d ? LabelPair{"C11", "2B1"} : LabelPair{"C12", "B2"};
     return {"C44", "B4"};
   }
   static const LabelPair ext[3][3] = {{{"C11", "2A1"}, {"C12", "A10"}, {"C13", "A13"}},
                                       {{"C12", "A11"}, {"C22", "2A5"}, {"C23", "A17"}},
                                       {{"C13", "A15"}, {"C23", "A18"}, {"C33", "2A9"}}};
-  if (case_id <= 3) return ext[case_id - 1][comp];
+  if (d < 3) return ext[d][comp];
   static const LabelPair sh[3] = {{"C44", "A22"}, {"C55", "A26"}, {"C66", "A24"}};
-  return sh[case_id - 4];
+  return sh[d - 3];
 }
 
 double r_squared(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat) {

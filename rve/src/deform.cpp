@@ -17,12 +17,20 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 
 namespace pnc::rve {
+
+double DeformSpec::amplitude() const {
+  // a shear case is a row that drives a shear component (Voigt 3..5), not an id range (D362)
+  const damage::DeformationCase& dc = damage::deformation_case(case_id, "deform.case");
+  const bool shear = std::any_of(dc.driven.begin(), dc.driven.end(), [](int v) { return v >= 3; });
+  return shear && shear_strain_max != 0 ? shear_strain_max : strain_max;
+}
 
 namespace fs = std::filesystem;
 using PathM = Eigen::Matrix<double, Eigen::Dynamic, 6>;

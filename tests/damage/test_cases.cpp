@@ -4,8 +4,11 @@
 #include "pnc/damage/cases.hpp"
 #include "pnc/damage/reference.hpp"
 
+#include "fit_model.hpp" // damage/src: the start regression's labels
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <string>
 #include <vector>
@@ -106,5 +109,38 @@ TEST(DeformationCases, ActiveComponentsAreTheNonZeroStressesOfAnOrthotropicLaw) 
     const std::set<int> active(c.active.begin(), c.active.end());
     for (int v = 0; v < 6; ++v)
       EXPECT_EQ(s[v] != 0.0, active.count(v) == 1) << "case " << c.id << " component " << v;
+  }
+}
+
+TEST(DeformationCases, RegressionLabelsFollowTheGradientOfEachRow) {
+  // The stiffness entry a case's stress component informs, worked out from the row's gradient
+  // alone (D362): an extension along a (G = e_a e_a) gives C_ab in component b; a simple shear
+  // (G with one off-diagonal entry (i, j)) gives its own Voigt diagonal entry C_vv. The pp
+  // model's isotropic reading names C11 (b = a), C12 (b != a) and C44.
+  static const char* const voigt_of_pair[3][3] = {
+      {"", "66", "55"}, {"66", "", "44"}, {"55", "44", ""}};
+  for (const DeformationCase& c : deformation_cases()) {
+    int a = -1, i = -1, j = -1; // the extension axis, or the shear entry (i, j)
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q)
+        if (c.gradient(r, q) != 0 && r == q)
+          a = r;
+        else if (c.gradient(r, q) != 0)
+          i = r, j = q;
+    for (int comp : c.active) {
+      std::string pnc_label, pp_label;
+      if (a >= 0) {
+        const int lo = std::min(a, comp) + 1, hi = std::max(a, comp) + 1;
+        pnc_label = "C" + std::to_string(lo) + std::to_string(hi);
+        pp_label = comp == a ? "C11" : "C12";
+      } else {
+        pnc_label = std::string("C") + voigt_of_pair[i][j];
+        pp_label = "C44";
+      }
+      EXPECT_EQ(std::string(fitmodel::regression_labels(Model::pnc, c.id, comp).lin), pnc_label)
+          << c.name << " component " << comp;
+      EXPECT_EQ(std::string(fitmodel::regression_labels(Model::pp, c.id, comp).lin), pp_label)
+          << c.name << " component " << comp;
+    }
   }
 }

@@ -40,12 +40,12 @@ namespace pnc::rve {
 struct DeformSpec {
   int case_id = 2;
   double strain_max = 0.1; ///< final engineering strain (or gamma); may be negative
-  /// final engineering shear gamma of the shear cases 4-6; 0 = strain_max (decision D12m)
+  /// final engineering shear gamma of the shear cases (those whose registry row drives a
+  /// shear component, damage/cases.hpp); 0 = strain_max (decision D12m)
   double shear_strain_max = 0;
-  /// the final strain of this spec's case: shear_strain_max for cases 4-6 when set
-  double amplitude() const {
-    return case_id >= 4 && shear_strain_max != 0 ? shear_strain_max : strain_max;
-  }
+  /// the final strain of this spec's case: shear_strain_max for a shear case when set (the
+  /// case's row says whether it drives a shear component, D362)
+  double amplitude() const;
   int steps = 40; ///< strain steps
   double timestep_fs = 0.5;
   long hold_steps = 10000; ///< MD steps per strain step (5 ps at 0.5 fs)
