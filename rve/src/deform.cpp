@@ -25,11 +25,19 @@
 
 namespace pnc::rve {
 
+namespace {
+// DeformSpec::amplitude() for the case's registry row `row`, which the driver holds (no lookup
+// per strain step): a shear case is a row that drives a shear component (Voigt 3..5), not an
+// id range (D362)
+double amplitude_of(const DeformSpec& spec, const damage::DeformationCase& row) {
+  const bool shear =
+      std::any_of(row.driven.begin(), row.driven.end(), [](int v) { return v >= 3; });
+  return shear && spec.shear_strain_max != 0 ? spec.shear_strain_max : spec.strain_max;
+}
+} // namespace
+
 double DeformSpec::amplitude() const {
-  // a shear case is a row that drives a shear component (Voigt 3..5), not an id range (D362)
-  const damage::DeformationCase& dc = damage::deformation_case(case_id, "deform.case");
-  const bool shear = std::any_of(dc.driven.begin(), dc.driven.end(), [](int v) { return v >= 3; });
-  return shear && shear_strain_max != 0 ? shear_strain_max : strain_max;
+  return amplitude_of(*this, damage::deformation_case(case_id, "deform.case"));
 }
 
 namespace fs = std::filesystem;
@@ -104,7 +112,9 @@ struct Checkpoint {
   std::vector<double> ref_box; // xlo ylo zlo xhi yhi zhi xy xz yz
 };
 
-void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Checkpoint& c) {
+// `amplitude`: spec.amplitude() of the case's row, which the driver holds
+void write_checkpoint(const std::string& dir, const DeformSpec& spec, double amplitude,
+                      const Checkpoint& c) {
   AtomicOutput out(ckpt_path(dir));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
@@ -115,7 +125,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.write_scalar("/case", spec.case_id);
     f.write_scalar("/rows_done", c.r.rows_done);
     f.write_scalar("/steps_planned", spec.steps);
-    f.write_scalar("/strain_max", spec.amplitude());
+    f.write_scalar("/strain_max", amplitude);
     f.write_string("/seed", std::to_string(spec.seed));
     f.write_scalar("/hold_steps", spec.hold_steps);
     f.write_scalar("/timestep", spec.timestep_fs);
@@ -277,6 +287,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     fail("<deformation cases>", "case " + std::to_string(dc.id), dc.name,
          "the gradient of a deformation case must be upper triangular (D316)");
   const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
+  const double amplitude = amplitude_of(spec, dc); // final strain of the case (D362)
   Checkpoint c;
   c.r.case_id = spec.case_id;
   if (resume && fs::exists(ckpt_path(dir))) {
@@ -307,7 +318,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     c.r.stress_virial_inflated.resize(0, 6);
     c.r.stress_total_inflated.resize(0, 6);
     c.r.rows_done = 0;
-    write_checkpoint(dir, spec, c);
+    write_checkpoint(dir, spec, amplitude, c);
   }
   const int first = c.r.rows_done;
   // strain points 0..steps; those of an earlier session are reused, not in the rate (D345)
@@ -315,7 +326,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
                     "strain points");
   if (first > 0) bar.skip(first, "resumed");
   for (int k = first; k <= spec.steps; ++k) {
-    const double t = spec.amplitude() * k / spec.steps;
+    const double t = amplitude * k / spec.steps;
     read_state(l, spec, prev_state(dir, k));
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
@@ -396,7 +407,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     append_row(c.r.stress_virial_inflated, iv);
     append_row(c.r.stress_total_inflated, it);
     c.r.rows_done = k + 1;
-    write_checkpoint(dir, spec, c);
+    write_checkpoint(dir, spec, amplitude, c);
     std::error_code ec;
     fs::remove(prev_state(dir, k), ec);
     const std::string stress = driven_stresses(dc, spec.temperature == 0, st, stse, sv, it);
