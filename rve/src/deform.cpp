@@ -12,6 +12,7 @@
 #include "pnc/core/version.hpp"
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/lammps_path.hpp"
+#include "pnc/md/lammps_version.hpp"
 #include "pnc/md/stage_stop.hpp"
 #include "pnc/md/statistics.hpp"
 
@@ -110,6 +111,7 @@ h5::RowMatrix to_row(const Eigen::MatrixXd& m) {
 struct Checkpoint {
   CaseResult r;
   std::vector<double> ref_box; // xlo ylo zlo xhi yhi zhi xy xz yz
+  std::string lmp_version;     // the running LAMMPS's release date YYYYMMDD (D366)
 };
 
 // `amplitude`: spec.amplitude() of the case's row, which the driver holds
@@ -142,7 +144,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, double amp
                                 : std::string("hold: NVE + Langevin, block-averaged samples"));
     f.write_string("/start_state", spec.start_state);
     f.write_string("/recipe", spec.recipe_json.empty() ? "{}" : spec.recipe_json);
-    f.write_string("/lammps_version", "20210929 (Debian 20220106)");
+    f.write_string("/lammps_version", c.lmp_version);
     f.write_vector("/reference_box", c.ref_box);
     f.set_attr("/reference_box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
     if (c.r.rows_done > 0) {
@@ -190,6 +192,9 @@ Checkpoint read_checkpoint(const std::string& dir) {
   c.r.case_id = static_cast<int>(f.read_scalar("/case"));
   c.r.rows_done = static_cast<int>(f.read_scalar("/rows_done"));
   c.ref_box = f.read_vector("/reference_box");
+  if (!f.exists("/lammps_version"))
+    fail(p, "/lammps_version", "missing", "a case checkpoint names the LAMMPS that wrote it");
+  c.lmp_version = f.read_string("/lammps_version");
   if (c.r.rows_done > 0) {
     c.r.strain = f.read_matrix("/strain");
     c.r.stress_virial = f.read_matrix("/stress_virial");
@@ -280,6 +285,19 @@ std::string driven_stresses(const damage::DeformationCase& dc, bool is_static,
   return out;
 }
 
+// D366: the rows of one case come from one LAMMPS. `stored` is the checkpoint's version key
+// (YYYYMMDD; checkpoints before D366 hold "20210929 (Debian 20220106)": its leading date counts).
+void check_lammps_version(const std::string& path, const std::string& stored,
+                          const std::string& running) {
+  const std::string date = stored.substr(0, stored.find_first_not_of("0123456789"));
+  if (date != running)
+    fail(path, "/lammps_version", stored,
+         fmt::format("the case was started with LAMMPS {} and this pnc runs LAMMPS {}: a case is "
+                     "resumed with the LAMMPS that started it (D366); resume with that LAMMPS, or "
+                     "start the run again into a new --out without --resume",
+                     stored, running));
+}
+
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
@@ -288,13 +306,17 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
          "the gradient of a deformation case must be upper triangular (D316)");
   const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
   const double amplitude = amplitude_of(spec, dc); // final strain of the case (D362)
+  const std::string lmp_version = std::to_string(md::linked_lammps_version()); // D366
   Checkpoint c;
   c.r.case_id = spec.case_id;
+  c.lmp_version = lmp_version;
   if (resume && fs::exists(ckpt_path(dir))) {
     c = read_checkpoint(dir);
     if (c.r.case_id != spec.case_id)
       fail(ckpt_path(dir), "/case", std::to_string(c.r.case_id),
            fmt::format("the checkpoint is of another case than {}", spec.case_id));
+    check_lammps_version(ckpt_path(dir), c.lmp_version, lmp_version);
+    c.lmp_version = lmp_version; // the same date, written in today's form
     if (!fs::exists(prev_state(dir, c.r.rows_done)))
       fail(prev_state(dir, c.r.rows_done), "", "", "the checkpoint names a missing restart file");
   } else {
