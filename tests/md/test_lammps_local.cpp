@@ -216,20 +216,24 @@ TEST(MdLammpsLocal, InProcessCallsRefuseAnInstanceWithoutHandle) {
   EXPECT_THROW(l.set_external_force("ext", ExternalForce{}), std::logic_error);
 }
 
-// D366: the linked LAMMPS's version, asked in a stage child as the case driver asks it, is the
-// release date the installed `lmp` prints in its banner (the same Debian LAMMPS package).
+// D366: the linked LAMMPS's version, asked in a stage child as the case driver asks it (a
+// one-rank stage's child holds an in-process LAMMPS, a two-rank stage's child only the socket to
+// the server), is the release date the installed `lmp` prints in its banner (the same package).
 TEST(MdLammpsLocal, LinkedVersionIsTheReleaseDateTheInstalledLmpPrints) {
   const std::string date = pnc::test::lmp_banner_date();
   ASSERT_EQ(date.size(), 8u) << "no release date in the banner of `lmp -h`";
   const auto d = tmpdir("version");
-  const std::string res = (d / "version.txt").string();
-  const auto out = run_stage({"version", (d / "stage.log").string(), {}}, [&](Lammps&) {
-    std::ofstream(res) << linked_lammps_version() << "\n";
-  });
-  ASSERT_TRUE(out.ok) << out.error;
-  std::ifstream in(res);
-  std::string version;
-  in >> version;
-  EXPECT_EQ(version, date);
+  for (int ranks : {1, 2}) {
+    const std::string res = (d / ("version_" + std::to_string(ranks) + ".txt")).string();
+    const StageSpec spec{
+        "version", (d / ("stage_" + std::to_string(ranks) + ".log")).string(), {}, ranks};
+    const auto out =
+        run_stage(spec, [&](Lammps&) { std::ofstream(res) << linked_lammps_version() << "\n"; });
+    ASSERT_TRUE(out.ok) << out.error;
+    std::ifstream in(res);
+    std::string version;
+    in >> version;
+    EXPECT_EQ(version, date) << ranks << " rank(s)";
+  }
   fs::remove_all(d);
 }
