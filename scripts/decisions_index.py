@@ -24,8 +24,9 @@ import argparse
 import difflib
 import os
 import re
-import subprocess
 import sys
+
+from tracked_files import tracked_files  # scripts/, next to this file
 
 INDEX = os.path.join("docs", "decisions.md")
 FOLDER = os.path.join("docs", "decisions")
@@ -117,20 +118,10 @@ def read_records(root):
     return records, problems
 
 
-def tracked_files(root):
-    """Files to search for citations: git's list when available, else a walk of the tree."""
-    try:
-        out = subprocess.run(["git", "-C", root, "ls-files", "-z"], check=True,
-                             capture_output=True).stdout.decode("utf-8", "replace")
-        files = [f for f in out.split("\0") if f]
-    except (OSError, subprocess.CalledProcessError):
-        files = []
-        for d, dirs, fs in os.walk(root):
-            rel = os.path.relpath(d, root)
-            dirs[:] = sorted(x for x in dirs if not x.startswith((".", "build", "out")))
-            files += [os.path.normpath(os.path.join(rel, x)) for x in sorted(fs)]
+def citing_files(root):
+    """Files to search for citations: the tree's files (tracked_files.py) but the docs."""
     keep = []
-    for f in sorted(files):
+    for f in tracked_files(root):
         if f.startswith(("docs/", "tests/docs/")) or f.endswith(".md") or f == SELF:
             continue
         keep.append(f)
@@ -172,7 +163,7 @@ def code_sites(root, ids):
     known = set(ids)
     sites = {i: set() for i in ids}
     tests = {i: [] for i in ids}
-    for f in tracked_files(root):
+    for f in citing_files(root):
         text = read_text(os.path.join(root, f))
         if text is None:
             continue

@@ -12,6 +12,7 @@
 #include "pnc/core/version.hpp"
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/lammps_path.hpp"
+#include "pnc/md/lammps_version.hpp"
 #include "pnc/md/stage_stop.hpp"
 #include "pnc/md/statistics.hpp"
 
@@ -25,11 +26,19 @@
 
 namespace pnc::rve {
 
+namespace {
+// DeformSpec::amplitude() for the case's registry row `row`, which the driver holds (no lookup
+// per strain step): a shear case is a row that drives a shear component (Voigt 3..5), not an
+// id range (D362)
+double amplitude_of(const DeformSpec& spec, const damage::DeformationCase& row) {
+  const bool shear =
+      std::any_of(row.driven.begin(), row.driven.end(), [](int v) { return v >= 3; });
+  return shear && spec.shear_strain_max != 0 ? spec.shear_strain_max : spec.strain_max;
+}
+} // namespace
+
 double DeformSpec::amplitude() const {
-  // a shear case is a row that drives a shear component (Voigt 3..5), not an id range (D362)
-  const damage::DeformationCase& dc = damage::deformation_case(case_id, "deform.case");
-  const bool shear = std::any_of(dc.driven.begin(), dc.driven.end(), [](int v) { return v >= 3; });
-  return shear && shear_strain_max != 0 ? shear_strain_max : strain_max;
+  return amplitude_of(*this, damage::deformation_case(case_id, "deform.case"));
 }
 
 namespace fs = std::filesystem;
@@ -102,9 +111,12 @@ h5::RowMatrix to_row(const Eigen::MatrixXd& m) {
 struct Checkpoint {
   CaseResult r;
   std::vector<double> ref_box; // xlo ylo zlo xhi yhi zhi xy xz yz
+  std::string lmp_version;     // the running LAMMPS's release date YYYYMMDD (D366)
 };
 
-void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Checkpoint& c) {
+// `amplitude`: spec.amplitude() of the case's row, which the driver holds
+void write_checkpoint(const std::string& dir, const DeformSpec& spec, double amplitude,
+                      const Checkpoint& c) {
   AtomicOutput out(ckpt_path(dir));
   {
     h5::File f(out.temp_path(), h5::File::Mode::truncate);
@@ -115,7 +127,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
     f.write_scalar("/case", spec.case_id);
     f.write_scalar("/rows_done", c.r.rows_done);
     f.write_scalar("/steps_planned", spec.steps);
-    f.write_scalar("/strain_max", spec.amplitude());
+    f.write_scalar("/strain_max", amplitude);
     f.write_string("/seed", std::to_string(spec.seed));
     f.write_scalar("/hold_steps", spec.hold_steps);
     f.write_scalar("/timestep", spec.timestep_fs);
@@ -132,7 +144,7 @@ void write_checkpoint(const std::string& dir, const DeformSpec& spec, const Chec
                                 : std::string("hold: NVE + Langevin, block-averaged samples"));
     f.write_string("/start_state", spec.start_state);
     f.write_string("/recipe", spec.recipe_json.empty() ? "{}" : spec.recipe_json);
-    f.write_string("/lammps_version", "20210929 (Debian 20220106)");
+    f.write_string("/lammps_version", c.lmp_version);
     f.write_vector("/reference_box", c.ref_box);
     f.set_attr("/reference_box", "units", "A (xlo ylo zlo xhi yhi zhi xy xz yz)");
     if (c.r.rows_done > 0) {
@@ -180,6 +192,9 @@ Checkpoint read_checkpoint(const std::string& dir) {
   c.r.case_id = static_cast<int>(f.read_scalar("/case"));
   c.r.rows_done = static_cast<int>(f.read_scalar("/rows_done"));
   c.ref_box = f.read_vector("/reference_box");
+  if (!f.exists("/lammps_version"))
+    fail(p, "/lammps_version", "missing", "a case checkpoint names the LAMMPS that wrote it");
+  c.lmp_version = f.read_string("/lammps_version");
   if (c.r.rows_done > 0) {
     c.r.strain = f.read_matrix("/strain");
     c.r.stress_virial = f.read_matrix("/stress_virial");
@@ -270,6 +285,19 @@ std::string driven_stresses(const damage::DeformationCase& dc, bool is_static,
   return out;
 }
 
+// D366: the rows of one case come from one LAMMPS. `stored` is the checkpoint's version key
+// (YYYYMMDD; checkpoints before D366 hold "20210929 (Debian 20220106)": its leading date counts).
+void check_lammps_version(const std::string& path, const std::string& stored,
+                          const std::string& running) {
+  const std::string date = stored.substr(0, stored.find_first_not_of("0123456789"));
+  if (date != running)
+    fail(path, "/lammps_version", stored,
+         fmt::format("the case was started with LAMMPS {} and this pnc runs LAMMPS {}: a case is "
+                     "resumed with the LAMMPS that started it (D366); resume with that LAMMPS, or "
+                     "start the run again into a new --out without --resume",
+                     stored, running));
+}
+
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
@@ -277,13 +305,18 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     fail("<deformation cases>", "case " + std::to_string(dc.id), dc.name,
          "the gradient of a deformation case must be upper triangular (D316)");
   const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
+  const double amplitude = amplitude_of(spec, dc); // final strain of the case (D362)
+  const std::string lmp_version = std::to_string(md::linked_lammps_version()); // D366
   Checkpoint c;
   c.r.case_id = spec.case_id;
+  c.lmp_version = lmp_version;
   if (resume && fs::exists(ckpt_path(dir))) {
     c = read_checkpoint(dir);
     if (c.r.case_id != spec.case_id)
       fail(ckpt_path(dir), "/case", std::to_string(c.r.case_id),
            fmt::format("the checkpoint is of another case than {}", spec.case_id));
+    check_lammps_version(ckpt_path(dir), c.lmp_version, lmp_version);
+    c.lmp_version = lmp_version; // the same date, written in today's form
     if (!fs::exists(prev_state(dir, c.r.rows_done)))
       fail(prev_state(dir, c.r.rows_done), "", "", "the checkpoint names a missing restart file");
   } else {
@@ -307,7 +340,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     c.r.stress_virial_inflated.resize(0, 6);
     c.r.stress_total_inflated.resize(0, 6);
     c.r.rows_done = 0;
-    write_checkpoint(dir, spec, c);
+    write_checkpoint(dir, spec, amplitude, c);
   }
   const int first = c.r.rows_done;
   // strain points 0..steps; those of an earlier session are reused, not in the rate (D345)
@@ -315,7 +348,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
                     "strain points");
   if (first > 0) bar.skip(first, "resumed");
   for (int k = first; k <= spec.steps; ++k) {
-    const double t = spec.amplitude() * k / spec.steps;
+    const double t = amplitude * k / spec.steps;
     read_state(l, spec, prev_state(dir, k));
     l.cmd("reset_timestep 0");
     l.cmd(fmt::format("timestep {:.10g}", spec.timestep_fs));
@@ -396,7 +429,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     append_row(c.r.stress_virial_inflated, iv);
     append_row(c.r.stress_total_inflated, it);
     c.r.rows_done = k + 1;
-    write_checkpoint(dir, spec, c);
+    write_checkpoint(dir, spec, amplitude, c);
     std::error_code ec;
     fs::remove(prev_state(dir, k), ec);
     const std::string stress = driven_stresses(dc, spec.temperature == 0, st, stse, sv, it);

@@ -22,16 +22,10 @@
 
 namespace fs = std::filesystem;
 using namespace pnc::campaign;
+using pnc::test::plan_dir;
 using pnc::test::toy_plan;
 
 namespace {
-
-fs::path scratch(const std::string& name) {
-  const auto d = fs::temp_directory_path() / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 std::string what_of(const std::function<void()>& f) {
   try {
@@ -74,7 +68,7 @@ TEST(Campaign, PlanRoundTripsAndBadPlansNameTheRule) {
 }
 
 TEST(Campaign, StateFilesArePendingWithoutAFileAndRoundTrip) {
-  const auto d = scratch("pnc_test_campaign_state");
+  const auto d = plan_dir("test_campaign_state");
   EXPECT_EQ(read_status(d.string(), "a/u_1").state, UnitState::pending);
   UnitStatus s;
   s.state = UnitState::failed;
@@ -99,7 +93,7 @@ TEST(Campaign, StateFilesArePendingWithoutAFileAndRoundTrip) {
 }
 
 TEST(Campaign, RunUnitRecordedRecordsDoneFailedAndStopped) {
-  const auto d = scratch("pnc_test_campaign_record").string();
+  const auto d = plan_dir("test_campaign_record").string();
   const Plan p = toy_plan();
   run_unit_recorded(d, p.unit("b"), [] { return nlohmann::json{{"n", 3}}; });
   UnitStatus s = read_status(d, "b");
@@ -154,7 +148,7 @@ LocalRun run_toy(const std::string& d, int jobs, double sleep_s, bool fail_a1) {
 
 TEST(Campaign, LocalExecutorRunsIndependentUnitsAtOnceAndNeedsInOrder) {
   for (int jobs : {1, 2}) {
-    const auto d = scratch("pnc_test_campaign_local").string();
+    const auto d = plan_dir("test_campaign_local").string();
     const LocalRun lr = run_toy(d, jobs, 1.0, false);
     EXPECT_TRUE(lr.failed.empty());
     EXPECT_TRUE(lr.not_run.empty());
@@ -178,7 +172,7 @@ TEST(Campaign, LocalExecutorRunsIndependentUnitsAtOnceAndNeedsInOrder) {
 }
 
 TEST(Campaign, AFailedUnitStopsItsDependentsButNotTheOthers) {
-  const auto d = scratch("pnc_test_campaign_fail").string();
+  const auto d = plan_dir("test_campaign_fail").string();
   const LocalRun lr = run_toy(d, 2, 0.1, true);
   ASSERT_EQ(lr.failed.size(), 1u);
   EXPECT_NE(lr.failed[0].find("a/u_1: a1 broke (log a1.log)"), std::string::npos) << lr.failed[0];

@@ -18,8 +18,11 @@ link whose target file does not exist, or whose #anchor is neither a heading nor
 import argparse
 import os
 import re
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "scripts"))
+from tracked_files import tracked_files  # noqa: E402  scripts/tracked_files.py
 
 SELF = "tests/docs/no_dangling_refs.py"
 
@@ -47,20 +50,6 @@ LINK = re.compile(r"(?<!\!)\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)|!\[[^\]]*\]
 ANCHOR = re.compile(r'<a\s+(?:id|name)="([^"]+)"')
 HEADING = re.compile(r"^#{1,6}\s+(.*?)\s*#*\s*$")
 FENCE = re.compile(r"^\s*(```|~~~)")
-
-
-def tracked(root):
-    try:
-        out = subprocess.run(["git", "-C", root, "ls-files", "-z"], check=True,
-                             capture_output=True).stdout.decode("utf-8", "replace")
-        return sorted(f for f in out.split("\0") if f)
-    except (OSError, subprocess.CalledProcessError):
-        files = []
-        for d, dirs, fs in os.walk(root):
-            dirs[:] = sorted(x for x in dirs if not x.startswith((".", "build", "out")))
-            rel = os.path.relpath(d, root)
-            files += [os.path.normpath(os.path.join(rel, x)) for x in sorted(fs)]
-        return files
 
 
 def text_of(path):
@@ -169,7 +158,7 @@ def main(argv):
     args = ap.parse_args(argv)
     root = os.path.abspath(args.root)
     problems, cache, n = [], {}, 0
-    for rel in tracked(root):
+    for rel in tracked_files(root):
         if rel == SELF or rel.startswith("fuzz/corpus/") or rel.startswith("fuzz/hdf5-defects/"):
             continue
         text = text_of(os.path.join(root, rel))

@@ -27,9 +27,12 @@ Python 3 standard library only.
 import argparse
 import os
 import re
-import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), "scripts"))
+from tracked_files import tracked_files  # noqa: E402  scripts/tracked_files.py
 
 FILE_LIMIT = 600  # lines per source file
 FUNCTION_LIMIT = 150  # lines per function body, `{` line to `}` line inclusive
@@ -191,16 +194,7 @@ def long_functions(text, limit=FUNCTION_LIMIT):
 
 
 def tracked_sources(root):
-    try:
-        out = subprocess.run(["git", "-C", root, "ls-files", "-z"], check=True,
-                             capture_output=True).stdout.decode("utf-8", "replace")
-        files = [f for f in out.split("\0") if f]
-    except (OSError, subprocess.CalledProcessError):
-        files = []
-        for d, dirs, fs in os.walk(root):
-            dirs[:] = sorted(x for x in dirs if not x.startswith((".", "build", "out")))
-            files += [os.path.relpath(os.path.join(d, f), root) for f in fs]
-    return sorted(f for f in files if f.endswith(SUFFIXES))
+    return [f for f in tracked_files(root) if f.endswith(SUFFIXES)]
 
 
 def check(root, files):

@@ -16,10 +16,30 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 using namespace pnc::gimp;
 using namespace pnc::gimp::test;
+
+namespace {
+
+// The solvers of the uninterrupted run (d/straight) and of the interrupted and resumed one
+// (d/split) as their checkpoints restore them: the input d/in.json loaded and initialised, then
+// `before_split` (e.g. clearing what must come back from the checkpoint), then each checkpoint.
+template <int Dim>
+void restore_both(const fs::path& d, Solver<Dim>& sa, Solver<Dim>& sb, CheckpointExtra& xa,
+                  CheckpointExtra& xb, const std::function<void(Solver<Dim>&)>& before_split = {}) {
+  load_input<Dim>((d / "in.json").string(), sa);
+  load_input<Dim>((d / "in.json").string(), sb);
+  sa.initialize();
+  sb.initialize();
+  if (before_split) before_split(sb);
+  read_checkpoint<Dim>((d / "straight/checkpoint.h5").string(), sa, xa);
+  read_checkpoint<Dim>((d / "split/checkpoint.h5").string(), sb, xb);
+}
+
+} // namespace
 
 TEST(GimpRun, WritesFramesHistoryCheckpointAndResumes) {
   const fs::path d = tmpdir("run");
@@ -87,13 +107,8 @@ TEST(GimpRun, ResumeContinuesBitForBit) {
   EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
   EXPECT_EQ(a.energy.external_work, b.energy.external_work);
   Solver<2> sa, sb;
-  load_input<2>((d / "in.json").string(), sa);
-  load_input<2>((d / "in.json").string(), sb);
-  sa.initialize();
-  sb.initialize();
   CheckpointExtra xa, xb;
-  read_checkpoint<2>((d / "straight/checkpoint.h5").string(), sa, xa);
-  read_checkpoint<2>((d / "split/checkpoint.h5").string(), sb, xb);
+  restore_both(d, sa, sb, xa, xb);
   for (std::size_t p = 0; p < sa.particles.size(); ++p) {
     EXPECT_EQ(sa.particles.x[p], sb.particles.x[p]);
     EXPECT_EQ(sa.particles.sigma[p], sb.particles.sigma[p]);
@@ -137,13 +152,8 @@ TEST(GimpRun, ResumeWithGrowingCrackContinuesBitForBit) {
   EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
   EXPECT_LT(a.energy.damping_work, 0.0);
   Solver<2> sa, sb;
-  load_input<2>((d / "in.json").string(), sa);
-  load_input<2>((d / "in.json").string(), sb);
-  sa.initialize();
-  sb.initialize();
   CheckpointExtra xa, xb;
-  read_checkpoint<2>((d / "straight/checkpoint.h5").string(), sa, xa);
-  read_checkpoint<2>((d / "split/checkpoint.h5").string(), sb, xb);
+  restore_both(d, sa, sb, xa, xb);
   ASSERT_EQ(sa.cracks[0].points.size(), 5u);
   EXPECT_EQ(sa.cracks[0].points, sb.cracks[0].points);
   EXPECT_EQ(sb.cracks[0].increments, 3);
@@ -184,15 +194,11 @@ TEST(GimpRun, ResumeWith3DCrackContinuesBitForBit) {
   EXPECT_EQ(a.energy.kinetic, b.energy.kinetic);
   EXPECT_EQ(a.energy.damping_work, b.energy.damping_work);
   Solver<3> sa, sb;
-  load_input<3>((d / "in.json").string(), sa);
-  load_input<3>((d / "in.json").string(), sb);
-  sa.initialize();
-  sb.initialize();
-  sb.cracks[0].corners.clear(); // must come back from the checkpoint
-  sb.cracks[0].front.clear();
   CheckpointExtra xa, xb;
-  read_checkpoint<3>((d / "straight/checkpoint.h5").string(), sa, xa);
-  read_checkpoint<3>((d / "split/checkpoint.h5").string(), sb, xb);
+  restore_both<3>(d, sa, sb, xa, xb, [](Solver<3>& s) {
+    s.cracks[0].corners.clear(); // must come back from the checkpoint
+    s.cracks[0].front.clear();
+  });
   EXPECT_EQ(sa.cracks[0].corners, sb.cracks[0].corners);
   ASSERT_EQ(sb.cracks[0].corners.size(), 4u);
   EXPECT_EQ(sb.cracks[0].increments, 3);

@@ -6,7 +6,10 @@
 // instance lives in a stage child (run_stage); the child writes what it read to a file and the
 // parent checks it.
 #include "pnc/core/error.hpp"
+#include "pnc/md/lammps_version.hpp"
 #include "pnc/md/runner.hpp"
+
+#include "common/lammps_banner.hpp"
 
 #include <gtest/gtest.h>
 
@@ -211,4 +214,26 @@ TEST(MdLammpsLocal, InProcessCallsRefuseAnInstanceWithoutHandle) {
   EXPECT_THROW(l.extract_setting("nlocal"), std::logic_error);
   EXPECT_THROW(l.local_atoms(), std::logic_error);
   EXPECT_THROW(l.set_external_force("ext", ExternalForce{}), std::logic_error);
+}
+
+// D366: the linked LAMMPS's version, asked in a stage child as the case driver asks it (a
+// one-rank stage's child holds an in-process LAMMPS, a two-rank stage's child only the socket to
+// the server), is the release date the installed `lmp` prints in its banner (the same package).
+TEST(MdLammpsLocal, LinkedVersionIsTheReleaseDateTheInstalledLmpPrints) {
+  const std::string date = pnc::test::lmp_banner_date();
+  ASSERT_EQ(date.size(), 8u) << "no release date in the banner of `lmp -h`";
+  const auto d = tmpdir("version");
+  for (int ranks : {1, 2}) {
+    const std::string res = (d / ("version_" + std::to_string(ranks) + ".txt")).string();
+    const StageSpec spec{
+        "version", (d / ("stage_" + std::to_string(ranks) + ".log")).string(), {}, ranks};
+    const auto out =
+        run_stage(spec, [&](Lammps&) { std::ofstream(res) << linked_lammps_version() << "\n"; });
+    ASSERT_TRUE(out.ok) << out.error;
+    std::ifstream in(res);
+    std::string version;
+    in >> version;
+    EXPECT_EQ(version, date) << ranks << " rank(s)";
+  }
+  fs::remove_all(d);
 }

@@ -27,18 +27,8 @@ namespace fs = std::filesystem;
 using namespace pnc::campaign;
 using namespace pnc::md;
 using namespace pnc::rve;
+using pnc::test::plan_dir;
 using pnc::test::toy_plan;
-
-namespace {
-
-fs::path scratch(const std::string& name) {
-  const auto d = fs::temp_directory_path() / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-} // namespace
 
 // D245: a recipe's slurm section is kept in the expanded recipe; without one nothing is added
 TEST(RveCampaign, RecipeSlurmSectionIsKeptInTheExpandedRecipe) {
@@ -53,7 +43,7 @@ TEST(RveCampaign, RecipeSlurmSectionIsKeptInTheExpandedRecipe) {
 }
 
 TEST(RveCampaign, RunUnitAndStatusCommandsOnAPlanWithoutWork) {
-  const auto d = scratch("pnc_test_campaign_cli");
+  const auto d = plan_dir("test_campaign_cli");
   write_plan(d.string(), toy_plan());
   const std::string pnc = PNC_EXE;
   auto r = pnc::test::run_command(pnc + " run-unit " + d.string() + " nope 2>&1");
@@ -96,7 +86,7 @@ std::string slurp(const fs::path& p) {
 // queued it writes nothing. The state files are written as the Slurm units write them; a
 // stand-in squeue on PATH says which jobs are alive.
 TEST(RveCampaign, StatusOfAnEndedSlurmPlanWritesTheStoppedReport) {
-  const auto d = scratch("pnc_test_campaign_slurm_report");
+  const auto d = plan_dir("test_campaign_slurm_report");
   const auto bin = d / "bin";
   fs::create_directories(bin);
   Plan p = toy_plan();
@@ -206,7 +196,7 @@ TEST(RveCampaign, SlurmPeerCheckAcceptsOnlyProcessesOfOurJob) {
 // ever runs: stand-ins for sbatch and scontrol accept the jobs, squeue shows none) leaves the
 // stopped report before its error, with every unit's job and the command with --resume.
 TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
-  const auto d = scratch("pnc_test_campaign_slurm_wait");
+  const auto d = plan_dir("test_campaign_slurm_wait");
   const std::string path = pnc::test::slurm_stand_ins(d);
   std::ofstream(d / "r.json") << R"({"name": "tiny-wait", "seed": 7, "build": {"chains": 8},
     "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},
@@ -234,7 +224,7 @@ TEST(RveCampaign, SlurmWaitThatEndsWithoutTheFitLeavesTheStoppedReport) {
 // sbatch --export of PNC_SRUN_MPI, what a unit's K-rank stages give srun): the recipe's
 // slurm.mpi, the option --mpi over it. Stand-ins record the submission; no job runs.
 TEST(RveCampaign, SlurmMpiOfTheRecipeAndTheOptionReachEveryJob) {
-  const auto d = scratch("pnc_test_campaign_slurm_mpi");
+  const auto d = plan_dir("test_campaign_slurm_mpi");
   const std::string path = pnc::test::slurm_stand_ins(d);
   std::ofstream(d / "r.json") << R"({"name": "tiny-mpi", "seed": 7, "build": {"chains": 8},
     "deform": {"cases": [2], "strain_max": 0.03, "steps": 3}, "phase_check": {"enabled": false},

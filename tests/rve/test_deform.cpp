@@ -6,9 +6,12 @@
 #include "pnc/md/forcefield.hpp"
 #include "pnc/rve/deform.hpp"
 
+#include "common/lammps_banner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <H5Cpp.h>
 
 #include <cmath>
 #include <filesystem>
@@ -245,4 +248,54 @@ TEST(RveDeform, MovingAverageAndBlockErrors) {
   EXPECT_DOUBLE_EQ(a(2, 0), 2.0);
   EXPECT_DOUBLE_EQ(a(4, 0), 3.5);
   EXPECT_THROW(pnc::damage::deformation_case(7), pnc::InputError);
+}
+
+namespace {
+
+std::string stored_version(const fs::path& ckpt) {
+  H5::H5File f(ckpt.string(), H5F_ACC_RDONLY);
+  std::string v;
+  f.openDataSet("/lammps_version").read(v, H5::StrType(H5::PredType::C_S1, H5T_VARIABLE));
+  return v;
+}
+
+void store_version(const fs::path& ckpt, const std::string& v) {
+  H5::H5File f(ckpt.string(), H5F_ACC_RDWR);
+  f.unlink("/lammps_version");
+  const H5::StrType st(H5::PredType::C_S1, H5T_VARIABLE);
+  f.createDataSet("/lammps_version", st, H5::DataSpace(H5S_SCALAR)).write(v, st);
+}
+
+} // namespace
+
+// D366: the checkpoint names the LAMMPS that runs the case, and a resume with another one is
+// refused; the constant of before (a date with a note) resumes with the same LAMMPS.
+TEST(RveDeform, CheckpointNamesTheRunningLammpsAndAnotherVersionIsNotResumed) {
+  const std::string date = pnc::test::lmp_banner_date();
+  ASSERT_EQ(date.size(), 8u) << "no release date in the banner of `lmp -h`";
+  const auto d = tmpdir("version");
+  DeformSpec s = crystal_spec(make_crystal(d, lattice_sums().a0), 1);
+  s.hold_steps = 100;
+  s.steps = 2;
+  s.abort_after_step = 0; // a checkpoint with the reference row
+  const std::string dir = (d / "case").string();
+  EXPECT_FALSE(run_case(s, dir, false).ok);
+  const fs::path ckpt = d / "case" / "checkpoint.h5";
+  EXPECT_EQ(stored_version(ckpt), date);
+
+  s.abort_after_step = -1;
+  const std::string other = std::to_string(std::stol(date) - 1); // a release of the day before
+  store_version(ckpt, other);
+  const auto refused = run_case(s, dir, true);
+  EXPECT_FALSE(refused.ok);
+  for (const std::string& part :
+       {ckpt.string(), std::string("/lammps_version"), other, date, std::string("--resume")})
+    EXPECT_NE(refused.error.find(part), std::string::npos) << part << " in: " << refused.error;
+
+  store_version(ckpt, date + " (Debian 20220106)"); // the form written before D366
+  const auto resumed = run_case(s, dir, true);
+  ASSERT_TRUE(resumed.ok) << resumed.error;
+  EXPECT_EQ(read_case(dir).rows_done, 3);
+  EXPECT_EQ(stored_version(ckpt), date);
+  fs::remove_all(d);
 }
