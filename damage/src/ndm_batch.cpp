@@ -39,7 +39,7 @@ using detail::damage_and_slope;
 constexpr std::size_t kChunk = 32;
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0; // Chunk::path
 
-// Scratch of one chunk (about 12 KB on the stack; no allocation).
+// Scratch of one chunk (about 21 KB on the stack; no allocation).
 struct Chunk {
   double eps[6][kChunk]; // global strain at the end
   double el[6][kChunk];  // platelet-frame strain (a copy of eps without rotation)
@@ -48,6 +48,9 @@ struct Chunk {
   double kap[3][kChunk]; // kappa at the end
   double D[3][kChunk];   // damage at the end
   double sig[6][kChunk]; // stress at the end
+  // Secant stiffness (row-major entry rc) of the unloading points, compact (entry j of uidx),
+  // formed once for their stress and then written as their tangent.
+  double Ku[36][kChunk];
   double stored[kChunk]; // energies
   double diss[kChunk];
   double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
@@ -255,18 +258,6 @@ template <int N>
   }
 }
 
-// The secant stiffness entry (r, c) of a point as the kernel forms Cd: C0g, plus D_m dC1g_m
-// for every mode with D_m != 0, in mode order.
-[[gnu::always_inline]] inline double secant_entry(const PreparedNdm& q, int r, int col, int n,
-                                                  const double* D) {
-  double x = q.C0g(r, col);
-  for (int k = 0; k < n; ++k) {
-    const double y = x + D[k] * q.dC1g[static_cast<std::size_t>(k)](r, col);
-    x = D[k] != 0.0 ? y : x;
-  }
-  return x;
-}
-
 // Pass 4a: sigma = C0g eps for every point of the chunk (the elastic path; the others are
 // overwritten below), with the stored energy.
 [[gnu::always_inline]] inline void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
@@ -286,7 +277,8 @@ template <int N>
 }
 
 // Pass 4b: the unloading points, gathered into a compact block: sigma = Cd eps, Cd formed
-// entry by entry as the kernel does. idx lists the points (u of them).
+// entry by entry as the kernel does and kept in c.Ku, their tangent (D387). idx lists the
+// points (u of them).
 template <int N>
 [[gnu::always_inline]] inline void unloading_stress(const PreparedNdm& q, const std::size_t* idx,
                                                     std::size_t u, Chunk& c) {
@@ -315,6 +307,7 @@ template <int N>
           x = D[k][j] != 0.0 ? y : x;
         }
         row[col] = x;
+        c.Ku[6 * r + col][j] = x;
         bad[j] += nf(x); // a tangent entry: finite unless the constants overflow
       }
       s[r][j] = detail::times_row(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
@@ -426,11 +419,8 @@ template <int N>
   for (std::size_t j = 0; j < nu; ++j) {
     const std::size_t i = uidx[j];
     if (c.bad[i] != 0.0) continue;
-    const double D[3] = {c.D[0][i], n > 1 ? c.D[1][i] : 0.0, n > 2 ? c.D[2][i] : 0.0};
-    for (int r = 0; r < 6; ++r)
-      for (int col = 0; col < 6; ++col)
-        b.K[static_cast<std::size_t>(6 * r + col) * b.ld + base + i] =
-            secant_entry(q, r, col, n, D);
+    for (int rc = 0; rc < 36; ++rc) // the secant formed for the stress (unloading_stress)
+      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Ku[rc][j];
   }
   for (std::size_t j = 0; j < nk; ++j) {
     const std::size_t i = kidx[j];
