@@ -277,9 +277,9 @@ template <int N>
 }
 
 // Pass 4b: the unloading points, gathered into a compact block: sigma = Cd eps, Cd formed
-// entry by entry as the kernel does and kept in c.Ku, their tangent (D387). idx lists the
-// points (u of them).
-template <int N>
+// entry by entry as the kernel does and, when their tangent is wanted (KeepSecant), kept in
+// c.Ku (D387). idx lists the points (u of them).
+template <int N, bool KeepSecant>
 [[gnu::always_inline]] inline void unloading_stress(const PreparedNdm& q, const std::size_t* idx,
                                                     std::size_t u, Chunk& c) {
   constexpr int n = N;
@@ -298,6 +298,7 @@ template <int N>
       for (int k = 0; k < 3; ++k)
         d[k][col] = q.dC1g[static_cast<std::size_t>(k)](r, col);
     }
+    double(*__restrict ku)[kChunk] = c.Ku + 6 * r; // entries (r, 0..5)
     for (std::size_t j = 0; j < u; ++j) {
       double row[6];
       for (int col = 0; col < 6; ++col) {
@@ -307,7 +308,7 @@ template <int N>
           x = D[k][j] != 0.0 ? y : x;
         }
         row[col] = x;
-        c.Ku[6 * r + col][j] = x;
+        if (KeepSecant) ku[col][j] = x;
         bad[j] += nf(x); // a tangent entry: finite unless the constants overflow
       }
       s[r][j] = detail::times_row(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
@@ -458,9 +459,12 @@ template <int N>
       if (c.path[i] == kKernel) kidx[nk++] = i;
     }
     elastic_stress(q, m, c);
-    if (nu && n == 3) unloading_stress<3>(q, uidx, nu, c);
-    if (nu && n == 1) unloading_stress<1>(q, uidx, nu, c);
     const bool want_K = b.kind != TangentKind::none && b.K;
+    const bool secant = want_K && b.kind != TangentKind::elastic; // unloading: K = Cd
+    if (nu && n == 3 && secant) unloading_stress<3, true>(q, uidx, nu, c);
+    if (nu && n == 3 && !secant) unloading_stress<3, false>(q, uidx, nu, c);
+    if (nu && n == 1 && secant) unloading_stress<1, true>(q, uidx, nu, c);
+    if (nu && n == 1 && !secant) unloading_stress<1, false>(q, uidx, nu, c);
     for (std::size_t j = 0; j < nk; ++j)
       kernel_point(q, b, base, kidx[j], ns, c, want_K ? Kk[j] : nullptr);
     check_results(m, n, c);
