@@ -214,7 +214,7 @@ enum class Blocks { all, none, mixed };
 // Pass 2b: the stretches the closed forms above do not settle (pnc: a general strain whose cap
 // may bind; pp: every point), through the kernel's own function, point by point: lambda_max
 // of a general strain is the closed-form cubic with acos and cos, which has no vector form
-// with the same rounding.
+// with the same rounding (D388).
 [[gnu::always_inline]] inline void scalar_stretches(Model model, std::size_t m, Chunk& c) {
   for (std::size_t i = 0; i < m; ++i) {
     if (model == Model::pnc && c.scalar_stretch[i] == 0.0) continue;
