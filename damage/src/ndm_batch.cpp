@@ -20,6 +20,15 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <stdexcept>
+
+// The AVX2 copy of the batch (D386): GCC or Clang on x86-64 (function attribute target("avx2")
+// and __builtin_cpu_supports); elsewhere the baseline only.
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#define PNC_BATCH_HAS_AVX2 1
+#else
+#define PNC_BATCH_HAS_AVX2 0
+#endif
 
 namespace pnc::damage {
 
@@ -30,7 +39,7 @@ using detail::damage_and_slope;
 constexpr std::size_t kChunk = 32;
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0; // Chunk::path
 
-// Scratch of one chunk (about 12 KB on the stack; no allocation).
+// Scratch of one chunk (about 21 KB on the stack; no allocation).
 struct Chunk {
   double eps[6][kChunk]; // global strain at the end
   double el[6][kChunk];  // platelet-frame strain (a copy of eps without rotation)
@@ -39,6 +48,9 @@ struct Chunk {
   double kap[3][kChunk]; // kappa at the end
   double D[3][kChunk];   // damage at the end
   double sig[6][kChunk]; // stress at the end
+  // Secant stiffness (row-major entry rc) of the unloading points, compact (entry j of uidx),
+  // formed once for their stress and then written as their tangent.
+  double Ku[36][kChunk];
   double stored[kChunk]; // energies
   double diss[kChunk];
   double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
@@ -49,22 +61,23 @@ struct Chunk {
 };
 
 // x * 0 is 0 for finite x and NaN otherwise: a branch-free finiteness accumulator.
-inline double nf(double x) {
+[[gnu::always_inline]] inline double nf(double x) {
   return x * 0.0;
 }
 
 // 0.5 sigma . eps in the order of Eigen's 6-vector dot (the kernel's 0.5 * sigma.dot(eps))
 // with SSE2 packets: pairs (0, 1), (2, 3), (4, 5), reduced as p0 + (p1 + p2), then lane 0 +
 // lane 1.
-inline double half_dot(const double (&s)[6][kChunk], const double (&e)[6][kChunk], std::size_t i) {
+[[gnu::always_inline]] inline double half_dot(const double (&s)[6][kChunk],
+                                              const double (&e)[6][kChunk], std::size_t i) {
   const double l0 = s[0][i] * e[0][i] + (s[2][i] * e[2][i] + s[4][i] * e[4][i]);
   const double l1 = s[1][i] * e[1][i] + (s[3][i] * e[3][i] + s[5][i] * e[5][i]);
   return 0.5 * (l0 + l1);
 }
 
 // Pass 1: strains, rotation and input finiteness of points [0, m) of the chunk at `base`.
-void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t m, int ns,
-          Chunk& c) {
+[[gnu::always_inline]] inline void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
+                                        std::size_t m, int ns, Chunk& c) {
   for (int k = 0; k < 6; ++k) {
     const double* __restrict a = b.eps0 + static_cast<std::size_t>(k) * b.ld + base;
     const double* __restrict d = b.deps + static_cast<std::size_t>(k) * b.ld + base;
@@ -105,8 +118,8 @@ void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t
 // each differs from the kernel's by a few roundings of terms of size M^k, far below the
 // margin 1e-10 M^k, so a minor beyond the margin has the kernel's sign. Anything closer (a
 // tie, a non-finite value) is left to the kernel: returns false.
-inline bool surely_not_capped(double v0, double v1, double v2, double v3, double v4, double v5,
-                              double mu) {
+[[gnu::always_inline]] inline bool surely_not_capped(double v0, double v1, double v2, double v3,
+                                                     double v4, double v5, double mu) {
   const double f00 = 1.0 + v0, f11 = 1.0 + v1, f22 = 1.0 + v2;
   const double c00 = f00 * f00, c01 = f00 * v5, c02 = f00 * v4;
   const double c11 = v5 * v5 + f11 * f11, c12 = v5 * v4 + f11 * v3;
@@ -125,8 +138,9 @@ inline bool surely_not_capped(double v0, double v1, double v2, double v3, double
 // The uncapped stretch of one mode of a general strain as general_stretch() forms it (t_k
 // without a square root when one shear is 0); true when the cap certainly does not bind, so
 // that it is the mode's stretch (else the kernel path decides). ekk, ea, eb: e_kk, e_ka, e_kb.
-inline bool general_mode(double ekk, double ea, double eb, double v0, double v1, double v2,
-                         double v3, double v4, double v5, double& un) {
+[[gnu::always_inline]] inline bool general_mode(double ekk, double ea, double eb, double v0,
+                                                double v1, double v2, double v3, double v4,
+                                                double v5, double& un) {
   double g;
   detail::uncapped_stretch(ekk, detail::mode_shear(ea, eb), un, g);
   return !(un > 0.0) | surely_not_capped(v0, v1, v2, v3, v4, v5, un * un);
@@ -141,7 +155,7 @@ inline bool general_mode(double ekk, double ea, double eb, double v0, double v1,
 // numbers in all three (D352).
 enum class Blocks { all, none, mixed };
 
-Blocks block_kind(std::size_t m, const Chunk& c) {
+[[gnu::always_inline]] inline Blocks block_kind(std::size_t m, const Chunk& c) {
   double nb = 0.0; // number of block-diagonal points (a sum: the loop vectorises)
   for (std::size_t i = 0; i < m; ++i)
     nb += (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0) ? 1.0 : 0.0;
@@ -161,7 +175,7 @@ Blocks block_kind(std::size_t m, const Chunk& c) {
   return s0 & s1 & s2;
 }
 
-void pnc_stretches(std::size_t m, Chunk& c) {
+[[gnu::always_inline]] inline void pnc_stretches(std::size_t m, Chunk& c) {
   const Blocks kind = block_kind(m, c);
   double un[2], g[2], t, lmax;
   if (kind == Blocks::all) {
@@ -200,8 +214,8 @@ void pnc_stretches(std::size_t m, Chunk& c) {
 // Pass 2b: the stretches the closed forms above do not settle (pnc: a general strain whose cap
 // may bind; pp: every point), through the kernel's own function, point by point: lambda_max
 // of a general strain is the closed-form cubic with acos and cos, which has no vector form
-// with the same rounding.
-void scalar_stretches(Model model, std::size_t m, Chunk& c) {
+// with the same rounding (D388).
+[[gnu::always_inline]] inline void scalar_stretches(Model model, std::size_t m, Chunk& c) {
   for (std::size_t i = 0; i < m; ++i) {
     if (model == Model::pnc && c.scalar_stretch[i] == 0.0) continue;
     Voigt v;
@@ -218,7 +232,8 @@ void scalar_stretches(Model model, std::size_t m, Chunk& c) {
 // dD != 0) needs the growth term of the tangent and dissipates: kernel path. Without growth,
 // D1 = D0 for every mode (a mode that does not load keeps kappa; one that loads below the
 // onset has D0 = D1 = 0), so the dissipated energy is 0 exactly.
-template <int N> void classify(const PreparedNdm& q, std::size_t m, Chunk& c) {
+template <int N>
+[[gnu::always_inline]] inline void classify(const PreparedNdm& q, std::size_t m, Chunk& c) {
   const double alpha = q.p.alpha();
   const double ndb = detail::onset_margin(alpha);
   for (std::size_t i = 0; i < m; ++i) {
@@ -243,20 +258,9 @@ template <int N> void classify(const PreparedNdm& q, std::size_t m, Chunk& c) {
   }
 }
 
-// The secant stiffness entry (r, c) of a point as the kernel forms Cd: C0g, plus D_m dC1g_m
-// for every mode with D_m != 0, in mode order.
-inline double secant_entry(const PreparedNdm& q, int r, int col, int n, const double* D) {
-  double x = q.C0g(r, col);
-  for (int k = 0; k < n; ++k) {
-    const double y = x + D[k] * q.dC1g[static_cast<std::size_t>(k)](r, col);
-    x = D[k] != 0.0 ? y : x;
-  }
-  return x;
-}
-
 // Pass 4a: sigma = C0g eps for every point of the chunk (the elastic path; the others are
 // overwritten below), with the stored energy.
-void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
+[[gnu::always_inline]] inline void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
   for (int r = 0; r < 6; ++r) {
     double a[6];
     for (int j = 0; j < 6; ++j)
@@ -273,9 +277,11 @@ void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
 }
 
 // Pass 4b: the unloading points, gathered into a compact block: sigma = Cd eps, Cd formed
-// entry by entry as the kernel does. idx lists the points (u of them).
-template <int N>
-void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t u, Chunk& c) {
+// entry by entry as the kernel does and, when their tangent is wanted (KeepSecant), kept in
+// c.Ku (D387). idx lists the points (u of them).
+template <int N, bool KeepSecant>
+[[gnu::always_inline]] inline void unloading_stress(const PreparedNdm& q, const std::size_t* idx,
+                                                    std::size_t u, Chunk& c) {
   constexpr int n = N;
   double e[6][kChunk], D[3][kChunk], s[6][kChunk], bad[kChunk];
   for (std::size_t j = 0; j < u; ++j) {
@@ -292,6 +298,7 @@ void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t 
       for (int k = 0; k < 3; ++k)
         d[k][col] = q.dC1g[static_cast<std::size_t>(k)](r, col);
     }
+    double(*__restrict ku)[kChunk] = c.Ku + 6 * r; // entries (r, 0..5)
     for (std::size_t j = 0; j < u; ++j) {
       double row[6];
       for (int col = 0; col < 6; ++col) {
@@ -301,6 +308,7 @@ void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t 
           x = D[k][j] != 0.0 ? y : x;
         }
         row[col] = x;
+        if (KeepSecant) ku[col][j] = x;
         bad[j] += nf(x); // a tangent entry: finite unless the constants overflow
       }
       s[r][j] = detail::times_row(row, e[0][j], e[1][j], e[2][j], e[3][j], e[4][j], e[5][j]);
@@ -315,8 +323,9 @@ void unloading_stress(const PreparedNdm& q, const std::size_t* idx, std::size_t 
 }
 
 // Pass 4c: a kernel point through integrate_row_major(); its tangent into K36.
-void kernel_point(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t i, int ns,
-                  Chunk& c, double* K36) {
+[[gnu::always_inline]] inline void kernel_point(const PreparedNdm& q, const NdmBatch& b,
+                                                std::size_t base, std::size_t i, int ns, Chunk& c,
+                                                double* K36) {
   double e0[6], de[6], flat[6], sig[6];
   for (int k = 0; k < 6; ++k) {
     e0[k] = b.eps0[static_cast<std::size_t>(k) * b.ld + base + i];
@@ -351,7 +360,7 @@ void kernel_point(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std
 
 // Pass 5a: the result check of every point (stress, end state, energies; the tangent was
 // checked where it was formed).
-void check_results(std::size_t m, int n, Chunk& c) {
+[[gnu::always_inline]] inline void check_results(std::size_t m, int n, Chunk& c) {
   for (std::size_t i = 0; i < m; ++i) {
     double x = c.bad[i] + nf(c.stored[i]) + nf(c.diss[i]);
     for (int k = 0; k < 6; ++k)
@@ -362,30 +371,34 @@ void check_results(std::size_t m, int n, Chunk& c) {
   }
 }
 
+// dst[i] = src[i] for the points of the chunk that did not fail.
+[[gnu::always_inline]] inline void put_ok(bool all_ok, std::size_t m, const Chunk& c,
+                                          double* __restrict dst, const double* __restrict src) {
+  if (all_ok) {
+    std::memcpy(dst, src, m * sizeof(double));
+    return;
+  }
+  for (std::size_t i = 0; i < m; ++i)
+    if (c.bad[i] == 0.0) dst[i] = src[i];
+}
+
 // Pass 5b: writes to the caller's arrays, for the points that did not fail. `all_ok`: no point
 // of the chunk failed, so the loops need no per-point test.
-void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size_t m, int n,
-            const Chunk& c, const double (*Kk)[36], const std::size_t* kidx, std::size_t nk,
-            const std::size_t* uidx, std::size_t nu) {
+[[gnu::always_inline]] inline void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
+                                          std::size_t m, int n, const Chunk& c,
+                                          const double (*Kk)[36], const std::size_t* kidx,
+                                          std::size_t nk, const std::size_t* uidx, std::size_t nu) {
   bool all_ok = true;
   for (std::size_t i = 0; i < m; ++i)
     all_ok = all_ok && c.bad[i] == 0.0;
-  auto put = [&](double* dst, const double* src) {
-    if (all_ok) {
-      std::memcpy(dst, src, m * sizeof(double));
-      return;
-    }
-    for (std::size_t i = 0; i < m; ++i)
-      if (c.bad[i] == 0.0) dst[i] = src[i];
-  };
   for (int k = 0; k < 6; ++k)
-    put(b.sigma + static_cast<std::size_t>(k) * b.ld + base, c.sig[k]);
+    put_ok(all_ok, m, c, b.sigma + static_cast<std::size_t>(k) * b.ld + base, c.sig[k]);
   for (int k = 0; k < n; ++k) {
-    put(b.state1 + static_cast<std::size_t>(k) * b.ld + base, c.kap[k]);
-    put(b.state1 + static_cast<std::size_t>(n + k) * b.ld + base, c.D[k]);
+    put_ok(all_ok, m, c, b.state1 + static_cast<std::size_t>(k) * b.ld + base, c.kap[k]);
+    put_ok(all_ok, m, c, b.state1 + static_cast<std::size_t>(n + k) * b.ld + base, c.D[k]);
   }
-  if (b.stored) put(b.stored + base, c.stored);
-  if (b.dissipated) put(b.dissipated + base, c.diss);
+  if (b.stored) put_ok(all_ok, m, c, b.stored + base, c.stored);
+  if (b.dissipated) put_ok(all_ok, m, c, b.dissipated + base, c.diss);
   if (b.status)
     for (std::size_t i = 0; i < m; ++i)
       b.status[base + i] = c.bad[i] == 0.0 ? 0 : 1;
@@ -407,11 +420,8 @@ void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size
   for (std::size_t j = 0; j < nu; ++j) {
     const std::size_t i = uidx[j];
     if (c.bad[i] != 0.0) continue;
-    const double D[3] = {c.D[0][i], n > 1 ? c.D[1][i] : 0.0, n > 2 ? c.D[2][i] : 0.0};
-    for (int r = 0; r < 6; ++r)
-      for (int col = 0; col < 6; ++col)
-        b.K[static_cast<std::size_t>(6 * r + col) * b.ld + base + i] =
-            secant_entry(q, r, col, n, D);
+    for (int rc = 0; rc < 36; ++rc) // the secant formed for the stress (unloading_stress)
+      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Ku[rc][j];
   }
   for (std::size_t j = 0; j < nk; ++j) {
     const std::size_t i = kidx[j];
@@ -421,9 +431,9 @@ void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base, std::size
   }
 }
 
-} // namespace
-
-NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b) {
+// The whole batch, inlined (with every pass above) into one function per instruction set
+// below, so that each gets its own vectorised loops (D386).
+[[gnu::always_inline]] inline NdmBatchStats run(const PreparedNdm& q, const NdmBatch& b) {
   NdmBatchStats stats;
   stats.first_failed = b.n;
   const Model model = q.p.model;
@@ -449,9 +459,12 @@ NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b) {
       if (c.path[i] == kKernel) kidx[nk++] = i;
     }
     elastic_stress(q, m, c);
-    if (nu && n == 3) unloading_stress<3>(q, uidx, nu, c);
-    if (nu && n == 1) unloading_stress<1>(q, uidx, nu, c);
     const bool want_K = b.kind != TangentKind::none && b.K;
+    const bool secant = want_K && b.kind != TangentKind::elastic; // unloading: K = Cd
+    if (nu && n == 3 && secant) unloading_stress<3, true>(q, uidx, nu, c);
+    if (nu && n == 3 && !secant) unloading_stress<3, false>(q, uidx, nu, c);
+    if (nu && n == 1 && secant) unloading_stress<1, true>(q, uidx, nu, c);
+    if (nu && n == 1 && !secant) unloading_stress<1, false>(q, uidx, nu, c);
     for (std::size_t j = 0; j < nk; ++j)
       kernel_point(q, b, base, kidx[j], ns, c, want_K ? Kk[j] : nullptr);
     check_results(m, n, c);
@@ -469,6 +482,62 @@ NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b) {
     }
   }
   return stats;
+}
+
+// SSE2, the project's baseline: for every x86-64 CPU.
+[[gnu::noinline]] NdmBatchStats run_baseline(const PreparedNdm& q, const NdmBatch& b) {
+  return run(q, b);
+}
+
+#if PNC_BATCH_HAS_AVX2
+// The same source for CPUs with AVX2 (4 doubles a vector). No FMA: the file is compiled with
+// -ffp-contract=off and "avx2" does not enable FMA, so every operation rounds as in the
+// baseline and the two functions give the same bits (D386).
+[[gnu::noinline, gnu::target("avx2")]] NdmBatchStats run_avx2(const PreparedNdm& q,
+                                                              const NdmBatch& b) {
+  return run(q, b);
+}
+
+bool cpu_has_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+#endif
+
+} // namespace
+
+bool batch_isa_available(BatchIsa isa) {
+  switch (isa) {
+  case BatchIsa::automatic:
+  case BatchIsa::baseline:
+    return true;
+  case BatchIsa::avx2:
+#if PNC_BATCH_HAS_AVX2
+    return cpu_has_avx2();
+#else
+    return false;
+#endif
+  }
+  return false;
+}
+
+NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa isa) {
+  if (!batch_isa_available(isa))
+    throw std::invalid_argument(
+        "pnc::damage::integrate_batch: instruction set BatchIsa::avx2 was requested, but this "
+        "CPU or build has no AVX2 (use BatchIsa::automatic or BatchIsa::baseline)");
+#if PNC_BATCH_HAS_AVX2
+  if (isa == BatchIsa::avx2 || (isa == BatchIsa::automatic && cpu_has_avx2()))
+    return run_avx2(q, b);
+#endif
+  return run_baseline(q, b);
+}
+
+NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b) {
+  return integrate_batch(q, b, BatchIsa::automatic);
 }
 
 } // namespace pnc::damage

@@ -422,3 +422,72 @@ TEST(FeMaterialBatch, TheSymbolCarriesMinorTwoAndTheWrapperReachesIt) {
 }
 
 } // namespace
+
+// ------------------------------------------------------------------ instruction sets
+// The batch is compiled for SSE2 and for AVX2 from one source without fused multiply-adds
+// (D386): the two must give the same bits for every output on every path, including the
+// mixed, all-plane and all-general chunks and the points that fail. A CPU without AVX2 fails
+// this test (the AVX2 copy could not be checked there).
+TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
+  using pnc::damage::BatchIsa;
+  ASSERT_TRUE(pnc::damage::batch_isa_available(BatchIsa::avx2))
+      << "this CPU (or build) has no AVX2: the AVX2 copy of the batch cannot be compared";
+  const Eigen::Matrix3d in_3d = rotation_zx(30.0, 20.0);
+  for (const Model model : {Model::pnc, Model::pp})
+    for (const int plane_every : {5, 1, 0})
+      for (const bool rotated : {false, true}) {
+        NdmParameters p = params(model, false);
+        if (rotated) p.R = in_3d;
+        auto m = make(p);
+        auto pts = make_points(m.get(), model, 150, 386, 0.7, 0.2, plane_every);
+        pts[33].de[1] = std::numeric_limits<double>::quiet_NaN(); // a failing point
+        const pnc::damage::PreparedNdm q = pnc::damage::prepare(p);
+        const std::string what = std::string(pnc::damage::model_name(model)) + " plane_every " +
+                                 std::to_string(plane_every) + (rotated ? " rotated" : "");
+        for (const auto kind :
+             {pnc::damage::TangentKind::none, pnc::damage::TangentKind::consistent}) {
+          Blocks out[2] = {Blocks(pts, pnc_material_n_state(m.get()), 3),
+                           Blocks(pts, pnc_material_n_state(m.get()), 3)};
+          pnc::damage::NdmBatchStats st[2];
+          for (int v = 0; v < 2; ++v) {
+            Blocks& b = out[v];
+            pnc::damage::NdmBatch view;
+            view.n = b.n;
+            view.ld = b.ld;
+            view.eps0 = b.e0.data();
+            view.deps = b.de.data();
+            view.state0 = b.s0.data();
+            view.state1 = b.s1.data();
+            view.sigma = b.sig.data();
+            view.K = b.K.data();
+            view.stored = b.stored.data();
+            view.dissipated = b.diss.data();
+            view.status = b.status.data();
+            view.kind = kind;
+            st[v] =
+                pnc::damage::integrate_batch(q, view, v == 0 ? BatchIsa::baseline : BatchIsa::avx2);
+          }
+          EXPECT_EQ(st[0].elastic, st[1].elastic) << what;
+          EXPECT_EQ(st[0].unloading, st[1].unloading) << what;
+          EXPECT_EQ(st[0].kernel, st[1].kernel) << what;
+          EXPECT_EQ(st[0].failed, 1u) << what;
+          EXPECT_EQ(st[1].failed, 1u) << what;
+          EXPECT_EQ(st[1].first_failed, 33u) << what;
+          EXPECT_GT(st[1].elastic, 50u) << what; // the fast paths are exercised
+          EXPECT_GT(st[1].kernel, 10u) << what;
+          const auto same = [&](const std::vector<double>& a, const std::vector<double>& b,
+                                const char* field) {
+            ASSERT_EQ(a.size(), b.size());
+            for (std::size_t i = 0; i < a.size(); ++i)
+              ASSERT_TRUE(same_bits(a[i], b[i]))
+                  << what << " " << field << "[" << i << "]: " << a[i] << " vs " << b[i];
+          };
+          same(out[0].sig, out[1].sig, "sigma");
+          same(out[0].s1, out[1].s1, "state1");
+          same(out[0].K, out[1].K, "K");
+          same(out[0].stored, out[1].stored, "stored");
+          same(out[0].diss, out[1].diss, "dissipated");
+          EXPECT_EQ(out[0].status, out[1].status) << what;
+        }
+      }
+}

@@ -270,6 +270,17 @@ struct NdmBatchStats {
 /// compiler vectorises, the rest one by one through the kernel's routine.
 NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b);
 
+/// The instruction set of integrate_batch()'s loops over points (decision D386). The batch is
+/// compiled twice from one source: for the project's baseline (SSE2) and, on x86-64 with GCC or
+/// Clang, for AVX2 (4 doubles a vector, no FMA); `automatic` takes AVX2 when the CPU has it.
+/// Both give the same numbers bit for bit; forcing one is for tests and benchmarks.
+enum class BatchIsa { automatic, baseline, avx2 };
+/// Whether integrate_batch(q, b, isa) can run `isa` on this CPU and build.
+bool batch_isa_available(BatchIsa isa);
+/// integrate_batch() on a chosen instruction set; throws std::invalid_argument (naming the
+/// instruction set) when !batch_isa_available(isa).
+NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa isa);
+
 /// Damage of one mode at the largest stretch kappa, as integrate() computes it: 0 up to the
 /// onset kappa = alpha lambda_c, D(kappa / alpha) beyond; `slope` (if not null) receives
 /// dD/dkappa (1/stretch). Dimensionless.
