@@ -178,3 +178,35 @@ TEST(ThermoTiGlass, ACoulombPairWithKspaceIsRefusedBeforeAnyPointRuns) {
   EXPECT_FALSE(fs::exists(d / "ti" / "ti_spec.json"));
   if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }
+
+// D394: `--from` a run of your own charged system (recipe "system" with lj/cut/coul/long and a
+// kspace_style) is refused naming the recipe, the Coulomb command and the system's file, before
+// LAMMPS is started.
+TEST(ThermoTiGlass, YourOwnSystemWithKspaceIsRefusedNamingTheCommand) {
+  const auto d = tmp("user_coul");
+  const auto run = d / "run";
+  fs::create_directories(run / "equilibrate");
+  std::ofstream(run / "q.data") << "never read by thermo ti\n";
+  std::ofstream(run / "equilibrate" / "final.restart") << "never read\n";
+  const nlohmann::json recipe = {
+      {"name", "charged"},
+      {"model", "pp"},
+      {"system",
+       {{"data_file", "q.data"},
+        {"atom_style", "charge"},
+        {"units", "real"},
+        {"forcefield",
+         {"pair_style lj/cut/coul/long 8.5", "pair_coeff * * 0.2381 3.405", "mass 1 39.948",
+          "kspace_style pppm 1e-4"}}}},
+      {"equilibrate", {{"stages", nlohmann::json::array()}}}};
+  std::ofstream(run / "recipe.json") << recipe.dump(2);
+  const auto r = run_err("thermo ti --from " + run.string() + " --out " + (d / "ti").string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find((run / "recipe.json").string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pair_style lj/cut/coul/long 8.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("kspace"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("q.data"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("D394"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(d / "ti" / "restart_check.log")) << "LAMMPS was started";
+  if (!::testing::Test::HasFailure()) fs::remove_all(d);
+}
