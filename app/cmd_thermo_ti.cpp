@@ -19,6 +19,7 @@
 #include "pnc/core/stop.hpp"
 #include "pnc/core/units.hpp"
 #include "pnc/md/builder.hpp"
+#include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/equilibrate.hpp"
 #include "pnc/rve/recipe.hpp"
 #include "pnc/thermo/ti.hpp"
@@ -74,13 +75,23 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
     if (!fs::is_regular_file(rs))
       fail(rs, "--from", a.from, "has no equilibrated state (equilibrate/final.restart)");
     const rve::Recipe r = rve::read_recipe(rp);
-    if (r.model != "pp")
+    if (r.model != "pp" && r.model != "kg")
       fail(rp, "model", r.model,
-           "thermo ti ramps a single-type LJ; the nanocomposite (model pnc) is not supported yet");
-    if (r.system.enabled) // the built-in force field would be applied to the user's atoms
+           "thermo ti ramps a single-type LJ (models pp and kg); the composites (models pnc and "
+           "kg_platelet) are not supported yet");
+    if (r.system.enabled) { // the built-in force field would be applied to the user's atoms
+      for (const auto& c : r.system.forcefield) // D394: name a Coulomb pair and the rule
+        if (c.rfind("kspace_style", 0) == 0 ||
+            (c.rfind("pair_style", 0) == 0 && c.find("coul") != std::string::npos))
+          fail(rp, "system.forcefield", c,
+               "thermo ti replaces the pair style by one lj/cut ramped over lambda (D62); "
+               "long-range Coulomb (a kspace partner) cannot be scaled by it (D394); system " +
+                   r.system.input_file);
       fail(rp, "system", r.system.input_file,
            "thermo ti works on the built-in polymer force field; a run of your own system "
            "(recipe \"system\", docs/rve.md) is not supported yet");
+    }
+    if (r.model == "kg") return {rs, rve::bead_spring_commands(r.kg)}; // D393
     return {rs, md::polymer_forcefield_commands(r.ff)};
   }
   // --demo: build and equilibrate the demo RVE (rve/ API) under <out>/rve
@@ -389,9 +400,42 @@ bool key_set(const TiArgs& a, const thermo::TiInput& in, const std::string& key)
   return has(a.given) || has(in.file_keys);
 }
 
+/// D393: a glass (`--from` a run of model kg): the lambda = 1 end is the glass's own pair and
+/// the TI runs at the glass's temperature. The keys eps1, sig1, cutoff and temperature not set
+/// (option or file) take the recipe's values, eps0 and sig0 the dissertation's ratios to them
+/// (LjPath defaults: eps0/eps1 = 0.1, sig0/sig1 = 0.95/2.95); a set eps1, sig1 or cutoff that
+/// differs from the glass's pair is refused (the TI would end on another system).
+void adapt_to_glass(TiArgs& a, const thermo::TiInput& in) {
+  const std::string rp = (fs::path(a.from) / "recipe.json").string();
+  if (a.from.empty() || !fs::is_regular_file(rp)) return; // start_state names what is missing
+  const rve::Recipe r = rve::read_recipe(rp);
+  if (r.model != "kg") return;
+  const thermo::LjPath d; // the dissertation's path, for the ratios
+  auto end = [&](const char* key, double& v, double glass, const char* unit) {
+    if (!key_set(a, in, key)) {
+      v = glass;
+      return;
+    }
+    if (std::fabs(v - glass) > 1e-9 * std::fabs(glass))
+      fail(a.input.empty() ? "<command line>" : a.input + " with the command line", key,
+           fmt::format("{}", v),
+           fmt::format("must be the glass's own value {:.10g} {} ({}: forcefield of model kg): "
+                       "lambda = 1 is the glass (D393); leave the key out",
+                       glass, unit, rp));
+  };
+  end("eps1", a.spec.path.eps1, r.kg.epsilon, "kcal/mol");
+  end("sig1", a.spec.path.sig1, r.kg.sigma, "A");
+  end("cutoff", a.spec.path.cutoff, r.kg.cutoff(), "A");
+  if (!key_set(a, in, "eps0")) a.spec.path.eps0 = a.spec.path.eps1 * d.eps0 / d.eps1;
+  if (!key_set(a, in, "sig0")) a.spec.path.sig0 = a.spec.path.sig1 * d.sig0 / d.sig1;
+  if (!key_set(a, in, "temperature")) a.spec.sampling.temperature = r.equilibrate.temperature;
+  a.spec.validate(rp + " with the TI settings");
+}
+
 int run_thermo_ti(TiArgs a) {
   const thermo::TiInput in = resolve_input(a);
   a.spec = in.spec;
+  adapt_to_glass(a, in);
   a.executor = in.executor;
   // D333: as pnc characterize: under `mpirun -np K` rank 0 supervises with --ranks K and
   // --jobs 1 unless set (option or file key), the other ranks leave; ranks x jobs > cores warns
@@ -416,6 +460,7 @@ int run_thermo_ti(TiArgs a) {
          "holds the plan of another command; use a new --out directory");
   const auto [restart, ff] = start_state(a);
   thermo::check_ti_start(a.spec, restart);
+  thermo::check_ti_pair_style(restart, a.out, a.spec.ranks); // D394: before any point runs
   const double started = campaign::epoch_seconds(); // the wall time of the TI, as before the plan
   write_text_atomically(sp, sj);
   const auto states = thermo::ti_states(a.spec);
@@ -471,7 +516,8 @@ void register_thermo_ti(CLI::App* th, Action& action) {
   auto ta = std::make_shared<TiArgs>();
   auto* ti = th->add_subcommand(
       "ti", "Thermodynamic integration of the LJ coupling over deformation states -> ti.h5");
-  ti->add_option("--from", ta->from, "`pnc characterize` output directory (pure polymer)");
+  ti->add_option("--from", ta->from,
+                 "`pnc characterize` output directory (model pp, or kg: the glass, D393)");
   ti->add_option("--restart", ta->restart, "Equilibrated LAMMPS restart (default PP force field)");
   ti->add_flag("--demo", ta->demo, "Build and equilibrate the demo RVE (600 beads) under OUT/rve");
   ti->add_option("--out", ta->out, "Output directory")->required();
