@@ -67,6 +67,8 @@
 
 #include <nlohmann/json.hpp>
 #include <pnc/core/atomic_file.hpp>
+#include <pnc/core/error.hpp>
+#include <pnc/core/plot.hpp>
 #include <pnc/core/units.hpp>
 #include <pnc/fe_material/material.hpp>
 
@@ -90,15 +92,6 @@
 
 #include "demo_report.h"
 #include "fracture_problem.h"
-
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#ifndef PNC_DEMO_SOURCE_DIR
-#define PNC_DEMO_SOURCE_DIR "."
-#endif
 
 namespace pncdemo {
 
@@ -334,7 +327,7 @@ void declare_parameters(ParameterHandler& prm) {
   prm.declare_entry("VTU every", "1", Patterns::Integer(0, 100000),
                     "Write a VTU file every n converged steps (0: never).");
   prm.declare_entry("Plot", "true", Patterns::Bool(),
-                    "Plot force_displacement.png with /usr/bin/python3 + matplotlib.");
+                    "Plot force_displacement.png (python3 + matplotlib, $PNC_PYTHON).");
   prm.declare_entry("Quiet", "false", Patterns::Bool(), "No per-step log on stderr.");
   prm.leave_subsection();
 }
@@ -2490,27 +2483,17 @@ namespace {
                "       dealii_fracture --print-parameters        (every option, described)\n";
 }
 
-// The force-displacement plot: /usr/bin/python3 with the plot script, run without a shell
-// (the output directory comes from the parameter file); its output is discarded. `stop` (where
-// and why the run ended) annotates the last point.
-bool plot(const std::string& csv, const std::string& png, const std::string& stop) {
-  const std::string python = "/usr/bin/python3",
-                    script = std::string(PNC_DEMO_SOURCE_DIR) + "/plot_force_displacement.py";
-  std::vector<std::string> args{python, script, "--stop", stop, csv, png};
-  std::vector<char*> argv;
-  for (auto& a : args)
-    argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t io;
-  posix_spawn_file_actions_init(&io);
-  posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&io, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, python.c_str(), &io, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&io);
-  int status = 0;
-  return rc == 0 && waitpid(pid, &status, 0) == pid && WIFEXITED(status) &&
-         WEXITSTATUS(status) == 0;
+// The force-displacement plot: plot_force_displacement.py through pnc's one plot runner
+// (pnc/core/plot.hpp: $PNC_PYTHON, the script among the shipped ones or in $PNC_SCRIPTS_DIR,
+// no shell; D337, D363). `stop` (where and why the run ended) annotates the last point. A plot
+// is never what the run is for: a script that cannot run or is missing gives the warning
+// line, returned (empty when the figure was drawn).
+std::string plot(const std::string& csv, const std::string& png, const std::string& stop) {
+  try {
+    return pnc::run_plot("plot_force_displacement.py", {"--stop", stop, csv, png}).warning;
+  } catch (const pnc::InputError& e) { // the script is not where the runner looks
+    return e.what();
+  }
 }
 
 // What was run, for the report: the command line (arguments with a space quoted).
@@ -2543,7 +2526,10 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
     const std::string png = p.directory + "/force_displacement.png";
     // announced: starting matplotlib takes seconds after the last step line
     if (!p.quiet) std::cerr << "dealii_fracture: plotting " << png << " ..." << std::endl;
-    const bool drawn = plot(p.directory + "/force_displacement.csv", png, r.stop);
+    const std::string failed = plot(p.directory + "/force_displacement.csv", png, r.stop);
+    const bool drawn = failed.empty();
+    if (!drawn) // printed even with Output/Quiet: the run has no figure
+      std::cerr << "dealii_fracture: warning: no plot: " << failed << std::endl;
     if (!p.quiet && drawn) {
       std::ostringstream took; // the stream's own format stays as it was
       took << std::fixed << std::setprecision(1) << seconds_since(t_plot);
@@ -2555,8 +2541,8 @@ template <int dim> int run_demo(const pncdemo::Params& p, bool json, const Invoc
       const std::string damage = p.directory + "/force_displacement_damage.png";
       if (std::filesystem::exists(damage)) r.damage_png = damage;
     } else {
-      j["plot"] = "failed (needs /usr/bin/python3 + matplotlib)";
-      r.plot_note = "the plot script failed (it needs /usr/bin/python3 with matplotlib)";
+      j["plot"] = "failed: " + failed;
+      r.plot_note = "the plot script failed: " + failed;
     }
   } else
     r.plot_note = "Output/Plot is false";
