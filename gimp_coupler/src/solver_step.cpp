@@ -3,6 +3,7 @@
 // the reactions, G2P. SI units.
 #include "pnc/core/error.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
+#include "pnc/gimp_coupler/stencil_weights.hpp"
 
 #include "solver_pool.hpp"
 
@@ -88,7 +89,7 @@ template <int D> void Solver<D>::scatter() {
     Stencil<D> st;
     for (std::size_t p = 0; p < P.size(); ++p) {
       if (!near_crack(P.x[p])) continue; // only nodes near the crack are tested for contact
-      assemble_stencil(grid, wcache_[p], st);
+      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
       apply_fields(p, st);
       const Vec mu = P.m[p] * (P.x[p] - P.x0[p]);
       for (int k = 0; k < Stencil<D>::size; ++k)
@@ -334,7 +335,7 @@ template <int D> void Solver<D>::g2p(double dt) {
     Stencil<D> st;
     double wext = 0.0, ke = 0.0, se = 0.0;
     for (std::size_t p = b; p < e; ++p) {
-      assemble_stencil(grid, wcache_[p], st);
+      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
       if (nfields_ > 1) apply_fields(p, st);
       double ddx[D] = {}, ddv[D] = {};
       for (int k = 0; k < Stencil<D>::size; ++k) {

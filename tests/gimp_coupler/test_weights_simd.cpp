@@ -3,6 +3,7 @@
 // only the selection of the piece differs), at and next to every breakpoint, for NaN and +-inf,
 // for l = L/2 (coinciding breakpoints), and the batched per-axis weights of whole particles equal
 // the per-node ugimp_weight of the same offsets.
+#include "pnc/gimp_coupler/stencil_weights.hpp"
 #include "pnc/gimp_coupler/weights.hpp"
 #include "pnc/gimp_coupler/weights_simd.hpp"
 
@@ -118,4 +119,37 @@ TEST(GimpWeightsSimd, ManyParticlesEqualPerNodeTable) {
       }
   x[130][2] = g.origin[2] + g.h * (g.n[2] - 1); // support beyond the last node
   EXPECT_EQ(compute_axis_weights_many(g, n, x.data(), l.data(), aw.data()), 130u);
+}
+
+// The S-only stencil of G2P (D378) equals the full stencil's nodes and weights bit for bit.
+template <int D> void expect_weights_only_equal_full() {
+  Grid<D> g;
+  g.h = 0.1;
+  for (int a = 0; a < D; ++a) {
+    g.origin[a] = -0.2 + 0.05 * a;
+    g.n[a] = 7 + a;
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  using Vec = Eigen::Matrix<double, D, 1>;
+  for (int q = 0; q < 200; ++q) {
+    Vec x, l;
+    for (int a = 0; a < D; ++a) {
+      l[a] = g.h * (0.05 + 0.45 * u(rng));
+      x[a] = g.origin[a] + l[a] + g.h * (g.n[a] - 1) * u(rng) * 0.7;
+    }
+    AxisWeights<D> aw;
+    ASSERT_TRUE(compute_axis_weights(g, x, l, aw));
+    Stencil<D> full, only;
+    assemble_stencil(g, aw, full);
+    assemble_stencil_weights(g, aw, only);
+    for (int k = 0; k < Stencil<D>::size; ++k)
+      ASSERT_TRUE(full.node[k] == only.node[k] && same_bits(full.S[k], only.S[k]))
+          << D << "-D particle " << q << " node " << k;
+  }
+}
+
+TEST(GimpWeightsSimd, WeightsOnlyStencilEqualsFullStencil) {
+  expect_weights_only_equal_full<2>();
+  expect_weights_only_equal_full<3>();
 }
