@@ -3,6 +3,7 @@
 // the reactions, G2P. SI units.
 #include "pnc/core/error.hpp"
 #include "pnc/gimp_coupler/solver.hpp"
+#include "pnc/gimp_coupler/stencil_weights.hpp"
 
 #include "solver_pool.hpp"
 
@@ -15,6 +16,10 @@ namespace pnc::gimp {
 
 using detail::block;
 using detail::par;
+
+namespace {
+constexpr std::size_t kWeightChunk = 64; // particles per ugimp_weights call in P2G (D376)
+} // namespace
 
 // P2G of m, p, f^int (sigma^t, V^t), f^ext at x^t. (The f^int,* scatter happens in the stress
 // update of step().)
@@ -34,9 +39,13 @@ template <int D> void Solver<D>::scatter() {
     const auto [b, e] = block(t, T, P.size());
     Stencil<D> st;
     for (std::size_t p = b; p < e; ++p) {
-      AxisWeights<D>& aw = wcache_[p];
-      if (!compute_axis_weights(grid, P.x[p], P.l[p], aw)) left_grid(p);
-      assemble_stencil(grid, aw, st);
+      if ((p - b) % kWeightChunk == 0) { // the weights of the next chunk, SIMD (D376)
+        const std::size_t n = std::min(kWeightChunk, e - p);
+        const std::size_t ok =
+            compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p, wcache_.data() + p);
+        if (ok < n) left_grid(p + ok);
+      }
+      assemble_stencil(grid, wcache_[p], st);
       if (nfields_ > 1 && !near_crack(P.x[p])) {
         fmask_[p] = 0;
       } else if (nfields_ > 1) {
@@ -80,7 +89,7 @@ template <int D> void Solver<D>::scatter() {
     Stencil<D> st;
     for (std::size_t p = 0; p < P.size(); ++p) {
       if (!near_crack(P.x[p])) continue; // only nodes near the crack are tested for contact
-      assemble_stencil(grid, wcache_[p], st);
+      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
       apply_fields(p, st);
       const Vec mu = P.m[p] * (P.x[p] - P.x0[p]);
       for (int k = 0; k < Stencil<D>::size; ++k)
@@ -326,7 +335,7 @@ template <int D> void Solver<D>::g2p(double dt) {
     Stencil<D> st;
     double wext = 0.0, ke = 0.0, se = 0.0;
     for (std::size_t p = b; p < e; ++p) {
-      assemble_stencil(grid, wcache_[p], st);
+      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
       if (nfields_ > 1) apply_fields(p, st);
       double ddx[D] = {}, ddv[D] = {};
       for (int k = 0; k < Stencil<D>::size; ++k) {

@@ -9,8 +9,11 @@
 //
 // With l <= L/2 a particle touches at most two cells per axis, so its support holds at most
 // three nodes per axis: 3^D nodes (9 in 2-D, 27 in 3-D); Stencil<D> holds them.
+#include "pnc/gimp_coupler/weights_simd.hpp"
+
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -94,13 +97,16 @@ template <int D> struct Stencil {
 template <int D> struct AxisWeights {
   std::array<int, D> i0{};
   std::array<std::array<double, 3>, D> w{}, dw{};
+  static_assert(sizeof(w) == 3 * D * sizeof(double), "w, dw: 3 D contiguous doubles");
 };
 
-/// Computes the per-axis weights of a particle at x with half-lengths l (each 0 < l_a <= h/2).
+/// First node index per axis (aw.i0) and, for the three nodes k of each axis a, the offset
+/// xi[3a + k] = x_a - X_k (m) and the half-length hl[3a + k] = l_a (m) that ugimp_weight takes.
 /// Returns false if the support leaves the grid (a node index would fall outside [0, n_a)).
 template <int D>
-inline bool compute_axis_weights(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
-                                 const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw) {
+inline bool axis_offsets(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
+                         const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw, double* xi,
+                         double* hl) {
   for (int a = 0; a < D; ++a) {
     const double s = (x[a] - l[a] - g.origin[a]) / g.h;
     if (!(s >= 0.0)) return false; // also catches NaN
@@ -115,13 +121,45 @@ inline bool compute_axis_weights(const Grid<D>& g, const Eigen::Matrix<double, D
     }
     aw.i0[a] = i0;
     for (int k = 0; k < 3; ++k) {
-      const double xi = x[a] - (g.origin[a] + g.h * (i0 + k));
-      const Weight1D r = ugimp_weight(xi, g.h, l[a]);
-      aw.w[a][k] = r.S;
-      aw.dw[a][k] = r.dS;
+      xi[3 * a + k] = x[a] - (g.origin[a] + g.h * (i0 + k));
+      hl[3 * a + k] = l[a];
     }
   }
   return true;
+}
+
+/// Computes the per-axis weights of a particle at x with half-lengths l (each 0 < l_a <= h/2)
+/// through the branch-free ugimp_weights (D376; equal to ugimp_weight bit for bit).
+/// Returns false if the support leaves the grid (a node index would fall outside [0, n_a)).
+template <int D>
+inline bool compute_axis_weights(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
+                                 const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw) {
+  double xi[3 * D], hl[3 * D];
+  if (!axis_offsets(g, x, l, aw, xi, hl)) return false;
+  ugimp_weights(3 * D, xi, hl, g.h, &aw.w[0][0], &aw.dw[0][0]);
+  return true;
+}
+
+/// compute_axis_weights of particles [0, n) (x, l, aw indexed alike) in chunks of 64 with one
+/// ugimp_weights call per chunk: SIMD over particles and nodes (D376). Returns the first
+/// particle whose support leaves the grid (its aw and the rest of its chunk unset), or n.
+template <int D>
+inline std::size_t
+compute_axis_weights_many(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                          const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  constexpr std::size_t kChunk = 64, m = 3 * D;
+  double xi[kChunk * m], hl[kChunk * m], S[kChunk * m], dS[kChunk * m];
+  for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
+    const std::size_t c1 = std::min(n, c0 + kChunk);
+    for (std::size_t p = c0; p < c1; ++p)
+      if (!axis_offsets(g, x[p], l[p], aw[p], xi + (p - c0) * m, hl + (p - c0) * m)) return p;
+    ugimp_weights((c1 - c0) * m, xi, hl, g.h, S, dS);
+    for (std::size_t p = c0; p < c1; ++p) {
+      std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &aw[p].w[0][0]);
+      std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &aw[p].dw[0][0]);
+    }
+  }
+  return n;
 }
 
 /// The 3^D stencil (node indices, S, grad S) as the tensor product of per-axis weights.

@@ -1,0 +1,109 @@
+// Branch-free uGIMP 1-D weights of many points (weights_simd.hpp, D376), baseline and AVX2
+// builds with a run-time choice (D377). Compiled with -O3 -ffp-contract=off
+// (gimp_coupler/CMakeLists.txt): no FMA contraction, so both builds round every operation
+// exactly as ugimp_weight does. Units: m, 1/m.
+#include "pnc/gimp_coupler/weights_simd.hpp"
+
+// The AVX2 build exists on x86 only; elsewhere both entry points are the portable loop.
+#if defined(__x86_64__) || defined(__i386__)
+#define PNC_GIMP_X86 1
+#define PNC_GIMP_AVX2 __attribute__((target("avx2")))
+#else
+#define PNC_GIMP_X86 0
+#define PNC_GIMP_AVX2
+#endif
+
+namespace pnc::gimp {
+
+namespace {
+
+// The piecewise weight of ugimp_weight as a selection instead of an if-chain (D376): every
+// piece is written as S = c + nS / dS_den, dS = nd / dd with c in {0, 1}, and the pieces are
+// taken from the last one down, so that the lowest bound `xi <= t` that holds wins, as the
+// first true test of the if-chain does (also for NaN: no test holds, S = dS = 0). Each piece
+// performs the same operations as in ugimp_weight: 1 - q == 1 + (-q) and (-a) / b == -(a / b)
+// exactly in IEEE arithmetic, and 0 + q == q for the q >= 0 of the quadratic tails.
+inline __attribute__((always_inline)) void weights_body(std::size_t n, const double* __restrict xi,
+                                                        const double* __restrict l, double L,
+                                                        double* __restrict S,
+                                                        double* __restrict dS) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = xi[k], h = l[k];
+    const double L4l = 4.0 * L * h, L2l = 2.0 * L * h, Ll = L * h, Lpl = L + h;
+    const double a1 = L + h + x, a5 = L + h - x;
+    double c = 0.0, ns = 0.0, ds = 1.0, nd = 0.0, dd = 1.0; // xi > L + l: zero
+    const bool q5 = x <= Lpl;                               // quadratic tail, right
+    c = q5 ? 0.0 : c;
+    ns = q5 ? a5 * a5 : ns;
+    ds = q5 ? L4l : ds;
+    nd = q5 ? -a5 : nd;
+    dd = q5 ? L2l : dd;
+    const bool q4 = x <= L - h; // linear, falling
+    c = q4 ? 1.0 : c;
+    ns = q4 ? -x : ns;
+    ds = q4 ? L : ds;
+    nd = q4 ? -1.0 : nd;
+    dd = q4 ? L : dd;
+    const bool q3 = x <= h; // quadratic top
+    c = q3 ? 1.0 : c;
+    ns = q3 ? -(x * x + h * h) : ns;
+    ds = q3 ? L2l : ds;
+    nd = q3 ? -x : nd;
+    dd = q3 ? Ll : dd;
+    const bool q2 = x <= -h; // linear, rising
+    c = q2 ? 1.0 : c;
+    ns = q2 ? x : ns;
+    ds = q2 ? L : ds;
+    nd = q2 ? 1.0 : nd;
+    dd = q2 ? L : dd;
+    const bool q1 = x <= -L + h; // quadratic tail, left
+    c = q1 ? 0.0 : c;
+    ns = q1 ? a1 * a1 : ns;
+    ds = q1 ? L4l : ds;
+    nd = q1 ? a1 : nd;
+    dd = q1 ? L2l : dd;
+    const bool q0 = x <= -L - h; // zero
+    c = q0 ? 0.0 : c;
+    ns = q0 ? 0.0 : ns;
+    ds = q0 ? 1.0 : ds;
+    nd = q0 ? 0.0 : nd;
+    dd = q0 ? 1.0 : dd;
+    S[k] = c + ns / ds;
+    dS[k] = nd / dd;
+  }
+}
+
+} // namespace
+
+namespace simd {
+
+void ugimp_weights_default(std::size_t n, const double* xi, const double* l, double L, double* S,
+                           double* dS) {
+  weights_body(n, xi, l, L, S, dS);
+}
+
+PNC_GIMP_AVX2 void ugimp_weights_avx2(std::size_t n, const double* xi, const double* l, double L,
+                                      double* S, double* dS) {
+  weights_body(n, xi, l, L, S, dS);
+}
+
+bool has_avx2() {
+#if PNC_GIMP_X86
+  static const bool yes = __builtin_cpu_supports("avx2");
+  return yes;
+#else
+  return false;
+#endif
+}
+
+} // namespace simd
+
+void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, double* S,
+                   double* dS) {
+  if (simd::has_avx2())
+    simd::ugimp_weights_avx2(n, xi, l, L, S, dS);
+  else
+    simd::ugimp_weights_default(n, xi, l, L, S, dS);
+}
+
+} // namespace pnc::gimp
