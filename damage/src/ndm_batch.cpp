@@ -22,13 +22,9 @@
 #include <cstring>
 #include <stdexcept>
 
-// The AVX2 copy of the batch (D386): GCC or Clang on x86-64 (function attribute target("avx2")
-// and __builtin_cpu_supports); elsewhere the baseline only.
-#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
-#define PNC_BATCH_HAS_AVX2 1
-#else
-#define PNC_BATCH_HAS_AVX2 0
-#endif
+// The AVX2 copy of the batch (D386) where pnc/core/cpu.hpp can compile one (GCC or Clang on
+// x86); elsewhere the baseline only.
+#include "pnc/core/cpu.hpp"
 
 namespace pnc::damage {
 
@@ -489,21 +485,12 @@ template <int N, bool KeepSecant>
   return run(q, b);
 }
 
-#if PNC_BATCH_HAS_AVX2
+#if PNC_HAVE_AVX2_COPY
 // The same source for CPUs with AVX2 (4 doubles a vector). No FMA: the file is compiled with
 // -ffp-contract=off and "avx2" does not enable FMA, so every operation rounds as in the
 // baseline and the two functions give the same bits (D386).
-[[gnu::noinline, gnu::target("avx2")]] NdmBatchStats run_avx2(const PreparedNdm& q,
-                                                              const NdmBatch& b) {
+[[gnu::noinline]] PNC_TARGET_AVX2 NdmBatchStats run_avx2(const PreparedNdm& q, const NdmBatch& b) {
   return run(q, b);
-}
-
-bool cpu_has_avx2() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
-  }();
-  return has;
 }
 #endif
 
@@ -515,8 +502,8 @@ bool batch_isa_available(BatchIsa isa) {
   case BatchIsa::baseline:
     return true;
   case BatchIsa::avx2:
-#if PNC_BATCH_HAS_AVX2
-    return cpu_has_avx2();
+#if PNC_HAVE_AVX2_COPY
+    return pnc::cpu_has_avx2();
 #else
     return false;
 #endif
@@ -529,8 +516,8 @@ NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa 
     throw std::invalid_argument(
         "pnc::damage::integrate_batch: instruction set BatchIsa::avx2 was requested, but this "
         "CPU or build has no AVX2 (use BatchIsa::automatic or BatchIsa::baseline)");
-#if PNC_BATCH_HAS_AVX2
-  if (isa == BatchIsa::avx2 || (isa == BatchIsa::automatic && cpu_has_avx2()))
+#if PNC_HAVE_AVX2_COPY
+  if (isa == BatchIsa::avx2 || (isa == BatchIsa::automatic && pnc::cpu_has_avx2()))
     return run_avx2(q, b);
 #endif
   return run_baseline(q, b);

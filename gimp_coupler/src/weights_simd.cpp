@@ -4,14 +4,9 @@
 // exactly as ugimp_weight does. Units: m, 1/m.
 #include "pnc/gimp_coupler/weights_simd.hpp"
 
-// The AVX2 build exists on x86 only; elsewhere both entry points are the portable loop.
-#if defined(__x86_64__) || defined(__i386__)
-#define PNC_GIMP_X86 1
-#define PNC_GIMP_AVX2 __attribute__((target("avx2")))
-#else
-#define PNC_GIMP_X86 0
-#define PNC_GIMP_AVX2
-#endif
+// The AVX2 build exists where pnc/core/cpu.hpp says it can (GCC or Clang on x86); elsewhere both
+// entry points are the portable loop.
+#include "pnc/core/cpu.hpp"
 
 namespace pnc::gimp {
 
@@ -82,25 +77,16 @@ void ugimp_weights_default(std::size_t n, const double* xi, const double* l, dou
   weights_body(n, xi, l, L, S, dS);
 }
 
-PNC_GIMP_AVX2 void ugimp_weights_avx2(std::size_t n, const double* xi, const double* l, double L,
-                                      double* S, double* dS) {
+PNC_TARGET_AVX2 void ugimp_weights_avx2(std::size_t n, const double* xi, const double* l, double L,
+                                        double* S, double* dS) {
   weights_body(n, xi, l, L, S, dS);
-}
-
-bool has_avx2() {
-#if PNC_GIMP_X86
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-#else
-  return false;
-#endif
 }
 
 } // namespace simd
 
 void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, double* S,
                    double* dS) {
-  if (simd::has_avx2())
+  if (pnc::cpu_has_avx2())
     simd::ugimp_weights_avx2(n, xi, l, L, S, dS);
   else
     simd::ugimp_weights_default(n, xi, l, L, S, dS);

@@ -18,11 +18,9 @@ namespace simd {
 /// The baseline (SSE2) build of ugimp_weights.
 void ugimp_weights_default(std::size_t n, const double* xi, const double* l, double L, double* S,
                            double* dS);
-/// The AVX2 build of ugimp_weights; call only when has_avx2().
+/// The AVX2 build of ugimp_weights; call only when pnc::cpu_has_avx2() (pnc/core/cpu.hpp).
 void ugimp_weights_avx2(std::size_t n, const double* xi, const double* l, double L, double* S,
                         double* dS);
-/// Whether this CPU runs AVX2 code (and ugimp_weights takes the AVX2 build).
-bool has_avx2();
 } // namespace simd
 
 } // namespace pnc::gimp
