@@ -228,6 +228,9 @@ int serve_lammps(const std::string& socket_path, const std::vector<std::string>&
     case wire::kLocal:
       status = gather_local_rows(h, r.text, rank, out);
       break;
+    case wire::kVersion:
+      out = {static_cast<double>(lammps_version(h))};
+      break;
     case wire::kGlobal: {
       bool ok = false;
       out = {wire::global_double(h, r.text, ok)};

@@ -18,8 +18,9 @@ enum Op : char {
   kCompute = 'k',
   kGather = 'g',
   kBox = 'b',
-  kLocal = 'l',  // the rows of a compute's local vector, gathered from every rank (D324)
-  kGlobal = 'd', // a global double of LAMMPS by name (D324)
+  kLocal = 'l',   // the rows of a compute's local vector, gathered from every rank (D324)
+  kGlobal = 'd',  // a global double of LAMMPS by name (D324)
+  kVersion = 'v', // the release date of the LAMMPS library (D366)
   kQuit = 'q'
 };
 

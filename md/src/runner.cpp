@@ -169,6 +169,11 @@ std::vector<double> Lammps::compute_local_vector(const std::string& id) {
   return v;
 }
 
+int Lammps::version() {
+  if (fd_ >= 0) return static_cast<int>(call(wire::kVersion, "").at(0));
+  return lammps_version(h_);
+}
+
 double Lammps::extract_global_double(const std::string& name) {
   bool ok = false;
   double v = 0;

@@ -12,7 +12,6 @@
 #include "pnc/core/version.hpp"
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/lammps_path.hpp"
-#include "pnc/md/lammps_version.hpp"
 #include "pnc/md/stage_stop.hpp"
 #include "pnc/md/statistics.hpp"
 
@@ -305,8 +304,8 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     fail("<deformation cases>", "case " + std::to_string(dc.id), dc.name,
          "the gradient of a deformation case must be upper triangular (D316)");
   const bool tilted = dc.gradient(0, 1) != 0 || dc.gradient(0, 2) != 0 || dc.gradient(1, 2) != 0;
-  const double amplitude = amplitude_of(spec, dc); // final strain of the case (D362)
-  const std::string lmp_version = std::to_string(md::linked_lammps_version()); // D366
+  const double amplitude = amplitude_of(spec, dc);             // final strain of the case (D362)
+  const std::string lmp_version = std::to_string(l.version()); // D366
   Checkpoint c;
   c.r.case_id = spec.case_id;
   c.lmp_version = lmp_version;

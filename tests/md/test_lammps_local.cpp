@@ -6,7 +6,6 @@
 // instance lives in a stage child (run_stage); the child writes what it read to a file and the
 // parent checks it.
 #include "pnc/core/error.hpp"
-#include "pnc/md/lammps_version.hpp"
 #include "pnc/md/runner.hpp"
 
 #include "common/lammps_banner.hpp"
@@ -227,8 +226,7 @@ TEST(MdLammpsLocal, LinkedVersionIsTheReleaseDateTheInstalledLmpPrints) {
     const std::string res = (d / ("version_" + std::to_string(ranks) + ".txt")).string();
     const StageSpec spec{
         "version", (d / ("stage_" + std::to_string(ranks) + ".log")).string(), {}, ranks};
-    const auto out =
-        run_stage(spec, [&](Lammps&) { std::ofstream(res) << linked_lammps_version() << "\n"; });
+    const auto out = run_stage(spec, [&](Lammps& l) { std::ofstream(res) << l.version() << "\n"; });
     ASSERT_TRUE(out.ok) << out.error;
     std::ifstream in(res);
     std::string version;

@@ -101,6 +101,9 @@ public:
   /// order depends on the rank count and only sums over rows are meant (D324). Throws if `id`
   /// is no compute with a local vector.
   std::vector<double> compute_local_vector(const std::string& id);
+  /// The release date of this instance's LAMMPS library as the integer YYYYMMDD (LAMMPS's
+  /// lammps_version; e.g. 20210929 for "29 Sep 2021"); the case checkpoints record it (D366).
+  int version();
   /// A global double of LAMMPS by name (lammps_extract_global), e.g. "nktv2p" (the pressure
   /// unit conversion, atm per (kcal/mol)/A^3 in units real); throws if there is none.
   double extract_global_double(const std::string& name);
