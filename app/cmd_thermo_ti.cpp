@@ -35,6 +35,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace pnc::app {
@@ -56,8 +57,17 @@ struct TiArgs {
   SlurmOptions slurm;
 };
 
-/// The equilibrated start state and the force-field commands.
-std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
+/// The recipe of a `--from` run (`<from>/recipe.json`, read once; std::nullopt without --from or
+/// when the file is missing: start_state names what is missing).
+std::optional<rve::Recipe> from_recipe(const TiArgs& a) {
+  const std::string rp = (fs::path(a.from) / "recipe.json").string();
+  if (a.from.empty() || !fs::is_regular_file(rp)) return std::nullopt;
+  return rve::read_recipe(rp);
+}
+
+/// The equilibrated start state and the force-field commands; `recipe` is from_recipe(a).
+std::pair<std::string, std::vector<std::string>>
+start_state(const TiArgs& a, const std::optional<rve::Recipe>& recipe) {
   const int given = (a.from.empty() ? 0 : 1) + (a.restart.empty() ? 0 : 1) + (a.demo ? 1 : 0);
   if (given != 1)
     fail("<command line>", "--from/--restart/--demo", "",
@@ -70,26 +80,30 @@ std::pair<std::string, std::vector<std::string>> start_state(const TiArgs& a) {
   if (!a.from.empty()) {
     const std::string rp = (fs::path(a.from) / "recipe.json").string();
     const std::string rs = (fs::path(a.from) / "equilibrate" / "final.restart").string();
-    if (!fs::is_regular_file(rp))
+    if (!recipe)
       fail(a.from, "--from", a.from, "is not a `pnc characterize` output (no recipe.json)");
     if (!fs::is_regular_file(rs))
       fail(rs, "--from", a.from, "has no equilibrated state (equilibrate/final.restart)");
-    const rve::Recipe r = rve::read_recipe(rp);
+    const rve::Recipe& r = *recipe;
     if (r.model != "pp" && r.model != "kg")
       fail(rp, "model", r.model,
            "thermo ti ramps a single-type LJ (models pp and kg); the composites (models pnc and "
            "kg_platelet) are not supported yet");
     if (r.system.enabled) { // the built-in force field would be applied to the user's atoms
+      std::string field = "system", value = r.system.input_file;
+      std::string why = "thermo ti works on the built-in polymer force field; a run of your own "
+                        "system (recipe \"system\", docs/rve.md) is not supported yet";
       for (const auto& c : r.system.forcefield) // D394: name a Coulomb pair and the rule
         if (c.rfind("kspace_style", 0) == 0 ||
-            (c.rfind("pair_style", 0) == 0 && c.find("coul") != std::string::npos))
-          fail(rp, "system.forcefield", c,
-               "thermo ti replaces the pair style by one lj/cut ramped over lambda (D62); "
-               "long-range Coulomb (a kspace partner) cannot be scaled by it (D394); system " +
-                   r.system.input_file);
-      fail(rp, "system", r.system.input_file,
-           "thermo ti works on the built-in polymer force field; a run of your own system "
-           "(recipe \"system\", docs/rve.md) is not supported yet");
+            (c.rfind("pair_style", 0) == 0 && c.find("coul") != std::string::npos)) {
+          field = "system.forcefield";
+          value = c;
+          why = "thermo ti replaces the pair style by one lj/cut ramped over lambda (D62); "
+                "long-range Coulomb (a kspace partner) cannot be scaled by it (D394); system " +
+                r.system.input_file;
+          break;
+        }
+      fail(rp, field, value, why);
     }
     if (r.model == "kg") return {rs, rve::bead_spring_commands(r.kg)}; // D393
     return {rs, md::polymer_forcefield_commands(r.ff)};
@@ -405,11 +419,11 @@ bool key_set(const TiArgs& a, const thermo::TiInput& in, const std::string& key)
 /// (option or file) take the recipe's values, eps0 and sig0 the dissertation's ratios to them
 /// (LjPath defaults: eps0/eps1 = 0.1, sig0/sig1 = 0.95/2.95); a set eps1, sig1 or cutoff that
 /// differs from the glass's pair is refused (the TI would end on another system).
-void adapt_to_glass(TiArgs& a, const thermo::TiInput& in) {
+void adapt_to_glass(TiArgs& a, const thermo::TiInput& in,
+                    const std::optional<rve::Recipe>& recipe) {
+  if (!recipe || recipe->model != "kg") return; // start_state names what is missing
+  const rve::Recipe& r = *recipe;
   const std::string rp = (fs::path(a.from) / "recipe.json").string();
-  if (a.from.empty() || !fs::is_regular_file(rp)) return; // start_state names what is missing
-  const rve::Recipe r = rve::read_recipe(rp);
-  if (r.model != "kg") return;
   const thermo::LjPath d; // the dissertation's path, for the ratios
   auto end = [&](const char* key, double& v, double glass, const char* unit) {
     if (!key_set(a, in, key)) {
@@ -435,7 +449,8 @@ void adapt_to_glass(TiArgs& a, const thermo::TiInput& in) {
 int run_thermo_ti(TiArgs a) {
   const thermo::TiInput in = resolve_input(a);
   a.spec = in.spec;
-  adapt_to_glass(a, in);
+  const std::optional<rve::Recipe> recipe = from_recipe(a); // read once (--from)
+  adapt_to_glass(a, in, recipe);
   a.executor = in.executor;
   // D333: as pnc characterize: under `mpirun -np K` rank 0 supervises with --ranks K and
   // --jobs 1 unless set (option or file key), the other ranks leave; ranks x jobs > cores warns
@@ -458,7 +473,7 @@ int run_thermo_ti(TiArgs a) {
   if (fs::exists(campaign::plan_path(a.out)) && campaign::read_plan(a.out).command != kCommand)
     fail(campaign::plan_path(a.out), "--out", a.out,
          "holds the plan of another command; use a new --out directory");
-  const auto [restart, ff] = start_state(a);
+  const auto [restart, ff] = start_state(a, recipe);
   thermo::check_ti_start(a.spec, restart);
   thermo::check_ti_pair_style(restart, a.out, a.spec.ranks); // D394: before any point runs
   const double started = campaign::epoch_seconds(); // the wall time of the TI, as before the plan
