@@ -3,6 +3,7 @@
 
 #include "pnc/core/error.hpp"
 
+#include <algorithm>
 #include <fmt/format.h>
 
 namespace pnc::damage {
@@ -65,6 +66,14 @@ Voigt case_strain(const DeformationCase& c, double amount) {
 
 Voigt case_strain(int id, double amount) {
   return case_strain(deformation_case(id), amount);
+}
+
+bool is_extension(const DeformationCase& c) {
+  return std::all_of(c.driven.begin(), c.driven.end(), [](int v) { return v < 3; });
+}
+
+bool is_uniaxial_extension(const DeformationCase& c) {
+  return c.driven.size() == 1 && c.driven[0] < 3;
 }
 
 int single_driven(const DeformationCase& c, const std::string& user) {

@@ -149,14 +149,14 @@ void check_cases(const StressStrainData& data, Model m) {
   if (m == Model::pnc) {
     // every uniaxial extension row of the registry (one driven normal component, D362)
     for (const DeformationCase& dc : deformation_cases())
-      if (dc.driven.size() == 1 && dc.driven[0] < 3 && !data.find(dc.id))
+      if (is_uniaxial_extension(dc) && !data.find(dc.id))
         fail(data.source, "case", std::to_string(dc.id),
              "is required: the pnc normal stiffness block cannot be determined without it");
     return;
   }
   // an extension case: one whose row drives a normal component (D362)
   const bool extension = std::any_of(data.cases.begin(), data.cases.end(), [](const CaseCurve& c) {
-    return deformation_case(c.id).driven[0] < 3;
+    return is_uniaxial_extension(deformation_case(c.id));
   });
   if (!extension)
     fail(data.source, "cases", "no extension case",
@@ -166,8 +166,8 @@ void check_cases(const StressStrainData& data, Model m) {
 
 LabelPair regression_labels(Model m, int case_id, int comp) {
   // Which constants a case's stress component informs follows from the component the case's
-  // registry row drives (D362, docs/decisions/damage.md): an extension along a gives C_ab in component b, a shear
-  // (Voigt 3..5) its own shear modulus; no case-id ranges.
+  // registry row drives (D362, docs/decisions/damage.md): an extension along a gives C_ab in
+  // component b, a shear (Voigt 3..5) its own shear modulus; no case-id ranges.
   const int d = single_driven(deformation_case(case_id), "the start regression");
   if (m == Model::pp) { // isotropic reading (D3): every extension gives C11/2B1 and C12/B2
     if (d < 3) return comp == d ? LabelPair{"C11", "2B1"} : LabelPair{"C12", "B2"};

@@ -35,8 +35,7 @@ StressStrainData synthesize(const NdmParameters& p, const SynthOptions& o) {
   for (int id : ids) {
     const DeformationCase& dc = deformation_case(id);
     // extension range when every driven component is a normal strain (D360)
-    const bool extension =
-        std::all_of(dc.driven.begin(), dc.driven.end(), [](int v) { return v < 3; });
+    const bool extension = is_extension(dc);
     const double top = extension ? o.max_extension : o.max_shear;
     CaseCurve c;
     c.id = id;

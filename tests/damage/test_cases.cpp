@@ -99,6 +99,20 @@ TEST(DeformationCases, SingleDrivenRefusesAMixedCaseByName) {
   }
 }
 
+// Which rows are extensions is read from the gradient, not from ids: an extension is a
+// gradient with only diagonal entries (a uniaxial one has one), a shear has an off-diagonal one.
+TEST(DeformationCases, ExtensionPredicatesFollowTheGradient) {
+  for (const DeformationCase& dc : deformation_cases()) {
+    const Eigen::Matrix3d g = dc.gradient;
+    const bool diagonal = g.isDiagonal(0.0);
+    const int nonzero_diagonal = static_cast<int>((g.diagonal().array() != 0.0).count());
+    EXPECT_EQ(is_extension(dc), diagonal) << "case " << dc.id;
+    EXPECT_EQ(is_uniaxial_extension(dc), diagonal && nonzero_diagonal == 1) << "case " << dc.id;
+  }
+  EXPECT_TRUE(is_extension(equibiaxial()));
+  EXPECT_FALSE(is_uniaxial_extension(equibiaxial()));
+}
+
 // `active` lists the stresses an orthotropic law makes non-zero under the case's strain: with
 // the published pnc constants (orthotropic, all C_ij of the normal block non-zero), sigma =
 // C0 eps is non-zero exactly there.

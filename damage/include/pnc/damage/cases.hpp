@@ -60,6 +60,12 @@ Voigt case_strain(int id, double amount);
 /// case id and name, its driven components, `user` and the rule "`user` knows only cases with
 /// one driven component (uniaxial extension or simple shear)" when the row drives several (D360).
 int single_driven(const DeformationCase& c, const std::string& user);
+/// true when every driven component of `c` is a normal strain (a uniaxial or an equibiaxial
+/// extension; D360).
+bool is_extension(const DeformationCase& c);
+/// true when `c` drives exactly one component and it is a normal strain (a uniaxial extension,
+/// the cases that give C11/C12 and their damage constants; D362).
+bool is_uniaxial_extension(const DeformationCase& c);
 /// The cases a model is characterised with: pnc 1..6, pp 2 and 6.
 std::vector<int> model_cases(Model m);
 
