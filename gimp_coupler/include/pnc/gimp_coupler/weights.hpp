@@ -162,9 +162,11 @@ compute_axis_weights_many(const Grid<D>& g, std::size_t n, const Eigen::Matrix<d
   return n;
 }
 
-/// The 3^D stencil (node indices, S, grad S) as the tensor product of per-axis weights.
-template <int D>
-inline void assemble_stencil(const Grid<D>& g, const AxisWeights<D>& aw, Stencil<D>& st) {
+/// The 3^D stencil as the tensor product of per-axis weights: node indices and S, and grad S
+/// when `kGradients` (without it st.dS is left as it was; D378). One loop for both, so node
+/// and S are the same products in the same order either way (bit for bit).
+template <bool kGradients, int D>
+inline void assemble_stencil_parts(const Grid<D>& g, const AxisWeights<D>& aw, Stencil<D>& st) {
   using Vec = Eigen::Matrix<double, D, 1>;
   const auto& w = aw.w;
   const auto& dw = aw.dw;
@@ -175,7 +177,7 @@ inline void assemble_stencil(const Grid<D>& g, const AxisWeights<D>& aw, Stencil
       for (int i = 0; i < 3; ++i, ++c) {
         st.node[c] = row + i;
         st.S[c] = w[0][i] * w[1][j];
-        st.dS[c] = Vec(dw[0][i] * w[1][j], w[0][i] * dw[1][j]);
+        if constexpr (kGradients) st.dS[c] = Vec(dw[0][i] * w[1][j], w[0][i] * dw[1][j]);
       }
     }
   } else {
@@ -184,14 +186,22 @@ inline void assemble_stencil(const Grid<D>& g, const AxisWeights<D>& aw, Stencil
       for (int j = 0; j < 3; ++j) {
         const std::int64_t row =
             (static_cast<std::int64_t>(aw.i0[2] + k) * g.n[1] + (aw.i0[1] + j)) * g.n[0] + aw.i0[0];
-        const double wjk = w[1][j] * w[2][k], djk = dw[1][j] * w[2][k], jdk = w[1][j] * dw[2][k];
+        const double wjk = w[1][j] * w[2][k];
         for (int i = 0; i < 3; ++i, ++c) {
           st.node[c] = row + i;
           st.S[c] = w[0][i] * wjk;
-          st.dS[c] = Vec(dw[0][i] * wjk, w[0][i] * djk, w[0][i] * jdk);
+          if constexpr (kGradients)
+            st.dS[c] =
+                Vec(dw[0][i] * wjk, w[0][i] * (dw[1][j] * w[2][k]), w[0][i] * (w[1][j] * dw[2][k]));
         }
       }
   }
+}
+
+/// The 3^D stencil (node indices, S, grad S) as the tensor product of per-axis weights.
+template <int D>
+inline void assemble_stencil(const Grid<D>& g, const AxisWeights<D>& aw, Stencil<D>& st) {
+  assemble_stencil_parts<true>(g, aw, st);
 }
 
 /// Fills `st` for a particle at x with half-lengths l (each 0 < l_a <= h/2). Returns false if
