@@ -5,6 +5,7 @@
 // bit for bit where the uninterrupted one ends; pnc.log keeps what both sessions printed.
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,9 +28,7 @@ std::string plate_input(const fs::path& dir, double end) {
   nlohmann::json j = nlohmann::json::parse(f);
   j["time"]["end"] = end;
   j["threads"] = 1;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string p = (dir / "in.json").string();
+  const std::string p = (dir / "in.json").string(); // dir: a fresh_dir
   std::ofstream(p) << j.dump(2);
   return p;
 }
@@ -44,7 +43,7 @@ constexpr double kLongEnd = 3e-4;
 } // namespace
 
 TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_lock";
+  const fs::path d = pnc::test::fresh_dir("gimp_lock");
   const std::string in = plate_input(d, kLongEnd);
   const fs::path out = d / "out";
   const pid_t first =
@@ -79,7 +78,7 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
 }
 
 TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_existing";
+  const fs::path d = pnc::test::fresh_dir("gimp_existing");
   const std::string in = plate_input(d, 2e-5);
   const fs::path out = d / "out";
   const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
@@ -96,7 +95,7 @@ TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
 }
 
 TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_sigint";
+  const fs::path d = pnc::test::fresh_dir("gimp_sigint");
   const std::string in = plate_input(d, kLongEnd);
   const auto straight = pnc::test::run_command(run_args(in, d / "a") + " --quiet 2>&1");
   ASSERT_EQ(straight.code, 0) << straight.out;
@@ -163,7 +162,7 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
 // --resume compares the input canonically (D339): the same input with other whitespace and key
 // order continues the run; a changed value is refused naming the file, the key and both values.
 TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_canonical";
+  const fs::path d = pnc::test::fresh_dir("gimp_canonical");
   const std::string in = plate_input(d, 2e-5);
   const fs::path out = d / "out";
   const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
@@ -201,7 +200,7 @@ TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
 // No python3-matplotlib (an interpreter whose `import matplotlib` fails): the run is written,
 // exit code 0, and the missing plot is a warning in the summary (D337).
 TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_nompl";
+  const fs::path d = pnc::test::fresh_dir("gimp_nompl");
   const std::string in = plate_input(d, 2e-5);
   fs::create_directories(d / "nompl/matplotlib");
   std::ofstream(d / "nompl/matplotlib/__init__.py")

@@ -3,6 +3,7 @@
 // propagation by Monte Carlo, the two-temperature split, and the input checks. No LAMMPS.
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
@@ -31,8 +32,7 @@ fs::path scratch(const std::string& name) {
   // tmpfs when there is one: the writers fsync, and the Monte Carlo test writes 400 files
   const fs::path base =
       fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-  const fs::path d = base / ("pnc_test_work_" + name);
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir_in(base, "test_work_" + name);
   fs::create_directories(d / "equilibrate");
   return d;
 }
