@@ -17,6 +17,7 @@ namespace pnc::test {
 /// one tag, two test processes, a CI clone and a developer's worktree running the suite at once
 /// never share one), empty, and private (mode 0700, created by this user: no other local user can
 /// have made it or write into it). Keep the returned path: a second call gives another directory.
+/// Nothing removes it for the caller: a test removes it when done (remove_all).
 /// The tag may hold blanks and shell characters, not '/'. Throws std::runtime_error naming the
 /// template and the system's reason when the directory cannot be made.
 inline std::filesystem::path fresh_dir_in(const std::filesystem::path& base,
