@@ -75,6 +75,7 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
   const auto third =
       pnc::test::run_command(run_args(in, out) + " --resume --quiet --max-steps " + "100000 2>&1");
   EXPECT_EQ(third.code, 0) << third.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
@@ -92,6 +93,7 @@ TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
   // with --resume it continues
   const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume 2>&1");
   EXPECT_EQ(c.code, 0) << c.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
@@ -157,6 +159,7 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   EXPECT_LT(stopped_end, second) << log;
   EXPECT_NE(log.find(" out {"), std::string::npos) << "the --json output is copied too\n" << log;
   EXPECT_NE(log.rfind("--- pnc finished: exit code 0\n"), std::string::npos) << log;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 // --resume compares the input canonically (D339): the same input with other whitespace and key
@@ -195,6 +198,7 @@ TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
   const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
   ASSERT_EQ(c.code, 0) << c.out;
   EXPECT_TRUE(nlohmann::json::parse(c.out)["resumed"].get<bool>()) << c.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 // No python3-matplotlib (an interpreter whose `import matplotlib` fails): the run is written,
@@ -219,4 +223,5 @@ TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
   EXPECT_EQ(err.find("pnc: error"), std::string::npos) << err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["plot"].is_null()) << r.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
