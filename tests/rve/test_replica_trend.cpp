@@ -7,8 +7,8 @@
 // (a cubic bump the law has no term for) is found.
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/reference.hpp"
-#include "pnc/md/statistics.hpp"
 #include "pnc/rve/replica_trend.hpp"
+#include "pnc/md/statistics.hpp"
 
 #include <gtest/gtest.h>
 
