@@ -1,6 +1,9 @@
 #pragma once
 // Test helper: a fresh, empty, private scratch directory per call, and a file's bytes.
 #include <stdlib.h> // mkdtemp
+#include <unistd.h> // getpid
+
+#include <gtest/gtest.h>
 
 #include <cerrno>
 #include <cstring>
@@ -13,11 +16,33 @@
 
 namespace pnc::test {
 
+namespace detail {
+/// The directories fresh_dir made in this process. At the process's end they are removed when
+/// every test of the program passed (a failing run keeps them to look at); only by the process
+/// that made them (a forked child that exits never removes its parent's directories).
+struct ScratchDirs {
+  std::vector<std::filesystem::path> dirs;
+  pid_t owner = ::getpid();
+  ~ScratchDirs() {
+    if (::getpid() != owner || !::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ec;
+    for (const auto& d : dirs)
+      std::filesystem::remove_all(d, ec);
+  }
+};
+inline ScratchDirs& scratch_dirs() {
+  ::testing::UnitTest::GetInstance(); // constructed first, so destroyed after the list
+  static ScratchDirs list;
+  return list;
+}
+} // namespace detail
+
 /// A NEW directory <base>/pnc_<tag>_XXXXXX made by mkdtemp(3): unique per call (two calls with
 /// one tag, two test processes, a CI clone and a developer's worktree running the suite at once
 /// never share one), empty, and private (mode 0700, created by this user: no other local user can
 /// have made it or write into it). Keep the returned path: a second call gives another directory.
-/// Nothing removes it for the caller: a test removes it when done (remove_all).
+/// It is removed at the end of the test program when every test passed (a test may remove it
+/// earlier); after a failure it stays, to be looked at.
 /// The tag may hold blanks and shell characters, not '/'. Throws std::runtime_error naming the
 /// template and the system's reason when the directory cannot be made.
 inline std::filesystem::path fresh_dir_in(const std::filesystem::path& base,
@@ -30,6 +55,7 @@ inline std::filesystem::path fresh_dir_in(const std::filesystem::path& base,
     throw std::runtime_error("fresh_dir: cannot make a directory from the template '" + tmpl +
                              "': " + std::strerror(err));
   }
+  detail::scratch_dirs().dirs.emplace_back(buf.data());
   return std::filesystem::path(buf.data());
 }
 

@@ -67,3 +67,24 @@ TEST(FreshDir, FailureNamesTheTemplateAndTheReason) {
     EXPECT_NE(m.find(std::strerror(ENOENT)), std::string::npos) << m;
   }
 }
+
+// The end-of-program clean-up: the list removes its directories when the program has passed so
+// far, and never those of another process (a forked child exiting must not remove them).
+TEST(FreshDir, TheListRemovesItsDirectoriesOnlyInTheProcessThatMadeThem) {
+  const fs::path base = pnc::test::fresh_dir("list");
+  const fs::path mine = base / "mine", other = base / "other";
+  fs::create_directories(mine / "sub");
+  fs::create_directories(other);
+  {
+    pnc::test::detail::ScratchDirs list;
+    list.dirs = {mine};
+  }
+  EXPECT_FALSE(fs::exists(mine)) << "a passing program's directory was kept";
+  {
+    pnc::test::detail::ScratchDirs list;
+    list.dirs = {other};
+    list.owner = ::getpid() + 1; // as if made by another process
+  }
+  EXPECT_TRUE(fs::exists(other)) << "another process's directory was removed";
+  fs::remove_all(base);
+}
