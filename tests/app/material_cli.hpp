@@ -3,6 +3,7 @@
 // test, running pnc with the plugin of this build, and the undamaged / damaged stiffness
 // written out from the card's constants by theory.md eqs. (1.1)-(1.2), independently of the
 // code under test.
+#include "common/temp_dir.hpp"
 #include "pnc/core/csv.hpp"
 
 #include <Eigen/Dense>
@@ -33,12 +34,8 @@ struct CliResult {
 class MaterialCli : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ =
-        fs::temp_directory_path() /
-        ("pnc_mat_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-         "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = pnc::test::fresh_dir(
+        "mat_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string p(const std::string& n) const { return (dir_ / n).string(); }

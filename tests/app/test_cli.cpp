@@ -1,5 +1,7 @@
 // The pnc command line as a user meets it: --help, --json, plots, exit codes, and bad input
 // that names the file and field and leaves no partial output.
+#include "common/temp_dir.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -23,12 +25,8 @@ struct Result {
 class Cli : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ =
-        fs::temp_directory_path() /
-        ("pnc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-         "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = pnc::test::fresh_dir(
+        "cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string p(const std::string& n) const { return (dir_ / n).string(); }

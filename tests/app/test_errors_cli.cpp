@@ -3,6 +3,8 @@
 // command-line mistakes answered with the nearest valid names, --help showing defaults, and
 // a plot that cannot be drawn a warning, not an error. pnc runs with an argument vector
 // (fork + execve, no shell); stdout and stderr go to files.
+#include "common/temp_dir.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -51,12 +53,8 @@ bool has(const std::string& s, const std::string& part) {
 class PncErrors : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pnc_errors_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = pnc::test::fresh_dir(
+        "errors_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string p(const std::string& n) const { return (dir_ / n).string(); }

@@ -3,6 +3,7 @@
 // matplotlib is missing (a warning, the exit code unchanged), and rendered by a real headless
 // browser (chromium) with every image decoded and no console error.
 #include "common/page_check.hpp"
+#include "common/temp_dir.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -21,12 +22,8 @@ namespace {
 class Report : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pnc_report_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = pnc::test::fresh_dir(
+        "report_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(dir_); // kept for a look when a test fails

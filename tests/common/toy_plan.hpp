@@ -23,7 +23,8 @@ inline campaign::Plan toy_plan() {
   return p;
 }
 
-/// A fresh, empty folder for one test's plan: <temp>/pnc_<tag>_<pid> (fresh_dir, temp_dir.hpp).
+/// A fresh, empty folder for one test's plan: <temp>/pnc_<tag>_XXXXXX, new per call (fresh_dir,
+/// temp_dir.hpp).
 inline std::filesystem::path plan_dir(const std::string& tag) {
   return fresh_dir(tag);
 }

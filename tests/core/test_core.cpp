@@ -5,12 +5,14 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/core/params.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -21,11 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path fresh_dir(const char* tag) {
-  const fs::path d = fs::temp_directory_path() /
-                     (std::string("pnc_core_") + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir(std::string("core_") + tag);
 }
 std::size_t count(const fs::path& d) {
   return static_cast<std::size_t>(
@@ -192,9 +190,9 @@ TEST(InputNumbers, IntegersAreCheckedAgainstTheirRange) {
     EXPECT_TRUE(has(refusal(k, 0, 100), "must be an integer")) << k;
   EXPECT_EQ(pnc::get_integer_as<int>(in.at("ok"), "r.json", "ok", 1, 100000), 30);
   // 2^64 - 1 does not fit a signed 64-bit integer: refused even with the widest range.
-  EXPECT_THROW(pnc::get_integer(in.at("big"), "r.json", "big", 0,
-                                std::numeric_limits<std::int64_t>::max()),
-               pnc::InputError);
+  EXPECT_THROW(
+      pnc::get_integer(in.at("big"), "r.json", "big", 0, std::numeric_limits<std::int64_t>::max()),
+      pnc::InputError);
   EXPECT_TRUE(has(message_of([] { pnc::get_number(nlohmann::json(1e300), "r", "end", 0, 1e6); }),
                   "must be a finite number in [0, 1000000]"));
 }
@@ -211,7 +209,7 @@ TEST(InputMessages, ShownValuesAreCapped) {
   EXPECT_EQ(d.substr(d.size() - 3), "\xE2\x80\xA6");
   std::string e;
   for (int i = 0; i < 100; ++i)
-    e += "\xC3\xA9"; // e acute, two bytes
+    e += "\xC3\xA9";                                             // e acute, two bytes
   EXPECT_EQ(pnc::clip(e, 81), e.substr(0, 80) + "\xE2\x80\xA6"); // not cut inside a character
   EXPECT_EQ(pnc::clip("short"), "short");
   const std::string m = message_of([] { pnc::fail("f", "k", std::string(100000, 'x'), "rule"); });

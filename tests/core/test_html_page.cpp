@@ -2,6 +2,8 @@
 // page that embeds its figure and references nothing outside itself.
 #include "pnc/core/html_page.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -47,7 +49,7 @@ TEST(HtmlPage, MarkdownSubsetBecomesHtml) {
 }
 
 TEST(HtmlPage, PageEmbedsItsFigureAndWritesTheMarkdownTwin) {
-  const fs::path d = fs::temp_directory_path() / ("pnc_html_page_" + std::to_string(::getpid()));
+  const fs::path d = pnc::test::fresh_dir("html_page");
   fs::create_directories(d / "plots");
   const std::string png("\x89PNG\r\n\x1a\nfake-but-signed", 23);
   std::ofstream(d / "plots/fig.png", std::ios::binary) << png;

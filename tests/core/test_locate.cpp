@@ -4,6 +4,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/locate.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -16,11 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path fresh_dir(const char* tag) {
-  const fs::path d = fs::temp_directory_path() /
-                     (std::string("pnc_locate_") + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir(std::string("locate_") + tag);
 }
 } // namespace
 

@@ -2,6 +2,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/subprocess.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,11 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path fresh_dir(const char* tag) {
-  const fs::path d = fs::temp_directory_path() /
-                     (std::string("pnc_spawn_") + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir(std::string("spawn_") + tag);
 }
 } // namespace
 

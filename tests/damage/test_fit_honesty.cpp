@@ -9,6 +9,8 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/damage/synth.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -307,8 +309,7 @@ TEST(FitVerdict, NoiseDominatedDataGiveANotUsableCardThatSaysWhy) {
   EXPECT_EQ(r.verdict.level, VerdictLevel::not_usable);
   EXPECT_TRUE(has_reason(r.verdict, "worse than their mean"));
   // the card carries it
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_verdict";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_verdict");
   const std::string path = (dir / "bad.h5").string();
   write_card(path, card_from_fit(r, d, "none"), "test");
   const Card c = read_card(path);
@@ -318,9 +319,8 @@ TEST(FitVerdict, NoiseDominatedDataGiveANotUsableCardThatSaysWhy) {
 }
 
 TEST(FitVerdict, CleanDataGiveAUsableCard) {
-  const FitReport r =
-      fit_ndm(closed_form_data(dissertation_parameters(Model::pnc), 40, 21, uniform_sd),
-              FitOptions{});
+  const FitReport r = fit_ndm(
+      closed_form_data(dissertation_parameters(Model::pnc), 40, 21, uniform_sd), FitOptions{});
   EXPECT_EQ(r.verdict.level, VerdictLevel::usable)
       << (r.verdict.reasons.empty() ? "" : r.verdict.reasons.front());
 }

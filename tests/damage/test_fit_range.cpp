@@ -6,6 +6,8 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/damage/synth.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,8 +72,7 @@ TEST(FitRange, OnlyTheRowsWithinStrainMaxAreFittedAndTheCardSaysSo) {
   EXPECT_LT(max_abs_z(r, truth), 4.0);
   EXPECT_FALSE(has_reason(r.verdict, "does not fit")) << r.chi2 / r.dof;
   // the card carries the range
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_fit_range";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_fit_range");
   const std::string path = (dir / "card.h5").string();
   write_card(path, card_from_fit(r, d, "none"), "test");
   const Card c = read_card(path);
@@ -143,7 +144,9 @@ TEST(FitRange, AStretchRangeAdmitsTheSameLargestPrincipalStretchInExtensionAndSh
     ext(k, 1) = 0.005 * k;   // 0 .. 0.2
     shear(k, 5) = 0.005 * k; // 0 .. 0.2
   }
-  auto expected = [](double limit) { return static_cast<Eigen::Index>(std::floor(limit / 0.005 + 1e-9)) + 1; };
+  auto expected = [](double limit) {
+    return static_cast<Eigen::Index>(std::floor(limit / 0.005 + 1e-9)) + 1;
+  };
   EXPECT_EQ(rows_in_fit_range(ext, 0, s), expected(s));
   EXPECT_EQ(rows_in_fit_range(shear, 0, s), expected(gamma_s));
   EXPECT_GT(gamma_s, 1.9 * s); // a shear reaches the same stretch at about twice the strain
@@ -169,8 +172,7 @@ TEST(FitRange, TheStretchRangeIsFittedRecordedOnTheCardAndExcludesTheStrainRange
   EXPECT_EQ(r.rows_beyond_strain_max, beyond);
   EXPECT_DOUBLE_EQ(r.stretch_max, 0.15);
   EXPECT_LT(max_abs_z(r, truth), 4.0);
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_fit_stretch_range";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_fit_stretch_range");
   const std::string path = (dir / "card.h5").string();
   write_card(path, card_from_fit(r, d, "none"), "test");
   const Card c = read_card(path);

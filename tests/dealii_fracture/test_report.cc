@@ -5,6 +5,7 @@
 // demo's force_displacement.csv holds (read here independently), embed the annotated figure,
 // and render in headless Chromium (tests/common/page_check.hpp). No deal.II in this program.
 #include "common/page_check.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -116,9 +117,7 @@ TEST_F(DemoReport, PageStandsAloneWithThePeakOfTheCsv) {
 }
 
 TEST_F(DemoReport, RendersInHeadlessChromium) {
-  const fs::path work =
-      fs::temp_directory_path() / ("pnc_dealii_report_" + std::to_string(::getpid()));
-  fs::create_directories(work);
+  const fs::path work = pnc::test::fresh_dir("dealii_report");
   const auto r = pnc::test::render_in_chromium(p("report.html"), work.string());
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.images, (std::vector<std::string>{"ok", "ok"}))

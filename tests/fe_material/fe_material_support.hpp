@@ -2,6 +2,7 @@
 // Shared fixtures and helpers of the plugin tests test_fe_material.cpp and
 // test_fe_material_umat.cpp: parameters and cards, strain paths, the kernel, C ABI, C++ wrapper
 // and umat_ routes of one path, and the comparison of their steps. Internal to the tests.
+#include "common/temp_dir.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/card.hpp"
@@ -56,11 +57,7 @@ inline const ::testing::Environment* const kCleanup =
     ::testing::AddGlobalTestEnvironment(new TempDirCleanup);
 
 inline fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("pnc_fe_material_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = pnc::test::fresh_dir("fe_material");
   return dir;
 }
 

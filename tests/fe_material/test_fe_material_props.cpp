@@ -4,6 +4,8 @@
 // against this library. Part 1: test_fe_material_v2.cpp.
 #include "v2_support.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -394,8 +396,10 @@ TEST(FeMaterialAbi, NewSymbolsCarryTheMinorVersionAndV1SymbolsKeepTheirs) {
 // path. The same path through integrate2 must give the same numbers: one kernel routine
 // behind both entries (D210), so the floating-point sequence is the same and they are equal.
 TEST(FeMaterialAbi, AHostBuiltAgainstTheV1HeaderRunsWithTheSameResults) {
-  char out_path[] = "/tmp/pnc_abi_v1_XXXXXX";
-  const int fd = mkstemp(out_path); // created exclusively
+  const std::filesystem::path out_dir = pnc::test::fresh_dir("abi_v1");
+  const std::string out_name = (out_dir / "host_out.txt").string();
+  const int fd = ::open(out_name.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600); // created exclusively
+  const char* const out_path = out_name.c_str();
   ASSERT_GE(fd, 0);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
@@ -468,6 +472,7 @@ TEST(FeMaterialAbi, AHostBuiltAgainstTheV1HeaderRunsWithTheSameResults) {
   posix_spawn_file_actions_destroy(&fa);
   close(fd);
   std::remove(out_path);
+  std::filesystem::remove(out_dir);
 }
 
 } // namespace

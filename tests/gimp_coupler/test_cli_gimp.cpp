@@ -2,6 +2,7 @@
 #include "common/declarations_check.hpp"
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -29,9 +30,7 @@ Result sh(const std::string& cmd) {
 } // namespace
 
 TEST(GimpCli, RunsExampleWithJsonAndResumes) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_cli";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("gimp_cli");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/gimp/bar_impact_3d.json";
   const std::string exe = PNC_EXE;
   Result r = sh(exe + " gimp run " + in + " --out " + (d / "out").string() +
@@ -74,10 +73,7 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
 // warning exactly when above it, 2-D quantities per unit thickness, and embeds energy.png and
 // G.png (critical-G line and stop marker drawn by plot_G.py); headless Chromium decodes both.
 TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
-  const fs::path d =
-      fs::temp_directory_path() / ("pnc_gimp_cli_report_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("gimp_cli_report");
   std::ofstream(d / "crack.json") << R"({
   "dimension": 2, "units": "SI",
   "grid": {"origin": [-0.0025, -0.0325], "cells": [19, 52], "cell_size": 0.00125},
@@ -137,8 +133,7 @@ TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
 }
 
 TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_cli_bad";
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("gimp_cli_bad");
   {
     std::ofstream f(d / "bad.json");
     f << R"({"dimension": 2, "grid": {"cells": [4, 4], "cell_size": 0.1},
@@ -159,10 +154,7 @@ TEST(GimpCli, BadInputExitsWithOneAndNamesTheKey) {
 // its unit), what is valid, and that resuming would meet the same failure; headless Chromium
 // renders it.
 TEST(GimpCli, SimulationFailureLeavesAReportSayingWhyAndWhere) {
-  const fs::path d =
-      fs::temp_directory_path() / ("pnc_gimp_cli_fail_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("gimp_cli_fail");
   std::ofstream(d / "crush.json") << R"({
   "dimension": 2, "units": "SI",
   "grid": {"origin": [-0.002, -0.002], "cells": [14, 14], "cell_size": 0.001},
@@ -225,10 +217,7 @@ TEST(GimpCli, ParametersPrintsTheDeclarations) {
 // "(required)" get values; every other key keeps the default the template states. A --threads
 // the input's declaration refuses is refused with that rule (D359).
 TEST(GimpCli, PrintedTomlTemplateRunsOnceTheRequiredKeysAreGiven) {
-  const fs::path d =
-      fs::temp_directory_path() / ("pnc_gimp_cli_template_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("gimp_cli_template");
   const std::string exe = PNC_EXE;
   const Result t = sh(exe + " gimp run --print-parameters=toml 2>/dev/null");
   ASSERT_EQ(t.code, 0);

@@ -8,6 +8,8 @@
 #include "pnc/core/params.hpp"
 #include "pnc/gimp_coupler/escm_run.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -174,11 +176,7 @@ json read_json(const fs::path& p) {
 // A directory of its own for the inputs of one test (created exclusively).
 class CoupleInputFile {
 public:
-  CoupleInputFile() {
-    std::string t = (fs::temp_directory_path() / "pnc_couple_params_XXXXXX").string();
-    if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-    dir_ = t;
-  }
+  CoupleInputFile() : dir_(pnc::test::fresh_dir("couple_params")) {}
   ~CoupleInputFile() {
     std::error_code ec;
     fs::remove_all(dir_, ec);

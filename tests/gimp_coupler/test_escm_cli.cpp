@@ -3,6 +3,7 @@
 #include "common/declarations_check.hpp"
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -60,8 +61,7 @@ std::map<std::string, std::vector<double>> read_vtu(const fs::path& p) {
 // hold is only ~3 decay times of the fundamental mode and the coupled stiffness differs from
 // the continuum's by ~5 %, escm.LjCrystalTensionMatchesContinuum).
 TEST(EscmCli, ShortCaseOneRunsWithJson) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_cli");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case1_lj_tension.json";
   const Result r = sh(std::string(PNC_EXE) + " gimp couple " + in + " --out " +
                       (d / "out").string() + " --short --json --quiet --no-plot 2>/dev/null");
@@ -101,8 +101,7 @@ TEST(EscmCli, ShortCaseOneRunsWithJson) {
 // report whose first block says the run did not finish, why, after which coupled step (time
 // in ps), what is valid and the command that continues it.
 TEST(EscmCli, MaxStepsStopLeavesAReportWithTheResumeCommand) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_stop";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_cli_stop");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case1_lj_tension.json";
   const std::string cmd = std::string(PNC_EXE) + " gimp couple " + in + " --out " +
                           (d / "out").string() + " --short --quiet --no-plot --max-steps 20";
@@ -127,8 +126,7 @@ TEST(EscmCli, MaxStepsStopLeavesAReportWithTheResumeCommand) {
 }
 
 TEST(EscmCli, BadInputExitsWithOneAndNamesTheKey) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_bad";
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("escm_cli_bad");
   {
     std::ofstream f(d / "bad.json");
     f << R"({"cells": [40, 20], "substeps": 0})";
@@ -176,8 +174,7 @@ TEST(EscmCli, CoupleParametersPrintsTheDeclarations) {
 // D201): an unknown kind is an input error at md.type that names the value and lists the kinds
 // this build registered (the LJ crystal always; the polymer when rve/ is built).
 TEST(EscmCli, UnknownMdRegionKindListsTheKnownOnes) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_kind";
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("escm_cli_kind");
   {
     std::ofstream f(d / "kind.json");
     f << R"({"md": {"type": "nanotube"}})";
@@ -208,8 +205,7 @@ TEST(EscmCli, UnknownMdRegionKindListsTheKnownOnes) {
 // the far particles against the GIMP solver's own F_11 - 1 there (F_solver, a different
 // gradient route, 1.902e-3): 0.5 %, bound 2 %.
 TEST(EscmCli, ShortCaseOneGradientMatchesAppliedStrain) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_cli_grad";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_cli_grad");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case1_lj_tension.json";
   const Result r = sh(std::string(PNC_EXE) + " gimp couple " + in + " --out " +
                       (d / "out").string() + " --short --json --quiet --no-plot 2>/dev/null");

@@ -6,6 +6,7 @@
 #include "common/page_check.hpp"
 #include "common/read_csv.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -44,8 +45,7 @@ using pnc::test::read_csv;
 //     Measured: tip at the stop at 22.0 ps, first broken bond 22.8 ps, first separated column
 //     32.4 ps, 2 columns (10.6 A) at 42 ps.
 TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_case2";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_case2");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case2_mode1_crack.json";
   const auto r = couple(in, d / "out", "--short --json --quiet 2>/dev/null"); // with plots
   ASSERT_EQ(r.code, 0) << r.out;
@@ -144,8 +144,7 @@ TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
 //     more than a0/2 in the sense of the applied shear (upper row moved in -x). Measured: tip at
 //     the stop at 22.8 ps, first slipped column 28.0 ps, 6 of 6 columns, entry sliding -4.9 A.
 TEST(EscmCrack, ShortCaseThreeClosedCrackGrowsInModeTwoThenMdSlips) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_case3";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_case3");
   const std::string in = std::string(PNC_SOURCE_DIR) + "/examples/escm/case3_mode2_crack.json";
   const auto r = couple(in, d / "out", "--short --json --quiet --no-plot 2>/dev/null");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -153,8 +152,7 @@ TEST(EscmCrack, ShortCaseThreeClosedCrackGrowsInModeTwoThenMdSlips) {
 }
 
 TEST(EscmCrack, BadCrackInputExitsWithOneAndNamesTheKey) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_crack_bad";
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("escm_crack_bad");
   struct Case {
     std::string json, key, rule;
   };

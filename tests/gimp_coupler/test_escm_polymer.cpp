@@ -5,6 +5,7 @@
 #include "common/escm_case3.hpp"
 #include "common/read_csv.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -23,8 +24,7 @@ std::string example(const std::string& name) {
 
 /// `pnc gimp couple INPUT --short --json` into a fresh temporary directory; the --json summary.
 nlohmann::json couple_short(const std::string& input, const std::string& dir) {
-  const fs::path out = fs::temp_directory_path() / dir;
-  fs::remove_all(out);
+  const fs::path out = pnc::test::fresh_dir(dir) / "out"; // the command creates --out
   const auto r =
       pnc::test::run_command(std::string(PNC_EXE) + " gimp couple " + input + " --out " +
                              out.string() + " --short --json --no-plot --quiet" + " 2>/dev/null");
@@ -37,8 +37,7 @@ nlohmann::json couple_short(const std::string& input, const std::string& dir) {
 } // namespace
 
 TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
-  const fs::path out = fs::temp_directory_path() / "pnc_escm_polymer_case1";
-  fs::remove_all(out);
+  const fs::path out = pnc::test::fresh_dir("escm_polymer_case1") / "out";
   const std::string input =
       std::string(PNC_SOURCE_DIR) + "/examples/escm/case1_polymer_tension.json";
   const auto r = pnc::test::run_command(std::string(PNC_EXE) + " gimp couple " + input + " --out " +
@@ -126,7 +125,7 @@ TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
   const double r_settle = poly.at("reaction_left_end_of_settle_N_per_m").get<double>() / R;
   std::printf("left reaction at the end of the settle phase / expected = %.4f\n", r_settle);
   EXPECT_LT(std::abs(r_settle), 0.1);
-  fs::remove_all(out);
+  fs::remove_all(out.parent_path());
 }
 
 // Short Case II with the polymer block (D114, D115): 28 x 16 cells, block 8 x 8 (2 SVC + 1 IVC
@@ -146,7 +145,7 @@ TEST(EscmPolymer, ShortCaseOneIsContinuousAndBoundedInStiffness) {
 //     separated at 12.2 ps.
 TEST(EscmPolymer, ShortCaseTwoCrackRunsThroughTheWeakInterface) {
   const std::string input = example("case2_polymer_crack.json");
-  const auto j = couple_short(input, "pnc_escm_polymer_case2");
+  const auto j = couple_short(input, "escm_polymer_case2");
   ASSERT_FALSE(j.empty());
   EXPECT_GT(j.at("polymer").at("cut_interface")[0].get<int>(), 0); // chains crossed the line
   const auto& c = j.at("crack");
@@ -196,7 +195,7 @@ TEST(EscmPolymer, ShortCaseTwoCrackRunsThroughTheWeakInterface) {
 // only after the tip arrived. Measured: tip at the stop at 35.8 ps, first slipped column at
 // 46.0 ps, 2 of 4 columns, entry sliding -3.6 A (h = 6.38 A) at the end (58 ps).
 TEST(EscmPolymer, ShortCaseThreeClosedCrackThenInterfaceSlips) {
-  const auto j = couple_short(example("case3_polymer_crack.json"), "pnc_escm_polymer_case3");
+  const auto j = couple_short(example("case3_polymer_crack.json"), "escm_polymer_case3");
   ASSERT_FALSE(j.empty());
   pnc::test::expect_case_three(j);
 }

@@ -7,6 +7,7 @@
 // ends the run on the checkpoint schedule, so its resume is bit for bit too; a stop off the
 // schedule is resumable within the bound of docs/escm.md ("Exact restart").
 #include "common/read_csv.hpp"
+#include "common/temp_dir.hpp"
 
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -90,8 +91,7 @@ void expect_same_outputs(const fs::path& a, const fs::path& b, const CoupleSumma
 } // namespace
 
 TEST(EscmResume, CaseOneStoppedAndResumedIsBitForBit) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_resume1";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_resume1");
   const std::string in = input(d, "case1_lj_tension.json", 4.0); // every 50 coupled steps
   const CoupleSummary ra = run_couple(options(in, d / "a"));
   ASSERT_TRUE(ra.interrupted.empty());
@@ -130,8 +130,7 @@ TEST(EscmResume, CaseOneStoppedAndResumedIsBitForBit) {
 }
 
 TEST(EscmResume, CaseTwoCrackGrowthResumesBitForBit) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_resume2";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_resume2");
   const std::string in = input(d, "case2_mode1_crack.json", 10.0); // every 125 coupled steps
   const CoupleSummary ra = run_couple(options(in, d / "a"));
   ASSERT_TRUE(ra.interrupted.empty());
@@ -164,8 +163,7 @@ TEST(EscmResume, CaseTwoCrackGrowthResumesBitForBit) {
 }
 
 TEST(EscmResume, ChangedInputIsRefused) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_resume3";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_resume3");
   const std::string in = input(d, "case1_lj_tension.json", 10.0);
   CoupleOptions o = options(in, d / "out");
   o.stop_after_steps = 5;
@@ -216,8 +214,7 @@ TEST(EscmResume, ChangedInputIsRefused) {
 // schedule (not at once): that checkpoint is one the uninterrupted run writes too, so the
 // resumed run is bit for bit the uninterrupted one.
 TEST(EscmResume, StopRequestEndsOnTheScheduleAndResumesBitForBit) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_resume4";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_resume4");
   const std::string in = input(d, "case1_lj_tension.json", 4.0); // every 50 coupled steps
   const CoupleSummary ra = run_couple(options(in, d / "a"));
   ASSERT_TRUE(ra.interrupted.empty());
@@ -251,8 +248,7 @@ TEST(EscmResume, StopRequestEndsOnTheScheduleAndResumesBitForBit) {
 // restart"). Everything before the stop is identical; after it the heat tallies differ by less
 // than one coupled step's heat (N substeps) and every other column only by round-off.
 TEST(EscmResume, StopBetweenCheckpointsIsWithinTheTallyBound) {
-  const fs::path d = fs::temp_directory_path() / "pnc_escm_resume5";
-  fs::remove_all(d);
+  const fs::path d = pnc::test::fresh_dir("escm_resume5");
   const std::string in = input(d, "case1_lj_tension.json", 4.0); // every 50 coupled steps
   const CoupleSummary ra = run_couple(options(in, d / "a"));
   CoupleOptions ob = options(in, d / "b");

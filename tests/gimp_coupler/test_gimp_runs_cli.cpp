@@ -5,6 +5,7 @@
 // bit for bit where the uninterrupted one ends; pnc.log keeps what both sessions printed.
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,9 +28,7 @@ std::string plate_input(const fs::path& dir, double end) {
   nlohmann::json j = nlohmann::json::parse(f);
   j["time"]["end"] = end;
   j["threads"] = 1;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string p = (dir / "in.json").string();
+  const std::string p = (dir / "in.json").string(); // dir: a fresh_dir
   std::ofstream(p) << j.dump(2);
   return p;
 }
@@ -44,7 +43,7 @@ constexpr double kLongEnd = 3e-4;
 } // namespace
 
 TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_lock";
+  const fs::path d = pnc::test::fresh_dir("gimp_lock");
   const std::string in = plate_input(d, kLongEnd);
   const fs::path out = d / "out";
   const pid_t first =
@@ -76,10 +75,11 @@ TEST(GimpRunDir, SecondProcessOnTheSameDirectoryIsRefusedWhileTheFirstRuns) {
   const auto third =
       pnc::test::run_command(run_args(in, out) + " --resume --quiet --max-steps " + "100000 2>&1");
   EXPECT_EQ(third.code, 0) << third.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_existing";
+  const fs::path d = pnc::test::fresh_dir("gimp_existing");
   const std::string in = plate_input(d, 2e-5);
   const fs::path out = d / "out";
   const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
@@ -93,10 +93,11 @@ TEST(GimpRunDir, ExistingRunWithoutResumeIsRefusedNamingResume) {
   // with --resume it continues
   const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume 2>&1");
   EXPECT_EQ(c.code, 0) << c.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_sigint";
+  const fs::path d = pnc::test::fresh_dir("gimp_sigint");
   const std::string in = plate_input(d, kLongEnd);
   const auto straight = pnc::test::run_command(run_args(in, d / "a") + " --quiet 2>&1");
   ASSERT_EQ(straight.code, 0) << straight.out;
@@ -158,12 +159,13 @@ TEST(GimpRunDir, SigintStopsWithTheResumeCommandAndTheResumedRunIsBitForBit) {
   EXPECT_LT(stopped_end, second) << log;
   EXPECT_NE(log.find(" out {"), std::string::npos) << "the --json output is copied too\n" << log;
   EXPECT_NE(log.rfind("--- pnc finished: exit code 0\n"), std::string::npos) << log;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 // --resume compares the input canonically (D339): the same input with other whitespace and key
 // order continues the run; a changed value is refused naming the file, the key and both values.
 TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_canonical";
+  const fs::path d = pnc::test::fresh_dir("gimp_canonical");
   const std::string in = plate_input(d, 2e-5);
   const fs::path out = d / "out";
   const auto a = pnc::test::run_command(run_args(in, out) + " --quiet --max-steps 3 2>&1");
@@ -196,12 +198,13 @@ TEST(GimpRunDir, ResumeComparesTheInputAsValuesNotBytes) {
   const auto c = pnc::test::run_command(run_args(in, out) + " --quiet --resume --json 2>/dev/null");
   ASSERT_EQ(c.code, 0) << c.out;
   EXPECT_TRUE(nlohmann::json::parse(c.out)["resumed"].get<bool>()) << c.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }
 
 // No python3-matplotlib (an interpreter whose `import matplotlib` fails): the run is written,
 // exit code 0, and the missing plot is a warning in the summary (D337).
 TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
-  const fs::path d = fs::temp_directory_path() / "pnc_gimp_nompl";
+  const fs::path d = pnc::test::fresh_dir("gimp_nompl");
   const std::string in = plate_input(d, 2e-5);
   fs::create_directories(d / "nompl/matplotlib");
   std::ofstream(d / "nompl/matplotlib/__init__.py")
@@ -220,4 +223,5 @@ TEST(GimpRunDir, MissingMatplotlibIsAWarningAndTheRunIsWritten) {
   EXPECT_EQ(err.find("pnc: error"), std::string::npos) << err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["plot"].is_null()) << r.out;
+  if (!::testing::Test::HasFailure()) fs::remove_all(d); // kept for a look on failure
 }

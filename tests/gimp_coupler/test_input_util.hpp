@@ -6,6 +6,8 @@
 
 #include "pnc/core/error.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -50,12 +52,9 @@ inline std::string error_of(const json& j) {
   return "";
 }
 
-/// An empty folder pnc_gimp_test_NAME under the system temporary folder.
+/// A new, empty, private folder pnc_gimp_test_NAME_XXXXXX under the system temporary folder.
 inline fs::path tmpdir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("pnc_gimp_test_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("gimp_test_" + name);
 }
 
 /// The same input run straight through (DIR/straight) and interrupted after `stop` steps

@@ -6,6 +6,8 @@
 #include "pnc/md/atoms.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <lammps/library.h>
 
 #include <gtest/gtest.h>
@@ -23,10 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_md_atoms_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_md_atoms_" + tag);
 }
 
 /// A 4x4x4 fcc LJ crystal (256 atoms) whose atoms were moved by several box lengths, so that

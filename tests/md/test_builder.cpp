@@ -3,6 +3,8 @@
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/md/builder.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,8 +80,7 @@ TEST(MdBuilder, ImpossibleDensityIsAnInputErrorNamingTheField) {
 }
 
 TEST(MdBuilder, DataFileAndRecord) {
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_rve_builder";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_rve_builder");
   BuildSpec spec;
   spec.chains = 5;
   const PolymerForceField ff;

@@ -5,6 +5,8 @@
 #include "pnc/md/builder.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -86,8 +88,7 @@ struct LammpsEval {
 };
 
 LammpsEval lammps_eval(const System& s, const PolymerForceField& ff, const std::string& tag) {
-  const auto dir = std::filesystem::temp_directory_path() / ("pnc_test_rve_ff_" + tag);
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_rve_ff_" + tag);
   const std::string data = (dir / "s.data").string(), res = (dir / "r.h5").string();
   write_data_file(data, s, "hand-built");
   StageSpec st{"ff energy", (dir / "lammps.log").string(), {}};

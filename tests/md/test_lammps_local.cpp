@@ -9,6 +9,7 @@
 #include "pnc/md/runner.hpp"
 
 #include "common/lammps_banner.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,10 +30,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_md_local_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_md_local_" + tag);
 }
 
 /// Runs `body` on an instance of its own (open_in_process) inside a stage child and returns

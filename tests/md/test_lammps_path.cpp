@@ -5,6 +5,8 @@
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -75,10 +77,7 @@ TEST(LammpsPath, RefusesWhatLammpsCannotTakeLiterally) {
 // A restart written and read back by LAMMPS in a directory whose name holds a blank, '#',
 // '$' and a quote: both commands must reach exactly that file.
 TEST(LammpsPath, RestartRoundTripThroughAnAwkwardDirectory) {
-  const fs::path d =
-      fs::temp_directory_path() / ("pnc_test lammps #path $x 'q' " + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const fs::path d = pnc::test::fresh_dir("test lammps #path $x 'q'");
   const std::string restart = (d / "state.restart").string();
   const std::string out = (d / "natoms.txt").string();
   const auto o = run_stage({"awkward path", (d / "log.lammps").string(), {}}, [&](Lammps& l) {

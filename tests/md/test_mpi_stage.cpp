@@ -6,6 +6,8 @@
 #include "pnc/core/units.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,10 +29,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_rve_mpi_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_rve_mpi_" + tag);
 }
 
 // A 500-atom LJ FCC crystal with random displacements (no symmetry hides a wrong sum),

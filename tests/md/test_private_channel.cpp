@@ -5,6 +5,8 @@
 #include "pnc/md/private_channel.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <grp.h>
@@ -31,11 +33,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d =
-      fs::temp_directory_path() / ("pnc_test_channel_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_channel_" + tag);
 }
 
 /// Socket paths listed in /proc/net/unix (abstract names start with '@').

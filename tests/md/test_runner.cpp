@@ -8,6 +8,8 @@
 #include "pnc/md/forcefield.hpp"
 #include "pnc/md/runner.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,10 +47,7 @@ std::vector<std::string> thermo_rows(const std::string& log) {
 }
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_rve_runner_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_rve_runner_" + tag);
 }
 } // namespace
 

@@ -4,9 +4,11 @@
 // evaluated in the test (LAMMPS single-point energies and forces in a child process).
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/md/runner.hpp"
 #include "pnc/rve/bead_spring.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/md/runner.hpp"
+
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -172,8 +174,7 @@ TEST(RveBeadSpring, LammpsEnergiesAndForcesMatchClosedForms) {
   sys.bonds = {{1, 0, 1}, {1, 1, 2}, {1, 2, 3}};
   sys.angle_types = 0;
   sys.dihedral_types = 0;
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_rve_kg_ff";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_rve_kg_ff");
   const std::string data = (dir / "s.data").string(), res = (dir / "r.h5").string();
   write_data_file(data, sys, "hand-built bead-spring");
   const auto out = run_stage({"kg energy", (dir / "lammps.log").string(), {}}, [&](Lammps& l) {

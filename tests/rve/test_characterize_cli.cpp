@@ -6,6 +6,7 @@
 
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -157,9 +158,7 @@ void expect_md_figure_drawn(const std::string& out) {
 } // namespace
 
 TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_char";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_char");
   std::ofstream(d / "tiny.json") << tiny;
   const std::string out = (d / "out").string();
   const Proc r = run("characterize " + (d / "tiny.json").string() + " --out " + out +
@@ -269,9 +268,7 @@ TEST(RveCharacterizeCli, TinyRecipeEndToEndAndResume) {
 // Two independent replicas (decision D130): own build and equilibration each, every case on
 // every replica, between-replica errors in cases.h5, and --resume after the run does nothing.
 TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_char_replicas";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_char_replicas");
   auto recipe = nlohmann::json::parse(tiny);
   recipe["run"]["replicas"] = 2;
   recipe["name"] = "tiny-replicas";
@@ -352,8 +349,7 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
 }
 
 TEST(RveCharacterizeCli, BadRecipeAndRecipeShow) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_char_bad";
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_char_bad");
   std::ofstream(d / "bad.json") << R"({"deform": {"steps": 0}})";
   const Proc r =
       run("characterize " + (d / "bad.json").string() + " --out " + (d / "o").string() + " 2>&1");

@@ -5,6 +5,7 @@
 // without recomputing them.
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 
 #include "pnc/rve/deform.hpp"
 
@@ -35,9 +36,7 @@ const char* tiny_long = R"({
 } // namespace
 
 TEST(RveCharacterizeStop, SigintStopsTheCasesAndResumeContinuesTheirCheckpoints) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_char_stop";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_char_stop");
   std::ofstream(d / "tiny.json") << tiny_long;
   const std::string out = (d / "out").string();
   const std::string cmd = std::string(PNC_EXE) + " characterize " + (d / "tiny.json").string() +

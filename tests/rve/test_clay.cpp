@@ -7,6 +7,8 @@
 #include "pnc/rve/clay.hpp"
 #include "pnc/rve/recipe.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,8 +203,7 @@ TEST(RveClay, EachClayTermEnergyThroughLammpsMatchesClosedForm) {
   EXPECT_GT(ref.tors, 1.0);
   EXPECT_GT(std::fabs(ref.lj), 0.01);
 
-  const auto dir = std::filesystem::temp_directory_path() / "pnc_test_rve_clay_ff";
-  std::filesystem::create_directories(dir);
+  const auto dir = pnc::test::fresh_dir("test_rve_clay_ff");
   const std::string data = (dir / "s.data").string(), res = (dir / "r.h5").string();
   write_data_file(data, s, "clay cell");
   const auto out = run_stage({"clay energy", (dir / "lammps.log").string(), {}}, [&](Lammps& l) {
@@ -316,9 +317,7 @@ TEST(RveClay, RecipeModelPncPresetsAndErrors) {
 
 TEST(RveClay, EquilibrationFreezesTheClayThenThePolymer) {
   namespace fs = std::filesystem;
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_clay_equil";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_clay_equil");
   const PolymerForceField ff;
   BuildSpec b;
   b.chains = 12;

@@ -7,6 +7,7 @@
 #include "pnc/rve/deform.hpp"
 
 #include "common/lammps_banner.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -80,10 +81,7 @@ Born lattice_sums() {
 }
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_rve_deform_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_rve_deform_" + tag);
 }
 
 std::vector<std::string> lj_ff() {

@@ -5,6 +5,8 @@
 #include "pnc/md/builder.hpp"
 #include "pnc/rve/equilibrate.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -29,9 +31,7 @@ EquilibrateSpec short_spec() {
 } // namespace
 
 TEST(RveEquilibrate, ShortProtocolNptAndNvt) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_equil";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_equil");
   const PolymerForceField ff;
   BuildSpec b;
   b.chains = 8; // 160 beads, box 18.6 A > 2 x cutoff

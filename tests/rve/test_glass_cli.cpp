@@ -14,6 +14,7 @@
 #include "pnc/rve/recipe.hpp"
 
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -111,9 +112,7 @@ Relaxation shear_relaxation(const std::string& restart, double T, double gamma, 
 } // namespace
 
 TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_glass";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_glass");
   std::ofstream(d / "tiny.json") << tiny_glass;
   const std::string out = (d / "out").string();
   const auto r = run("characterize " + (d / "tiny.json").string() + " --out " + out +
@@ -171,8 +170,7 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
 }
 
 TEST(RveGlassCli, RecipeShowDemoGlassRoundTrips) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_glass_show";
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_glass_show");
   const Recipe ref = parse_recipe(preset_json("demo_glass"), "demo_glass");
   const auto show = run("recipe show demo_glass");
   ASSERT_EQ(show.code, 0);

@@ -6,6 +6,8 @@
 #include "pnc/md/forcefield.hpp"
 #include "pnc/rve/phase_check.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -65,10 +67,7 @@ double born_c44(double a) {
 }
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_rve_phase_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_rve_phase_" + tag);
 }
 std::vector<std::string> lj_ff() {
   return {"pair_style lj/cut " + std::to_string(rc), "pair_coeff 1 1 0.238 3.405"};

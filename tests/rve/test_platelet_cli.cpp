@@ -24,6 +24,8 @@
 #include "pnc/rve/platelet.hpp"
 #include "pnc/rve/recipe.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -117,9 +119,7 @@ Shape measure(const std::string& restart, const Recipe& r, const fs::path& dir,
 } // namespace
 
 TEST(RvePlateletCli, TinyCompositeKeepsItsPlateletAndIsStifferInPlaneThanAlongTheNormal) {
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_platelet";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_platelet");
   const Recipe r = parse_recipe(nlohmann::json::parse(tiny_text), "tiny");
   PlateletInfo info;
   const System s = build_kg_platelet(r.build, r.kg, r.platelet, &info);

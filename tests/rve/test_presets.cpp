@@ -9,6 +9,7 @@
 #include "pnc/rve/recipe.hpp"
 
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -50,8 +51,9 @@ TEST(RvePresets, EveryPresetEqualsItsLiteralBeforeThePatches) {
 // one just outside each bound of a few keys).
 TEST(RvePresets, ParameterTemplatesReadBackAsTheDefaultRecipe) {
   namespace fs = std::filesystem;
+  const fs::path dir = pnc::test::fresh_dir("recipe_template");
   for (const std::string model : {"pp", "pnc", "kg", "kg_platelet"}) {
-    const auto p = fs::temp_directory_path() / ("pnc_recipe_template_" + model + ".toml");
+    const auto p = dir / ("pnc_recipe_template_" + model + ".toml");
     std::ofstream(p) << pnc::rve::recipe_parameters(model).to_toml();
     json minimal = {{"model", model}};
     if (model == "pnc") minimal["clay"] = json::object(); // pnc needs its clay block
@@ -69,6 +71,7 @@ TEST(RvePresets, ParameterTemplatesReadBackAsTheDefaultRecipe) {
     }
     fs::remove(p);
   }
+  fs::remove(dir);
 }
 
 TEST(RvePresets, DeclaredBoundsAreTheEnforcedOnes) {

@@ -2,6 +2,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/rve/recipe.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -93,8 +95,13 @@ TEST(RveRecipe, InvalidRecipesNameFieldValueRule) {
 }
 
 namespace {
+/// This process's folder for the recipe files of these tests (fresh_dir: new and private).
+const std::filesystem::path& scratch() {
+  static const std::filesystem::path d = pnc::test::fresh_dir("test_recipe");
+  return d;
+}
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto p = std::filesystem::temp_directory_path() / name;
+  const auto p = scratch() / name;
   std::ofstream(p) << text;
   return p.string();
 }
@@ -158,7 +165,7 @@ TEST(RveRecipe, TomlErrorsNameTheFileAndTheField) {
   EXPECT_THROW(read_recipe(write_temp("pnc_recipe_bad4.yaml", "a: 1\n")), pnc::InputError);
   for (const char* n : {"pnc_recipe_bad1.toml", "pnc_recipe_bad2.toml", "pnc_recipe_bad3.toml",
                         "pnc_recipe_bad4.yaml"})
-    std::filesystem::remove(std::filesystem::temp_directory_path() / n);
+    std::filesystem::remove(scratch() / n);
 }
 
 // Every preset, printed as TOML (what `pnc recipe show NAME --toml` prints, plain and
@@ -195,9 +202,7 @@ TEST(RveRecipe, NameMustBeOneBoundedLineOfPrintableText) {
 }
 
 TEST(RveRecipe, DataFileTitleWithANewlineIsRefused) {
-  const auto d = std::filesystem::temp_directory_path() / "pnc_test_recipe_title";
-  std::filesystem::remove_all(d);
-  std::filesystem::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_recipe_title");
   const std::string data = (d / "rve.data").string();
   System s; // an empty system is enough: the title is checked first
   try {

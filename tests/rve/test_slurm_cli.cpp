@@ -19,6 +19,7 @@
 
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 #ifdef PNC_HAVE_THERMO
 #include "../thermo/tiny_polymer.hpp"
 #endif
@@ -116,9 +117,7 @@ bool wait_until(const std::string& dir, double seconds,
 TEST(RveSlurm, SameCasesAndCardAsALocalRun) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_same";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_same");
   std::ofstream(d / "tiny.json") << tiny;
   const std::string base = std::string(PNC_EXE) + " characterize " + (d / "tiny.json").string() +
                            " --no-plots --json --equilibrate-ranks 1 --ranks 1";
@@ -187,9 +186,7 @@ TEST(RveSlurm, SameCasesAndCardAsALocalRun) {
 TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_cancel";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_cancel");
   auto recipe = nlohmann::json::parse(tiny);
   recipe["name"] = "tiny-cancel";
   recipe["run"]["replicas"] = 1;
@@ -307,9 +304,7 @@ TEST(RveSlurm, ScancelledUnitIsReportedAndResumeSubmitsOnlyWhatIsMissing) {
 TEST(RveSlurm, LammpsErrorInACaseJobIsReportedWithItsMessageAndJobId) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_lmperr";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_lmperr");
   { // 4 x 4 x 4 fcc cells (256 atoms, a0 of examples/rve/lj_fcc), atom style charge, q = 0
     const double a0 = 5.27639965902468, l = 4 * a0;
     const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
@@ -406,9 +401,7 @@ TEST(RveSlurm, LammpsErrorInACaseJobIsReportedWithItsMessageAndJobId) {
 TEST(RveSlurm, SigintWhileWaitingLeavesTheJobsAndTheStoppedReport) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_sigwait";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_sigwait");
   auto recipe = nlohmann::json::parse(tiny);
   recipe["name"] = "tiny-sigwait";
   recipe["run"]["replicas"] = 1;
@@ -481,9 +474,7 @@ TEST(RveSlurm, SigintWhileWaitingLeavesTheJobsAndTheStoppedReport) {
 TEST(RveSlurm, ThermoTiSameAsALocalRun) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_ti";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_ti");
   const std::string rs = pnc::test::tiny_polymer_restart(d);
   const std::string base = std::string(PNC_EXE) + " thermo ti --restart " + rs +
                            " --vol 0,0.005 --dev none --points 2 --equil-steps 20 "
@@ -539,9 +530,7 @@ TEST(RveSlurm, ThermoTiSameAsALocalRun) {
 TEST(RveSlurm, ThermoTiPointsOnTwoRanks) {
   const std::string why = use_cluster();
   ASSERT_EQ(why, "");
-  const auto d = fs::temp_directory_path() / "pnc_test_rve_slurm_ti2";
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_rve_slurm_ti2");
   const std::string rs = pnc::test::tiny_polymer_restart(d);
   const std::string sdir = (d / "slurm").string();
   const auto sl = run_command(std::string(PNC_EXE) + " thermo ti --restart " + rs +

@@ -8,6 +8,7 @@
 #include "pnc/rve/recipe.hpp"
 
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -35,10 +36,7 @@ std::string slurp(const fs::path& p) {
 }
 
 fs::path scratch(const std::string& name) {
-  const auto d = fs::temp_directory_path() / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir(name);
 }
 
 /// A minimal valid user-system recipe whose data file lies in `dir`.
@@ -120,7 +118,7 @@ TEST(RveUserSystem, ShippedExamplesParse) {
 }
 
 TEST(RveUserSystem, JsonAndTomlAgree) {
-  const auto d = scratch("pnc_test_user_sys_formats");
+  const auto d = scratch("test_user_sys_formats");
   const json j = user_recipe(d);
   std::ofstream(d / "r.json") << j.dump(2);
   std::ofstream(d / "r.toml") << recipe_toml(j);
@@ -130,7 +128,7 @@ TEST(RveUserSystem, JsonAndTomlAgree) {
 }
 
 TEST(RveUserSystem, ValidationErrorsNameFieldValueRule) {
-  const auto d = scratch("pnc_test_user_sys_errors");
+  const auto d = scratch("test_user_sys_errors");
   const json ok = user_recipe(d);
   EXPECT_EQ(error_of(ok, d), "");
   auto with = [&](const std::string& ptr, const json& v) {
@@ -186,7 +184,7 @@ TEST(RveUserSystem, ValidationErrorsNameFieldValueRule) {
 // minimum by symmetry), and LAMMPS's stress is exact to round-off. 1 % leaves a margin of ~10 on
 // the nonlinearity while still catching any unit, sign, volume or factor-2 error.
 TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
-  const auto d = scratch("pnc_test_user_sys_lj");
+  const auto d = scratch("test_user_sys_lj");
   fs::copy(kExamples / "lj_fcc" / "recipe.toml", d / "recipe.toml");
   fs::copy(kExamples / "lj_fcc" / "fcc.data", d / "fcc.data");
   // the shipped data file is at the zero-pressure lattice constant: its virial vanishes
@@ -277,7 +275,7 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
 // record, the NPT stage hands on its mean volume (decision D123), the final measurement
 // reports the last dynamic stage's temperature, and --resume re-runs nothing.
 TEST(RveUserSystem, UserStagesRunMeasureAndResume) {
-  const auto d = scratch("pnc_test_user_sys_stages");
+  const auto d = scratch("test_user_sys_stages");
   Recipe r = read_recipe((kExamples / "bead_spring_glass" / "recipe.toml").string());
   UserSystem u = r.system;
   u.stages.clear();
@@ -330,7 +328,7 @@ TEST(RveUserSystem, UserStagesRunMeasureAndResume) {
 TEST(RveUserSystem, GeneratorsReproduceTheShippedDataFiles) {
   // python3 is a dependency of pnc (scripts/common.sh installs it): its absence is a failure
   ASSERT_EQ(pnc::test::run_command("python3 -c 0 >/dev/null 2>&1").code, 0) << "no python3";
-  const auto d = scratch("pnc_test_user_sys_gen");
+  const auto d = scratch("test_user_sys_gen");
   for (const auto& [ex, file] :
        {std::pair{"lj_fcc", "fcc.data"}, std::pair{"bead_spring_glass", "chains.data"}}) {
     const auto r = pnc::test::run_command("python3 " + (kExamples / ex / "make_data.py").string() +
@@ -344,7 +342,7 @@ TEST(RveUserSystem, GeneratorsReproduceTheShippedDataFiles) {
 // The bead-spring example through the CLI, shortened (finite temperature, atom_style molecular,
 // bonds): the cases re-issue the user's force field, the holds carry standard errors.
 TEST(RveUserSystem, BeadSpringShortRunThroughCli) {
-  const auto d = scratch("pnc_test_user_sys_bs");
+  const auto d = scratch("test_user_sys_bs");
   Recipe full = read_recipe((kExamples / "bead_spring_glass" / "recipe.toml").string());
   json j = expanded_json(full); // absolute data path + hash
   for (auto& st : j["equilibrate"]["stages"])

@@ -3,6 +3,7 @@
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 
 #include "pnc/md/builder.hpp"
 #include "pnc/md/forcefield.hpp"
@@ -51,10 +52,7 @@ CmdRun run_err(const std::string& args) { // stderr only
   return pnc::test::run_command(std::string(PNC_EXE) + " " + args + " 2>&1 >/dev/null");
 }
 fs::path tmp(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_thermo_cli_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_thermo_cli_" + tag);
 }
 } // namespace
 
@@ -134,7 +132,7 @@ TEST(ThermoCli, PersistenceHarmonicJsonAndResume) {
 // figure plot_thermo.py drew is embedded and decodes, and the screenshot is not blank. The
 // screenshot is left in the test's working directory: persistence_report_screenshot.png.
 TEST(ThermoCli, PersistencePageRendersInHeadlessChromium) {
-  const auto d = tmp("pers_page_" + std::to_string(::getpid())); // parallel test runs
+  const auto d = tmp("pers_page");
   const fs::path out = d / "out";
   const CmdRun r = run("thermo persistence --chain harmonic --supports roller --angle-k 500 "
                        "--spring-k 100 --pull-distance 1 --rates 0.002,0.004,0.006 "
@@ -239,7 +237,7 @@ using pnc::test::tiny_polymer_restart;
 // sampling): report.html names the command and every Delta A of --json with its standard
 // error, embeds both figures, and renders in headless Chromium with every image decoded.
 TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
-  const auto d = tmp("ti_report_" + std::to_string(::getpid())); // parallel test runs
+  const auto d = tmp("ti_report");
   const std::string rs = tiny_polymer_restart(d);
   const fs::path out = d / "ti";
   const CmdRun r = run("thermo ti --restart " + rs +

@@ -1,6 +1,7 @@
 // `pnc thermo ti` on a glass run (model kg, D393) and the refusal of a start state whose pair
 // style it would drop (a Coulomb pair with its kspace partner, D394), end to end.
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
@@ -27,10 +28,7 @@ pnc::test::CommandResult run_err(const std::string& args) { // stderr only
 }
 
 fs::path tmp(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_ti_glass_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_ti_glass_" + tag);
 }
 
 nlohmann::json read_json(const fs::path& p) {

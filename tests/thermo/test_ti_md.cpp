@@ -13,6 +13,9 @@
 
 #include "lj_fluid.hpp"
 #include "tiny_polymer.hpp"
+
+#include "common/temp_dir.hpp"
+
 #include <fmt/format.h>
 
 #include <gtest/gtest.h>
@@ -30,10 +33,7 @@ namespace md = pnc::md;
 namespace {
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_thermo_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_thermo_" + tag);
 }
 
 double fix_scalar(md::Lammps& l, const char* id) {

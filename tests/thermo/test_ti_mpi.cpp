@@ -8,6 +8,8 @@
 
 #include "lj_fluid.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -24,10 +26,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path tmpdir(const std::string& tag) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_thermo_mpi_" + tag);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return pnc::test::fresh_dir("test_thermo_mpi_" + tag);
 }
 
 std::string slurp(const fs::path& p) {

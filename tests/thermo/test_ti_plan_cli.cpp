@@ -4,6 +4,7 @@
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
 #include "common/spawn.hpp"
+#include "common/temp_dir.hpp"
 
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/md/forcefield.hpp"
@@ -69,9 +70,7 @@ std::map<std::string, nlohmann::json> units_by_id(const nlohmann::json& st) {
 // node's file the analysis fails naming that unit; --resume then reruns that point only and
 // gives the same numbers again.
 TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_ti_plan_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_ti_plan");
   const std::string rs = pnc::test::tiny_polymer_restart(d);
   const fs::path out = d / "plan";
   const std::string args = "thermo ti --restart " + rs +
@@ -150,9 +149,7 @@ TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
 // done out of the five, which are not finished, and the command that continues it
 // (app/stopped_report.hpp). The points sample long enough (10^5 steps each) to be running.
 TEST(ThermoTiPlan, SigintLeavesAReportSayingWhatIsDoneAndHowToResume) {
-  const auto d = fs::temp_directory_path() / ("pnc_test_ti_stop_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
+  const auto d = pnc::test::fresh_dir("test_ti_stop");
   const std::string rs = pnc::test::tiny_polymer_restart(d);
   const fs::path out = d / "plan";
   const std::string cmd = std::string(PNC_EXE) + " thermo ti --restart " + rs +

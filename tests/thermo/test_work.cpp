@@ -3,6 +3,7 @@
 // propagation by Monte Carlo, the two-temperature split, and the input checks. No LAMMPS.
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/data.hpp"
@@ -27,15 +28,35 @@ namespace {
 
 const double kV0_A3 = 8000.0; // reference box volume of the synthetic runs
 
+fs::path g_scratch_root; // this process's folder of run directories, made on first use
+
+/// A run directory <root>/<name>, emptied, with its equilibrate/ folder. The root is a fresh_dir
+/// (new and private per process) on tmpfs when there is one: the writers fsync, and the Monte
+/// Carlo test writes 400 files.
 fs::path scratch(const std::string& name) {
-  // tmpfs when there is one: the writers fsync, and the Monte Carlo test writes 400 files
-  const fs::path base =
-      fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-  const fs::path d = base / ("pnc_test_work_" + name);
+  if (g_scratch_root.empty()) {
+    const fs::path base =
+        fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
+    g_scratch_root = pnc::test::fresh_dir_in(base, "test_work");
+  }
+  const fs::path d = g_scratch_root / name;
   fs::remove_all(d);
   fs::create_directories(d / "equilibrate");
   return d;
 }
+
+/// Removes the root at the end of a run whose tests all passed (kept for a look otherwise): a new
+/// root per run would otherwise pile up in /dev/shm, which is memory.
+class ScratchCleanup : public ::testing::Environment {
+public:
+  void TearDown() override {
+    if (g_scratch_root.empty() || !::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ec;
+    fs::remove_all(g_scratch_root, ec);
+  }
+};
+const ::testing::Environment* const kScratchCleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 /// case 1 path: eps11 = k h, k = 1..n (the zero row is removed, as for a subtracted reference)
 PathMatrix uniaxial(int n, double h) {
