@@ -235,12 +235,8 @@ TiResult run_ti(const TiSpec& spec, const std::string& restart, const std::vecto
 
 /// The checks run_ti makes before any work: the spec, and that `restart` is a file.
 void check_ti_start(const TiSpec& spec, const std::string& restart);
-/// The pair style stored in the LAMMPS restart `restart`, as LAMMPS reads it (a supervised
-/// child on `ranks` MPI ranks, as the points run (D324, D333: under mpirun a forked in-process
-/// LAMMPS would hang); its log `dir`/restart_check.log); "" if LAMMPS cannot read the file (the
-/// lambda points then stop with LAMMPS's own error, docs/errors.md).
-std::string restart_pair_style(const std::string& restart, const std::string& dir, int ranks = 1);
 /// D394: refuses (pnc::InputError naming `restart`, the pair style and the rule) a start state
+/// (its pair style as md::restart_pair_style reads it, LAMMPS on `ranks` ranks, log in `dir`)
 /// whose pair style is not lj/cut: the TI sets `pair_style lj/cut` and ramps it, so a Coulomb
 /// pair and its kspace partner would be dropped, not scaled. A file LAMMPS cannot read passes.
 void check_ti_pair_style(const std::string& restart, const std::string& dir, int ranks = 1);
