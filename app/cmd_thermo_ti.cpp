@@ -57,10 +57,15 @@ struct TiArgs {
   SlurmOptions slurm;
 };
 
-/// The recipe of a `--from` run (`<from>/recipe.json`, read once; std::nullopt without --from or
-/// when the file is missing: start_state names what is missing).
+/// `<from>/recipe.json`: the recipe of a `--from` run.
+std::string from_recipe_path(const TiArgs& a) {
+  return (fs::path(a.from) / "recipe.json").string();
+}
+
+/// The recipe of a `--from` run (read once; std::nullopt without --from or when the file is
+/// missing: start_state names what is missing).
 std::optional<rve::Recipe> from_recipe(const TiArgs& a) {
-  const std::string rp = (fs::path(a.from) / "recipe.json").string();
+  const std::string rp = from_recipe_path(a);
   if (a.from.empty() || !fs::is_regular_file(rp)) return std::nullopt;
   return rve::read_recipe(rp);
 }
@@ -78,7 +83,7 @@ start_state(const TiArgs& a, const std::optional<rve::Recipe>& recipe) {
     return {a.restart, md::polymer_forcefield_commands({})};
   }
   if (!a.from.empty()) {
-    const std::string rp = (fs::path(a.from) / "recipe.json").string();
+    const std::string rp = from_recipe_path(a);
     const std::string rs = (fs::path(a.from) / "equilibrate" / "final.restart").string();
     if (!recipe)
       fail(a.from, "--from", a.from, "is not a `pnc characterize` output (no recipe.json)");
@@ -423,7 +428,7 @@ void adapt_to_glass(TiArgs& a, const thermo::TiInput& in,
                     const std::optional<rve::Recipe>& recipe) {
   if (!recipe || recipe->model != "kg") return; // start_state names what is missing
   const rve::Recipe& r = *recipe;
-  const std::string rp = (fs::path(a.from) / "recipe.json").string();
+  const std::string rp = from_recipe_path(a);
   const thermo::LjPath d; // the dissertation's path, for the ratios
   auto end = [&](const char* key, double& v, double glass, const char* unit) {
     if (!key_set(a, in, key)) {

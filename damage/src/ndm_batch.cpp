@@ -502,11 +502,7 @@ bool batch_isa_available(BatchIsa isa) {
   case BatchIsa::baseline:
     return true;
   case BatchIsa::avx2:
-#if PNC_HAVE_AVX2_COPY
-    return pnc::cpu_has_avx2();
-#else
-    return false;
-#endif
+    return pnc::cpu_has_avx2(); // false where the build has no AVX2 copy (cpu.hpp)
   }
   return false;
 }

@@ -187,12 +187,13 @@ inline void assemble_stencil_parts(const Grid<D>& g, const AxisWeights<D>& aw, S
         const std::int64_t row =
             (static_cast<std::int64_t>(aw.i0[2] + k) * g.n[1] + (aw.i0[1] + j)) * g.n[0] + aw.i0[0];
         const double wjk = w[1][j] * w[2][k];
+        // the gradient's (j, k) factors once per row, not per node (unused without gradients)
+        [[maybe_unused]] const double djk = kGradients ? dw[1][j] * w[2][k] : 0.0;
+        [[maybe_unused]] const double jdk = kGradients ? w[1][j] * dw[2][k] : 0.0;
         for (int i = 0; i < 3; ++i, ++c) {
           st.node[c] = row + i;
           st.S[c] = w[0][i] * wjk;
-          if constexpr (kGradients)
-            st.dS[c] =
-                Vec(dw[0][i] * wjk, w[0][i] * (dw[1][j] * w[2][k]), w[0][i] * (w[1][j] * dw[2][k]));
+          if constexpr (kGradients) st.dS[c] = Vec(dw[0][i] * wjk, w[0][i] * djk, w[0][i] * jdk);
         }
       }
   }
