@@ -58,6 +58,7 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   if (r.fit_alpha_start > 0) o.alpha = r.fit_alpha_start; // recipe fit.alpha (decision D138)
   o.strain_max = r.fit_strain_max;                        // recipe fit.strain_max (D12h)
   o.stretch_max = r.fit_stretch_max;                      // recipe fit.stretch_max (D12m)
+  o.isotropic = r.fit_isotropic;                          // recipe fit.isotropic (D396)
   o.check_units = false;
   // decision D128: a material that relaxes within a hold does not define its shear and damage
   // constants; only the normal (bulk-like) block of C0 stays fitted

@@ -34,6 +34,7 @@ int run_fit(const FitArgs& a) {
   o.loss_scale = a.loss_scale;
   o.strain_max = a.strain_max;
   o.stretch_max = a.stretch_max;
+  o.isotropic = a.isotropic;
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;

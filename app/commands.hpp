@@ -17,6 +17,7 @@ struct FitArgs {
   int max_iterations = 200;
   double strain_max = 0;  ///< fit range (D12h), 0 = every row
   double stretch_max = 0; ///< fit range by lambda_max - 1 (D12m), 0 = every row
+  bool isotropic = false; ///< pp: C44 and B4 derived by isotropy (D396)
   std::string command_line;
 };
 int run_fit(const FitArgs& a);

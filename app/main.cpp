@@ -69,6 +69,9 @@ CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
                   "one is <= this (dimensionless; 0 = every row; excludes --strain-max; D12m)")
       ->check(FiniteRange(0.0, 10.0))
       ->excludes("--strain-max");
+  fit->add_flag("--isotropic", fa.isotropic,
+                "Model pp only: an isotropic solid with isotropic damage, C44 = (C11 - C12)/2 and "
+                "B4 = B1 - B2/2 derived, not fitted (D396)");
   fit->add_option("--max-iterations", fa.max_iterations, "Solver iteration limit (1 to 1e6)")
       ->check(CLI::Range(1, 1000000));
   fit->add_option("--prior", fa.prior,

@@ -71,6 +71,9 @@ std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
     s += fmt::format("    fit range: rows with largest principal stretch - 1 <= {:g} ({} row(s) "
                      "beyond it not fitted; the law is extrapolated there)\n",
                      f.stretch_max, f.rows_beyond_strain_max);
+  if (f.isotropic) // decision D396
+    s += "    isotropic: C44 = (C11 - C12)/2 and B4 = B1 - B2/2 derived from the fitted "
+         "constants, not fitted\n";
   if (f.strain_max > 0) // decision D12h
     s += fmt::format("    fit range: rows with every strain component <= {:g} ({} row(s) beyond it "
                      "not fitted; the law is extrapolated there)\n",
@@ -115,6 +118,7 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["strain_max"] = f.strain_max; // dimensionless, 0 = every row (D12h)
   j["rows_beyond_strain_max"] = f.rows_beyond_strain_max;
   j["stretch_max"] = f.stretch_max; // lambda_max - 1, dimensionless, 0 = none (D12m)
+  j["isotropic"] = f.isotropic;     // C44 and B4 derived by isotropy (D396)
   j["chi2"] = num(f.chi2);
   j["dof"] = f.dof;
   j["chi2_p"] = num(f.chi2_p);

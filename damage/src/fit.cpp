@@ -26,7 +26,7 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 class PointCost final : public ceres::CostFunction {
 public:
-  explicit PointCost(const PointTerm* t) : t_(t) {
+  PointCost(const PointTerm* t, const std::vector<int>* tied) : t_(t), tied_(tied) {
     set_num_residuals(static_cast<int>(t->comps.size()));
     for (int s : block_sizes(t->model))
       mutable_parameter_block_sizes()->push_back(s);
@@ -37,7 +37,7 @@ public:
     std::vector<double> theta;
     for (std::size_t b = 0; b < sizes.size(); ++b)
       theta.insert(theta.end(), parameters[b], parameters[b] + sizes[b]);
-    const std::vector<double> k = detail::constants_from_theta(t_->model, theta);
+    const std::vector<double> k = detail::constants_from_theta(t_->model, theta, *tied_);
     Eigen::MatrixXd drdk;
     const bool want = jacobians != nullptr;
     try {
@@ -46,7 +46,7 @@ public:
       return false;
     }
     if (!want) return true;
-    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta);
+    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta, *tied_);
     int col0 = 0;
     for (std::size_t b = 0; b < sizes.size(); ++b) {
       if (jacobians[b]) {
@@ -61,6 +61,7 @@ public:
 
 private:
   const PointTerm* t_;
+  const std::vector<int>* tied_; ///< constants derived from others (D396)
 };
 
 // The fitted alpha's lower bound (decision D12i): 1/lambda_c, the onset at zero strain, so
@@ -76,7 +77,8 @@ struct SolveResult {
 
 // One Ceres solve from `theta` with the constants whose `fitted` flag is false held.
 SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions& opt,
-                  const std::vector<bool>& fitted, bool fit_alpha, std::vector<double>& theta) {
+                  const std::vector<int>& tied, const std::vector<bool>& fitted, bool fit_alpha,
+                  std::vector<double>& theta) {
   const auto sizes = block_sizes(m);
   std::vector<std::vector<double>> blocks;
   int off = 0;
@@ -94,7 +96,7 @@ SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
     if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
-    problem.AddResidualBlock(new PointCost(&t), loss, ptrs);
+    problem.AddResidualBlock(new PointCost(&t, &tied), loss, ptrs);
   }
   // Held coordinates: every block other than the normal block maps 1:1 to constants.
   off = 0;
@@ -169,24 +171,28 @@ std::vector<double> initial_constants(const FitReport& rep, Model m, const NdmPa
   return k0;
 }
 
-// Squared column norms of d r / d k at constants k (structural identifiability).
+// Squared column norms of d r / d k at constants k (structural identifiability); with ties
+// (D396) of d r / d k T: a derived constant's column is zero, its sources' carry its data.
 Eigen::VectorXd column_norms(const std::vector<PointTerm>& terms, const std::vector<double>& k,
-                             int n) {
+                             int n, Model m, const std::vector<int>& tied) {
   Eigen::VectorXd colnorm = Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd T = tie_matrix(m, tied);
   for (const auto& t : terms) {
     Eigen::MatrixXd drdk;
     std::vector<double> r(t.comps.size());
     point_residual(t, k, r.data(), &drdk);
-    colnorm += drdk.colwise().squaredNorm().transpose();
+    colnorm += (drdk * T).colwise().squaredNorm().transpose();
   }
   return colnorm;
 }
 
-// Standard errors of the constants from the covariance of the free theta (D11).
+// Standard errors of the constants from the covariance of the free theta (D11); a derived
+// constant's (D396) through its row of G.
 void standard_errors(FitReport& rep, Model m, const std::vector<double>& theta,
-                     const std::vector<int>& free, const Eigen::MatrixXd& cov_theta) {
+                     const std::vector<int>& tied, const std::vector<int>& free,
+                     const Eigen::MatrixXd& cov_theta) {
   const int n = n_theta(m);
-  const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta);
+  const Eigen::MatrixXd G = detail::dconstants_dtheta(m, theta, tied);
   Eigen::MatrixXd Gf(n, static_cast<Eigen::Index>(free.size()));
   for (std::size_t c = 0; c < free.size(); ++c)
     Gf.col(static_cast<Eigen::Index>(c)) = G.col(free[c]);
@@ -230,55 +236,9 @@ void curve_statistics(FitReport& rep, const StressStrainData& data,
   }
 }
 
-// Refuses stiffnesses outside the plausible range (D12e): a unit mistake is the likely cause.
-void check_stiffness_units(const FitReport& rep, const FitOptions& opt, const std::string& src) {
-  const auto& names = constant_names(opt.model);
-  for (std::size_t j = 0; j + 1 < names.size(); ++j) {
-    const std::string& nm = names[j];
-    const bool diagonal =
-        nm == "C11" || nm == "C22" || nm == "C33" || nm == "C44" || nm == "C55" || nm == "C66";
-    if (!diagonal || !rep.fitted[j]) continue;
-    const double v = rep.params.k[j];
-    if (v >= opt.stiffness_min && v <= opt.stiffness_max) continue;
-    std::ostringstream msg;
-    msg << "fitted stiffness " << v / 1e9 << " GPa is outside the plausible range ["
-        << opt.stiffness_min / 1e6 << " MPa, " << opt.stiffness_max / 1e9
-        << " GPa] of polymers and composites: "
-        << (v > opt.stiffness_max
-                ? "are the stresses in Pa instead of MPa (CSV columns s11_MPa.., and the "
-                  "bare s11.. of older files, are MPa)?"
-                : "are the stresses in GPa or kPa instead of MPa (or MPa values under "
-                  "s11_Pa..), or is the data noise?")
-        << " (check the units, or pass --no-unit-check)";
-    fail(src, nm, std::to_string(v) + " Pa", msg.str());
-  }
-}
-
 } // namespace
 
 // ------------------------------------------------------------------ the fit
-namespace {
-/// The leading rows of every curve within the fit range (decisions D12h, D12m); counts the others.
-StressStrainData within_fit_range(const StressStrainData& all, double strain_max,
-                                  double stretch_max, int& dropped) {
-  dropped = 0;
-  if (!(strain_max > 0) && !(stretch_max > 0)) return all;
-  StressStrainData d = all;
-  for (auto& c : d.cases) {
-    const Eigen::Index keep = rows_in_fit_range(c.strain, strain_max, stretch_max);
-    if (keep < 3)
-      fail(all.source, fmt::format("case {}", c.id), fmt::format("{} row(s)", keep),
-           fmt::format("fit range {} = {:g} leaves fewer than 3 rows of this case to fit",
-                       strain_max > 0 ? "strain_max" : "stretch_max",
-                       strain_max > 0 ? strain_max : stretch_max));
-    dropped += static_cast<int>(c.strain.rows() - keep);
-    c.strain.conservativeResize(keep, Eigen::NoChange);
-    c.stress.conservativeResize(keep, Eigen::NoChange);
-    if (c.stress_stderr.rows() > 0) c.stress_stderr.conservativeResize(keep, Eigen::NoChange);
-  }
-  return d;
-}
-} // namespace
 
 namespace {
 // What every stage of one fit reads: the model, the start alpha, the prior and the terms.
@@ -293,6 +253,7 @@ struct FitContext {
   std::string held_note;
   std::vector<double> theta_prior;
   std::vector<PointTerm> terms;
+  std::vector<int> tied; ///< constants derived from others (isotropy, D396)
 };
 
 // What the solve rounds leave: the last solve, the residuals and Jacobian at its solution,
@@ -322,7 +283,8 @@ FitContext make_context(const StressStrainData& data, const FitOptions& opt,
                     alpha0,
                     "held at the prior (" + opt.prior_source + ")",
                     std::move(theta_prior),
-                    build_terms(data, m, alpha0)};
+                    build_terms(data, m, alpha0),
+                    applicable_ties(m, opt)};
 }
 
 // The columns of J of the free constants.
@@ -403,8 +365,8 @@ void hold_declared_undefined(const FitContext& cx, FitReport& rep, std::vector<d
 // the fitted alpha at `theta` (unless declared undefined). True when one was freed.
 bool free_reached_onset(const FitContext& cx, const std::vector<int>& held_at_onset,
                         const std::vector<double>& theta, FitReport& rep) {
-  const Eigen::VectorXd cn =
-      column_norms(cx.terms, detail::constants_from_theta(cx.m, theta), cx.n);
+  const Eigen::VectorXd cn = column_norms(
+      cx.terms, detail::constants_from_theta(cx.m, theta, cx.tied), cx.n, cx.m, cx.tied);
   bool freed = false;
   for (int j : held_at_onset) {
     const auto js = static_cast<std::size_t>(j);
@@ -424,7 +386,7 @@ bool free_reached_onset(const FitContext& cx, const std::vector<int>& held_at_on
 // do not determine there held at the prior (D11). True when one was held.
 bool hold_unidentified_at_solution(const FitContext& cx, SolveState& st, FitReport& rep,
                                    std::vector<double>& theta) {
-  detail::residuals_and_jacobian(cx.data, cx.m, theta, st.r, &st.J);
+  detail::residuals_and_jacobian(cx.data, cx.m, theta, st.r, &st.J, cx.tied);
   st.free.clear();
   std::vector<std::string> free_names;
   for (int j = 0; j < cx.n; ++j)
@@ -459,7 +421,8 @@ SolveState solve_rounds(const FitContext& cx, bool fit_alpha, const std::vector<
   SolveState st;
   bool reexamined = !(fit_alpha && rep.fitted[cx.ns - 1]) || held_at_onset.empty();
   for (int round = 0; round < 3; ++round) {
-    st.sr = solve(cx.terms, cx.m, cx.opt, rep.fitted, fit_alpha && rep.fitted[cx.ns - 1], theta);
+    st.sr = solve(cx.terms, cx.m, cx.opt, cx.tied, rep.fitted, fit_alpha && rep.fitted[cx.ns - 1],
+                  theta);
     if (!reexamined) { // decision D12g
       reexamined = true;
       if (free_reached_onset(cx, held_at_onset, theta, rep)) {
@@ -500,7 +463,7 @@ void report_solution(const FitContext& cx, const SolveResult& sr, const std::vec
   rep.initial_cost = summary.initial_cost;
   rep.final_cost = summary.final_cost;
   rep.residuals = summary.num_residuals;
-  const std::vector<double> kf = detail::constants_from_theta(cx.m, theta);
+  const std::vector<double> kf = detail::constants_from_theta(cx.m, theta, cx.tied);
   rep.params = params_from_constants(cx.m, kf);
   for (int j = 0; j < cx.n - 1; ++j)
     rep.params.k[static_cast<std::size_t>(j)] *= kMPa;
@@ -530,7 +493,7 @@ bool report_standard_errors(const FitContext& cx, const SolveState& st,
                       "standard errors not reported. ";
     } else {
       if (data_errors) cov *= std::max(1.0, rep.chi2 / rep.dof);
-      standard_errors(rep, cx.m, theta, st.free, cov);
+      standard_errors(rep, cx.m, theta, cx.tied, st.free, cov);
     }
   } else {
     rep.warnings += "no degrees of freedom left for standard errors. ";
@@ -556,20 +519,23 @@ FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   rep.regression = regress_cases(data, m, alpha0);
   std::vector<double> k0 = initial_constants(rep, m, prior, alpha0);
   std::vector<double> theta = detail::theta_from_constants(m, k0);
-  k0 = detail::constants_from_theta(m, theta); // after a possible positive-definite clip
   const FitContext cx = make_context(data, opt, prior, alpha0);
+  k0 = detail::constants_from_theta(m, theta, cx.tied); // after a possible positive-definite clip
   const std::size_t ns = cx.ns;
 
-  const Eigen::VectorXd colnorm = column_norms(cx.terms, k0, cx.n);
-  const std::vector<int> held_at_onset = hold_unidentified_at_start(cx, colnorm, rep, theta);
+  const Eigen::VectorXd colnorm = column_norms(cx.terms, k0, cx.n, m, cx.tied);
+  std::vector<int> held_at_onset = hold_unidentified_at_start(cx, colnorm, rep, theta);
   const bool fit_alpha = choose_alpha(cx, colnorm[cx.n - 1] != 0.0, rep);
   hold_declared_undefined(cx, rep, theta);
+  mark_derived(m, cx.tied, rep, held_at_onset); // D396
 
   SolveState st = solve_rounds(cx, fit_alpha, held_at_onset, rep, theta);
   if (fit_alpha && rep.fitted[ns - 1] &&
       detail::constants_from_theta(m, theta).back() <= alpha_lower_bound() * (1 + 1e-9))
     report_alpha_at_bound(cx, st, rep); // D12i
   report_solution(cx, st.sr, theta, rep);
+  rep.isotropic = opt.isotropic;
+  finish_derived(m, cx.tied, rep); // D396: errors where every source is fitted
   const bool data_errors = report_standard_errors(cx, st, theta, rep);
   if (!rep.converged) rep.warnings += "the solver did not report convergence: " + rep.message + " ";
 

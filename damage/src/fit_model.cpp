@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 namespace pnc::damage {
 
@@ -19,6 +20,72 @@ std::vector<int> block_sizes(Model m) {
 }
 int n_theta(Model m) {
   return static_cast<int>(constant_names(m).size());
+}
+
+// decision D396: an isotropic C0 + D C1 needs C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2
+std::vector<int> isotropy_ties(Model m, bool isotropic) {
+  if (m != Model::pp || !isotropic) return {};
+  return {constant_index(m, "C44"), constant_index(m, "B4")};
+}
+
+Eigen::MatrixXd tie_matrix(Model m, const std::vector<int>& tied) {
+  const int n = n_theta(m);
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(n, n);
+  for (int j : tied) {
+    T.row(j).setZero();
+    if (j == constant_index(m, "C44")) {
+      T(j, constant_index(m, "C11")) = 0.5;
+      T(j, constant_index(m, "C12")) = -0.5;
+    } else if (j == constant_index(m, "B4")) {
+      T(j, constant_index(m, "B1")) = 1.0;
+      T(j, constant_index(m, "B2")) = -0.5;
+    } else {
+      throw std::logic_error("tie_matrix: no tie for constant " + constant_names(m)[static_cast<std::size_t>(j)]);
+    }
+  }
+  return T;
+}
+
+std::vector<int> applicable_ties(Model m, const FitOptions& opt) {
+  std::vector<int> out;
+  for (int j : isotropy_ties(m, opt.isotropic)) {
+    const std::string& name = constant_names(m)[static_cast<std::size_t>(j)];
+    if (std::none_of(opt.undefined.begin(), opt.undefined.end(),
+                     [&](const UndefinedConstant& u) { return u.name == name; }))
+      out.push_back(j);
+  }
+  return out;
+}
+
+namespace {
+std::string tie_formula(Model m, int j) {
+  return j == constant_index(m, "C44") ? "C44 = (C11 - C12) / 2" : "B4 = B1 - B2 / 2";
+}
+} // namespace
+
+void mark_derived(Model m, const std::vector<int>& tied, FitReport& rep,
+                  std::vector<int>& held_at_onset) {
+  for (int j : tied) {
+    const auto js = static_cast<std::size_t>(j);
+    rep.fitted[js] = false;
+    rep.status[js] = "derived";
+    rep.note[js] = "isotropy: " + tie_formula(m, j) + " (fit option isotropic, D396)";
+    held_at_onset.erase(std::remove(held_at_onset.begin(), held_at_onset.end(), j),
+                        held_at_onset.end());
+  }
+}
+
+void finish_derived(Model m, const std::vector<int>& tied, FitReport& rep) {
+  const Eigen::MatrixXd T = tie_matrix(m, tied);
+  for (int j : tied) {
+    bool all = true;
+    for (Eigen::Index c = 0; c < T.cols(); ++c)
+      if (c != j && T(j, c) != 0.0) all = all && rep.fitted[static_cast<std::size_t>(c)];
+    rep.fitted[static_cast<std::size_t>(j)] = all;
+    if (!all)
+      rep.note[static_cast<std::size_t>(j)] +=
+          "; from constants held at the prior: no standard error";
+  }
 }
 
 NdmParameters params_from_constants(Model m, const std::vector<double>& k) {
@@ -238,7 +305,8 @@ std::vector<double> theta_from_constants(Model m, const std::vector<double>& k) 
   return th;
 }
 
-std::vector<double> constants_from_theta(Model m, const std::vector<double>& th) {
+namespace {
+std::vector<double> untied_constants(Model m, const std::vector<double>& th) {
   std::vector<double> k(th);
   if (m == Model::pp) {
     k[0] = (2 * th[0] + th[1]) / 3;
@@ -251,8 +319,26 @@ std::vector<double> constants_from_theta(Model m, const std::vector<double>& th)
     k[static_cast<std::size_t>(c)] = C(kCPos[c][0], kCPos[c][1]);
   return k;
 }
+Eigen::MatrixXd untied_jacobian(Model m, const std::vector<double>& th);
+} // namespace
 
-Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& th,
+                                         const std::vector<int>& tied) {
+  std::vector<double> k = untied_constants(m, th);
+  if (tied.empty()) return k;
+  const Eigen::Map<const Eigen::VectorXd> kv(k.data(), static_cast<Eigen::Index>(k.size()));
+  const Eigen::VectorXd kt = tie_matrix(m, tied) * kv;
+  return {kt.data(), kt.data() + kt.size()};
+}
+
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th,
+                                  const std::vector<int>& tied) {
+  if (tied.empty()) return untied_jacobian(m, th);
+  return tie_matrix(m, tied) * untied_jacobian(m, th);
+}
+
+namespace {
+Eigen::MatrixXd untied_jacobian(Model m, const std::vector<double>& th) {
   const int n = n_theta(m);
   Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n);
   if (m == Model::pp) {
@@ -272,17 +358,18 @@ Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th) {
   }
   return G;
 }
+} // namespace
 
 void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
-                            Eigen::VectorXd& r, Eigen::MatrixXd* J) {
-  const std::vector<double> k = constants_from_theta(m, theta);
+                            Eigen::VectorXd& r, Eigen::MatrixXd* J, const std::vector<int>& tied) {
+  const std::vector<double> k = constants_from_theta(m, theta, tied);
   const auto terms = build_terms(data, m, k.back());
   Eigen::Index rows = 0;
   for (const auto& t : terms)
     rows += static_cast<Eigen::Index>(t.comps.size());
   r.resize(rows);
   if (J) J->resize(rows, n_theta(m));
-  const Eigen::MatrixXd G = dconstants_dtheta(m, theta);
+  const Eigen::MatrixXd G = dconstants_dtheta(m, theta, tied);
   Eigen::Index row = 0;
   for (const auto& t : terms) {
     Eigen::MatrixXd drdk;

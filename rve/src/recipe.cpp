@@ -123,6 +123,10 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   if (r.fit_stretch_max > 0 && r.fit_strain_max > 0) // decision D12m
     fail(source, "fit.stretch_max", fmt::format("{}", r.fit_stretch_max),
          "fit.strain_max and fit.stretch_max exclude each other (one fit range)");
+  if (r.fit_isotropic && r.model != "pp" && r.model != "kg") // decision D396
+    fail(source, "fit.isotropic", "true",
+         "the isotropy ties (C44 = (C11 - C12)/2, B4 = B1 - B2/2) are of the pure-polymer law: "
+         "models pp and kg, not " + r.model);
   if ((r.model == "pp" || r.model == "kg") &&
       std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
     fail(source, "deform.cases", fmt::format("{}", fmt::join(r.cases, ",")),

@@ -252,6 +252,11 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
          "largest principal stretch; 0 = every row (D12m)")
       .remark("not with strain_max")
       .omit_when_default();
+  p.boolean("isotropic", r.fit_isotropic,
+            "isotropic solid with isotropic damage: C44 = (C11 - C12)/2 and B4 = B1 - B2/2 "
+            "derived, not fitted (D396)")
+      .remark("models pp and kg")
+      .omit_when_default();
   p.section("run", "how the cases run");
   p.integer("jobs", r.jobs, 1, 64, "", "cases at a time (pnc characterize --jobs overrides)");
   p.integer("replicas", r.replicas, 1, 64, "",

@@ -295,3 +295,26 @@ TEST(RveRecipe, ShearAmplitudeAndStretchRangeAreOptionalAndRoundTrip) {
   e = error_of(json{{"fit", {{"stretch_max", -1.0}}}});
   EXPECT_EQ(e.field, "fit.stretch_max");
 }
+
+TEST(RveRecipe, FitIsotropicIsOfThePurePolymerModelsOnly) {
+  // decision D396: fit.isotropic derives C44 and B4 of the pure-polymer law; off by default and
+  // then absent from the expanded recipe
+  const Recipe plain = parse_recipe(json::object(), "r.json");
+  EXPECT_FALSE(plain.fit_isotropic);
+  EXPECT_FALSE(expanded_json(plain)["fit"].contains("isotropic"));
+  for (const char* model : {"pp", "kg"}) {
+    json j = model == std::string("kg") ? preset_json("demo_glass") : json{{"model", "pp"}};
+    j["fit"]["isotropic"] = true;
+    const Recipe r = parse_recipe(j, "r.json");
+    EXPECT_TRUE(r.fit_isotropic) << model;
+    EXPECT_TRUE(parse_recipe(expanded_json(r), "expanded").fit_isotropic) << model;
+  }
+  json composite = preset_json("demo_pnc");
+  composite["fit"]["isotropic"] = true;
+  auto e = error_of(composite);
+  EXPECT_EQ(e.field, "fit.isotropic");
+  EXPECT_EQ(e.value, "true");
+  EXPECT_NE(e.rule.find("models pp and kg"), std::string::npos) << e.rule;
+  e = error_of(json{{"fit", {{"isotropic", 1}}}, {"model", "pp"}}); // not a boolean
+  EXPECT_EQ(e.field, "fit.isotropic");
+}

@@ -15,7 +15,8 @@
 //   /fit                attrs also: error_model, alpha_choice, chi2, dof, chi2_p,
 //                       strain_max (fit range, dimensionless; 0 = every row; D12h),
 //                       rows_beyond_strain_max (rows beyond either range),
-//                       stretch_max (fit range by lambda_max - 1; present when used; D12m)
+//                       stretch_max (fit range by lambda_max - 1; present when used; D12m),
+//                       isotropic ("yes" when C44 and B4 were derived by isotropy; D396)
 //   /fit/r2             rows: case, component (0..5), points, R^2, rms residual (Pa),
 //                       chi^2 of the curve (NaN without data errors), runs, expected runs,
 //                       runs-test p, lag-1 autocorrelation of the residuals
@@ -42,6 +43,8 @@ struct FitRecord {
   int rows_beyond_strain_max = 0;
   /// fit range by stretch (D12m): largest lambda_max - 1 of the fitted rows, 0 = none
   double stretch_max = 0;
+  /// fit option isotropic (D396): C44 and B4 derived, C44 = (C11 - C12)/2, B4 = B1 - B2/2
+  bool isotropic = false;
   double chi2 = std::numeric_limits<double>::quiet_NaN(), chi2_p = chi2;
   int dof = 0;
   bool converged = false;
@@ -56,7 +59,8 @@ struct Card {
   NdmParameters params;          ///< SI (Pa), alpha dimensionless
   std::vector<double> std_error; ///< per constant, SI; NaN if not fitted
   std::vector<bool> fitted;        ///< per constant
-  std::vector<std::string> status; ///< per constant: fitted, held, not identified, given
+  std::vector<std::string> status; ///< per constant: fitted, derived, held, not identified,
+                                   ///< at bound, given
   std::vector<std::string> note;   ///< per constant
   FitRecord fit;
   /// Quality verdict. Cards of version 1 (written before verdicts) read as "usable with

@@ -72,6 +72,12 @@ struct FitOptions {
   /// bound admits a normal strain e and a simple shear gamma ~ 2 e: the range the damage
   /// driver sees, whatever the case.
   double stretch_max = 0;
+  /// Pure polymer only (decision D396): an isotropic solid with isotropic damage. C44 and B4
+  /// are not fitted but derived, C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2 (status "derived",
+  /// standard errors propagated from C11, C12, B1, B2), so that the damaged stiffness
+  /// C0 + D C1 stays isotropic. Off: the cubic reading with C44 and B4 free (docs/theory.md
+  /// section 1.1). A constant in `undefined` is held, not derived.
+  bool isotropic = false;
 
   /// Throws pnc::InputError naming the option and the constraint it breaks.
   void validate() const;
@@ -107,7 +113,8 @@ struct FitReport {
   NdmParameters params;          ///< fitted constants, Pa
   std::vector<double> std_error; ///< per constant, Pa (alpha: 1); NaN if held
   std::vector<bool> fitted;      ///< false: held at the prior (see note)
-  /// per constant: "fitted", "held" (by option or for lack of data) or "not identified"
+  /// per constant: "fitted", "derived" (from fitted ones by isotropy, D396), "held" (by option
+  /// or for lack of data), "at bound" (alpha, D12i) or "not identified"
   /// (the data do not determine it: held at the prior)
   std::vector<std::string> status;
   std::vector<std::string> note; ///< why a constant was held, per constant
@@ -116,6 +123,7 @@ struct FitReport {
   double strain_max = 0;
   int rows_beyond_strain_max = 0;
   double stretch_max = 0; ///< FitOptions::stretch_max (rows beyond it are counted above too)
+  bool isotropic = false;  ///< FitOptions::isotropic: C44 and B4 derived (D396)
   /// the caller's FitOptions::undefined, as given (names and reasons)
   std::vector<UndefinedConstant> declared_undefined;
   /// "data standard errors" or "sandwich (HC3)": where the standard errors come from
@@ -153,15 +161,20 @@ Eigen::Index rows_in_fit_range(const PathMatrix& strain, double strain_max, doub
 std::vector<RegressionLine> regress_cases(const StressStrainData& data, Model model, double alpha);
 
 namespace detail {
-/// Flat parameter vector theta (MPa) <-> constants (MPa); see decision D10.
+/// Flat parameter vector theta (MPa) <-> constants (MPa); see decision D10. `tied`: the
+/// constants derived from others (isotropy, D396; indices into constant_names), whose theta
+/// coordinates are then unused.
 std::vector<double> theta_from_constants(Model m, const std::vector<double>& k);
-std::vector<double> constants_from_theta(Model m, const std::vector<double>& theta);
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& theta,
+                                         const std::vector<int>& tied = {});
 /// G = d constants / d theta.
-Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& theta);
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& theta,
+                                  const std::vector<int>& tied = {});
 /// Residuals (MPa or in units of the data sd) and their analytic Jacobian w.r.t. theta over
 /// all points of `data`, exactly as the Ceres cost functions compute them (for tests).
 void residuals_and_jacobian(const StressStrainData& data, Model m, const std::vector<double>& theta,
-                            Eigen::VectorXd& r, Eigen::MatrixXd* J);
+                            Eigen::VectorXd& r, Eigen::MatrixXd* J,
+                            const std::vector<int>& tied = {});
 } // namespace detail
 
 } // namespace pnc::damage

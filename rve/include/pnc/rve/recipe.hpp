@@ -71,6 +71,9 @@ struct Recipe {
   /// fit.stretch_max: fit range by largest principal stretch - 1, exclusive with
   /// fit.strain_max; 0 = every row (decision D12m)
   double fit_stretch_max = 0;
+  /// fit.isotropic: the pure polymer's C44 and B4 derived by isotropy, C44 = (C11 - C12)/2,
+  /// B4 = B1 - B2/2 (decision D396); models pp and kg only
+  bool fit_isotropic = false;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
