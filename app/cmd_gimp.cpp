@@ -112,8 +112,12 @@ int run_gimp(const GimpRunArgs& a) {
   const gimp::RunSummary s = run_gimp_reporting_failure(a, o);
   if (s.stopped) {
     const std::string where = fmt::format("after step {} at t = {:.6g} s", s.steps, s.time);
-    RunStop stop{signal_reason(s.stop_signal), where, gimp_valid_files(a.out, s.steps),
-                 resume_command()};
+    RunStop stop{signal_reason(s.stop_signal),
+                 where,
+                 gimp_valid_files(a.out, s.steps),
+                 resume_command(),
+                 /*instead=*/"",
+                 /*failure=*/false};
     const std::string report =
         try_write_stopped_report(a.out, "pnc gimp run: " + fs::path(a.input).filename().string(),
                                  stop, gimp_stop_facts(a.input, a.out, s.steps_this_run));
@@ -232,7 +236,10 @@ int run_gimp_couple(const GimpCoupleArgs& a) {
     RunStop stop{s.signal ? signal_reason(s.signal)
                           : fmt::format("--max-steps ({}) reached", a.max_steps),
                  fmt::format("after coupled step {} at t = {:.4g} ps", s.steps, s.time_s * 1e12),
-                 gimp_valid_files(a.out, s.steps), resume_command()};
+                 gimp_valid_files(a.out, s.steps),
+                 resume_command(),
+                 /*instead=*/"",
+                 /*failure=*/false};
     const std::string report =
         try_write_stopped_report(a.out, "pnc gimp couple: " + fs::path(a.input).filename().string(),
                                  stop, gimp_stop_facts(a.input, a.out, s.steps - s.start_step));

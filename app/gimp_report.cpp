@@ -113,7 +113,9 @@ std::string write_gimp_run_report(const GimpRunInfo& run, const gimp::RunSummary
                   fmt::format("`history.csv`: steps 0 to {}", s.steps),
                   "`" + fs::path(s.pvd).filename().string() +
                       "` and its VTU frames: the output times passed"},
-                 resume_command()};
+                 resume_command(),
+                 /*instead=*/"",
+                 /*failure=*/false};
     stopped_banner(page, stop);
     std::vector<std::string> notes; // energy warning, crack outcomes
     for (const auto& x : reasons)

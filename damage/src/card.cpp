@@ -149,7 +149,7 @@ void write_card(const std::string& path, Card card, const std::string& command) 
       f.set_attr("/fit", "strain_max", r.strain_max);
       f.set_attr("/fit", "rows_beyond_strain_max", r.rows_beyond_strain_max);
       if (r.stretch_max > 0) f.set_attr("/fit", "stretch_max", r.stretch_max); // D12m
-      if (r.isotropic) f.set_attr("/fit", "isotropic", "yes");                  // D396
+      if (r.isotropic) f.set_attr("/fit", "isotropic", "yes");                 // D396
       f.set_attr("/fit", "chi2", r.chi2);
       f.set_attr("/fit", "dof", r.dof);
       f.set_attr("/fit", "chi2_p", r.chi2_p);
@@ -252,8 +252,7 @@ Card read_card(const std::string& path) {
     if (!(r.stretch_max >= 0 && r.stretch_max <= 10))
       fail(path, "/fit@stretch_max", std::to_string(r.stretch_max), "must be in [0, 10]");
     const std::string iso = f.attr_string("/fit", "isotropic").value_or("no"); // D396
-    if (iso != "yes" && iso != "no")
-      fail(path, "/fit@isotropic", iso, "must be \"yes\" or \"no\"");
+    if (iso != "yes" && iso != "no") fail(path, "/fit@isotropic", iso, "must be \"yes\" or \"no\"");
     r.isotropic = iso == "yes";
     r.chi2 = f.attr_double("/fit", "chi2").value_or(kNaN);
     r.chi2_p = f.attr_double("/fit", "chi2_p").value_or(kNaN);

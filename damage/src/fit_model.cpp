@@ -40,7 +40,8 @@ Eigen::MatrixXd tie_matrix(Model m, const std::vector<int>& tied) {
       T(j, constant_index(m, "B1")) = 1.0;
       T(j, constant_index(m, "B2")) = -0.5;
     } else {
-      throw std::logic_error("tie_matrix: no tie for constant " + constant_names(m)[static_cast<std::size_t>(j)]);
+      throw std::logic_error("tie_matrix: no tie for constant " +
+                             constant_names(m)[static_cast<std::size_t>(j)]);
     }
   }
   return T;

@@ -126,7 +126,8 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
   if (r.fit_isotropic && r.model != "pp" && r.model != "kg") // decision D396
     fail(source, "fit.isotropic", "true",
          "the isotropy ties (C44 = (C11 - C12)/2, B4 = B1 - B2/2) are of the pure-polymer law: "
-         "models pp and kg, not " + r.model);
+         "models pp and kg, not " +
+             r.model);
   if ((r.model == "pp" || r.model == "kg") &&
       std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
     fail(source, "deform.cases", fmt::format("{}", fmt::join(r.cases, ",")),

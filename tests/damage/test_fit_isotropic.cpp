@@ -150,8 +150,8 @@ TEST(FitIsotropic, PropagatedErrorsOfTheDerivedConstantsCoverTheTruthAtTheirNomi
   const int N = 200;
   std::vector<int> covered(truth.size(), 0);
   for (int s = 0; s < N; ++s) {
-    const FitReport r = fit_ndm(curves(truth, 3e6, 0, 900 + static_cast<std::uint64_t>(s)),
-                                options(true));
+    const FitReport r =
+        fit_ndm(curves(truth, 3e6, 0, 900 + static_cast<std::uint64_t>(s)), options(true));
     ASSERT_TRUE(r.converged) << r.message;
     for (std::size_t i = 0; i < truth.size(); ++i)
       covered[i] += std::abs(r.params.k[i] - truth.k[i]) <= r.std_error[i];
@@ -183,8 +183,8 @@ TEST(FitIsotropic, ALawThatIsNotIsotropicIsNotForcedIntoIsotropyUnnoticed) {
   EXPECT_LT(free.chi2 / free.dof, 1.3);
   EXPECT_GT(iso.chi2 / iso.dof, 2.0); // outside the verdict's gate [0.5, 2]
   EXPECT_NE(iso.verdict.level, VerdictLevel::usable);
-  const bool flagged = std::any_of(
-      iso.verdict.reasons.begin(), iso.verdict.reasons.end(), [](const std::string& s) {
+  const bool flagged =
+      std::any_of(iso.verdict.reasons.begin(), iso.verdict.reasons.end(), [](const std::string& s) {
         return s.find("does not fit the data within their standard errors") != std::string::npos;
       });
   EXPECT_TRUE(flagged);

@@ -56,8 +56,8 @@ struct FitRecord {
 };
 
 struct Card {
-  NdmParameters params;          ///< SI (Pa), alpha dimensionless
-  std::vector<double> std_error; ///< per constant, SI; NaN if not fitted
+  NdmParameters params;            ///< SI (Pa), alpha dimensionless
+  std::vector<double> std_error;   ///< per constant, SI; NaN if not fitted
   std::vector<bool> fitted;        ///< per constant
   std::vector<std::string> status; ///< per constant: fitted, derived, held, not identified,
                                    ///< at bound, given

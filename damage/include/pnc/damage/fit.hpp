@@ -91,10 +91,10 @@ struct ComponentFit {
   double rms; ///< root-mean-square residual, Pa
   /// sum of squared standardised residuals of this curve (NaN without data errors)
   double chi2 = std::numeric_limits<double>::quiet_NaN();
-  int runs = 0;                   ///< runs of one residual sign, in loading order
-  double runs_expected = 0;       ///< expected runs for independent residuals
-  double runs_p = 1.0;            ///< P(this few runs or fewer | independent residuals)
-  double lag1 = 0;                ///< lag-1 autocorrelation of the residuals
+  int runs = 0;             ///< runs of one residual sign, in loading order
+  double runs_expected = 0; ///< expected runs for independent residuals
+  double runs_p = 1.0;      ///< P(this few runs or fewer | independent residuals)
+  double lag1 = 0;          ///< lag-1 autocorrelation of the residuals
 };
 
 /// One line of the dissertation-style per-case linear regression
@@ -123,15 +123,15 @@ struct FitReport {
   double strain_max = 0;
   int rows_beyond_strain_max = 0;
   double stretch_max = 0; ///< FitOptions::stretch_max (rows beyond it are counted above too)
-  bool isotropic = false;  ///< FitOptions::isotropic: C44 and B4 derived (D396)
+  bool isotropic = false; ///< FitOptions::isotropic: C44 and B4 derived (D396)
   /// the caller's FitOptions::undefined, as given (names and reasons)
   std::vector<UndefinedConstant> declared_undefined;
   /// "data standard errors" or "sandwich (HC3)": where the standard errors come from
   std::string error_model;
-  double chi2 = std::numeric_limits<double>::quiet_NaN(); ///< sum of r^2 (data errors only)
-  int dof = 0;                                            ///< residuals - free parameters
+  double chi2 = std::numeric_limits<double>::quiet_NaN();   ///< sum of r^2 (data errors only)
+  int dof = 0;                                              ///< residuals - free parameters
   double chi2_p = std::numeric_limits<double>::quiet_NaN(); ///< P(chi^2_dof >= chi2)
-  Verdict verdict;                                        ///< judge_fit() of this report
+  Verdict verdict;                                          ///< judge_fit() of this report
   std::vector<ComponentFit> components;
   std::vector<RegressionLine> regression;
   // how the solve ended
