@@ -112,15 +112,15 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
     limits.independent_residuals = false;
     card.verdict = judge_fit(honest, limits);
     if (trend.p_family < limits.p_misfit) {
-      const auto worst = std::min_element(
-          trend.curves.begin(), trend.curves.end(),
-          [](const rve::TrendCurve& x, const rve::TrendCurve& y) { return x.p < y.p; });
+      const rve::TrendCurve* worst = trend.worst();
+      const std::string where = worst->role.empty() ? fmt::format("case {} sigma{}", worst->case_id,
+                                                                  kVoigt[worst->component % 6])
+                                                    : "pooled " + worst->role + ", D397";
       card.verdict.warn(fmt::format(
-          "the model misses a trend common to the {} replicas (case {} sigma{}: Legendre "
-          "coefficients of the residuals against their between-replica errors, p = {:.2g}, "
-          "Bonferroni over {} curves; D12k)",
-          trend.replicas, worst->case_id, kVoigt[worst->component % 6], trend.p_family,
-          trend.curves.size()));
+          "the model misses a trend common to the {} replicas ({}: Legendre coefficients of the "
+          "residuals against their between-replica errors, p = {:.2g}, Bonferroni over {} "
+          "curves and {} pooled roles; D12k)",
+          trend.replicas, where, trend.p_family, trend.curves.size(), trend.roles.size()));
     }
   }
   // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,

@@ -1,13 +1,15 @@
-// The replica trend test (replica_trend.hpp, decision D12k).
+// The replica trend test (replica_trend.hpp, decisions D12k, D397).
 #include "pnc/rve/replica_trend.hpp"
 
 #include "pnc/damage/ndm.hpp"
 #include "pnc/md/statistics.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace pnc::rve {
 
@@ -26,7 +28,37 @@ double legendre(int m, double x) {
   }
 }
 
+// The t-test of the four coefficients over the replicas (coef[m][replica], Pa).
+void test_coefficients(const std::array<std::vector<double>, 4>& coef, int replicas,
+                       TrendCurve& tc) {
+  double pmin = 1;
+  for (int m = 0; m < 4; ++m) {
+    const md::ReplicaEstimate r = md::replica_mean_se(coef[m]);
+    tc.mean[m] = r.mean;
+    tc.se[m] = r.se;
+    tc.t[m] = r.se > 0 ? r.mean / r.se : (r.mean == 0 ? 0.0 : INFINITY);
+    const double p = 2 * (1 - md::student_t_cdf(std::fabs(tc.t[m]), replicas - 1));
+    pmin = std::min(pmin, p);
+  }
+  tc.p = std::min(1.0, 4 * pmin);
+}
+
+// The role of a curve of the isotropic pure polymer (decision D397).
+std::string role_of(const CombinedCase& c, int component) {
+  if (c.voigt >= 3) return component == c.voigt ? "shear" : "";
+  if (component == c.voigt) return "driven extension";
+  return component < 3 ? "lateral extension" : "";
+}
+
 } // namespace
+
+const TrendCurve* ReplicaTrend::worst() const {
+  const TrendCurve* w = nullptr;
+  for (const auto* list : {&curves, &roles})
+    for (const auto& c : *list)
+      if (!w || c.p < w->p) w = &c;
+  return w;
+}
 
 ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport& joint,
                                 double strain_max, double stretch_max) {
@@ -37,6 +69,12 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     return out;
   }
   out.applicable = true;
+  struct Pool {
+    std::vector<int> cases;
+    int curves = 0, points = 0;
+    std::array<std::vector<double>, 4> sum;
+  };
+  std::map<std::string, Pool> pools; // decision D397: the pure polymer's roles
   for (const auto& fc : joint.components) {
     const auto it = std::find_if(c.cases.begin(), c.cases.end(),
                                  [&](const CombinedCase& cc) { return cc.id == fc.case_id; });
@@ -64,23 +102,38 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
         coef[m].push_back(den > 0 ? num / den : 0.0);
       }
     }
-    double pmin = 1;
-    for (int m = 0; m < 4; ++m) {
-      const md::ReplicaEstimate r = md::replica_mean_se(coef[m]);
-      tc.mean[m] = r.mean;
-      tc.se[m] = r.se;
-      tc.t[m] = r.se > 0 ? r.mean / r.se : (r.mean == 0 ? 0.0 : INFINITY);
-      const double p = 2 * (1 - md::student_t_cdf(std::fabs(tc.t[m]), c.replicas - 1));
-      pmin = std::min(pmin, p);
-    }
-    tc.p = std::min(1.0, 4 * pmin);
+    test_coefficients(coef, c.replicas, tc);
     out.curves.push_back(tc);
+    const std::string role =
+        joint.params.model == damage::Model::pp ? role_of(*it, fc.component) : "";
+    if (role.empty()) continue;
+    Pool& pool = pools[role];
+    if (std::find(pool.cases.begin(), pool.cases.end(), fc.case_id) == pool.cases.end())
+      pool.cases.push_back(fc.case_id);
+    ++pool.curves;
+    pool.points = pool.points == 0 ? tc.points : std::min(pool.points, tc.points);
+    for (int m = 0; m < 4; ++m) {
+      pool.sum[m].resize(coef[m].size(), 0.0);
+      for (std::size_t r = 0; r < coef[m].size(); ++r)
+        pool.sum[m][r] += coef[m][r];
+    }
   }
-  double pmin = 1;
-  for (const auto& tc : out.curves)
-    pmin = std::min(pmin, tc.p);
+  for (auto& [role, pool] : pools) {
+    if (pool.curves < 2) continue;
+    TrendCurve tc;
+    tc.role =
+        fmt::format("{} ({} curves of cases {})", role, pool.curves, fmt::join(pool.cases, ", "));
+    tc.points = pool.points;
+    for (auto& v : pool.sum)
+      for (double& x : v)
+        x /= pool.curves; // one replica's mean over the role: one independent sample
+    test_coefficients(pool.sum, c.replicas, tc);
+    out.roles.push_back(tc);
+  }
+  const TrendCurve* w = out.worst();
+  const std::size_t tests = out.curves.size() + out.roles.size();
   out.p_family =
-      std::min(1.0, pmin * static_cast<double>(std::max<std::size_t>(1, out.curves.size())));
+      w ? std::min(1.0, w->p * static_cast<double>(std::max<std::size_t>(1, tests))) : 1.0;
   return out;
 }
 
@@ -96,14 +149,23 @@ std::string replica_trend_markdown(const ReplicaTrend& t) {
       "p-value assume independent residuals and are not used for replica data).\n\n"
       "| curve | points | P0 | P1 | P2 | P3 | p (x4) |\n|---|---|---|---|---|---|---|\n",
       t.replicas, t.replicas - 1);
-  for (const auto& c : t.curves) {
-    s += fmt::format("| case {} {} | {} |", c.case_id, comp[c.component % 6], c.points);
-    for (int m = 0; m < 4; ++m)
-      s += fmt::format(" {:+.3g} +- {:.2g} MPa |", c.mean[m] * 1e-6, c.se[m] * 1e-6);
-    s += fmt::format(" {:.2g} |\n", c.p);
-  }
-  s += fmt::format("\nFamily-wise p (Bonferroni over {} curves): {:.2g}.\n\n", t.curves.size(),
-                   t.p_family);
+  for (const auto* list : {&t.curves, &t.roles})
+    for (const auto& c : *list) {
+      if (c.role.empty())
+        s += fmt::format("| case {} {} | {} |", c.case_id, comp[c.component % 6], c.points);
+      else
+        s += fmt::format("| pooled: {} | {} |", c.role, c.points);
+      for (int m = 0; m < 4; ++m)
+        s += fmt::format(" {:+.3g} +- {:.2g} MPa |", c.mean[m] * 1e-6, c.se[m] * 1e-6);
+      s += fmt::format(" {:.2g} |\n", c.p);
+    }
+  if (!t.roles.empty())
+    s += "\nThe pure polymer's law is isotropic: the curves of one role (the driven or the "
+         "lateral stress of an extension case, the stress of a shear) are one experiment in "
+         "several directions, and each replica's coefficients averaged over a role are one "
+         "sample of a pooled test (D397).\n";
+  s += fmt::format("\nFamily-wise p (Bonferroni over {} curves and {} pooled roles): {:.2g}.\n\n",
+                   t.curves.size(), t.roles.size(), t.p_family);
   return s;
 }
 

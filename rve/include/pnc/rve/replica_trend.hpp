@@ -11,6 +11,13 @@
 // whatever the correlation along its curve. A trend the model misses is common to every
 // replica, so the mean of its coefficient differs from zero by more than the between-replica
 // standard error allows (Student t with N - 1 degrees of freedom, two-sided).
+//
+// The pure polymer's law is isotropic (docs/theory.md section 1.1): its three extension cases
+// are one experiment in three directions, and so are its three shears. A shape the law misses
+// is then common to the curves of one role (the driven stress of an extension case, its
+// lateral stresses, the stress of a shear), and one replica's coefficients averaged over the
+// curves of a role are again one independent sample (decision D397): the pooled roles are
+// tested as well, and the family-wise p runs over curves and roles.
 #include "pnc/damage/fit.hpp"
 #include "pnc/rve/replicas.hpp"
 
@@ -21,7 +28,9 @@
 namespace pnc::rve {
 
 struct TrendCurve {
+  /// a curve: its case and Voigt component; a pooled role (D397): case_id 0 and `role`
   int case_id = 0, component = 0, points = 0;
+  std::string role; ///< e.g. "driven extension (cases 1, 2, 3)"; empty for one curve
   std::array<double, 4> mean{}, se{}; ///< Pa: coefficients of P0..P3 over the replicas
   std::array<double, 4> t{};          ///< mean / se
   double p = 1; ///< smallest two-sided p of the four coefficients, times 4 (Bonferroni)
@@ -32,7 +41,12 @@ struct ReplicaTrend {
   std::string why_not;     ///< when not applicable
   int replicas = 0;
   std::vector<TrendCurve> curves; ///< one per fitted curve of the joint fit
-  double p_family = 1;            ///< min over curves of p, times the number of curves (Bonferroni)
+  /// pure polymer (D397): one per role with >= 2 curves, their coefficients averaged per replica
+  std::vector<TrendCurve> roles;
+  /// min over curves and roles of p, times their number (Bonferroni)
+  double p_family = 1;
+  /// the curve or role with the smallest p
+  const TrendCurve* worst() const;
 };
 
 /// The test for the fitted curves of `joint` (its components list) on the replica curves of
