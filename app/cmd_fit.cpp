@@ -35,6 +35,10 @@ int run_fit(const FitArgs& a) {
   o.strain_max = a.strain_max;
   o.stretch_max = a.stretch_max;
   o.isotropic = a.isotropic;
+  if (a.isotropic && o.model != Model::pp) // decision D396
+    fail("<command line>", "--isotropic", "--model " + a.model,
+         "the isotropy ties (C44 = (C11 - C12)/2, B4 = B1 - B2/2) are of the pure polymer "
+         "law: use it with --model pp");
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;

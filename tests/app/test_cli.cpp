@@ -97,6 +97,29 @@ TEST_F(Cli, SynthFitShowWithJson) {
   EXPECT_NE(c.err.find("E2 as printed (the source's determinant-ratio formula"), std::string::npos);
 }
 
+TEST_F(Cli, FitIsotropicDerivesC44AndB4AndIsRefusedForTheComposite) {
+  // decision D396; the tables' pure polymer is far from isotropic (C44 0.109 GPa against
+  // (C11 - C12)/2 = 0.056 GPa), so its isotropic card cannot be plainly usable
+  ASSERT_EQ(run("synth --model pp --out d.csv").code, 0);
+  const Result f = run("fit --data d.csv --model pp --isotropic --out card.h5 --no-plots --json");
+  ASSERT_EQ(f.code, 0) << f.err;
+  const auto j = nlohmann::json::parse(f.out);
+  EXPECT_TRUE(j["fit"]["isotropic"].get<bool>());
+  EXPECT_EQ(j["constants"]["C44"]["status"], "derived");
+  EXPECT_EQ(j["constants"]["B4"]["status"], "derived");
+  const double c11 = j["constants"]["C11"]["value"], c12 = j["constants"]["C12"]["value"];
+  EXPECT_NEAR(j["constants"]["C44"]["value"].get<double>(), (c11 - c12) / 2, 1e-9 * c11);
+  EXPECT_NE(j["verdict"]["level"], "usable");
+  const Result c = run("card show card.h5 --json");
+  ASSERT_EQ(c.code, 0) << c.err;
+  EXPECT_TRUE(nlohmann::json::parse(c.out)["fit"]["isotropic"].get<bool>());
+  const Result bad = run("fit --data d.csv --model pnc --isotropic --out c2.h5 --no-plots");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("--isotropic"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--model pp"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(p("c2.h5")));
+}
+
 TEST_F(Cli, FitDrawsOneFigureOfEveryCase) {
   ASSERT_EQ(run("synth --model pp --points 60 --max-extension 0.3 --out d.h5").code, 0);
   const Result f = run("fit --data d.h5 --model pp --out pp.h5 --json");
