@@ -6,11 +6,14 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/damage/synth.hpp"
 
+#include "fit_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 using namespace pnc::damage;
+using pnc_fit_test::constants_mpa;
 
 namespace {
 
@@ -22,13 +25,6 @@ StressStrainData synth(Model m, double noise_mpa, std::uint64_t seed, int points
   o.max_extension = m == Model::pnc ? 0.20 : 0.30; // past onset (7.2 % pnc, 17.1 % pp)
   o.max_shear = 0.40;
   return synthesize(dissertation_parameters(m), o);
-}
-
-std::vector<double> constants_mpa(const NdmParameters& p) {
-  std::vector<double> k(p.size());
-  for (std::size_t i = 0; i < k.size(); ++i)
-    k[i] = i + 1 == k.size() ? p.k[i] : p.k[i] / 1e6;
-  return k;
 }
 
 } // namespace
@@ -66,15 +62,9 @@ TEST(FitJacobian, AnalyticJacobianMatchesCentralDifferences) {
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
     detail::residuals_and_jacobian(d, m, th, r, &J);
+    const Eigen::MatrixXd FD = pnc_fit_test::central_difference_jacobian(d, m, th);
     for (std::size_t j = 0; j < th.size(); ++j) {
-      auto tp = th, tm = th;
-      const double h = 1e-5 * (1 + std::abs(th[j]));
-      tp[j] += h;
-      tm[j] -= h;
-      Eigen::VectorXd rp, rm;
-      detail::residuals_and_jacobian(d, m, tp, rp, nullptr);
-      detail::residuals_and_jacobian(d, m, tm, rm, nullptr);
-      const Eigen::VectorXd fd = (rp - rm) / (2 * h);
+      const Eigen::VectorXd fd = FD.col(static_cast<Eigen::Index>(j));
       const Eigen::VectorXd an = J.col(static_cast<Eigen::Index>(j));
       // All residuals are linear in every theta but the Cholesky factors (quadratic: exact
       // under central differences) and alpha (smooth, C1 at onset): a 1e-6 relative bound.

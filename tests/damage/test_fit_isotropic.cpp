@@ -13,6 +13,7 @@
 #include "pnc/damage/synth.hpp"
 
 #include "common/temp_dir.hpp"
+#include "fit_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,6 +24,7 @@
 #include <string>
 
 using namespace pnc::damage;
+using pnc_fit_test::constants_mpa;
 
 namespace {
 
@@ -64,13 +66,6 @@ FitOptions options(bool isotropic) {
   return o;
 }
 
-std::vector<double> constants_mpa(const NdmParameters& p) {
-  std::vector<double> k(p.size());
-  for (std::size_t i = 0; i < k.size(); ++i)
-    k[i] = i + 1 == k.size() ? p.k[i] : p.k[i] / 1e6;
-  return k;
-}
-
 } // namespace
 
 TEST(FitIsotropic, TiedConstantsFollowTheirFormulaAndTheJacobianMatchesCentralDifferences) {
@@ -88,15 +83,9 @@ TEST(FitIsotropic, TiedConstantsFollowTheirFormulaAndTheJacobianMatchesCentralDi
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   detail::residuals_and_jacobian(d, Model::pp, th, r, &J, tied);
+  const Eigen::MatrixXd FD = pnc_fit_test::central_difference_jacobian(d, Model::pp, th, tied);
   for (std::size_t j = 0; j < th.size(); ++j) {
-    auto tp = th, tm = th;
-    const double h = 1e-5 * (1 + std::abs(th[j]));
-    tp[j] += h;
-    tm[j] -= h;
-    Eigen::VectorXd rp, rm;
-    detail::residuals_and_jacobian(d, Model::pp, tp, rp, nullptr, tied);
-    detail::residuals_and_jacobian(d, Model::pp, tm, rm, nullptr, tied);
-    const Eigen::VectorXd fd = (rp - rm) / (2 * h);
+    const Eigen::VectorXd fd = FD.col(static_cast<Eigen::Index>(j));
     const Eigen::VectorXd an = J.col(static_cast<Eigen::Index>(j));
     // linear in every theta but alpha (smooth): the bound of the untied Jacobian test
     EXPECT_LT((an - fd).norm(), 1e-6 * (1 + an.norm())) << "column " << j;
@@ -147,19 +136,13 @@ TEST(FitIsotropic, PropagatedErrorsOfTheDerivedConstantsCoverTheTruthAtTheirNomi
   // the rate sqrt(0.683 * 0.317 / 200) = 0.033: the band 0.58-0.78 is 3 sd, as for the pooled
   // fit (FitPooled), which only the max(1, chi^2/dof) inflation can widen.
   const NdmParameters truth = isotropic_truth();
-  const int N = 200;
-  std::vector<int> covered(truth.size(), 0);
-  for (int s = 0; s < N; ++s) {
-    const FitReport r =
-        fit_ndm(curves(truth, 3e6, 0, 900 + static_cast<std::uint64_t>(s)), options(true));
-    ASSERT_TRUE(r.converged) << r.message;
-    for (std::size_t i = 0; i < truth.size(); ++i)
-      covered[i] += std::abs(r.params.k[i] - truth.k[i]) <= r.std_error[i];
-  }
+  const auto data = [&](int s) {
+    return curves(truth, 3e6, 0, 900 + static_cast<std::uint64_t>(s));
+  };
+  const std::vector<double> c = pnc_fit_test::one_sigma_coverage(data, options(true), truth, 200);
   for (std::size_t i = 0; i < truth.size(); ++i) {
-    const double c = static_cast<double>(covered[i]) / N;
-    EXPECT_GE(c, 0.58) << constant_names(Model::pp)[i];
-    EXPECT_LE(c, 0.78) << constant_names(Model::pp)[i];
+    EXPECT_GE(c[i], 0.58) << constant_names(Model::pp)[i];
+    EXPECT_LE(c[i], 0.78) << constant_names(Model::pp)[i];
   }
 }
 

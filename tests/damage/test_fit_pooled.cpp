@@ -9,6 +9,8 @@
 #include "pnc/damage/reference.hpp"
 #include "pnc/damage/synth.hpp"
 
+#include "fit_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -75,18 +77,13 @@ TEST(FitPooled, PooledStandardErrorsCoverTheTruthAtTheirNominalRate) {
   // Binomial sd of the rate: sqrt(0.683 * 0.317 / 200) = 0.033; the band 0.58-0.78 is
   // 3 sd, plus the small bias of the max(1, chi^2/dof) inflation (it only widens errors).
   const NdmParameters truth = dissertation_parameters(Model::pp);
-  const int N = 200;
-  std::vector<int> covered(truth.size(), 0);
-  for (int s = 0; s < N; ++s) {
-    const FitReport r = fit_ndm(noisy_curves({1, 2, 3, 4, 5, 6}, 3e6, 500 + s), pp_options());
-    ASSERT_TRUE(r.converged) << r.message;
-    for (std::size_t i = 0; i < truth.size(); ++i)
-      covered[i] += std::abs(r.params.k[i] - truth.k[i]) <= r.std_error[i];
-  }
+  const auto data = [](int s) {
+    return noisy_curves({1, 2, 3, 4, 5, 6}, 3e6, 500 + static_cast<std::uint64_t>(s));
+  };
+  const std::vector<double> c = pnc_fit_test::one_sigma_coverage(data, pp_options(), truth, 200);
   for (std::size_t i = 0; i < truth.size(); ++i) {
-    const double c = static_cast<double>(covered[i]) / N;
-    EXPECT_GE(c, 0.58) << constant_names(Model::pp)[i];
-    EXPECT_LE(c, 0.78) << constant_names(Model::pp)[i];
+    EXPECT_GE(c[i], 0.58) << constant_names(Model::pp)[i];
+    EXPECT_LE(c[i], 0.78) << constant_names(Model::pp)[i];
   }
 }
 
