@@ -1,7 +1,7 @@
 // The recipe presets of `pnc characterize` (pnc/rve/recipe.hpp): demo, paper (the dissertation's
-// polypropylene), demo_pnc, paper_pnc (with the clay platelet), demo_glass, paper_glass (the
-// glassy bead-spring polymer), demo_glass_pnc (the glass with a platelet). Units as in recipes:
-// LAMMPS real (A, fs, kcal/mol, atm, K).
+// polypropylene), demo_pnc, paper_pnc (with the clay platelet), demo_glass, paper_glass,
+// card_glass (the glassy bead-spring polymer), demo_glass_pnc (the glass with a platelet).
+// Units as in recipes: LAMMPS real (A, fs, kcal/mol, atm, K).
 //
 // Two presets are written out (demo, demo_glass); every other one is its parent with a JSON
 // merge patch (RFC 7386: an object merges key by key, null removes a key, anything else
@@ -113,6 +113,17 @@ const char* paper_glass_patch = R"({
   "phase_check": { "steps": 10000, "cavitation_steps": 5000 }
 })";
 
+// demo_glass's glass with the protocol whose card passes every statistical gate of an MD card
+// (decision D398; docs/rve.md, "24 replicas"): cases 1-6 to a stretch of 0.05 (shear to 0.10) in 72
+// steps of 600-step holds, fitted over the same stretch, 24 replicas. About 65 min on 2 cores.
+const char* card_glass_patch = R"({
+  "name": "card_glass",
+  "deform": { "cases": [1, 2, 3, 4, 5, 6], "strain_max": 0.05, "shear_strain_max": 0.10,
+              "steps": 72, "hold_steps": 600 },
+  "fit": { "strain_max": null, "stretch_max": 0.05 },
+  "run": { "replicas": 24 }
+})";
+
 // Model nanocomposite (model kg_platelet, decisions D170-D176): the demo_glass polymer (32 chains
 // x 25 beads) with one 8 x 8 x 2 bead platelet (edge 7 sigma = 35 A, ~0.7 of the box), normal x2,
 // weak adhesion eps_wp = 0.5 eps so that case 2 can open the interface; cases 1-6, 4 replicas,
@@ -145,6 +156,7 @@ const Preset kPresets[] = {
     {"paper_pnc", "paper", paper_pnc_patch},
     {"demo_glass", nullptr, demo_glass_text},
     {"paper_glass", "demo_glass", paper_glass_patch},
+    {"card_glass", "demo_glass", card_glass_patch},
     {"demo_glass_pnc", "demo_glass", demo_glass_pnc_patch},
 };
 
