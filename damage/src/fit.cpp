@@ -527,7 +527,7 @@ FitReport fit_ndm(const StressStrainData& all_rows, const FitOptions& opt) {
   std::vector<int> held_at_onset = hold_unidentified_at_start(cx, colnorm, rep, theta);
   const bool fit_alpha = choose_alpha(cx, colnorm[cx.n - 1] != 0.0, rep);
   hold_declared_undefined(cx, rep, theta);
-  mark_derived(m, cx.tied, rep, held_at_onset); // D396
+  mark_derived(cx.tied, rep, held_at_onset); // D396
 
   SolveState st = solve_rounds(cx, fit_alpha, held_at_onset, rep, theta);
   if (fit_alpha && rep.fitted[ns - 1] &&

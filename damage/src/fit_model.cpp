@@ -22,23 +22,37 @@ int n_theta(Model m) {
   return static_cast<int>(constant_names(m).size());
 }
 
-// decision D396: an isotropic C0 + D C1 needs C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2
+// Decision D396: an isotropic C0 + D C1 needs C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2. The
+// pp constants the ties use are looked up once: tie_matrix runs in every residual evaluation.
+namespace {
+struct PpIndex {
+  int c11 = constant_index(Model::pp, "C11"), c12 = constant_index(Model::pp, "C12");
+  int c44 = constant_index(Model::pp, "C44"), b1 = constant_index(Model::pp, "B1");
+  int b2 = constant_index(Model::pp, "B2"), b4 = constant_index(Model::pp, "B4");
+};
+const PpIndex& pp_index() {
+  static const PpIndex i;
+  return i;
+}
+} // namespace
+
 std::vector<int> isotropy_ties(Model m, bool isotropic) {
   if (m != Model::pp || !isotropic) return {};
-  return {constant_index(m, "C44"), constant_index(m, "B4")};
+  return {pp_index().c44, pp_index().b4};
 }
 
 Eigen::MatrixXd tie_matrix(Model m, const std::vector<int>& tied) {
   const int n = n_theta(m);
   Eigen::MatrixXd T = Eigen::MatrixXd::Identity(n, n);
+  const PpIndex& ix = pp_index();
   for (int j : tied) {
     T.row(j).setZero();
-    if (j == constant_index(m, "C44")) {
-      T(j, constant_index(m, "C11")) = 0.5;
-      T(j, constant_index(m, "C12")) = -0.5;
-    } else if (j == constant_index(m, "B4")) {
-      T(j, constant_index(m, "B1")) = 1.0;
-      T(j, constant_index(m, "B2")) = -0.5;
+    if (m == Model::pp && j == ix.c44) {
+      T(j, ix.c11) = 0.5;
+      T(j, ix.c12) = -0.5;
+    } else if (m == Model::pp && j == ix.b4) {
+      T(j, ix.b1) = 1.0;
+      T(j, ix.b2) = -0.5;
     } else {
       throw std::logic_error("tie_matrix: no tie for constant " +
                              constant_names(m)[static_cast<std::size_t>(j)]);
@@ -59,18 +73,17 @@ std::vector<int> applicable_ties(Model m, const FitOptions& opt) {
 }
 
 namespace {
-std::string tie_formula(Model m, int j) {
-  return j == constant_index(m, "C44") ? "C44 = (C11 - C12) / 2" : "B4 = B1 - B2 / 2";
+std::string tie_formula(int j) {
+  return j == pp_index().c44 ? "C44 = (C11 - C12) / 2" : "B4 = B1 - B2 / 2";
 }
 } // namespace
 
-void mark_derived(Model m, const std::vector<int>& tied, FitReport& rep,
-                  std::vector<int>& held_at_onset) {
+void mark_derived(const std::vector<int>& tied, FitReport& rep, std::vector<int>& held_at_onset) {
   for (int j : tied) {
     const auto js = static_cast<std::size_t>(j);
     rep.fitted[js] = false;
     rep.status[js] = "derived";
-    rep.note[js] = "isotropy: " + tie_formula(m, j) + " (fit option isotropic, D396)";
+    rep.note[js] = "isotropy: " + tie_formula(j) + " (fit option isotropic, D396)";
     held_at_onset.erase(std::remove(held_at_onset.begin(), held_at_onset.end(), j),
                         held_at_onset.end());
   }

@@ -30,8 +30,7 @@ Eigen::MatrixXd tie_matrix(Model m, const std::vector<int>& tied);
 std::vector<int> applicable_ties(Model m, const FitOptions& opt);
 /// Before the solve: the tied constants are not free (fitted = false), status "derived", the
 /// note says from what; they leave `held_at_onset` (their column is zero by construction).
-void mark_derived(Model m, const std::vector<int>& tied, FitReport& rep,
-                  std::vector<int>& held_at_onset);
+void mark_derived(const std::vector<int>& tied, FitReport& rep, std::vector<int>& held_at_onset);
 /// After the solve: a derived constant carries a propagated standard error (fitted = true)
 /// when every constant it is derived from was fitted; else its note says it follows held ones.
 void finish_derived(Model m, const std::vector<int>& tied, FitReport& rep);
