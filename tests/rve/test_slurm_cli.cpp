@@ -56,13 +56,20 @@ std::string use_cluster() {
            "start_cluster.sh), which needs the Debian packages slurm-wlm and munge";
   setenv("SLURM_CONF", (fs::path(dir) / "slurm.conf").c_str(), 1);
   setenv("PNC_SLURM_POLL_SECONDS", "1", 1);
-  const auto r = run_command("sinfo -h -o %T 2>&1");
-  const bool up = r.out.find("idle") != std::string::npos ||
-                  r.out.find("mix") != std::string::npos ||
-                  r.out.find("alloc") != std::string::npos;
-  if (r.code != 0 || !up)
-    return "the test cluster does not answer (sinfo: " + r.out + "); logs in " + dir + "/log";
-  return "";
+  // A node that is still ending the jobs an earlier test cancelled reports "completing": the
+  // cluster answers and takes jobs (they start once the node is free). Any other state (down,
+  // drained, not responding) is given 30 s to clear, then named.
+  pnc::test::CommandResult r;
+  for (int attempt = 0; attempt < 30; ++attempt) {
+    if (attempt > 0) std::this_thread::sleep_for(std::chrono::seconds(1));
+    r = run_command("sinfo -h -o %T 2>&1");
+    bool up = false;
+    for (const char* s : {"idle", "mix", "alloc", "completing"})
+      up = up || r.out.find(s) != std::string::npos;
+    if (r.code == 0 && up) return "";
+  }
+  return "the test cluster does not answer within 30 s (sinfo: " + r.out + "); logs in " + dir +
+         "/log";
 }
 
 // 160 beads, two replicas, cases 2 and 6 of 3 strain steps, a short phase check: seconds each
