@@ -18,30 +18,7 @@ using namespace detail; // the kernel pieces shared with the batched route (ndm_
 
 // ---------------------------------------------------------------- stiffness
 namespace {
-enum PncIdx {
-  iC11,
-  iC22,
-  iC33,
-  iC12,
-  iC13,
-  iC23,
-  iC44,
-  iC55,
-  iC66,
-  iA1,
-  iA5,
-  iA9,
-  iA10,
-  iA11,
-  iA13,
-  iA15,
-  iA17,
-  iA18,
-  iA22,
-  iA24,
-  iA26,
-  iAlphaPnc
-};
+// the pnc constants' indices (detail::PncIdx) are in ndm_internal.hpp
 enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
 } // namespace
 
@@ -294,6 +271,12 @@ Eigen::Matrix<double, 1, 6> stretch_row(const Stretch& s, int mode, Eigen::Vecto
                                         bool& have_N) {
   Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
   if (s.clipped[mode]) {
+    double r[6]; // D399: one expression for the kernel and the batched route
+    if (capped_stretch_row(s.v, s.lambda_max, r)) {
+      row << r[0], r[1], r[2], r[3], r[4], r[5];
+      return row;
+    }
+    // lambda_max (nearly) repeated: Eigen's solver for the direction
     if (!have_N) { // clipped: lambda_max known
       N = largest_eigenvector(right_cauchy_green(s.v), s.lambda_max * s.lambda_max);
       have_N = true;
@@ -369,20 +352,7 @@ Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
   const auto& k = p.k;
   Voigt v;
   if (p.model == Model::pnc) {
-    switch (m) {
-    case 0:
-      v << 2 * k[iA1] * e[0] + k[iA10] * e[1] + k[iA13] * e[2], k[iA10] * e[0], k[iA13] * e[0], 0,
-          0, 0;
-      break;
-    case 1:
-      v << k[iA11] * e[1], k[iA11] * e[0] + 2 * k[iA5] * e[1] + k[iA17] * e[2], k[iA17] * e[1],
-          k[iA22] * e[3], 0, k[iA24] * e[5];
-      break;
-    default:
-      v << k[iA15] * e[2], k[iA18] * e[2], k[iA15] * e[0] + k[iA18] * e[1] + 2 * k[iA9] * e[2], 0,
-          k[iA26] * e[4], 0;
-      break;
-    }
+    pnc_c1_times(k, m, e, v); // shared with the batched route (D399)
   } else {
     const double s = e[0] + e[1] + e[2];
     for (int i = 0; i < 3; ++i) {
@@ -513,9 +483,12 @@ Status integrate_impl(const PreparedNdm& q, bool have_pieces, const NdmState& s0
       if (!loading[m] || dD[m] == 0.0) continue;
       const Eigen::Matrix<double, 1, 6> row = stretch_row(st, m, N, have_N);
       const double f = dD[m] / alpha;
-      const Voigt a = rotated ? Voigt(q.T.transpose() * c1_times(p, m, el)) : c1_times(p, m, el);
-      const Eigen::Matrix<double, 1, 6> g = rotated ? Eigen::Matrix<double, 1, 6>(f * (row * q.T))
-                                                    : Eigen::Matrix<double, 1, 6>(f * row);
+      // T^T a and g T by detail::transpose_times, as the batched route forms them (D399)
+      const Voigt a = rotated ? transpose_times(q.T, c1_times(p, m, el)) : c1_times(p, m, el);
+      const Eigen::Matrix<double, 1, 6> g =
+          rotated
+              ? Eigen::Matrix<double, 1, 6>(f * transpose_times(q.T, row.transpose()).transpose())
+              : Eigen::Matrix<double, 1, 6>(f * row);
       if constexpr (K_transposed)
         K->noalias() += g.transpose() * a.transpose();
       else

@@ -7,11 +7,15 @@
 //  3. kappa1, D1 and the path of each point: elastic (every mode below the onset), unloading
 //     (no mode with damage growth) or kernel (damage growth, a stretch whose cap may bind);
 //  4. sigma = C0g eps for the chunk, sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
-//     points gathered into a compact block, integrate_row_major() for the kernel points;
+//     points gathered into a compact block, the damage growth of pnc points with a
+//     block-diagonal strain in loops over a compact block as well (ndm_batch_growth.hpp, D399),
+//     integrate_row_major() for the other kernel points;
 //  5. the result check and the writes to the caller's arrays.
 // Every expression is the one integrate_impl() (ndm.cpp) evaluates, in the same order, so the
 // numbers are the same bit for bit (the test FeMaterialBatch.* checks it); the shared pieces
 // come from ndm_internal.hpp.
+#include "ndm_batch_chunk.hpp"
+#include "ndm_batch_growth.hpp"
 #include "ndm_internal.hpp"
 #include "pnc/damage/ndm.hpp"
 
@@ -32,44 +36,7 @@ namespace {
 
 using detail::damage_and_slope;
 
-constexpr std::size_t kChunk = 32;
-constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0; // Chunk::path
-
-// Scratch of one chunk (about 21 KB on the stack; no allocation).
-struct Chunk {
-  double eps[6][kChunk]; // global strain at the end
-  double el[6][kChunk];  // platelet-frame strain (a copy of eps without rotation)
-  double s0[6][kChunk];  // state at the start (flat layout)
-  double lam[3][kChunk]; // mode stretches
-  double kap[3][kChunk]; // kappa at the end
-  double D[3][kChunk];   // damage at the end
-  double sig[6][kChunk]; // stress at the end
-  // Secant stiffness (row-major entry rc) of the unloading points, compact (entry j of uidx),
-  // formed once for their stress and then written as their tangent.
-  double Ku[36][kChunk];
-  double stored[kChunk]; // energies
-  double diss[kChunk];
-  double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
-  // Path (kElastic, kUnloading, kKernel) and "the fast stretch is not decidable" as doubles:
-  // the loops that set them then hold one element type, which the vectoriser needs.
-  double path[kChunk];
-  double scalar_stretch[kChunk];
-};
-
-// x * 0 is 0 for finite x and NaN otherwise: a branch-free finiteness accumulator.
-[[gnu::always_inline]] inline double nf(double x) {
-  return x * 0.0;
-}
-
-// 0.5 sigma . eps in the order of Eigen's 6-vector dot (the kernel's 0.5 * sigma.dot(eps))
-// with SSE2 packets: pairs (0, 1), (2, 3), (4, 5), reduced as p0 + (p1 + p2), then lane 0 +
-// lane 1.
-[[gnu::always_inline]] inline double half_dot(const double (&s)[6][kChunk],
-                                              const double (&e)[6][kChunk], std::size_t i) {
-  const double l0 = s[0][i] * e[0][i] + (s[2][i] * e[2][i] + s[4][i] * e[4][i]);
-  const double l1 = s[1][i] * e[1][i] + (s[3][i] * e[3][i] + s[5][i] * e[5][i]);
-  return 0.5 * (l0 + l1);
-}
+using namespace batch; // the chunk scratch and the damage-growth pass (ndm_batch_*.hpp)
 
 // Pass 1: strains, rotation and input finiteness of points [0, m) of the chunk at `base`.
 [[gnu::always_inline]] inline void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
@@ -181,6 +148,14 @@ enum class Blocks { all, none, mixed };
       for (int k = 0; k < 3; ++k)
         c.lam[k][i] = b[k];
       c.scalar_stretch[i] = 0.0;
+      // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max)
+      c.vec_growth[i] = 1.0;
+      c.lmax[i] = lmax;
+      c.tsh[i] = t;
+      for (int k = 0; k < 2; ++k) {
+        c.grow[k][i] = g[k];
+        c.clip[k][i] = un[k] > lmax ? 1.0 : 0.0;
+      }
     }
     return;
   }
@@ -191,6 +166,7 @@ enum class Blocks { all, none, mixed };
       for (int k = 0; k < 3; ++k)
         c.lam[k][i] = gl[k];
       c.scalar_stretch[i] = sure ? 0.0 : 1.0;
+      c.vec_growth[i] = 0.0; // a general strain's growth: the kernel
     }
     return;
   }
@@ -204,6 +180,13 @@ enum class Blocks { all, none, mixed };
     for (int k = 0; k < 3; ++k)
       c.lam[k][i] = block ? b[k] : gl[k];
     c.scalar_stretch[i] = (!block & !sure) ? 1.0 : 0.0;
+    c.vec_growth[i] = block ? 1.0 : 0.0;
+    c.lmax[i] = lmax;
+    c.tsh[i] = t;
+    for (int k = 0; k < 2; ++k) {
+      c.grow[k][i] = g[k];
+      c.clip[k][i] = un[k] > lmax ? 1.0 : 0.0;
+    }
   }
 }
 
@@ -247,6 +230,7 @@ template <int N>
       c.D[k][i] = D;
       below = under ? below : 0.0;
       const double growth = loading ? dD : 0.0; // dD of a loading mode
+      c.dg[k][i] = growth;
       grow = growth != 0.0 ? 1.0 : grow;
     }
     const double path = below != 0.0 ? kElastic : kUnloading;
@@ -318,7 +302,44 @@ template <int N, bool KeepSecant>
   }
 }
 
-// Pass 4c: a kernel point through integrate_row_major(); its tangent into K36.
+// Pass 4c (ndm_batch_growth.hpp, D399) for the tangent `kind` (none: none or elastic). Out of
+// line, one copy per instruction set: inlined into run(), its scratch (about 12 KB) made the
+// other paths of a 3-D batch about a fifth slower for the same instructions (bench/README.md,
+// "Results after D399").
+[[gnu::always_inline]] inline void growth_impl(const PreparedNdm& q, TangentKind kind,
+                                               const std::size_t* gidx, std::size_t ng, Chunk& c) {
+  const bool r = q.rotated;
+  if (kind == TangentKind::consistent) {
+    if (r)
+      growth_points<true, GrowthK::consistent>(q, gidx, ng, c);
+    else
+      growth_points<false, GrowthK::consistent>(q, gidx, ng, c);
+  } else if (kind == TangentKind::secant) {
+    if (r)
+      growth_points<true, GrowthK::secant>(q, gidx, ng, c);
+    else
+      growth_points<false, GrowthK::secant>(q, gidx, ng, c);
+  } else {
+    if (r)
+      growth_points<true, GrowthK::none>(q, gidx, ng, c);
+    else
+      growth_points<false, GrowthK::none>(q, gidx, ng, c);
+  }
+}
+[[gnu::noinline]] void growth_baseline(const PreparedNdm& q, TangentKind kind,
+                                       const std::size_t* gidx, std::size_t ng, Chunk& c) {
+  growth_impl(q, kind, gidx, ng, c);
+}
+#if PNC_HAVE_AVX2_COPY
+[[gnu::noinline]] PNC_TARGET_AVX2 void growth_avx2(const PreparedNdm& q, TangentKind kind,
+                                                   const std::size_t* gidx, std::size_t ng,
+                                                   Chunk& c) {
+  growth_impl(q, kind, gidx, ng, c);
+}
+#endif
+
+// Pass 4d: a kernel point through integrate_row_major(); its tangent into K36 (pass 4c, the
+// vectorised damage growth, is ndm_batch_growth.hpp).
 [[gnu::always_inline]] inline void kernel_point(const PreparedNdm& q, const NdmBatch& b,
                                                 std::size_t base, std::size_t i, int ns, Chunk& c,
                                                 double* K36) {
@@ -383,7 +404,8 @@ template <int N, bool KeepSecant>
 [[gnu::always_inline]] inline void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
                                           std::size_t m, int n, const Chunk& c,
                                           const double (*Kk)[36], const std::size_t* kidx,
-                                          std::size_t nk, const std::size_t* uidx, std::size_t nu) {
+                                          std::size_t nk, const std::size_t* uidx, std::size_t nu,
+                                          const std::size_t* gidx, std::size_t ng) {
   bool all_ok = true;
   for (std::size_t i = 0; i < m; ++i)
     all_ok = all_ok && c.bad[i] == 0.0;
@@ -419,6 +441,12 @@ template <int N, bool KeepSecant>
     for (int rc = 0; rc < 36; ++rc) // the secant formed for the stress (unloading_stress)
       b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Ku[rc][j];
   }
+  for (std::size_t j = 0; j < ng; ++j) {
+    const std::size_t i = gidx[j];
+    if (c.bad[i] != 0.0 || c.vec_growth[i] == 0.0) continue; // (else a kernel point)
+    for (int rc = 0; rc < 36; ++rc) // the consistent tangent of the growth pass (D399)
+      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Kg[rc][j];
+  }
   for (std::size_t j = 0; j < nk; ++j) {
     const std::size_t i = kidx[j];
     if (c.bad[i] != 0.0) continue;
@@ -429,6 +457,7 @@ template <int N, bool KeepSecant>
 
 // The whole batch, inlined (with every pass above) into one function per instruction set
 // below, so that each gets its own vectorised loops (D386).
+template <bool Avx2>
 [[gnu::always_inline]] inline NdmBatchStats run(const PreparedNdm& q, const NdmBatch& b) {
   NdmBatchStats stats;
   stats.first_failed = b.n;
@@ -437,7 +466,7 @@ template <int N, bool KeepSecant>
   const int ns = static_cast<int>(state_size(model));
   Chunk c;
   double Kk[kChunk][36]; // tangents of the kernel points of a chunk
-  std::size_t uidx[kChunk], kidx[kChunk];
+  std::size_t uidx[kChunk], kidx[kChunk], gidx[kChunk];
   for (std::size_t base = 0; base < b.n; base += kChunk) {
     const std::size_t m = std::min(kChunk, b.n - base);
     std::fill(c.bad, c.bad + m, 0.0);
@@ -448,11 +477,15 @@ template <int N, bool KeepSecant>
       classify<3>(q, m, c);
     else
       classify<1>(q, m, c);
-    std::size_t nu = 0, nk = 0;
+    std::size_t nu = 0, nk = 0, ng = 0;
     for (std::size_t i = 0; i < m; ++i) {
       if (c.bad[i] != 0.0) continue; // failed on input: no path
       if (c.path[i] == kUnloading) uidx[nu++] = i;
-      if (c.path[i] == kKernel) kidx[nk++] = i;
+      if (c.path[i] != kKernel) continue;
+      if (model == Model::pnc && c.vec_growth[i] != 0.0)
+        gidx[ng++] = i; // damage growth of a block-diagonal strain, no cap binding (D399)
+      else
+        kidx[nk++] = i;
     }
     elastic_stress(q, m, c);
     const bool want_K = b.kind != TangentKind::none && b.K;
@@ -461,13 +494,22 @@ template <int N, bool KeepSecant>
     if (nu && n == 3 && !secant) unloading_stress<3, false>(q, uidx, nu, c);
     if (nu && n == 1 && secant) unloading_stress<1, true>(q, uidx, nu, c);
     if (nu && n == 1 && !secant) unloading_stress<1, false>(q, uidx, nu, c);
+    const TangentKind gk = secant ? b.kind : TangentKind::none;
+#if PNC_HAVE_AVX2_COPY
+    if (ng && Avx2) growth_avx2(q, gk, gidx, ng, c);
+#endif
+    if (ng && !Avx2) growth_baseline(q, gk, gidx, ng, c);
+    for (std::size_t j = 0; j < ng; ++j) // lambda_max repeated where a capped mode grows
+      if (c.vec_growth[gidx[j]] == 0.0) kidx[nk++] = gidx[j];
     for (std::size_t j = 0; j < nk; ++j)
       kernel_point(q, b, base, kidx[j], ns, c, want_K ? Kk[j] : nullptr);
     check_results(m, n, c);
-    commit(q, b, base, m, n, c, Kk, kidx, nk, uidx, nu);
+    commit(q, b, base, m, n, c, Kk, kidx, nk, uidx, nu, gidx, ng);
     for (std::size_t i = 0; i < m; ++i) {
       if (c.bad[i] != 0.0) {
         if (stats.failed++ == 0) stats.first_failed = base + i;
+      } else if (c.path[i] == kKernel && model == Model::pnc && c.vec_growth[i] != 0.0) {
+        ++stats.growth;
       } else if (c.path[i] == kKernel) {
         ++stats.kernel;
       } else if (c.path[i] == kUnloading) {
@@ -482,7 +524,7 @@ template <int N, bool KeepSecant>
 
 // SSE2, the project's baseline: for every x86-64 CPU.
 [[gnu::noinline]] NdmBatchStats run_baseline(const PreparedNdm& q, const NdmBatch& b) {
-  return run(q, b);
+  return run<false>(q, b);
 }
 
 #if PNC_HAVE_AVX2_COPY
@@ -490,7 +532,7 @@ template <int N, bool KeepSecant>
 // -ffp-contract=off and "avx2" does not enable FMA, so every operation rounds as in the
 // baseline and the two functions give the same bits (D386).
 [[gnu::noinline]] PNC_TARGET_AVX2 NdmBatchStats run_avx2(const PreparedNdm& q, const NdmBatch& b) {
-  return run(q, b);
+  return run<true>(q, b);
 }
 #endif
 

@@ -12,6 +12,64 @@
 
 namespace pnc::damage::detail {
 
+/// Indices of the pnc law's constants in NdmParameters::k (the order of constant_names()).
+enum PncIdx {
+  iC11,
+  iC22,
+  iC33,
+  iC12,
+  iC13,
+  iC23,
+  iC44,
+  iC55,
+  iC66,
+  iA1,
+  iA5,
+  iA9,
+  iA10,
+  iA11,
+  iA13,
+  iA15,
+  iA17,
+  iA18,
+  iA22,
+  iA24,
+  iA26,
+  iAlphaPnc
+};
+
+/// v = dC1/dD_m e of the pnc law (mode m = 0, 1, 2; platelet-frame engineering Voigt strain e),
+/// by the sparsity of dC1/dD_m, as every route forms it (the single-point kernel's c1_times()
+/// and the batched damage-growth pass, D399). k: NdmParameters::k.
+template <class K, class E, class V> inline void pnc_c1_times(const K& k, int m, const E& e, V& v) {
+  switch (m) {
+  case 0:
+    v[0] = 2 * k[iA1] * e[0] + k[iA10] * e[1] + k[iA13] * e[2];
+    v[1] = k[iA10] * e[0];
+    v[2] = k[iA13] * e[0];
+    v[3] = 0.0;
+    v[4] = 0.0;
+    v[5] = 0.0;
+    break;
+  case 1:
+    v[0] = k[iA11] * e[1];
+    v[1] = k[iA11] * e[0] + 2 * k[iA5] * e[1] + k[iA17] * e[2];
+    v[2] = k[iA17] * e[1];
+    v[3] = k[iA22] * e[3];
+    v[4] = 0.0;
+    v[5] = k[iA24] * e[5];
+    break;
+  default:
+    v[0] = k[iA15] * e[2];
+    v[1] = k[iA18] * e[2];
+    v[2] = k[iA15] * e[0] + k[iA18] * e[1] + 2 * k[iA9] * e[2];
+    v[3] = 0.0;
+    v[4] = k[iA26] * e[4];
+    v[5] = 0.0;
+    break;
+  }
+}
+
 /// lambda_c = (26/7)^(1/6) (eq. 5.79) and k = 1 / |2 lc^-13 - lc^-7| (D4); defined in ndm.cpp.
 extern const double kLambdaC;
 extern const double kDamageScale;
@@ -85,6 +143,77 @@ inline Voigt times(const Matrix6& A, const Voigt& e) {
   if (is_plane(e[2], e[3], e[4])) return A.col(0) * e[0] + A.col(1) * e[1] + A.col(5) * e[5];
   return A.col(0) * e[0] + A.col(1) * e[1] + A.col(2) * e[2] + A.col(3) * e[3] + A.col(4) * e[4] +
          A.col(5) * e[5];
+}
+
+/// T^T v: entry r is column r of T times v in column order (row_full()), as both routes form
+/// the damage-growth term of a rotated consistent tangent (the vector T^T a and the row g T,
+/// which is T^T g^T); the same sequence of IEEE products and sums in both (D399).
+inline Voigt transpose_times(const Matrix6& T, const Voigt& v) {
+  Voigt o;
+  for (int r = 0; r < 6; ++r)
+    o[r] = row_full(T.col(r), v[0], v[1], v[2], v[3], v[4], v[5]);
+  return o;
+}
+
+/// d lambda_max / d v (engineering Voigt strain v[0..5], platelet frame) where a mode's cap
+/// binds (D6/D7): (F N)_a N_b / lambda_max for the entry (a, b) of F that v_I sets, N the unit
+/// principal direction of C = F^T F for its largest eigenvalue lambda_max^2, taken as the
+/// longest cross product of two rows of C - lambda_max^2 I. Every product and sum is written
+/// out in one order (left to right), so the single-point kernel and the batched route get the
+/// same bits (D399). Returns false when that eigenvalue is (nearly) repeated (longest cross
+/// product^2 <= 1e-20 |C|^4): the direction is not unique, row holds no meaning, and the caller
+/// takes Eigen's solver. Branch-free, so that a loop over points vectorises.
+template <class V>
+[[gnu::always_inline]] inline bool capped_stretch_row(const V& v, double lambda_max,
+                                                      double (&row)[6]) {
+  // F = I + diag(e) + g12 e1(x)e2 + g13 e1(x)e3 + g23 e2(x)e3 (D6), rows f[a][b]
+  const double f[3][3] = {
+      {1.0 + v[0], v[5], v[4]}, {0.0, 1.0 + v[1], v[3]}, {0.0, 0.0, 1.0 + v[2]}};
+  double C[3][3];
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j)
+      C[i][j] = f[0][i] * f[0][j] + f[1][i] * f[1][j] + f[2][i] * f[2][j];
+  const double lam = lambda_max * lambda_max;
+  double M[3][3];
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j)
+      M[i][j] = i == j ? C[i][j] - lam : C[i][j];
+  auto cross = [](const double(&a)[3], const double(&b)[3], double(&o)[3]) {
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  double c01[3], c02[3], c12[3];
+  cross(M[0], M[1], c01);
+  cross(M[0], M[2], c02);
+  cross(M[1], M[2], c12);
+  auto sq = [](const double(&a)[3]) { return a[0] * a[0] + a[1] * a[1] + a[2] * a[2]; };
+  const double n01 = sq(c01), n02 = sq(c02), n12 = sq(c12);
+  double scale = 0.0;
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+    scale = scale + sq(C[i]);
+  const double best = std::max(n01, std::max(n02, n12));
+  const bool ok = best > 1e-20 * scale * scale;
+  const double root = std::sqrt(best);
+  double N[3];
+#pragma GCC unroll 3
+  for (int k = 0; k < 3; ++k)
+    N[k] = (best == n01 ? c01[k] : (best == n02 ? c02[k] : c12[k])) / root;
+  double FN[3];
+#pragma GCC unroll 3
+  for (int a = 0; a < 3; ++a)
+    FN[a] = f[a][0] * N[0] + f[a][1] * N[1] + f[a][2] * N[2];
+  const double r[6] = {FN[0] * N[0], FN[1] * N[1], FN[2] * N[2],
+                       FN[1] * N[2], FN[0] * N[2], FN[0] * N[1]};
+#pragma GCC unroll 6
+  for (int k = 0; k < 6; ++k)
+    row[k] = r[k] / lambda_max;
+  return ok;
 }
 
 /// t_k = sqrt(e_ka^2 + e_kb^2), the shear on the plane normal to x_k (D7), without the square

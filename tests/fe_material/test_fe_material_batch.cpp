@@ -194,7 +194,11 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryOnEveryPathModelFrameAndRequest) 
         EXPECT_GT(st.elastic, 100u) << what;
         EXPECT_GT(st.unloading, 10u) << what;
         EXPECT_GT(st.kernel, 30u) << what;
-        EXPECT_EQ(st.elastic + st.unloading + st.kernel, b.n) << what;
+        // the plane points of the aligned pnc law take the growth pass (D399); a rotation out
+        // of the x1-x2 plane makes their platelet-frame strain general
+        if (c.model == Model::pnc && !c.rotated) EXPECT_GT(st.growth, 5u) << what;
+        if (c.model == Model::pp || c.rotated) EXPECT_EQ(st.growth, 0u) << what;
+        EXPECT_EQ(st.elastic + st.unloading + st.growth + st.kernel, b.n) << what;
       }
     }
   }
@@ -229,8 +233,64 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryWhenAChunkIsAllPlaneOrAllGeneral)
                                  " request " + std::to_string(request);
         for (std::size_t i = 0; i < b.n; ++i)
           expect_point_equal(m.get(), pts, b, i, request, what);
+        // pnc plane strains, aligned or rotated about x3, are block-diagonal in the platelet
+        // frame: their damage growth takes the growth pass (D399), the rest the kernel
+        const auto st = paths_of(p, b);
+        if (model == Model::pnc && r.plane_every == 1) {
+          EXPECT_GT(st.growth, 15u) << what;
+          EXPECT_EQ(st.kernel, 0u) << what;
+        } else {
+          EXPECT_EQ(st.growth, 0u) << what;
+        }
       }
     }
+}
+
+// A block-diagonal strain whose capped mode grows at a repeated lambda_max: 1 + e33 equal to
+// the largest singular value of the in-plane block of F, so that C = F^T F has a double largest
+// eigenvalue and its direction is not unique. The growth pass hands the point to the kernel
+// (Eigen's solver for the direction, D399); the numbers are integrate2's either way.
+TEST(FeMaterialBatch, ACappedModeGrowingAtARepeatedLargestStretchGoesToTheKernel) {
+  const NdmParameters p = params(Model::pnc, false);
+  auto m = make(p);
+  std::vector<Point> pts;
+  for (const double g12 : {0.02, 0.04, -0.03}) {
+    const double e11 = 0.005, e22 = 0.12;
+    const double a = 1 + e11, b = 1 + e22;
+    const double smax =
+        0.5 * (std::sqrt((a + b) * (a + b) + g12 * g12) + std::sqrt((a - b) * (a - b) + g12 * g12));
+    Vec6 e;
+    e << e11, e22, smax - 1.0, 0.0, 0.0, g12;
+    // mode 2 (x2) is capped here: its uncapped stretch e22 + t + sqrt(1 + t^2) exceeds smax
+    ASSERT_GT(e22 + 0.5 * std::abs(g12) + std::sqrt(1 + 0.25 * g12 * g12), smax);
+    Point pt;
+    pt.s0 = state_after(m.get(), Vec6(0.98 * e));
+    pt.e0 = 0.98 * e;
+    pt.de = e - pt.e0;
+    pts.push_back(pt);
+  }
+  Blocks b(pts, pnc_material_n_state(m.get()));
+  char err[512] = {0};
+  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
+  ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
+  for (std::size_t i = 0; i < b.n; ++i)
+    expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT, "repeated");
+  Blocks again(pts, pnc_material_n_state(m.get()));
+  const auto st = paths_of(p, again); // stress only: no direction needed, the growth pass
+  EXPECT_EQ(st.growth, b.n);
+  pnc::damage::NdmBatch w;
+  w.n = again.n;
+  w.ld = again.ld;
+  w.eps0 = again.e0.data();
+  w.deps = again.de.data();
+  w.state0 = again.s0.data();
+  w.state1 = again.s1.data();
+  w.sigma = again.sig.data();
+  w.K = again.K.data();
+  w.kind = pnc::damage::TangentKind::consistent;
+  const auto sk = pnc::damage::integrate_batch(pnc::damage::prepare(p), w);
+  EXPECT_EQ(sk.kernel, b.n); // the consistent tangent needs the direction: the kernel
+  EXPECT_EQ(sk.growth, 0u);
 }
 
 TEST(FeMaterialBatch, SizesZeroOneOddAndLargeWithPaddedBlocksAndInPlaceState) {
@@ -495,11 +555,15 @@ TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
           EXPECT_EQ(st[0].elastic, st[1].elastic) << what;
           EXPECT_EQ(st[0].unloading, st[1].unloading) << what;
           EXPECT_EQ(st[0].kernel, st[1].kernel) << what;
+          EXPECT_EQ(st[0].growth, st[1].growth) << what;
           EXPECT_EQ(st[0].failed, 1u) << what;
           EXPECT_EQ(st[1].failed, 1u) << what;
           EXPECT_EQ(st[1].first_failed, 33u) << what;
           EXPECT_GT(st[1].elastic, 50u) << what; // the fast paths are exercised
-          EXPECT_GT(st[1].kernel, 10u) << what;
+          EXPECT_GT(st[1].kernel + st[1].growth, 10u) << what;
+          // every damage growth of an aligned pnc plane strain takes the growth pass (D399)
+          if (model == Model::pnc && plane_every == 1 && !rotated)
+            EXPECT_EQ(st[1].kernel, 0u) << what;
           const auto same = [&](const std::vector<double>& a, const std::vector<double>& b,
                                 const char* field) {
             ASSERT_EQ(a.size(), b.size());

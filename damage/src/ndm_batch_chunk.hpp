@@ -1,0 +1,72 @@
+#pragma once
+// The scratch of one chunk of the batched NDM route (ndm_batch.cpp, decisions D260, D261,
+// D399) and the small branch-free helpers its passes share. Internal to the damage library:
+// included by ndm_batch.cpp only (its passes are inlined into one function per instruction
+// set, D386).
+#include <cstddef>
+
+namespace pnc::damage::batch {
+
+constexpr std::size_t kChunk = 32;
+// Chunk::path. kKernel: damage growth or a stretch the closed forms do not settle; such a point
+// takes the vectorised damage-growth pass when Chunk::vec_growth says so (D399), else
+// integrate_row_major().
+constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0;
+
+// Scratch of one chunk (about 34 KB on the stack; no allocation).
+struct Chunk {
+  double eps[6][kChunk]; // global strain at the end
+  double el[6][kChunk];  // platelet-frame strain (a copy of eps without rotation)
+  double s0[6][kChunk];  // state at the start (flat layout)
+  double lam[3][kChunk]; // mode stretches
+  double kap[3][kChunk]; // kappa at the end
+  double D[3][kChunk];   // damage at the end
+  double sig[6][kChunk]; // stress at the end
+  // Secant stiffness (row-major entry rc) of the unloading points, compact (entry j of uidx),
+  // formed once for their stress and then written as their tangent.
+  double Ku[36][kChunk];
+  double stored[kChunk]; // energies
+  double diss[kChunk];
+  double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
+  // Path (kElastic, kUnloading, kKernel) and "the fast stretch is not decidable" as doubles:
+  // the loops that set them then hold one element type, which the vectoriser needs.
+  double path[kChunk];
+  double scalar_stretch[kChunk];
+  // A block-diagonal strain (1) or not (0): its damage growth can take the vectorised pass
+  // (D399; the pass sets 0 where lambda_max is repeated and a capped mode grows); with
+  // compute_stretch()'s Stretch pieces: lambda_max, the shear t = |g12| / 2 of modes 1, 2, their
+  // d lambda / d t and whether their cap binds (1) or not (0).
+  double vec_growth[kChunk];
+  double lmax[kChunk];
+  double tsh[kChunk];
+  double grow[2][kChunk];
+  double clip[2][kChunk];
+  double dg[3][kChunk]; // dD/dx of a loading mode (its damage growth), else 0
+  // Consistent tangent of the damage-growth points of the vectorised pass, compact (D399). (The
+  // pass's arrays come last: the layout of the others is the one measured before it.)
+  double Kg[36][kChunk];
+};
+
+// x * 0 is 0 for finite x and NaN otherwise: a branch-free finiteness accumulator.
+[[gnu::always_inline]] inline double nf(double x) {
+  return x * 0.0;
+}
+
+// a . b of two 6-vectors in the order of Eigen's 6-vector dot with SSE2 packets (the kernel is
+// compiled for the baseline): pairs (0, 1), (2, 3), (4, 5), reduced as p0 + (p1 + p2), then
+// lane 0 + lane 1.
+template <class A, class B> [[gnu::always_inline]] inline double dot6(const A& a, const B& b) {
+  const double l0 = a[0] * b[0] + (a[2] * b[2] + a[4] * b[4]);
+  const double l1 = a[1] * b[1] + (a[3] * b[3] + a[5] * b[5]);
+  return l0 + l1;
+}
+
+// 0.5 sigma . eps of point i as the kernel forms it (0.5 * sigma.dot(eps)).
+[[gnu::always_inline]] inline double half_dot(const double (&s)[6][kChunk],
+                                              const double (&e)[6][kChunk], std::size_t i) {
+  const double l0 = s[0][i] * e[0][i] + (s[2][i] * e[2][i] + s[4][i] * e[4][i]);
+  const double l1 = s[1][i] * e[1][i] + (s[3][i] * e[3][i] + s[5][i] * e[5][i]);
+  return 0.5 * (l0 + l1);
+}
+
+} // namespace pnc::damage::batch
