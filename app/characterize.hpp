@@ -20,6 +20,7 @@ namespace pnc::app {
 struct CharacterizeArgs {
   std::string recipe, out;
   bool resume = false, json = false, no_plots = false;
+  bool refit = false; ///< --refit (D400): a finished run fitted again with a changed fit section
   int jobs = 0, ranks = 0, equilibrate_ranks = 0;
   std::string executor = "local"; ///< "local" or "slurm"
   SlurmOptions slurm;             ///< slurm: overrides of the recipe's section, --wait

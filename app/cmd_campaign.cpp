@@ -449,10 +449,13 @@ int run_characterize(const CharacterizeArgs& a) {
   const RunDirLock lock(a.out, command_line());
   start_run_log(a.out, command_line()); // pnc.log: what this run printed
   const StopSignals signals;
-  rve::prepare_run_folder(r, a.out, a.resume);
+  // --refit (D400): a finished run whose recipe differs only under "fit" continues as --resume
+  if (a.refit) rve::check_refit(r, a.out);
+  const bool resume = a.resume || a.refit;
+  rve::prepare_run_folder(r, a.out, resume, a.refit);
   // the fit runs again on every --resume: it takes seconds, reads only what the MD units left
   // on disk, and follows this command's options (--no-plots) rather than the first run's
-  if (a.resume) campaign::clear_status(a.out, "fit");
+  if (resume) campaign::clear_status(a.out, "fit");
   const nlohmann::json params = {
       {"recipe", a.recipe},
       {"no_plots", a.no_plots},

@@ -251,6 +251,10 @@ void register_rve(CLI::App& app, Action& action) {
   ch->add_flag("--resume", ca->resume,
                "Continue a stopped run: only the units that are not done run (or are submitted) "
                "again, from their checkpoints");
+  ch->add_flag("--refit", ca->refit,
+               "Fit a finished run again with the recipe's changed fit section (fit.strain_max, "
+               "fit.isotropic, ...): nothing else of the recipe may change, every MD unit must be "
+               "done; no MD runs, the card, report and summary are rewritten (D400)");
   ch->add_option("--ranks", ca->ranks,
                  "MPI ranks of LAMMPS per stage (default 1; under mpirun -np K: K)")
       ->check(CLI::Range(1, 256));

@@ -128,12 +128,12 @@ Difference first_difference(const nlohmann::json& a, const nlohmann::json& b,
 
 void require_same_input(const std::string& src, const nlohmann::json& stored,
                         const nlohmann::json& now, const std::string& stored_in,
-                        const std::string& may_change) {
+                        const std::string& may_change, const std::string& flag) {
   if (stored == now) return;
   const Difference d = first_difference(stored, now, "");
   fail(src, d.key, clip(d.is),
        "differs from the input this run was started with (" + clip(d.was) + ", stored in " +
-           stored_in + "): --resume continues a run only with the same input" +
+           stored_in + "): " + flag + " continues a run only with the same input" +
            (may_change.empty() ? std::string() : " (" + may_change + " may change)") +
            "; restore the value or start a new run in another --out directory");
 }

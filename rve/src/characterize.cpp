@@ -324,7 +324,7 @@ Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
   return p;
 }
 
-void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume) {
+void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bool refit) {
   make_output_directory(dir);
   if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
   const std::string recipe_text = expanded_json(r).dump(2);
@@ -333,7 +333,7 @@ void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume) {
     std::ifstream f(recipe_path);
     std::stringstream ss;
     ss << f.rdbuf();
-    if (ss.str() != recipe_text + "\n") {
+    if (ss.str() != recipe_text + "\n" && !refit) {
       if (resume)
         fail(recipe_path, "", "",
              "--resume with a recipe different from the one this directory was made with; "
@@ -346,6 +346,38 @@ void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume) {
     }
   }
   write_text_atomically(recipe_path, recipe_text + "\n");
+}
+
+void check_refit(const Recipe& r, const std::string& dir) {
+  const std::string recipe_path = (fs::path(dir) / "recipe.json").string();
+  if (!fs::is_regular_file(recipe_path) || !fs::is_regular_file(plan_path(dir)))
+    fail(dir, "--out", dir,
+         "--refit needs the run folder of a pnc characterize run (it has no recipe.json and "
+         "plan.json)");
+  nlohmann::json stored;
+  {
+    std::ifstream f(recipe_path);
+    stored = nlohmann::json::parse(f, nullptr, false);
+  }
+  if (!stored.is_object()) fail(recipe_path, "", "", "is not a JSON object (not pnc's)");
+  nlohmann::json now = expanded_json(r);
+  stored.erase("fit");
+  now.erase("fit");
+  require_same_input(recipe_path, stored, now, recipe_path, "the fit section", "--refit");
+  // every MD unit done: the fit reads only what they left on disk
+  const campaign::Plan p = campaign::read_plan(dir);
+  std::vector<std::string> open;
+  std::size_t md_units = 0;
+  for (const campaign::Unit& u : p.units) {
+    if (u.kind == "fit") continue;
+    ++md_units;
+    if (campaign::read_status(dir, u.id).state != campaign::UnitState::done) open.push_back(u.id);
+  }
+  if (!open.empty())
+    fail(plan_path(dir), "units", open.front(),
+         fmt::format("--refit fits a finished run again, and {} of its {} MD unit(s) are not done "
+                     "(the first: {}; pnc status {}); finish the run with --resume first",
+                     open.size(), md_units, open.front(), dir));
 }
 
 Recipe read_run_recipe(const std::string& dir) {

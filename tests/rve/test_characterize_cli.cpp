@@ -361,3 +361,64 @@ TEST(RveCharacterizeCli, BadRecipeAndRecipeShow) {
   EXPECT_EQ(j["build"]["chains"], 75);
   fs::remove_all(d);
 }
+
+// --refit (D400): a finished run fitted again with a changed fit section runs no MD, rewrites
+// the card and the summary with the new fit, and stores the new recipe; a change outside "fit"
+// is refused naming the key, and so is a run whose MD units are not all done.
+TEST(RveCharacterizeCli, RefitFitsAFinishedRunAgainAndChangesNothingElse) {
+  const auto d = pnc::test::fresh_dir("test_rve_char_refit");
+  std::ofstream(d / "tiny.json") << tiny;
+  const std::string out = (d / "out").string();
+  const std::string base = "characterize " + (d / "tiny.json").string();
+  const Proc first = run(base + " --out " + out + " --json --no-plots 2>/dev/null");
+  ASSERT_TRUE(first.code == 0 || first.code == 3 || first.code == 4) << first.code;
+  const auto j1 = nlohmann::json::parse(first.out);
+  EXPECT_EQ(j1["fit"]["isotropic"], false);
+  const fs::path ckpt = fs::path(out) / "cases/case_2/checkpoint.h5";
+  const fs::path final_h5 = fs::path(out) / "equilibrate/final.h5";
+  ASSERT_TRUE(fs::exists(ckpt));
+  ASSERT_TRUE(fs::exists(final_h5));
+  const auto t_ckpt = fs::last_write_time(ckpt), t_final = fs::last_write_time(final_h5);
+
+  // a change outside the fit section: refused, naming the key and its stored value
+  auto other = nlohmann::json::parse(tiny);
+  other["deform"]["steps"] = 4;
+  std::ofstream(d / "other.json") << other.dump();
+  const Proc bad = run("characterize " + (d / "other.json").string() + " --out " + out +
+                       " --refit --no-plots 2>&1");
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.out.find("field 'deform.steps': value '4'"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("(3, stored in"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("--refit continues a run only with the same input (the fit section "
+                         "may change)"),
+            std::string::npos)
+      << bad.out;
+
+  // the fit section changed (the isotropic pure-polymer fit, D396): only the fit unit runs
+  auto iso = nlohmann::json::parse(tiny);
+  iso["fit"]["isotropic"] = true;
+  std::ofstream(d / "iso.json") << iso.dump();
+  const Proc again = run("characterize " + (d / "iso.json").string() + " --out " + out +
+                         " --refit --json --no-plots 2>" + (d / "err.txt").string());
+  const std::string err = slurp((d / "err.txt").string());
+  ASSERT_TRUE(again.code == 0 || again.code == 3 || again.code == 4) << again.code << err;
+  const auto j2 = nlohmann::json::parse(again.out);
+  EXPECT_EQ(j2["fit"]["isotropic"], true);
+  EXPECT_EQ(fs::last_write_time(ckpt), t_ckpt);
+  EXPECT_EQ(fs::last_write_time(final_h5), t_final);
+  EXPECT_EQ(err.find("finished in"), std::string::npos) << err; // no case ran again
+  const auto stored = nlohmann::json::parse(slurp(out + "/recipe.json"));
+  EXPECT_EQ(stored["fit"]["isotropic"], true);
+  EXPECT_EQ(nlohmann::json::parse(slurp(out + "/summary.json"))["fit"]["isotropic"], true);
+
+  // an MD unit not done: refused, naming it and --resume
+  fs::remove(fs::path(out) / "state/replica_1/case_6.json");
+  const Proc open = run("characterize " + (d / "tiny.json").string() + " --out " + out +
+                        " --refit --no-plots 2>&1");
+  EXPECT_EQ(open.code, 1);
+  EXPECT_NE(open.out.find("value 'replica_1/case_6'"), std::string::npos) << open.out;
+  // the MD units: the equilibration, the phase check and the two cases
+  EXPECT_NE(open.out.find("1 of its 4 MD unit(s) are not done"), std::string::npos) << open.out;
+  EXPECT_NE(open.out.find("finish the run with --resume first"), std::string::npos) << open.out;
+  fs::remove_all(d);
+}

@@ -54,8 +54,9 @@ void refuse_existing_run(const std::string& dir, bool resume,
 /// Both are compared as JSON values: whitespace, key order and number spelling do not matter.
 /// `may_change` ("" or e.g. "comment and checkpoint_every_ps") is named in the message; the
 /// caller removes those keys from both before the call.
+/// `flag`: the option that continues the run (--resume, or --refit of pnc characterize, D400).
 void require_same_input(const std::string& src, const nlohmann::json& stored,
                         const nlohmann::json& now, const std::string& stored_in,
-                        const std::string& may_change = "");
+                        const std::string& may_change = "", const std::string& flag = "--resume");
 
 } // namespace pnc

@@ -58,8 +58,15 @@ campaign::Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ran
 
 /// Checks the run folder against the recipe and writes recipe.json (the expanded recipe):
 /// without `resume` a folder holding another run is refused; with `resume` the recipe (and a
-/// user system's input, D121) must equal the stored one.
-void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume);
+/// user system's input, D121) must equal the stored one; `refit`: check_refit() passed, the
+/// stored recipe is replaced by r's.
+void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bool refit = false);
+/// `pnc characterize --refit` (decision D400): fit a finished run again with another fit section.
+/// The run folder's stored recipe (DIR/recipe.json) and `r` may differ only under "fit", and
+/// every unit of its plan but the fit must be done; throws InputError naming the first other
+/// difference, or the units not done (and that --resume finishes them). Then the caller
+/// continues as --resume: prepare_run_folder() stores r's recipe, only the fit unit runs.
+void check_refit(const Recipe& r, const std::string& dir);
 /// The recipe a run folder was made with (DIR/recipe.json).
 Recipe read_run_recipe(const std::string& dir);
 
