@@ -26,7 +26,8 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 class PointCost final : public ceres::CostFunction {
 public:
-  PointCost(const PointTerm* t, const std::vector<int>* tied) : t_(t), tied_(tied) {
+  PointCost(const PointTerm* t, const std::vector<int>* tied)
+      : t_(t), T_(tied->empty() ? Eigen::MatrixXd() : tie_matrix(t->model, *tied)) {
     set_num_residuals(static_cast<int>(t->comps.size()));
     for (int s : block_sizes(t->model))
       mutable_parameter_block_sizes()->push_back(s);
@@ -37,7 +38,7 @@ public:
     std::vector<double> theta;
     for (std::size_t b = 0; b < sizes.size(); ++b)
       theta.insert(theta.end(), parameters[b], parameters[b] + sizes[b]);
-    const std::vector<double> k = detail::constants_from_theta(t_->model, theta, *tied_);
+    const std::vector<double> k = detail::constants_from_theta(t_->model, theta, T_);
     Eigen::MatrixXd drdk;
     const bool want = jacobians != nullptr;
     try {
@@ -46,7 +47,7 @@ public:
       return false;
     }
     if (!want) return true;
-    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta, *tied_);
+    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta, T_);
     int col0 = 0;
     for (std::size_t b = 0; b < sizes.size(); ++b) {
       if (jacobians[b]) {
@@ -61,7 +62,8 @@ public:
 
 private:
   const PointTerm* t_;
-  const std::vector<int>* tied_; ///< constants derived from others (D396)
+  const Eigen::MatrixXd
+      T_; ///< tie matrix of the derived constants (D396), formed once; empty: none
 };
 
 // The fitted alpha's lower bound (decision D12i): 1/lambda_c, the onset at zero strain, so

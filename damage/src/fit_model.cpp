@@ -338,17 +338,27 @@ Eigen::MatrixXd untied_jacobian(Model m, const std::vector<double>& th);
 
 std::vector<double> constants_from_theta(Model m, const std::vector<double>& th,
                                          const std::vector<int>& tied) {
-  std::vector<double> k = untied_constants(m, th);
-  if (tied.empty()) return k;
-  const Eigen::Map<const Eigen::VectorXd> kv(k.data(), static_cast<Eigen::Index>(k.size()));
-  const Eigen::VectorXd kt = tie_matrix(m, tied) * kv;
-  return {kt.data(), kt.data() + kt.size()};
+  return constants_from_theta(m, th, tied.empty() ? Eigen::MatrixXd() : tie_matrix(m, tied));
 }
 
 Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th,
                                   const std::vector<int>& tied) {
-  if (tied.empty()) return untied_jacobian(m, th);
-  return tie_matrix(m, tied) * untied_jacobian(m, th);
+  return dconstants_dtheta(m, th, tied.empty() ? Eigen::MatrixXd() : tie_matrix(m, tied));
+}
+
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& th,
+                                         const Eigen::MatrixXd& T) {
+  std::vector<double> k = untied_constants(m, th);
+  if (T.size() == 0) return k;
+  const Eigen::Map<const Eigen::VectorXd> kv(k.data(), static_cast<Eigen::Index>(k.size()));
+  const Eigen::VectorXd kt = T * kv;
+  return {kt.data(), kt.data() + kt.size()};
+}
+
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th,
+                                  const Eigen::MatrixXd& T) {
+  if (T.size() == 0) return untied_jacobian(m, th);
+  return T * untied_jacobian(m, th);
 }
 
 namespace {

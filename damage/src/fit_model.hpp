@@ -74,3 +74,12 @@ LabelPair regression_labels(Model m, int case_id, int comp);
 double r_squared(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat);
 
 } // namespace pnc::damage::fitmodel
+
+namespace pnc::damage::detail {
+/// constants_from_theta() and dconstants_dtheta() (pnc/damage/fit.hpp) with the tie matrix
+/// formed once by the caller: T = tie_matrix(m, tied), or an empty matrix when nothing is tied
+/// (what the cost function evaluates at every residual).
+std::vector<double> constants_from_theta(Model m, const std::vector<double>& th,
+                                         const Eigen::MatrixXd& T);
+Eigen::MatrixXd dconstants_dtheta(Model m, const std::vector<double>& th, const Eigen::MatrixXd& T);
+} // namespace pnc::damage::detail

@@ -91,6 +91,11 @@ growth_mode(const std::array<double, kMaxConstants>& k, const double (&tc)[6][6]
   }
 }
 
+// Voigt entries 23 and 13 (indices 3, 4): the shears out of the x1-x2 plane.
+constexpr bool out_of_plane(int k) {
+  return k == 3 || k == 4;
+}
+
 // Which tangent the growth pass forms into c.Kg: none (none or elastic requested: the caller
 // writes C0g), the secant Cd, or the consistent tangent.
 enum class GrowthK { none, secant, consistent };
@@ -168,10 +173,11 @@ template <bool Rotated, GrowthK Kind>
 #pragma GCC unroll 6
       for (int m = 0; m < 3; ++m)
 #pragma GCC unroll 6
-        for (int k = 0; k < 6; ++k) {
-          A[m][k][j] = a[m][k];
-          G[m][k][j] = g[m][k];
-        }
+        for (int k = 0; k < 6; ++k)
+          if (Rotated || !out_of_plane(k)) { // (the others are +-0: see below)
+            A[m][k][j] = a[m][k];
+            G[m][k][j] = g[m][k];
+          }
   }
   // the secant Cd entry by entry (as unloading_stress()), the stress, the tangent
 #pragma GCC unroll 6
@@ -197,12 +203,18 @@ template <bool Rotated, GrowthK Kind>
           x = D[m][j] != 0.0 ? y : x;
         }
         row[col] = x;
+        // K += a_m g_m in the modes' order. Without rotation the entries 3 and 4 (Voigt 23, 13)
+        // of a_m and g_m are +-0 for a block-diagonal strain (dC1_m el, the uncapped and the
+        // capped stretch rows), and the entries of Cd in their rows and columns are +0 or not
+        // zero (C0g and dC1g_m have +0 there but on the diagonal, whose C44, C55 are > 0), so
+        // adding the +-0 products would change no bit: those 20 of 36 are skipped (D399).
         if constexpr (Consistent)
+          if (Rotated || !(out_of_plane(r) || out_of_plane(col)))
 #pragma GCC unroll 3
-          for (int m = 0; m < 3; ++m) { // K += a_m g_m in the modes' order
-            const double y = x + A[m][r][j] * G[m][col][j];
-            x = act[m][j] != 0.0 ? y : x;
-          }
+            for (int m = 0; m < 3; ++m) {
+              const double y = x + A[m][r][j] * G[m][col][j];
+              x = act[m][j] != 0.0 ? y : x;
+            }
         if constexpr (Kind != GrowthK::none) {
           kg[col][j] = x;
           bad[j] += nf(x);

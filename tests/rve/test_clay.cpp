@@ -353,10 +353,10 @@ TEST(RveClay, EquilibrationFreezesTheClayThenThePolymer) {
       l.cmd("atom_style molecular");
       l.cmd("read_restart " + (fs::path(dir) / (std::string(st) + ".restart")).string());
       l.cmd("run 0");
-      const auto b = l.box();
+      const auto box = l.box();
       h.write_vector(std::string("/x_") + st, l.gather("x", 3));
       h.write_vector(std::string("/box_") + st,
-                     {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]});
+                     {box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]});
     }
   });
   ASSERT_TRUE(out.ok) << out.error;
