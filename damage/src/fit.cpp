@@ -26,8 +26,8 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 class PointCost final : public ceres::CostFunction {
 public:
-  PointCost(const PointTerm* t, const std::vector<int>* tied)
-      : t_(t), T_(tied->empty() ? Eigen::MatrixXd() : tie_matrix(t->model, *tied)) {
+  /// T: the tie matrix of the derived constants (D396; empty: none), formed once per solve
+  PointCost(const PointTerm* t, const Eigen::MatrixXd* T) : t_(t), T_(T) {
     set_num_residuals(static_cast<int>(t->comps.size()));
     for (int s : block_sizes(t->model))
       mutable_parameter_block_sizes()->push_back(s);
@@ -38,7 +38,7 @@ public:
     std::vector<double> theta;
     for (std::size_t b = 0; b < sizes.size(); ++b)
       theta.insert(theta.end(), parameters[b], parameters[b] + sizes[b]);
-    const std::vector<double> k = detail::constants_from_theta(t_->model, theta, T_);
+    const std::vector<double> k = detail::constants_from_theta(t_->model, theta, *T_);
     Eigen::MatrixXd drdk;
     const bool want = jacobians != nullptr;
     try {
@@ -47,7 +47,7 @@ public:
       return false;
     }
     if (!want) return true;
-    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta, T_);
+    const Eigen::MatrixXd J = drdk * detail::dconstants_dtheta(t_->model, theta, *T_);
     int col0 = 0;
     for (std::size_t b = 0; b < sizes.size(); ++b) {
       if (jacobians[b]) {
@@ -62,8 +62,7 @@ public:
 
 private:
   const PointTerm* t_;
-  const Eigen::MatrixXd
-      T_; ///< tie matrix of the derived constants (D396), formed once; empty: none
+  const Eigen::MatrixXd* T_;
 };
 
 // The fitted alpha's lower bound (decision D12i): 1/lambda_c, the onset at zero strain, so
@@ -90,6 +89,7 @@ SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions
   }
   // decision D12i: a fitted alpha starts inside its bounds
   if (fit_alpha) blocks[3][0] = std::clamp(blocks[3][0], alpha_lower_bound(), 1.5);
+  const Eigen::MatrixXd T = tied.empty() ? Eigen::MatrixXd() : tie_matrix(m, tied); // D396
   ceres::Problem problem;
   std::vector<double*> ptrs;
   for (auto& b : blocks)
@@ -98,7 +98,7 @@ SolveResult solve(const std::vector<PointTerm>& terms, Model m, const FitOptions
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
     if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
-    problem.AddResidualBlock(new PointCost(&t, &tied), loss, ptrs);
+    problem.AddResidualBlock(new PointCost(&t, &T), loss, ptrs);
   }
   // Held coordinates: every block other than the normal block maps 1:1 to constants.
   off = 0;

@@ -22,8 +22,8 @@ int n_theta(Model m) {
   return static_cast<int>(constant_names(m).size());
 }
 
-// Decision D396: an isotropic C0 + D C1 needs C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2. The
-// pp constants the ties use are looked up once: tie_matrix runs in every residual evaluation.
+// Decision D396: an isotropic C0 + D C1 needs C44 = (C11 - C12) / 2 and B4 = B1 - B2 / 2 (the
+// indices of the pp constants the ties use, looked up once).
 namespace {
 struct PpIndex {
   int c11 = constant_index(Model::pp, "C11"), c12 = constant_index(Model::pp, "C12");
