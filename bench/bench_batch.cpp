@@ -332,9 +332,9 @@ void bench_scenario(const Scenario& s, const Options& o, int request) {
   v.sigma = d.sig.data();
   const auto paths = pnc::damage::integrate_batch(pnc::damage::prepare(p), v);
   std::printf("%-22s %-14s n=%zu (generated %zu elastic / %zu damaging / %zu unloading; batch "
-              "paths %zu elastic / %zu unloading / %zu kernel)\n",
+              "paths %zu elastic / %zu unloading / %zu growth pass / %zu kernel)\n",
               s.name, what, d.n, d.elastic, d.damaging, d.unloading, paths.elastic, paths.unloading,
-              paths.kernel);
+              paths.growth, paths.kernel);
   for (int k = 0; k < 3; ++k) {
     const Stat st = stat_of(ns[k]);
     std::printf("  %-10s %8.1f ns/eval [%6.1f, %6.1f]  %7.2f M eval/s\n", names[k], st.median,

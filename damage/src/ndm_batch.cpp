@@ -11,10 +11,13 @@
 //     block-diagonal strain in loops over a compact block as well (ndm_batch_growth.hpp, D399),
 //     integrate_row_major() for the other kernel points;
 //  5. the result check and the writes to the caller's arrays.
+// How the passes move their numbers (full chunks, one product form per chunk, padded compact
+// blocks) is D401.
 // Every expression is the one integrate_impl() (ndm.cpp) evaluates, in the same order, so the
 // numbers are the same bit for bit (the test FeMaterialBatch.* checks it); the shared pieces
 // come from ndm_internal.hpp.
 #include "ndm_batch_chunk.hpp"
+#include "ndm_batch_commit.hpp"
 #include "ndm_batch_growth.hpp"
 #include "ndm_internal.hpp"
 #include "pnc/damage/ndm.hpp"
@@ -36,11 +39,11 @@ namespace {
 
 using detail::damage_and_slope;
 
-using namespace batch; // the chunk scratch and the damage-growth pass (ndm_batch_*.hpp)
+using namespace batch; // the chunk scratch, the damage-growth pass, the writes (ndm_batch_*.hpp)
 
-// Pass 1: strains, rotation and input finiteness of points [0, m) of the chunk at `base`.
-[[gnu::always_inline]] inline void load(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
-                                        std::size_t m, int ns, Chunk& c) {
+// Pass 1: strains and input finiteness of points [0, m) of the chunk at `base`.
+[[gnu::always_inline]] inline void load(const NdmBatch& b, std::size_t base, std::size_t m, int ns,
+                                        Chunk& c) {
   for (int k = 0; k < 6; ++k) {
     const double* __restrict a = b.eps0 + static_cast<std::size_t>(k) * b.ld + base;
     const double* __restrict d = b.deps + static_cast<std::size_t>(k) * b.ld + base;
@@ -60,19 +63,32 @@ using namespace batch; // the chunk scratch and the damage-growth pass (ndm_batc
       bad[i] += nf(s[i]);
     }
   }
+}
+
+// Planes of the chunk's points [0, m) (ndm_batch_chunk.hpp).
+[[gnu::always_inline]] inline Planes plane_kind(std::size_t m, const Chunk& c) {
+  double np = 0.0; // number of plane strains (a sum: the loop vectorises)
+  for (std::size_t i = 0; i < m; ++i)
+    np += detail::is_plane(c.eps[2][i], c.eps[3][i], c.eps[4][i]) ? 1.0 : 0.0;
+  return np == static_cast<double>(m) ? Planes::all : np == 0.0 ? Planes::none : Planes::mixed;
+}
+
+// Pass 1b: the platelet-frame strain el = T eps as local_strain() forms it (detail::times_row,
+// D351), or a copy of eps.
+template <Planes P>
+[[gnu::always_inline]] inline void rotate(const PreparedNdm& q, std::size_t m, Chunk& c) {
   if (!q.rotated) {
     std::memcpy(c.el, c.eps, sizeof c.el);
     return;
   }
-  // el = T eps as local_strain() forms it (detail::times_row, D351).
   for (int r = 0; r < 6; ++r) {
     double t[6];
     for (int j = 0; j < 6; ++j)
       t[j] = q.T(r, j);
     double* __restrict o = c.el[r];
     for (std::size_t i = 0; i < m; ++i)
-      o[i] = detail::times_row(t, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
-                               c.eps[5][i]);
+      o[i] = times_row_as<P>(t, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
+                             c.eps[5][i]);
   }
 }
 
@@ -240,6 +256,7 @@ template <int N>
 
 // Pass 4a: sigma = C0g eps for every point of the chunk (the elastic path; the others are
 // overwritten below), with the stored energy.
+template <Planes P>
 [[gnu::always_inline]] inline void elastic_stress(const PreparedNdm& q, std::size_t m, Chunk& c) {
   for (int r = 0; r < 6; ++r) {
     double a[6];
@@ -247,8 +264,8 @@ template <int N>
       a[j] = q.C0g(r, j);
     double* __restrict o = c.sig[r];
     for (std::size_t i = 0; i < m; ++i)
-      o[i] = detail::times_row(a, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
-                               c.eps[5][i]);
+      o[i] = times_row_as<P>(a, c.eps[0][i], c.eps[1][i], c.eps[2][i], c.eps[3][i], c.eps[4][i],
+                             c.eps[5][i]);
   }
   for (std::size_t i = 0; i < m; ++i) {
     c.stored[i] = half_dot(c.sig, c.eps, i);
@@ -264,11 +281,13 @@ template <int N, bool KeepSecant>
                                                     std::size_t u, Chunk& c) {
   constexpr int n = N;
   double e[6][kChunk], D[3][kChunk], s[6][kChunk], bad[kChunk];
-  for (std::size_t j = 0; j < u; ++j) {
+  const std::size_t u4 = padded(u); // (lanes u..u4 repeat the last point; nothing of them is kept)
+  for (std::size_t j = 0; j < u4; ++j) {
+    const std::size_t i = idx[std::min(j, u - 1)];
     for (int k = 0; k < 6; ++k)
-      e[k][j] = c.eps[k][idx[j]];
+      e[k][j] = c.eps[k][i];
     for (int k = 0; k < 3; ++k)
-      D[k][j] = k < n ? c.D[k][idx[j]] : 0.0;
+      D[k][j] = k < n ? c.D[k][i] : 0.0;
     bad[j] = 0.0;
   }
   for (int r = 0; r < 6; ++r) {
@@ -279,7 +298,7 @@ template <int N, bool KeepSecant>
         d[k][col] = q.dC1g[static_cast<std::size_t>(k)](r, col);
     }
     double(*__restrict ku)[kChunk] = c.Ku + 6 * r; // entries (r, 0..5)
-    for (std::size_t j = 0; j < u; ++j) {
+    for (std::size_t j = 0; j < u4; ++j) {
       double row[6];
       for (int col = 0; col < 6; ++col) {
         double x = a[col];
@@ -375,86 +394,6 @@ template <int N, bool KeepSecant>
       c.bad[i] += nf(K36[k]);
 }
 
-// Pass 5a: the result check of every point (stress, end state, energies; the tangent was
-// checked where it was formed).
-[[gnu::always_inline]] inline void check_results(std::size_t m, int n, Chunk& c) {
-  for (std::size_t i = 0; i < m; ++i) {
-    double x = c.bad[i] + nf(c.stored[i]) + nf(c.diss[i]);
-    for (int k = 0; k < 6; ++k)
-      x += nf(c.sig[k][i]);
-    for (int k = 0; k < n; ++k)
-      x += nf(c.kap[k][i]) + nf(c.D[k][i]);
-    c.bad[i] = x;
-  }
-}
-
-// dst[i] = src[i] for the points of the chunk that did not fail.
-[[gnu::always_inline]] inline void put_ok(bool all_ok, std::size_t m, const Chunk& c,
-                                          double* __restrict dst, const double* __restrict src) {
-  if (all_ok) {
-    std::memcpy(dst, src, m * sizeof(double));
-    return;
-  }
-  for (std::size_t i = 0; i < m; ++i)
-    if (c.bad[i] == 0.0) dst[i] = src[i];
-}
-
-// Pass 5b: writes to the caller's arrays, for the points that did not fail. `all_ok`: no point
-// of the chunk failed, so the loops need no per-point test.
-[[gnu::always_inline]] inline void commit(const PreparedNdm& q, const NdmBatch& b, std::size_t base,
-                                          std::size_t m, int n, const Chunk& c,
-                                          const double (*Kk)[36], const std::size_t* kidx,
-                                          std::size_t nk, const std::size_t* uidx, std::size_t nu,
-                                          const std::size_t* gidx, std::size_t ng) {
-  bool all_ok = true;
-  for (std::size_t i = 0; i < m; ++i)
-    all_ok = all_ok && c.bad[i] == 0.0;
-  for (int k = 0; k < 6; ++k)
-    put_ok(all_ok, m, c, b.sigma + static_cast<std::size_t>(k) * b.ld + base, c.sig[k]);
-  for (int k = 0; k < n; ++k) {
-    put_ok(all_ok, m, c, b.state1 + static_cast<std::size_t>(k) * b.ld + base, c.kap[k]);
-    put_ok(all_ok, m, c, b.state1 + static_cast<std::size_t>(n + k) * b.ld + base, c.D[k]);
-  }
-  if (b.stored) put_ok(all_ok, m, c, b.stored + base, c.stored);
-  if (b.dissipated) put_ok(all_ok, m, c, b.dissipated + base, c.diss);
-  if (b.status)
-    for (std::size_t i = 0; i < m; ++i)
-      b.status[base + i] = c.bad[i] == 0.0 ? 0 : 1;
-  if (b.kind == TangentKind::none || !b.K) return;
-  // Every point first gets C0g (the elastic path, and every point for the elastic request);
-  // then the unloading points their secant and the kernel points their own tangent.
-  for (int r = 0; r < 6; ++r)
-    for (int col = 0; col < 6; ++col) {
-      const double v = q.C0g(r, col);
-      double* __restrict dst = b.K + static_cast<std::size_t>(6 * r + col) * b.ld + base;
-      if (all_ok)
-        for (std::size_t i = 0; i < m; ++i)
-          dst[i] = v;
-      else
-        for (std::size_t i = 0; i < m; ++i)
-          if (c.bad[i] == 0.0) dst[i] = v;
-    }
-  if (b.kind == TangentKind::elastic) return;
-  for (std::size_t j = 0; j < nu; ++j) {
-    const std::size_t i = uidx[j];
-    if (c.bad[i] != 0.0) continue;
-    for (int rc = 0; rc < 36; ++rc) // the secant formed for the stress (unloading_stress)
-      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Ku[rc][j];
-  }
-  for (std::size_t j = 0; j < ng; ++j) {
-    const std::size_t i = gidx[j];
-    if (c.bad[i] != 0.0 || c.vec_growth[i] == 0.0) continue; // (else a kernel point)
-    for (int rc = 0; rc < 36; ++rc) // the consistent tangent of the growth pass (D399)
-      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = c.Kg[rc][j];
-  }
-  for (std::size_t j = 0; j < nk; ++j) {
-    const std::size_t i = kidx[j];
-    if (c.bad[i] != 0.0) continue;
-    for (int rc = 0; rc < 36; ++rc)
-      b.K[static_cast<std::size_t>(rc) * b.ld + base + i] = Kk[j][rc];
-  }
-}
-
 // The whole batch, inlined (with every pass above) into one function per instruction set
 // below, so that each gets its own vectorised loops (D386).
 template <bool Avx2>
@@ -470,7 +409,14 @@ template <bool Avx2>
   for (std::size_t base = 0; base < b.n; base += kChunk) {
     const std::size_t m = std::min(kChunk, b.n - base);
     std::fill(c.bad, c.bad + m, 0.0);
-    load(q, b, base, m, ns, c);
+    load(b, base, m, ns, c);
+    const Planes planes = plane_kind(m, c);
+    if (planes == Planes::all)
+      rotate<Planes::all>(q, m, c);
+    else if (planes == Planes::none)
+      rotate<Planes::none>(q, m, c);
+    else
+      rotate<Planes::mixed>(q, m, c);
     if (model == Model::pnc) pnc_stretches(m, c);
     scalar_stretches(model, m, c);
     if (n == 3)
@@ -487,7 +433,12 @@ template <bool Avx2>
       else
         kidx[nk++] = i;
     }
-    elastic_stress(q, m, c);
+    if (planes == Planes::all)
+      elastic_stress<Planes::all>(q, m, c);
+    else if (planes == Planes::none)
+      elastic_stress<Planes::none>(q, m, c);
+    else
+      elastic_stress<Planes::mixed>(q, m, c);
     const bool want_K = b.kind != TangentKind::none && b.K;
     const bool secant = want_K && b.kind != TangentKind::elastic; // unloading: K = Cd
     if (nu && n == 3 && secant) unloading_stress<3, true>(q, uidx, nu, c);
@@ -504,7 +455,17 @@ template <bool Avx2>
     for (std::size_t j = 0; j < nk; ++j)
       kernel_point(q, b, base, kidx[j], ns, c, want_K ? Kk[j] : nullptr);
     check_results(m, n, c);
-    commit(q, b, base, m, n, c, Kk, kidx, nk, uidx, nu, gidx, ng);
+    const bool all_ok = commit(q, b, base, m, n, c, Kk, kidx, nk, uidx, nu, gidx, ng);
+    if (all_ok) { // every point has its path: the counts are those of the lists
+      std::size_t grown = 0;
+      for (std::size_t j = 0; j < ng; ++j)
+        grown += c.vec_growth[gidx[j]] != 0.0 ? 1 : 0;
+      stats.growth += grown;
+      stats.kernel += nk;
+      stats.unloading += nu;
+      stats.elastic += m - nu - nk - grown;
+      continue;
+    }
     for (std::size_t i = 0; i < m; ++i) {
       if (c.bad[i] != 0.0) {
         if (stats.failed++ == 0) stats.first_failed = base + i;

@@ -3,6 +3,8 @@
 // D399) and the small branch-free helpers its passes share. Internal to the damage library:
 // included by ndm_batch.cpp only (its passes are inlined into one function per instruction
 // set, D386).
+#include "ndm_internal.hpp"
+
 #include <cstddef>
 
 namespace pnc::damage::batch {
@@ -46,6 +48,33 @@ struct Chunk {
   // pass's arrays come last: the layout of the others is the one measured before it.)
   double Kg[36][kChunk];
 };
+
+// Which points of a chunk have a plane strain (detail::is_plane of the global strain): all,
+// none or some. The products with the strain then take row_plane(), row_full() or
+// times_row()'s selection of the two, chosen once per chunk: every point gets the numbers
+// times_row() gives it (D401).
+enum class Planes { all, none, mixed };
+
+template <Planes P, class Row>
+[[gnu::always_inline]] inline double times_row_as(const Row& a, double e0, double e1, double e2,
+                                                  double e3, double e4, double e5) {
+  if constexpr (P == Planes::all)
+    return detail::row_plane(a, e0, e1, e5);
+  else if constexpr (P == Planes::none)
+    return detail::row_full(a, e0, e1, e2, e3, e4, e5);
+  else
+    return detail::times_row(a, e0, e1, e2, e3, e4, e5);
+}
+
+// The count u (1 <= u <= kChunk) of a compact block rounded up to whole vectors of 4 doubles:
+// the passes over a compact block run their loops over padded(u) lanes, the lanes past u
+// repeating the last point, so that no point takes the loops' scalar remainder (a block holds a
+// few points: about 6 growth and 3 unloading points of a chunk in bench_batch's mixes; D401).
+constexpr std::size_t kLanes = 4;
+static_assert(kChunk % kLanes == 0, "a padded block must fit in a chunk");
+[[gnu::always_inline]] inline std::size_t padded(std::size_t u) {
+  return (u + kLanes - 1) / kLanes * kLanes;
+}
 
 // x * 0 is 0 for finite x and NaN otherwise: a branch-free finiteness accumulator.
 [[gnu::always_inline]] inline double nf(double x) {

@@ -10,6 +10,8 @@
 // the stored energy and the released one, -1/2 sum_m (D1_m - D0_m) el . dC1_m el. Internal to the
 // damage library: included by ndm_batch.cpp only.
 #include "ndm_batch_chunk.hpp"
+
+#include <algorithm>
 #include "ndm_internal.hpp"
 #include "pnc/damage/ndm.hpp"
 
@@ -119,8 +121,9 @@ template <bool Rotated, GrowthK Kind>
   // indirection (the vectoriser has no gather for them)
   double l[6][kChunk], k0[3][kChunk], dg[3][kChunk], t[kChunk], lmax[kChunk], grow[2][kChunk],
       clip[2][kChunk];
-  for (std::size_t j = 0; j < u; ++j) {
-    const std::size_t i = idx[j];
+  const std::size_t u4 = padded(u); // (lanes u..u4 repeat the last point; nothing of them is kept)
+  for (std::size_t j = 0; j < u4; ++j) {
+    const std::size_t i = idx[std::min(j, u - 1)];
 #pragma GCC unroll 6
     for (int k = 0; k < 6; ++k) {
       l[k][j] = c.el[k][i];
@@ -141,7 +144,7 @@ template <bool Rotated, GrowthK Kind>
     }
   }
   // per point: the modes' growth terms and the released energy
-  for (std::size_t j = 0; j < u; ++j) {
+  for (std::size_t j = 0; j < u4; ++j) {
     double lj[6], a[3][6], g[3][6];
 #pragma GCC unroll 6
     for (int k = 0; k < 6; ++k)
@@ -191,7 +194,7 @@ template <bool Rotated, GrowthK Kind>
         d[m][col] = q.dC1g[static_cast<std::size_t>(m)](r, col);
     }
     double(*__restrict kg)[kChunk] = c.Kg + 6 * r; // entries (r, 0..5)
-    for (std::size_t j = 0; j < u; ++j) {
+    for (std::size_t j = 0; j < u4; ++j) {
       double row[6];
       // (unrolled, so that the loop over the points is the one loop the vectoriser sees)
 #pragma GCC unroll 6

@@ -342,11 +342,21 @@ TEST(FeMaterialBatch, SizesZeroOneOddAndLargeWithPaddedBlocksAndInPlaceState) {
 }
 
 // ------------------------------------------------------------------ failures
+// Failed points in the first chunk of 32: every other point of that chunk still gets its
+// numbers, through each of the batch's writes (elastic, unloading, kernel and, for the aligned
+// pnc law with plane strains, growth-pass points; D399, D401).
 TEST(FeMaterialBatch, BadPointsAreReportedAndTheOthersAreComputed) {
-  for (const Model model : {Model::pnc, Model::pp}) {
-    auto m = make(params(model, true));
+  const struct {
+    Model model;
+    bool rotated;
+    int plane_every;
+  } setups[] = {{Model::pnc, true, 5}, {Model::pnc, false, 1}, {Model::pp, true, 5}};
+  for (const auto& setup : setups) {
+    const Model model = setup.model;
+    const NdmParameters par = params(model, setup.rotated);
+    auto m = make(par);
     const int ns = pnc_material_n_state(m.get());
-    auto pts = make_points(m.get(), model, 70, 5);
+    auto pts = make_points(m.get(), model, 70, 5, 0.7, 0.2, setup.plane_every);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     pts[17].de[2] = nan;                                     // a non-finite strain
     pts[40].s0[0] = std::numeric_limits<double>::infinity(); // a non-finite state
@@ -381,6 +391,17 @@ TEST(FeMaterialBatch, BadPointsAreReportedAndTheOthersAreComputed) {
     for (std::size_t i = 0; i < b.n; ++i)
       if (i != 17 && i != 40 && i != 41)
         expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT, "with bad points");
+    // the paths of the first chunk alone: its failed point and the others
+    const std::vector<Point> first(pts.begin(), pts.begin() + 32);
+    const auto st = paths_of(par, Blocks(first, ns));
+    EXPECT_EQ(st.failed, 1u);
+    EXPECT_EQ(st.first_failed, 17u);
+    EXPECT_EQ(st.elastic + st.unloading + st.growth + st.kernel + st.failed, 32u);
+    EXPECT_GT(st.elastic, 0u);
+    EXPECT_GT(st.unloading + st.growth + st.kernel, 0u);
+    if (model == Model::pnc && setup.plane_every == 1) {
+      EXPECT_GT(st.growth, 0u);
+    }
   }
 }
 
