@@ -109,33 +109,6 @@ double damage_of_kappa(const NdmParameters& p, double kappa, double* slope) {
 
 // ---------------------------------------------------------------- kinematics
 namespace {
-// Largest eigenvalue of a symmetric 3x3 matrix, closed form (trigonometric solution of the
-// characteristic cubic; one acos and one cos instead of Eigen's atan2 + sincos for all three).
-double largest_eigenvalue(const Eigen::Matrix3d& e) {
-  // Block-diagonal strains (every plane strain or plane stress state in a frame with x3 out
-  // of plane: e13 = e23 = 0) need one square root, not the cubic's acos and cos.
-  auto block = [&e](int i, int a, int b) {
-    const double m = 0.5 * (e(a, a) + e(b, b)), d = 0.5 * (e(a, a) - e(b, b));
-    return std::max(e(i, i), m + std::sqrt(d * d + e(a, b) * e(a, b)));
-  };
-  if (e(0, 2) == 0.0 && e(1, 2) == 0.0) return block(2, 0, 1);
-  if (e(0, 1) == 0.0 && e(1, 2) == 0.0) return block(1, 0, 2);
-  if (e(0, 1) == 0.0 && e(0, 2) == 0.0) return block(0, 1, 2);
-  const double p1 = e(0, 1) * e(0, 1) + e(0, 2) * e(0, 2) + e(1, 2) * e(1, 2);
-  const double q = (e(0, 0) + e(1, 1) + e(2, 2)) / 3.0;
-  const double a = e(0, 0) - q, b = e(1, 1) - q, c = e(2, 2) - q;
-  const double p2 = a * a + b * b + c * c + 2.0 * p1;
-  const double pp = std::sqrt(p2 / 6.0);
-  const double ip = 1.0 / pp;
-  // det(B)/2 with B = (e - q I)/p
-  const double b00 = a * ip, b11 = b * ip, b22 = c * ip;
-  const double b01 = e(0, 1) * ip, b02 = e(0, 2) * ip, b12 = e(1, 2) * ip;
-  const double det =
-      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
-  const double r = std::min(1.0, std::max(-1.0, 0.5 * det));
-  return q + 2.0 * pp * std::cos(std::acos(r) / 3.0);
-}
-
 // Unit eigenvector of e for its (simple) largest eigenvalue lam: the longest cross product of
 // two rows of e - lam I. Falls back to Eigen's solver when lam is (nearly) repeated
 // (then the direction, and the tangent, is not unique anyway).
@@ -191,31 +164,29 @@ inline Eigen::Matrix3d deformation_gradient(const Voigt& v) {
   return F;
 }
 inline Eigen::Matrix3d right_cauchy_green(const Voigt& v) {
-  const Eigen::Matrix3d F = deformation_gradient(v);
-  return F.transpose() * F;
+  double c[6];
+  cauchy_green(v, c); // (the batched route's expression, D402)
+  Eigen::Matrix3d C;
+  C << c[0], c[3], c[4], //
+      c[3], c[1], c[5],  //
+      c[4], c[5], c[2];
+  return C;
 }
-// Largest principal stretch of F(v): sqrt of the largest eigenvalue of C = F^T F.
+// Largest principal stretch of F(v): sqrt of the largest eigenvalue of C = F^T F (closed form:
+// the trigonometric solution of the characteristic cubic, one acos and one cos, one square root
+// for a block-diagonal C; ndm_internal.hpp, D402).
 inline double largest_stretch(const Voigt& v) {
-  return std::sqrt(largest_eigenvalue(right_cauchy_green(v)));
-}
-
-// mu > largest eigenvalue of the symmetric e, without the eigenvalue: mu I - e is positive
-// definite (Sylvester's criterion on its leading minors). The pnc mode stretches need
-// lambda_max only to cap the uncapped stretch, and the cap rarely binds; this test costs a
-// 3x3 determinant instead of the acos/cos/sqrt of the closed-form eigenvalue.
-bool exceeds_largest_eigenvalue(const Eigen::Matrix3d& e, double mu) {
-  const double a = mu - e(0, 0), b = mu - e(1, 1), c = mu - e(2, 2);
-  if (!(a > 0.0)) return false;
-  const double x = e(0, 1), y = e(0, 2), z = e(1, 2);
-  if (!(a * b - x * x > 0.0)) return false;
-  return a * (b * c - z * z) - c * x * x - b * y * y - 2.0 * x * y * z > 0.0;
+  double c[6];
+  cauchy_green(v, c);
+  return std::sqrt(largest_eigenvalue(c));
 }
 
 // The general (not block-diagonal) pnc stretches of D7, the caps by Sylvester's criterion on
 // lambda^2 I - C.
 void general_stretch(Stretch& s) {
   const Eigen::Matrix3d e = tensor(s.v);
-  const Eigen::Matrix3d C = right_cauchy_green(s.v);
+  double C[6];
+  cauchy_green(s.v, C);
   auto need_lambda_max = [&s, &C]() {
     if (!s.have_lambda_max) {
       s.lambda_max = std::sqrt(largest_eigenvalue(C));
@@ -223,13 +194,14 @@ void general_stretch(Stretch& s) {
     }
     return s.lambda_max;
   };
+#pragma GCC unroll 3
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
     s.shear[k] = mode_shear(e(k, a), e(k, b));
     double uncapped;
     uncapped_stretch(e(k, k), s.shear[k], uncapped, s.dshear[k]);
     // The cap binds when the uncapped stretch exceeds lambda_max (ties at rounding level
-    // either way give the same stretch).
+    // either way give the same stretch); mu I - C positive definite, without lambda_max.
     s.clipped[k] = uncapped > 0.0 && exceeds_largest_eigenvalue(C, uncapped * uncapped);
     s.lambda[k] = s.clipped[k] ? need_lambda_max() : uncapped;
   }

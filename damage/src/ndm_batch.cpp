@@ -3,9 +3,10 @@
 // points with the components in separate arrays (structure of arrays), written without
 // branches on per-point data so that the compiler vectorises it:
 //  1. eps = eps0 + deps, the platelet-frame strain el = T eps, the finiteness of the inputs;
-//  2. the mode stretches of D7 (pnc; pp through the kernel's own function, point by point);
+//  2. the mode stretches of D7 (block-diagonal pnc strains in closed form, general strains and
+//     pp with lambda_max in two vectorised halves around its cosine, D402);
 //  3. kappa1, D1 and the path of each point: elastic (every mode below the onset), unloading
-//     (no mode with damage growth) or kernel (damage growth, a stretch whose cap may bind);
+//     (no mode with damage growth) or kernel (damage growth);
 //  4. sigma = C0g eps for the chunk, sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
 //     points gathered into a compact block, the damage growth of pnc points with a
 //     block-diagonal strain in loops over a compact block as well (ndm_batch_growth.hpp, D399),
@@ -92,46 +93,12 @@ template <Planes P>
   }
 }
 
-// Is the kernel's cap test (Sylvester's criterion that mu I - C is positive definite, C =
-// F^T F of D6) certainly false? The leading minors are formed here in an order of our own;
-// each differs from the kernel's by a few roundings of terms of size M^k, far below the
-// margin 1e-10 M^k, so a minor beyond the margin has the kernel's sign. Anything closer (a
-// tie, a non-finite value) is left to the kernel: returns false.
-[[gnu::always_inline]] inline bool surely_not_capped(double v0, double v1, double v2, double v3,
-                                                     double v4, double v5, double mu) {
-  const double f00 = 1.0 + v0, f11 = 1.0 + v1, f22 = 1.0 + v2;
-  const double c00 = f00 * f00, c01 = f00 * v5, c02 = f00 * v4;
-  const double c11 = v5 * v5 + f11 * f11, c12 = v5 * v4 + f11 * v3;
-  const double c22 = v4 * v4 + v3 * v3 + f22 * f22;
-  const double a = mu - c00, bb = mu - c11, cc = mu - c22;
-  const double m1 = a, m2 = a * bb - c01 * c01;
-  const double m3 =
-      a * (bb * cc - c12 * c12) - cc * c01 * c01 - bb * c02 * c02 - 2.0 * c01 * c02 * c12;
-  const double M = std::max(std::max(std::abs(mu), c00), std::max(c11, c22));
-  const double t1 = 1e-10 * M, t2 = t1 * M, t3 = t2 * M;
-  // (bitwise & and |: no branches, so that the loop over points vectorises)
-  const bool first_pos = m1 > t1, second_pos = m2 > t2;
-  return (m1 < -t1) | (first_pos & (m2 < -t2)) | (first_pos & second_pos & (m3 < -t3));
-}
-
-// The uncapped stretch of one mode of a general strain as general_stretch() forms it (t_k
-// without a square root when one shear is 0); true when the cap certainly does not bind, so
-// that it is the mode's stretch (else the kernel path decides). ekk, ea, eb: e_kk, e_ka, e_kb.
-[[gnu::always_inline]] inline bool general_mode(double ekk, double ea, double eb, double v0,
-                                                double v1, double v2, double v3, double v4,
-                                                double v5, double& un) {
-  double g;
-  detail::uncapped_stretch(ekk, detail::mode_shear(ea, eb), un, g);
-  return !(un > 0.0) | surely_not_capped(v0, v1, v2, v3, v4, v5, un * un);
-}
-
 // Pass 2 (pnc): the mode stretches of D7 as compute_stretch() forms them. Block-diagonal
-// strains (g23 = g13 = 0) in closed form; general strains with the uncapped stretch where the
-// cap certainly does not bind, the kernel path otherwise.
-// Three loops over the chunk, chosen once per chunk: every point block-diagonal (a 2-D run:
-// the general stretches are not formed), no point block-diagonal (a 3-D run: the closed form
-// is not formed), or a mix (both formed, one selected per point). Each point gets the same
-// numbers in all three (D352).
+// strains (g23 = g13 = 0) in closed form; general strains as general_stretch() forms them
+// (general_pass() below). Three loops over the chunk, chosen once per chunk: every point
+// block-diagonal (a 2-D run: the general stretches are not formed), no point block-diagonal (a
+// 3-D run: the closed form is not formed), or a mix (both formed, one kept per point). Each
+// point gets the same numbers in all three (D352).
 enum class Blocks { all, none, mixed };
 
 [[gnu::always_inline]] inline Blocks block_kind(std::size_t m, const Chunk& c) {
@@ -141,62 +108,76 @@ enum class Blocks { all, none, mixed };
   return nb == static_cast<double>(m) ? Blocks::all : nb == 0.0 ? Blocks::none : Blocks::mixed;
 }
 
-// The general stretches of point i (general_stretch()); true when no cap can bind.
-[[gnu::always_inline]] inline bool general_stretches(const Chunk& c, std::size_t i,
-                                                     double (&gl)[3]) {
-  const double v0 = c.el[0][i], v1 = c.el[1][i], v2 = c.el[2][i], v3 = c.el[3][i], v4 = c.el[4][i],
-               v5 = c.el[5][i];
-  const double e01 = 0.5 * v5, e02 = 0.5 * v4, e12 = 0.5 * v3;
-  // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3)
-  const bool s0 = general_mode(v0, e01, e02, v0, v1, v2, v3, v4, v5, gl[0]);
-  const bool s1 = general_mode(v1, e12, e01, v0, v1, v2, v3, v4, v5, gl[1]);
-  const bool s2 = general_mode(v2, e02, e12, v0, v1, v2, v3, v4, v5, gl[2]);
-  return s0 & s1 & s2;
+// Pass 2 for general strains (D402): the stretches of compute_stretch() (pnc: general_stretch(),
+// the caps by Sylvester's criterion; pp: lambda_max) in three loops over the points [0, m): C =
+// F^T F, the uncapped stretches, their caps and the first half of lambda_max^2 (vectorised);
+// the cosine of the points whose lambda_max is needed and not in closed form, point by point
+// (acos and cos have no vector form with the same rounding, D388); lambda_max and the capped
+// stretches (vectorised). Every expression is the kernel's (ndm_internal.hpp). Mixed: only the
+// points that are not block-diagonal take the results, the others keep theirs.
+template <Model M, bool Mixed>
+[[gnu::always_inline]] inline void general_pass(std::size_t m, Chunk& c) {
+  constexpr int N = M == Model::pnc ? 3 : 1;
+  double un[3][kChunk], clip[3][kChunk], val[kChunk], q[kChunk], pp[kChunk], r[kChunk],
+      trig[kChunk], cos3[kChunk];
+  for (std::size_t i = 0; i < m; ++i) {
+    const double v[6] = {c.el[0][i], c.el[1][i], c.el[2][i], c.el[3][i], c.el[4][i], c.el[5][i]};
+    double C[6];
+    detail::cauchy_green(v, C);
+    bool need = M == Model::pp; // lambda_max is needed: pp, or a capped pnc mode
+    if constexpr (M == Model::pnc) {
+      // mode k: (e_kk, e_ka, e_kb) with a = k + 1, b = k + 2 (mod 3), e = tensor(v)
+      const double e01 = 0.5 * v[5], e02 = 0.5 * v[4], e12 = 0.5 * v[3];
+      const double ea[3] = {e01, e12, e02}, eb[3] = {e02, e01, e12};
+#pragma GCC unroll 3
+      for (int k = 0; k < 3; ++k) {
+        double u, g;
+        detail::uncapped_stretch(v[k], detail::mode_shear(ea[k], eb[k]), u, g);
+        const bool capped = (u > 0.0) & detail::exceeds_largest_eigenvalue<false>(C, u * u);
+        un[k][i] = u;
+        clip[k][i] = capped ? 1.0 : 0.0;
+        need = need | capped;
+      }
+    }
+    double value, qi, ppi, ri;
+    bool t;
+    detail::eigen_start<false>(C, value, qi, ppi, ri, t);
+    val[i] = value;
+    q[i] = qi;
+    pp[i] = ppi;
+    r[i] = ri;
+    trig[i] = (t & need) ? 1.0 : 0.0;
+    cos3[i] = 0.0;
+  }
+  for (std::size_t i = 0; i < m; ++i)
+    if (trig[i] != 0.0) cos3[i] = detail::eigen_cos(r[i]);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double lmax = std::sqrt(detail::eigen_end(val[i], q[i], pp[i], cos3[i], trig[i] != 0.0));
+    const bool keep = Mixed && (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0); // block-diagonal
+#pragma GCC unroll 3
+    for (int k = 0; k < N; ++k) {
+      const double lam = M == Model::pp ? lmax : (clip[k][i] != 0.0 ? lmax : un[k][i]);
+      c.lam[k][i] = keep ? c.lam[k][i] : lam;
+    }
+  }
 }
 
 [[gnu::always_inline]] inline void pnc_stretches(std::size_t m, Chunk& c) {
   const Blocks kind = block_kind(m, c);
-  double un[2], g[2], t, lmax;
-  if (kind == Blocks::all) {
-    for (std::size_t i = 0; i < m; ++i) {
-      double b[3];
-      detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
-      for (int k = 0; k < 3; ++k)
-        c.lam[k][i] = b[k];
-      c.scalar_stretch[i] = 0.0;
-      // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max)
-      c.vec_growth[i] = 1.0;
-      c.lmax[i] = lmax;
-      c.tsh[i] = t;
-      for (int k = 0; k < 2; ++k) {
-        c.grow[k][i] = g[k];
-        c.clip[k][i] = un[k] > lmax ? 1.0 : 0.0;
-      }
-    }
-    return;
-  }
   if (kind == Blocks::none) {
-    for (std::size_t i = 0; i < m; ++i) {
-      double gl[3];
-      const bool sure = general_stretches(c, i, gl);
-      for (int k = 0; k < 3; ++k)
-        c.lam[k][i] = gl[k];
-      c.scalar_stretch[i] = sure ? 0.0 : 1.0;
+    general_pass<Model::pnc, false>(m, c);
+    for (std::size_t i = 0; i < m; ++i)
       c.vec_growth[i] = 0.0; // a general strain's growth: the kernel
-    }
     return;
   }
+  double un[2], g[2], t, lmax;
   for (std::size_t i = 0; i < m; ++i) {
-    // block-diagonal (compute_stretch's closed form, detail::block_stretches)
-    double b[3], gl[3];
+    double b[3];
     detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
-    // general (general_stretch(), the cap by Sylvester's criterion)
-    const bool sure = general_stretches(c, i, gl);
-    const bool block = c.el[3][i] == 0.0 && c.el[4][i] == 0.0;
     for (int k = 0; k < 3; ++k)
-      c.lam[k][i] = block ? b[k] : gl[k];
-    c.scalar_stretch[i] = (!block & !sure) ? 1.0 : 0.0;
-    c.vec_growth[i] = block ? 1.0 : 0.0;
+      c.lam[k][i] = b[k];
+    // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max)
+    c.vec_growth[i] = (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0) ? 1.0 : 0.0;
     c.lmax[i] = lmax;
     c.tsh[i] = t;
     for (int k = 0; k < 2; ++k) {
@@ -204,23 +185,7 @@ enum class Blocks { all, none, mixed };
       c.clip[k][i] = un[k] > lmax ? 1.0 : 0.0;
     }
   }
-}
-
-// Pass 2b: the stretches the closed forms above do not settle (pnc: a general strain whose cap
-// may bind; pp: every point), through the kernel's own function, point by point: lambda_max
-// of a general strain is the closed-form cubic with acos and cos, which has no vector form
-// with the same rounding (D388).
-[[gnu::always_inline]] inline void scalar_stretches(Model model, std::size_t m, Chunk& c) {
-  for (std::size_t i = 0; i < m; ++i) {
-    if (model == Model::pnc && c.scalar_stretch[i] == 0.0) continue;
-    Voigt v;
-    for (int k = 0; k < 6; ++k)
-      v[k] = c.el[k][i];
-    std::array<double, 3> lam;
-    detail::stretch_values(model, v, lam);
-    for (int k = 0; k < 3; ++k)
-      c.lam[k][i] = lam[static_cast<std::size_t>(k)];
-  }
+  if (kind == Blocks::mixed) general_pass<Model::pnc, true>(m, c);
 }
 
 // Pass 3: kappa1 and D1 of every mode, and the path. A mode with damage growth (loading and
@@ -417,8 +382,10 @@ template <bool Avx2>
       rotate<Planes::none>(q, m, c);
     else
       rotate<Planes::mixed>(q, m, c);
-    if (model == Model::pnc) pnc_stretches(m, c);
-    scalar_stretches(model, m, c);
+    if (model == Model::pnc)
+      pnc_stretches(m, c);
+    else
+      general_pass<Model::pp, false>(m, c);
     if (n == 3)
       classify<3>(q, m, c);
     else

@@ -10,7 +10,7 @@
 namespace pnc::damage::batch {
 
 constexpr std::size_t kChunk = 32;
-// Chunk::path. kKernel: damage growth or a stretch the closed forms do not settle; such a point
+// Chunk::path. kKernel: damage growth (a loading mode whose damage grows); such a point
 // takes the vectorised damage-growth pass when Chunk::vec_growth says so (D399), else
 // integrate_row_major().
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0;
@@ -30,10 +30,9 @@ struct Chunk {
   double stored[kChunk]; // energies
   double diss[kChunk];
   double bad[kChunk]; // 0 for a point whose inputs and results are finite (sum of x * 0)
-  // Path (kElastic, kUnloading, kKernel) and "the fast stretch is not decidable" as doubles:
-  // the loops that set them then hold one element type, which the vectoriser needs.
+  // Path (kElastic, kUnloading, kKernel) as a double: the loops that set it then hold one
+  // element type, which the vectoriser needs.
   double path[kChunk];
-  double scalar_stretch[kChunk];
   // A block-diagonal strain (1) or not (0): its damage growth can take the vectorised pass
   // (D399; the pass sets 0 where lambda_max is repeated and a capped mode grows); with
   // compute_stretch()'s Stretch pieces: lambda_max, the shear t = |g12| / 2 of modes 1, 2, their

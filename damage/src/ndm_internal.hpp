@@ -155,6 +155,87 @@ inline Voigt transpose_times(const Matrix6& T, const Voigt& v) {
   return o;
 }
 
+/// C = F^T F of D6's F(v) (engineering Voigt strain v[0..5], platelet frame; F upper
+/// triangular, rows (1 + v0, v5, v4), (0, 1 + v1, v3), (0, 0, 1 + v2)) as c = {C00, C11, C22,
+/// C01, C02, C12}: C_ij = sum_k F_ki F_kj over the k where neither factor is a structural zero
+/// of F, left to right. One expression for the kernel and the batched route (the caps,
+/// lambda_max and the capped stretch's derivative; D399, D402).
+template <class V> inline void cauchy_green(const V& v, double (&c)[6]) {
+  const double f00 = 1.0 + v[0], f11 = 1.0 + v[1], f22 = 1.0 + v[2];
+  c[0] = f00 * f00;
+  c[1] = v[5] * v[5] + f11 * f11;
+  c[2] = v[4] * v[4] + v[3] * v[3] + f22 * f22;
+  c[3] = f00 * v[5];
+  c[4] = f00 * v[4];
+  c[5] = v[5] * v[4] + f11 * v[3];
+}
+
+/// mu > the largest eigenvalue of the symmetric C (entries as cauchy_green()), without the
+/// eigenvalue: mu I - C positive definite by Sylvester's criterion on its leading minors.
+/// EarlyExit (the kernel): no further minor once one is not positive; false (a loop over
+/// points, which then has no branch): all three formed. The same expressions either way.
+template <bool EarlyExit = true>
+inline bool exceeds_largest_eigenvalue(const double (&c)[6], double mu) {
+  const double a = mu - c[0], b = mu - c[1], cc = mu - c[2];
+  const double x = c[3], y = c[4], z = c[5];
+  if constexpr (EarlyExit)
+    if (!(a > 0.0)) return false;
+  const double m2 = a * b - x * x;
+  if constexpr (EarlyExit)
+    if (!(m2 > 0.0)) return false;
+  const double m3 = a * (b * cc - z * z) - cc * x * x - b * y * y - 2.0 * x * y * z;
+  return (a > 0.0) & (m2 > 0.0) & (m3 > 0.0);
+}
+
+/// The largest eigenvalue of the symmetric C (entries as cauchy_green()) in two halves around
+/// its one cosine, so that a loop over points runs both halves vectorised and the cosine point
+/// by point (D402). eigen_start(): when C is block-diagonal (C02 = C12 = 0, C01 = C12 = 0 or
+/// C01 = C02 = 0, tested in that order) the eigenvalue itself in `value` (one square root) and
+/// trig = false; else trig = true and the trigonometric solution's shift q, scale pp and
+/// r = det(B) / 2 clamped to [-1, 1], B = (C - q I) / pp (EarlyExit, the kernel: only what
+/// the case needs; false, a loop over points: both, with no branch). The eigenvalue is then
+/// eigen_end(value, q, pp, eigen_cos(r), trig).
+template <bool EarlyExit = true>
+inline void eigen_start(const double (&c)[6], double& value, double& q, double& pp, double& r,
+                        bool& trig) {
+  const double e00 = c[0], e11 = c[1], e22 = c[2], e01 = c[3], e02 = c[4], e12 = c[5];
+  // the block (i; a, b) with the entry e(a, b): max(e(i, i), m + sqrt(d^2 + e(a, b)^2))
+  const bool k2 = (e02 == 0.0) & (e12 == 0.0), k1 = (e01 == 0.0) & (e12 == 0.0),
+             k0 = (e01 == 0.0) & (e02 == 0.0);
+  trig = !(k2 | k1 | k0);
+  if (!EarlyExit || !trig) {
+    const double ii = k2 ? e22 : (k1 ? e11 : e00), aa = k2 ? e00 : (k1 ? e00 : e11),
+                 bb = k2 ? e11 : e22, ab = k2 ? e01 : (k1 ? e02 : e12);
+    const double m = 0.5 * (aa + bb), d = 0.5 * (aa - bb);
+    value = std::max(ii, m + std::sqrt(d * d + ab * ab));
+    if (EarlyExit) return;
+  }
+  const double p1 = e01 * e01 + e02 * e02 + e12 * e12;
+  q = (e00 + e11 + e22) / 3.0;
+  const double a = e00 - q, b = e11 - q, cc = e22 - q;
+  const double p2 = a * a + b * b + cc * cc + 2.0 * p1;
+  pp = std::sqrt(p2 / 6.0);
+  const double ip = 1.0 / pp;
+  const double b00 = a * ip, b11 = b * ip, b22 = cc * ip;
+  const double b01 = e01 * ip, b02 = e02 * ip, b12 = e12 * ip;
+  const double det =
+      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+  r = std::min(1.0, std::max(-1.0, 0.5 * det));
+}
+inline double eigen_cos(double r) {
+  return std::cos(std::acos(r) / 3.0);
+}
+inline double eigen_end(double value, double q, double pp, double cos_third, bool trig) {
+  return trig ? q + 2.0 * pp * cos_third : value;
+}
+/// The largest eigenvalue of C in one call (the kernel's use).
+inline double largest_eigenvalue(const double (&c)[6]) {
+  double value = 0.0, q = 0.0, pp = 0.0, r = 0.0;
+  bool trig;
+  eigen_start(c, value, q, pp, r, trig);
+  return trig ? eigen_end(value, q, pp, eigen_cos(r), true) : value;
+}
+
 /// d lambda_max / d v (engineering Voigt strain v[0..5], platelet frame) where a mode's cap
 /// binds (D6/D7): (F N)_a N_b / lambda_max for the entry (a, b) of F that v_I sets, N the unit
 /// principal direction of C = F^T F for its largest eigenvalue lambda_max^2, taken as the
@@ -169,12 +250,9 @@ template <class V>
   // F = I + diag(e) + g12 e1(x)e2 + g13 e1(x)e3 + g23 e2(x)e3 (D6), rows f[a][b]
   const double f[3][3] = {
       {1.0 + v[0], v[5], v[4]}, {0.0, 1.0 + v[1], v[3]}, {0.0, 0.0, 1.0 + v[2]}};
-  double C[3][3];
-#pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i)
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j)
-      C[i][j] = f[0][i] * f[0][j] + f[1][i] * f[1][j] + f[2][i] * f[2][j];
+  double c6[6];
+  cauchy_green(v, c6);
+  const double C[3][3] = {{c6[0], c6[3], c6[4]}, {c6[3], c6[1], c6[5]}, {c6[4], c6[5], c6[2]}};
   const double lam = lambda_max * lambda_max;
   double M[3][3];
 #pragma GCC unroll 3

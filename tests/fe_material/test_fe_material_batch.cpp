@@ -265,6 +265,63 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryWhenAChunkIsAllPlaneOrAllGeneral)
 // the largest singular value of the in-plane block of F, so that C = F^T F has a double largest
 // eigenvalue and its direction is not unique. The growth pass hands the point to the kernel
 // (Eigen's solver for the direction, D399); the numbers are integrate2's either way.
+// The batch's stretch pass for general strains (D402) forms lambda_max in two vectorised halves
+// around its cosine. Degenerate strains (C block-diagonal in each plane, repeated eigenvalues,
+// r clamped at +-1, zero) must still give the single-point entry's bits: at rest, elastic and
+// loading into damage, in chunks of general strains alone and mixed with block-diagonal ones.
+TEST(FeMaterialBatch, DegenerateStrainsGiveTheSinglePointBitsThroughTheGeneralStretchPass) {
+  std::vector<Vec6> shapes(15);
+  shapes[0] << 0, 0, 0, 0, 0, 0;                      // zero
+  shapes[1] << 0.03, 0.03, 0.03, 0, 0, 0;             // hydrostatic
+  shapes[2] << 0.03, 0.03, -0.01, 0, 0, 0;            // equibiaxial
+  shapes[3] << 0, 0, 0, 0, 0, 0.04;                   // pure shear in x1-x2
+  shapes[4] << 0.02, 0.02, 0.02, 1e-12, 0, 0;         // nearly hydrostatic
+  shapes[5] << 0.01, 0.01, 0.01, 0.02, 0.02, 0.02;    // double root below the top
+  shapes[6] << 1e-9, -1e-9, 0, 3e-10, 0, 0;           // tiny
+  shapes[7] << 0.02, 0.03, -0.01, 0.04, 0, 0;         // g23 alone: C01 = C02 = 0
+  shapes[8] << 0.02, -0.01, 0.03, 0, 0.04, 0;         // g13 alone: C01 = C12 = 0
+  shapes[9] << 0.01, 0.03, 0.0, 0.03, 0.02, 0;        // g23 and g13: C01 = 0, the cubic
+  shapes[10] << 0.0, 0.03, 0.0, 0.03, 0, 0;           // g23 with the x2 extension
+  shapes[11] << 0.03, 0.03, 0.03, 0.0, 0.02, 0.0;     // hydrostatic and g13
+  shapes[12] << -0.01, 0.04, -0.01, 0.01, 0.01, 0.01; // all shears, x2 the largest
+  shapes[13] << 0.02, -0.01, 0.0, 0, 0, 0.03;         // plane strain
+  shapes[14] << 0.01, 0.01, 0.0, 0, 0, 0.0;           // equibiaxial plane
+  for (const Model model : {Model::pnc, Model::pp})
+    for (const bool general_only : {true, false}) {
+      const NdmParameters p = params(model, false);
+      auto m = make(p);
+      std::vector<Point> pts;
+      for (const Vec6& e : shapes)
+        for (const double scale : {1.0, 4.0, 8.0}) {
+          if (general_only && e[3] == 0.0 && e[4] == 0.0) continue; // block-diagonal
+          const Vec6 x = scale * e;
+          Point at_rest; // elastic from a virgin state
+          at_rest.s0 = virgin(m.get());
+          at_rest.e0 = 0.9 * x;
+          at_rest.de = x - at_rest.e0;
+          Point loading; // loading past a history at 98 % of the strain
+          loading.s0 = state_after(m.get(), Vec6(0.98 * x));
+          loading.e0 = 0.98 * x;
+          loading.de = x - loading.e0;
+          pts.push_back(at_rest);
+          pts.push_back(loading);
+        }
+      const std::string what = std::string(pnc::damage::model_name(model)) +
+                               (general_only ? " general strains only" : " mixed");
+      for (int request : {PNC_MATERIAL_TANGENT_NONE, PNC_MATERIAL_TANGENT_CONSISTENT}) {
+        Blocks b(pts, pnc_material_n_state(m.get()));
+        char err[512] = {0};
+        pnc_material_point_soa v = b.view(request, err, sizeof err);
+        ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
+        for (std::size_t i = 0; i < b.n; ++i)
+          expect_point_equal(m.get(), pts, b, i, request, what);
+      }
+      const auto st = paths_of(p, Blocks(pts, pnc_material_n_state(m.get())));
+      EXPECT_GT(st.kernel + st.growth, 0u) << what; // some points' damage grows
+      EXPECT_GT(st.elastic, 0u) << what;
+    }
+}
+
 TEST(FeMaterialBatch, ACappedModeGrowingAtARepeatedLargestStretchGoesToTheKernel) {
   const NdmParameters p = params(Model::pnc, false);
   auto m = make(p);
