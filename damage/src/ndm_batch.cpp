@@ -8,9 +8,9 @@
 //  3. kappa1, D1 and the path of each point: elastic (every mode below the onset), unloading
 //     (no mode with damage growth) or kernel (damage growth);
 //  4. sigma = C0g eps for the chunk, sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
-//     points gathered into a compact block, the damage growth of pnc points with a
-//     block-diagonal strain in loops over a compact block as well (ndm_batch_growth.hpp, D399),
-//     integrate_row_major() for the other kernel points;
+//     points gathered into a compact block, the damage growth of pnc points in loops over a
+//     compact block as well (ndm_batch_growth.hpp, D399, D403), integrate_row_major() for the
+//     other kernel points (pp; a capped mode growing at a repeated lambda_max);
 //  5. the result check and the writes to the caller's arrays.
 // How the passes move their numbers (full chunks, one product form per chunk, padded compact
 // blocks) is D401.
@@ -118,8 +118,8 @@ enum class Blocks { all, none, mixed };
 template <Model M, bool Mixed>
 [[gnu::always_inline]] inline void general_pass(std::size_t m, Chunk& c) {
   constexpr int N = M == Model::pnc ? 3 : 1;
-  double un[3][kChunk], clip[3][kChunk], val[kChunk], q[kChunk], pp[kChunk], r[kChunk],
-      trig[kChunk], cos3[kChunk];
+  double un[3][kChunk], clip[3][kChunk], sh[3][kChunk], dsh[3][kChunk], val[kChunk], q[kChunk],
+      pp[kChunk], r[kChunk], trig[kChunk], cos3[kChunk];
   for (std::size_t i = 0; i < m; ++i) {
     const double v[6] = {c.el[0][i], c.el[1][i], c.el[2][i], c.el[3][i], c.el[4][i], c.el[5][i]};
     double C[6];
@@ -132,10 +132,13 @@ template <Model M, bool Mixed>
 #pragma GCC unroll 3
       for (int k = 0; k < 3; ++k) {
         double u, g;
-        detail::uncapped_stretch(v[k], detail::mode_shear(ea[k], eb[k]), u, g);
+        const double t = detail::mode_shear(ea[k], eb[k]);
+        detail::uncapped_stretch(v[k], t, u, g);
         const bool capped = (u > 0.0) & detail::exceeds_largest_eigenvalue<false>(C, u * u);
         un[k][i] = u;
         clip[k][i] = capped ? 1.0 : 0.0;
+        sh[k][i] = t;
+        dsh[k][i] = g;
         need = need | capped;
       }
     }
@@ -159,6 +162,16 @@ template <Model M, bool Mixed>
       const double lam = M == Model::pp ? lmax : (clip[k][i] != 0.0 ? lmax : un[k][i]);
       c.lam[k][i] = keep ? c.lam[k][i] : lam;
     }
+    if constexpr (M == Model::pnc) { // the pieces of the growth pass (D403)
+      c.vec_growth[i] = 1.0;
+      c.lmax[i] = keep ? c.lmax[i] : lmax;
+#pragma GCC unroll 3
+      for (int k = 0; k < 3; ++k) {
+        c.tsh[k][i] = keep ? c.tsh[k][i] : sh[k][i];
+        c.grow[k][i] = keep ? c.grow[k][i] : dsh[k][i];
+        c.clip[k][i] = keep ? c.clip[k][i] : clip[k][i];
+      }
+    }
   }
 }
 
@@ -166,8 +179,6 @@ template <Model M, bool Mixed>
   const Blocks kind = block_kind(m, c);
   if (kind == Blocks::none) {
     general_pass<Model::pnc, false>(m, c);
-    for (std::size_t i = 0; i < m; ++i)
-      c.vec_growth[i] = 0.0; // a general strain's growth: the kernel
     return;
   }
   double un[2], g[2], t, lmax;
@@ -176,14 +187,18 @@ template <Model M, bool Mixed>
     detail::block_stretches(c.el[0][i], c.el[1][i], c.el[2][i], c.el[5][i], lmax, b, un, g, t);
     for (int k = 0; k < 3; ++k)
       c.lam[k][i] = b[k];
-    // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max)
-    c.vec_growth[i] = (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0) ? 1.0 : 0.0;
+    // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max; mode
+    // 3 has no shear and no cap)
+    c.vec_growth[i] = 1.0;
     c.lmax[i] = lmax;
-    c.tsh[i] = t;
     for (int k = 0; k < 2; ++k) {
+      c.tsh[k][i] = t;
       c.grow[k][i] = g[k];
       c.clip[k][i] = un[k] > lmax ? 1.0 : 0.0;
     }
+    c.tsh[2][i] = 0.0;
+    c.grow[2][i] = 1.0;
+    c.clip[2][i] = 0.0;
   }
   if (kind == Blocks::mixed) general_pass<Model::pnc, true>(m, c);
 }
@@ -290,35 +305,37 @@ template <int N, bool KeepSecant>
 // line, one copy per instruction set: inlined into run(), its scratch (about 12 KB) made the
 // other paths of a 3-D batch about a fifth slower for the same instructions (bench/README.md,
 // "Results after D399").
-[[gnu::always_inline]] inline void growth_impl(const PreparedNdm& q, TangentKind kind,
+template <bool R, bool B>
+[[gnu::always_inline]] inline void growth_with(const PreparedNdm& q, TangentKind kind,
                                                const std::size_t* gidx, std::size_t ng, Chunk& c) {
-  const bool r = q.rotated;
-  if (kind == TangentKind::consistent) {
-    if (r)
-      growth_points<true, GrowthK::consistent>(q, gidx, ng, c);
-    else
-      growth_points<false, GrowthK::consistent>(q, gidx, ng, c);
-  } else if (kind == TangentKind::secant) {
-    if (r)
-      growth_points<true, GrowthK::secant>(q, gidx, ng, c);
-    else
-      growth_points<false, GrowthK::secant>(q, gidx, ng, c);
-  } else {
-    if (r)
-      growth_points<true, GrowthK::none>(q, gidx, ng, c);
-    else
-      growth_points<false, GrowthK::none>(q, gidx, ng, c);
-  }
+  if (kind == TangentKind::consistent)
+    growth_points<R, B, GrowthK::consistent>(q, gidx, ng, c);
+  else if (kind == TangentKind::secant)
+    growth_points<R, B, GrowthK::secant>(q, gidx, ng, c);
+  else
+    growth_points<R, B, GrowthK::none>(q, gidx, ng, c);
 }
-[[gnu::noinline]] void growth_baseline(const PreparedNdm& q, TangentKind kind,
+// (No lambda here: a lambda would not inherit the AVX2 copy's target attribute.)
+[[gnu::always_inline]] inline void growth_impl(const PreparedNdm& q, TangentKind kind, bool block,
+                                               const std::size_t* gidx, std::size_t ng, Chunk& c) {
+  if (q.rotated && block)
+    growth_with<true, true>(q, kind, gidx, ng, c);
+  else if (q.rotated)
+    growth_with<true, false>(q, kind, gidx, ng, c);
+  else if (block)
+    growth_with<false, true>(q, kind, gidx, ng, c);
+  else
+    growth_with<false, false>(q, kind, gidx, ng, c);
+}
+[[gnu::noinline]] void growth_baseline(const PreparedNdm& q, TangentKind kind, bool block,
                                        const std::size_t* gidx, std::size_t ng, Chunk& c) {
-  growth_impl(q, kind, gidx, ng, c);
+  growth_impl(q, kind, block, gidx, ng, c);
 }
 #if PNC_HAVE_AVX2_COPY
 [[gnu::noinline]] PNC_TARGET_AVX2 void growth_avx2(const PreparedNdm& q, TangentKind kind,
-                                                   const std::size_t* gidx, std::size_t ng,
-                                                   Chunk& c) {
-  growth_impl(q, kind, gidx, ng, c);
+                                                   bool block, const std::size_t* gidx,
+                                                   std::size_t ng, Chunk& c) {
+  growth_impl(q, kind, block, gidx, ng, c);
 }
 #endif
 
@@ -396,7 +413,7 @@ template <bool Avx2>
       if (c.path[i] == kUnloading) uidx[nu++] = i;
       if (c.path[i] != kKernel) continue;
       if (model == Model::pnc && c.vec_growth[i] != 0.0)
-        gidx[ng++] = i; // damage growth of a block-diagonal strain, no cap binding (D399)
+        gidx[ng++] = i; // damage growth of a pnc point: the growth pass (D399, D403)
       else
         kidx[nk++] = i;
     }
@@ -413,10 +430,13 @@ template <bool Avx2>
     if (nu && n == 1 && secant) unloading_stress<1, true>(q, uidx, nu, c);
     if (nu && n == 1 && !secant) unloading_stress<1, false>(q, uidx, nu, c);
     const TangentKind gk = secant ? b.kind : TangentKind::none;
+    bool block = true; // every growth point's strain block-diagonal
+    for (std::size_t j = 0; j < ng; ++j)
+      block = block && c.el[3][gidx[j]] == 0.0 && c.el[4][gidx[j]] == 0.0;
 #if PNC_HAVE_AVX2_COPY
-    if (ng && Avx2) growth_avx2(q, gk, gidx, ng, c);
+    if (ng && Avx2) growth_avx2(q, gk, block, gidx, ng, c);
 #endif
-    if (ng && !Avx2) growth_baseline(q, gk, gidx, ng, c);
+    if (ng && !Avx2) growth_baseline(q, gk, block, gidx, ng, c);
     for (std::size_t j = 0; j < ng; ++j) // lambda_max repeated where a capped mode grows
       if (c.vec_growth[gidx[j]] == 0.0) kidx[nk++] = gidx[j];
     for (std::size_t j = 0; j < nk; ++j)

@@ -11,7 +11,7 @@ namespace pnc::damage::batch {
 
 constexpr std::size_t kChunk = 32;
 // Chunk::path. kKernel: damage growth (a loading mode whose damage grows); such a point
-// takes the vectorised damage-growth pass when Chunk::vec_growth says so (D399), else
+// takes the vectorised damage-growth pass when Chunk::vec_growth says so (D399, D403), else
 // integrate_row_major().
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0;
 
@@ -33,15 +33,16 @@ struct Chunk {
   // Path (kElastic, kUnloading, kKernel) as a double: the loops that set it then hold one
   // element type, which the vectoriser needs.
   double path[kChunk];
-  // A block-diagonal strain (1) or not (0): its damage growth can take the vectorised pass
-  // (D399; the pass sets 0 where lambda_max is repeated and a capped mode grows); with
-  // compute_stretch()'s Stretch pieces: lambda_max, the shear t = |g12| / 2 of modes 1, 2, their
-  // d lambda / d t and whether their cap binds (1) or not (0).
+  // A pnc point (1) or not (0): its damage growth can take the vectorised pass (D399, D403;
+  // the pass sets 0 where lambda_max is repeated and a capped mode grows); with
+  // compute_stretch()'s Stretch pieces: lambda_max, the shear t_k of each mode (|g12| / 2 of
+  // modes 1 and 2 and 0 of mode 3 for a block-diagonal strain), d lambda_k / d t_k and whether
+  // the mode's cap binds (1) or not (0).
   double vec_growth[kChunk];
   double lmax[kChunk];
-  double tsh[kChunk];
-  double grow[2][kChunk];
-  double clip[2][kChunk];
+  double tsh[3][kChunk];
+  double grow[3][kChunk];
+  double clip[3][kChunk];
   double dg[3][kChunk]; // dD/dx of a loading mode (its damage growth), else 0
   // Consistent tangent of the damage-growth points of the vectorised pass, compact (D399). (The
   // pass's arrays come last: the layout of the others is the one measured before it.)

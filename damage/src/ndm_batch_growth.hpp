@@ -1,20 +1,18 @@
 #pragma once
-// Pass 4c of the batched NDM route (ndm_batch.cpp; decision D399): the damage-growth points of
-// the pnc law whose platelet-frame strain is block-diagonal (g23 = g13 = 0: every point of a
-// 2-D run, aligned or rotated about x3), in loops over the points instead of one
-// integrate_row_major() call each (a point whose capped mode grows at a repeated lambda_max is
-// handed back to the kernel, which takes Eigen's solver for the direction). For each point the
-// kernel's numbers (integrate_impl() in ndm.cpp), expression for expression and in its order: the
-// secant Cd = C0g + sum_m D_m dC1g_m, sigma = Cd eps, the consistent tangent Cd + sum_m a_m g_m
-// over the modes with damage growth (a = T^T dC1_m el, g = (dD_m / alpha) (d lambda_m / d el) T),
-// the stored energy and the released one, -1/2 sum_m (D1_m - D0_m) el . dC1_m el. Internal to the
+// Pass 4c of the batched NDM route (ndm_batch.cpp; decisions D399, D403): the damage-growth
+// points of the pnc law, in loops over the points instead of one integrate_row_major() call
+// each (a point whose capped mode grows at a repeated lambda_max is handed back to the kernel,
+// which takes Eigen's solver for the direction). For each point the kernel's numbers
+// (integrate_impl() in ndm.cpp), expression for expression and in its order: the secant Cd =
+// C0g + sum_m D_m dC1g_m, sigma = Cd eps, the consistent tangent Cd + sum_m a_m g_m over the
+// modes with damage growth (a = T^T dC1_m el, g = (dD_m / alpha) (d lambda_m / d el) T), the
+// stored energy and the released one, -1/2 sum_m (D1_m - D0_m) el . dC1_m el. Internal to the
 // damage library: included by ndm_batch.cpp only.
 #include "ndm_batch_chunk.hpp"
-
-#include <algorithm>
 #include "ndm_internal.hpp"
 #include "pnc/damage/ndm.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 
@@ -23,11 +21,11 @@ namespace pnc::damage::batch {
 // Every loop over components below is unrolled (#pragma GCC unroll): GCC vectorises only the
 // innermost loop, so the loop over the points must be the only loop left in its body.
 
-// d lambda_m / d el of a mode of a block-diagonal strain (stretch_row()): where the cap binds
-// (clip), the capped row (detail::capped_stretch_row()); else the unit row of the mode, plus
-// for modes 1 and 2 with shear t > 0 the shear entries f e_I, f = (d lambda / d t) 0.5 / (2 t).
-// Mode 1's shear entries are 5 and 4, mode 2's are 3 and 5 (stretch_row()'s pair_index); mode
-// 3 has no shear in a block-diagonal strain and its stretch 1 + e33 is never capped.
+// d lambda_m / d el of a mode (stretch_row()): where the cap binds (clip), the capped row
+// (detail::capped_stretch_row()); else the unit row of the mode, plus with shear t > 0 the
+// shear entries f e_I, f = (d lambda / d t) 0.5 / (2 t): entries 5 and 4 of mode 1, 3 and 5 of
+// mode 2, 4 and 3 of mode 3 (stretch_row()'s pair_index). (A block-diagonal strain has t = 0
+// and no cap in mode 3.)
 template <int M>
 [[gnu::always_inline]] inline void growth_row(double t, double grow, bool clip,
                                               const double (&capped)[6], const double (&l)[6],
@@ -36,16 +34,14 @@ template <int M>
   for (double& x : row)
     x = 0.0;
   row[M] = 1.0;
-  if constexpr (M < 2) {
-    const double f = grow * 0.5 / (2 * t);
-    const bool sheared = t > 0;
-    const int ia = M == 0 ? 5 : 3, ib = M == 0 ? 4 : 5;
-    row[ia] = sheared ? f * l[ia] : 0.0;
-    row[ib] = sheared ? f * l[ib] : 0.0;
+  const double f = grow * 0.5 / (2 * t);
+  const bool sheared = t > 0;
+  constexpr int ia = M == 0 ? 5 : (M == 1 ? 3 : 4), ib = M == 0 ? 4 : (M == 1 ? 5 : 3);
+  row[ia] = sheared ? f * l[ia] : 0.0;
+  row[ib] = sheared ? f * l[ib] : 0.0;
 #pragma GCC unroll 6
-    for (int k = 0; k < 6; ++k)
-      row[k] = clip ? capped[k] : row[k];
-  }
+  for (int k = 0; k < 6; ++k)
+    row[k] = clip ? capped[k] : row[k];
 }
 
 // T^T v with the columns of T in tc (tc[r][k] = T(k, r)): detail::transpose_times().
@@ -102,11 +98,14 @@ constexpr bool out_of_plane(int k) {
 // writes C0g), the secant Cd, or the consistent tangent.
 enum class GrowthK { none, secant, consistent };
 
-// The damage-growth points idx[0..u) of the chunk (D399).
-template <bool Rotated, GrowthK Kind>
+// The damage-growth points idx[0..u) of the chunk (D399, D403). Block: every one of them has a
+// block-diagonal platelet-frame strain, so mode 3 has no shear and no cap, and without rotation
+// the tangent entries of the out-of-plane shears are skipped (below).
+template <bool Rotated, bool Block, GrowthK Kind>
 [[gnu::always_inline]] inline void growth_points(const PreparedNdm& q, const std::size_t* idx,
                                                  std::size_t u, Chunk& c) {
   constexpr bool Consistent = Kind == GrowthK::consistent;
+  constexpr bool Skip = Block && !Rotated;
   const double alpha = q.p.alpha();
   const double ndb = detail::onset_margin(alpha);
   double tc[6][6];
@@ -119,8 +118,8 @@ template <bool Rotated, GrowthK Kind>
   double A[3][6][kChunk], G[3][6][kChunk], act[3][kChunk], ok[kChunk];
   // the points' inputs gathered into compact arrays, so that the loops below run without
   // indirection (the vectoriser has no gather for them)
-  double l[6][kChunk], k0[3][kChunk], dg[3][kChunk], t[kChunk], lmax[kChunk], grow[2][kChunk],
-      clip[2][kChunk];
+  double l[6][kChunk], k0[3][kChunk], dg[3][kChunk], t[3][kChunk], lmax[kChunk], grow[3][kChunk],
+      clip[3][kChunk];
   const std::size_t u4 = padded(u); // (lanes u..u4 repeat the last point; nothing of them is kept)
   for (std::size_t j = 0; j < u4; ++j) {
     const std::size_t i = idx[std::min(j, u - 1)];
@@ -135,10 +134,10 @@ template <bool Rotated, GrowthK Kind>
       dg[m][j] = c.dg[m][i];
       k0[m][j] = c.s0[m][i];
     }
-    t[j] = c.tsh[i];
     lmax[j] = c.lmax[i];
 #pragma GCC unroll 6
-    for (int m = 0; m < 2; ++m) {
+    for (int m = 0; m < 3; ++m) {
+      t[m][j] = c.tsh[m][i];
       grow[m][j] = c.grow[m][i];
       clip[m][j] = c.clip[m][i];
     }
@@ -153,22 +152,25 @@ template <bool Rotated, GrowthK Kind>
     for (int m = 0; m < 3; ++m)
       act[m][j] = dg[m][j] != 0.0 ? 1.0 : 0.0;
     double released = 0.0;
-    const bool clip0 = clip[0][j] != 0.0, clip1 = clip[1][j] != 0.0;
+    const bool clip0 = clip[0][j] != 0.0, clip1 = clip[1][j] != 0.0,
+               clip2 = !Block && clip[2][j] != 0.0;
     double capped[6] = {0, 0, 0, 0, 0, 0};
     // lambda_max's direction must be unique where a capped mode grows (1: the pass may take the
     // point); doubles, not bools: the vectoriser selects between doubles
     double direction = 1.0;
     if constexpr (Consistent) {
       const double unique = detail::capped_stretch_row(lj, lmax[j], capped) ? 1.0 : 0.0;
-      const bool capped_growth = (clip0 & (dg[0][j] != 0.0)) | (clip1 & (dg[1][j] != 0.0));
+      const bool capped_growth =
+          (clip0 & (dg[0][j] != 0.0)) | (clip1 & (dg[1][j] != 0.0)) | (clip2 & (dg[2][j] != 0.0));
       direction = capped_growth ? unique : 1.0;
     }
     growth_mode<0, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[0][j], D[0][j], dg[0][j],
-                                        t[j], grow[0][j], clip0, capped, released, a[0], g[0]);
+                                        t[0][j], grow[0][j], clip0, capped, released, a[0], g[0]);
     growth_mode<1, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[1][j], D[1][j], dg[1][j],
-                                        t[j], grow[1][j], clip1, capped, released, a[1], g[1]);
-    growth_mode<2, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[2][j], D[2][j], dg[2][j], 0.0,
-                                        1.0, false, capped, released, a[2], g[2]);
+                                        t[1][j], grow[1][j], clip1, capped, released, a[1], g[1]);
+    growth_mode<2, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[2][j], D[2][j], dg[2][j],
+                                        Block ? 0.0 : t[2][j], Block ? 1.0 : grow[2][j], clip2,
+                                        capped, released, a[2], g[2]);
     rel[j] = released;
     bad[j] = 0.0;
     ok[j] = direction;
@@ -177,7 +179,7 @@ template <bool Rotated, GrowthK Kind>
       for (int m = 0; m < 3; ++m)
 #pragma GCC unroll 6
         for (int k = 0; k < 6; ++k)
-          if (Rotated || !out_of_plane(k)) { // (the others are +-0: see below)
+          if (!Skip || !out_of_plane(k)) { // (the others are +-0: see below)
             A[m][k][j] = a[m][k];
             G[m][k][j] = g[m][k];
           }
@@ -212,7 +214,7 @@ template <bool Rotated, GrowthK Kind>
         // zero (C0g and dC1g_m have +0 there but on the diagonal, whose C44, C55 are > 0), so
         // adding the +-0 products would change no bit: those 20 of 36 are skipped (D399).
         if constexpr (Consistent)
-          if (Rotated || !(out_of_plane(r) || out_of_plane(col)))
+          if (!Skip || !(out_of_plane(r) || out_of_plane(col)))
 #pragma GCC unroll 3
             for (int m = 0; m < 3; ++m) {
               const double y = x + A[m][r][j] * G[m][col][j];

@@ -257,11 +257,12 @@ struct NdmBatch {
 struct NdmBatchStats {
   std::size_t elastic = 0;   ///< every mode below the damage onset: sigma = C0g eps
   std::size_t unloading = 0; ///< damaged, no damage growth: sigma = (C0g + sum D dC1g) eps
-  /// damage growth of a pnc point with a block-diagonal strain (every point of a 2-D run) and
-  /// no binding cap: the kernel's expressions in loops over the points (D399)
+  /// damage growth of a pnc point: the kernel's expressions in loops over the points (D399,
+  /// D403)
   std::size_t growth = 0;
-  std::size_t kernel =
-      0; ///< through integrate_row_major() (other damage growth, capped stretches, pp)
+  /// through integrate_row_major(): pp's damage growth, and a pnc point whose capped mode grows
+  /// at a repeated lambda_max when the consistent tangent is asked for
+  std::size_t kernel = 0;
   std::size_t failed = 0;       ///< non-finite input or result: nothing of the point written
   std::size_t first_failed = 0; ///< index of the first failed point (n when none failed)
 };
@@ -270,9 +271,9 @@ struct NdmBatchStats {
 /// for bit, as integrate_row_major() with the same kind (energies: see D261), and the same
 /// points fail (a non-finite strain, state or result). A failed point gets status bad_input
 /// and nothing else written; the others are computed. No allocation; the points are taken in
-/// chunks, grouped by path: elastic, unloading and (pnc, block-diagonal strains) damage-growth
-/// points in loops over the chunk that the compiler vectorises, the rest one by one through the
-/// kernel's routine.
+/// chunks, grouped by path: elastic, unloading and (pnc) damage-growth points in loops over the
+/// chunk that the compiler vectorises, the rest (pp's damage growth, a capped mode growing at a
+/// repeated lambda_max) one by one through the kernel's routine.
 NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b);
 
 /// The instruction set of integrate_batch()'s loops over points (decision D386). The batch is
