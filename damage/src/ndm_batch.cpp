@@ -7,7 +7,8 @@
 //     pp with lambda_max in two vectorised halves around its cosine, D402);
 //  3. kappa1, D1 and the path of each point: elastic (every mode below the onset), unloading
 //     (no mode with damage growth) or kernel (damage growth);
-//  4. sigma = C0g eps for the chunk, sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
+//  4. sigma = C0g eps for the chunk (run with pass 1's rotation, in the chunk's one form of the
+//     products with the strain, D401), sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
 //     points gathered into a compact block, the damage growth of pnc points in loops over a
 //     compact block as well (ndm_batch_growth.hpp, D399, D403), integrate_row_major() for the
 //     other kernel points (pp; a capped mode growing at a repeated lambda_max);
@@ -253,6 +254,13 @@ template <Planes P>
   }
 }
 
+// Passes 1b and 4a, which take the chunk's form of the products with the strain.
+template <Planes P>
+[[gnu::always_inline]] inline void strain_products(const PreparedNdm& q, std::size_t m, Chunk& c) {
+  rotate<P>(q, m, c);
+  elastic_stress<P>(q, m, c);
+}
+
 // Pass 4b: the unloading points, gathered into a compact block: sigma = Cd eps, Cd formed
 // entry by entry as the kernel does and, when their tangent is wanted (KeepSecant), kept in
 // c.Ku (D387). idx lists the points (u of them).
@@ -392,13 +400,15 @@ template <bool Avx2>
     const std::size_t m = std::min(kChunk, b.n - base);
     std::fill(c.bad, c.bad + m, 0.0);
     load(b, base, m, ns, c);
+    // the products with the strain in one form per chunk (D401): el = T eps and sigma = C0g eps
+    // of the elastic path (the later passes overwrite the other points' stress)
     const Planes planes = plane_kind(m, c);
     if (planes == Planes::all)
-      rotate<Planes::all>(q, m, c);
+      strain_products<Planes::all>(q, m, c);
     else if (planes == Planes::none)
-      rotate<Planes::none>(q, m, c);
+      strain_products<Planes::none>(q, m, c);
     else
-      rotate<Planes::mixed>(q, m, c);
+      strain_products<Planes::mixed>(q, m, c);
     if (model == Model::pnc)
       pnc_stretches(m, c);
     else
@@ -417,12 +427,6 @@ template <bool Avx2>
       else
         kidx[nk++] = i;
     }
-    if (planes == Planes::all)
-      elastic_stress<Planes::all>(q, m, c);
-    else if (planes == Planes::none)
-      elastic_stress<Planes::none>(q, m, c);
-    else
-      elastic_stress<Planes::mixed>(q, m, c);
     const bool want_K = b.kind != TangentKind::none && b.K;
     const bool secant = want_K && b.kind != TangentKind::elastic; // unloading: K = Cd
     if (nu && n == 3 && secant) unloading_stress<3, true>(q, uidx, nu, c);

@@ -182,6 +182,19 @@ pnc::damage::NdmBatchStats paths_of(const NdmParameters& p, const Blocks& b) {
                                       batch_view(copy, pnc::damage::TangentKind::none));
 }
 
+// One batched call over pts with `request`, which must succeed for every point, and each point
+// against the single-point entry, bit for bit.
+void expect_batch_equals_single(const pnc_material* m, const std::vector<Point>& pts, int request,
+                                const std::string& what) {
+  Blocks b(pts, pnc_material_n_state(m));
+  char err[512] = {0};
+  pnc_material_point_soa v = b.view(request, err, sizeof err);
+  ASSERT_EQ(pnc_material_integrate_batch(m, b.n, &v), PNC_MATERIAL_OK) << what << ": " << err;
+  EXPECT_EQ(v.n_failed, 0u) << what;
+  for (std::size_t i = 0; i < b.n; ++i)
+    expect_point_equal(m, pts, b, i, request, what);
+}
+
 // ------------------------------------------------------------------ equality
 TEST(FeMaterialBatch, EqualsTheSinglePointEntryOnEveryPathModelFrameAndRequest) {
   for (const Case& c : kCases) {
@@ -311,14 +324,8 @@ TEST(FeMaterialBatch, DegenerateStrainsGiveTheSinglePointBitsThroughTheGeneralSt
         }
       const std::string what = std::string(pnc::damage::model_name(model)) +
                                (general_only ? " general strains only" : " mixed");
-      for (int request : {PNC_MATERIAL_TANGENT_NONE, PNC_MATERIAL_TANGENT_CONSISTENT}) {
-        Blocks b(pts, pnc_material_n_state(m.get()));
-        char err[512] = {0};
-        pnc_material_point_soa v = b.view(request, err, sizeof err);
-        ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
-        for (std::size_t i = 0; i < b.n; ++i)
-          expect_point_equal(m.get(), pts, b, i, request, what);
-      }
+      for (int request : {PNC_MATERIAL_TANGENT_NONE, PNC_MATERIAL_TANGENT_CONSISTENT})
+        expect_batch_equals_single(m.get(), pts, request, what);
       const auto st = paths_of(p, Blocks(pts, pnc_material_n_state(m.get())));
       EXPECT_GT(st.kernel + st.growth, 0u) << what; // some points' damage grows
       EXPECT_GT(st.elastic, 0u) << what;
@@ -348,16 +355,11 @@ TEST(FeMaterialBatch, AGrowingThirdModeOfAGeneralStrainTakesTheGrowthPassWithThe
     }
   EXPECT_GT(capped, 0);   // a shear lifts the third mode's uncapped stretch above lambda_max
   EXPECT_GT(uncapped, 0); // the pure extensions
-  Blocks b(pts, pnc_material_n_state(m.get()));
-  char err[512] = {0};
-  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
-  ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
-  for (std::size_t i = 0; i < b.n; ++i)
-    expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT, "third mode");
+  expect_batch_equals_single(m.get(), pts, PNC_MATERIAL_TANGENT_CONSISTENT, "third mode");
   Blocks again(pts, pnc_material_n_state(m.get()));
   const auto st = pnc::damage::integrate_batch(
       pnc::damage::prepare(p), batch_view(again, pnc::damage::TangentKind::consistent));
-  EXPECT_EQ(st.growth, b.n); // every point's damage grows, none goes to the kernel
+  EXPECT_EQ(st.growth, pts.size()); // every point's damage grows, none goes to the kernel
   EXPECT_EQ(st.kernel, 0u);
 }
 
@@ -380,18 +382,13 @@ TEST(FeMaterialBatch, ACappedModeGrowingAtARepeatedLargestStretchGoesToTheKernel
     pt.de = e - pt.e0;
     pts.push_back(pt);
   }
-  Blocks b(pts, pnc_material_n_state(m.get()));
-  char err[512] = {0};
-  pnc_material_point_soa v = b.view(PNC_MATERIAL_TANGENT_CONSISTENT, err, sizeof err);
-  ASSERT_EQ(pnc_material_integrate_batch(m.get(), b.n, &v), PNC_MATERIAL_OK) << err;
-  for (std::size_t i = 0; i < b.n; ++i)
-    expect_point_equal(m.get(), pts, b, i, PNC_MATERIAL_TANGENT_CONSISTENT, "repeated");
+  expect_batch_equals_single(m.get(), pts, PNC_MATERIAL_TANGENT_CONSISTENT, "repeated");
   Blocks again(pts, pnc_material_n_state(m.get()));
   const auto st = paths_of(p, again); // stress only: no direction needed, the growth pass
-  EXPECT_EQ(st.growth, b.n);
+  EXPECT_EQ(st.growth, pts.size());
   const auto sk = pnc::damage::integrate_batch(
       pnc::damage::prepare(p), batch_view(again, pnc::damage::TangentKind::consistent));
-  EXPECT_EQ(sk.kernel, b.n); // the consistent tangent needs the direction: the kernel
+  EXPECT_EQ(sk.kernel, pts.size()); // the consistent tangent needs the direction: the kernel
   EXPECT_EQ(sk.growth, 0u);
 }
 
