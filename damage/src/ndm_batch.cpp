@@ -164,7 +164,6 @@ template <Model M, bool Mixed>
       c.lam[k][i] = keep ? c.lam[k][i] : lam;
     }
     if constexpr (M == Model::pnc) { // the pieces of the growth pass (D403)
-      c.vec_growth[i] = 1.0;
       c.lmax[i] = keep ? c.lmax[i] : lmax;
 #pragma GCC unroll 3
       for (int k = 0; k < 3; ++k) {
@@ -190,7 +189,6 @@ template <Model M, bool Mixed>
       c.lam[k][i] = b[k];
     // the pieces of the growth pass (D399; compute_stretch()'s clipped = un > lambda_max; mode
     // 3 has no shear and no cap)
-    c.vec_growth[i] = 1.0;
     c.lmax[i] = lmax;
     for (int k = 0; k < 2; ++k) {
       c.tsh[k][i] = t;
@@ -422,7 +420,7 @@ template <bool Avx2>
       if (c.bad[i] != 0.0) continue; // failed on input: no path
       if (c.path[i] == kUnloading) uidx[nu++] = i;
       if (c.path[i] != kKernel) continue;
-      if (model == Model::pnc && c.vec_growth[i] != 0.0)
+      if (model == Model::pnc)
         gidx[ng++] = i; // damage growth of a pnc point: the growth pass (D399, D403)
       else
         kidx[nk++] = i;

@@ -10,9 +10,9 @@
 namespace pnc::damage::batch {
 
 constexpr std::size_t kChunk = 32;
-// Chunk::path. kKernel: damage growth (a loading mode whose damage grows); such a point
-// takes the vectorised damage-growth pass when Chunk::vec_growth says so (D399, D403), else
-// integrate_row_major().
+// Chunk::path. kKernel: damage growth (a loading mode whose damage grows); a pnc point takes
+// the vectorised damage-growth pass (D399, D403), which may hand it back (Chunk::vec_growth),
+// a pp point integrate_row_major().
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0;
 
 // Scratch of one chunk (about 34 KB on the stack; no allocation).
@@ -33,11 +33,11 @@ struct Chunk {
   // Path (kElastic, kUnloading, kKernel) as a double: the loops that set it then hold one
   // element type, which the vectoriser needs.
   double path[kChunk];
-  // A pnc point (1) or not (0): its damage growth can take the vectorised pass (D399, D403;
-  // the pass sets 0 where lambda_max is repeated and a capped mode grows); with
-  // compute_stretch()'s Stretch pieces: lambda_max, the shear t_k of each mode (|g12| / 2 of
-  // modes 1 and 2 and 0 of mode 3 for a block-diagonal strain), d lambda_k / d t_k and whether
-  // the mode's cap binds (1) or not (0).
+  // Set by the growth pass for its points only: integrated there (1) or handed back to the
+  // kernel (0: a capped mode grows at a repeated lambda_max; D399, D403). The pieces the pass
+  // takes from the stretch pass (compute_stretch()'s Stretch): lambda_max, the shear t_k of each
+  // mode (|g12| / 2 of modes 1 and 2 and 0 of mode 3 for a block-diagonal strain),
+  // d lambda_k / d t_k and whether the mode's cap binds (1) or not (0).
   double vec_growth[kChunk];
   double lmax[kChunk];
   double tsh[3][kChunk];
