@@ -4,6 +4,8 @@
 #include "pnc/core/error.hpp"
 #include "pnc/fe_material/material.hpp"
 
+#include "material_checks.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -15,15 +17,13 @@
 
 namespace pnc::gimp {
 
-namespace {
-void check_jacobian(double J, const char* law) {
+void detail::check_jacobian(double J, const char* law) {
   if (!(J > 0.0) || !std::isfinite(J)) {
     std::ostringstream s;
     s << law << ": det F = " << J << ": the deformation gradient must have det F > 0";
     throw std::runtime_error(s.str());
   }
 }
-} // namespace
 
 // ---------------------------------------------------------------- many particles (D264)
 void Material::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
@@ -50,7 +50,7 @@ LinearElastic::LinearElastic(double rho0, double E, double nu)
 void LinearElastic::update(const Mat3& /*F0*/, const Mat3& F1, const double* /*s0*/, double* /*s1*/,
                            Mat3& sigma, double& W) const {
   const double J = F1.determinant();
-  check_jacobian(J, "linear_elastic");
+  detail::check_jacobian(J, "linear_elastic");
   const Mat3 E = 0.5 * (F1.transpose() * F1 - Mat3::Identity());
   const double tr = E.trace();
   const Mat3 S = lambda_ * tr * Mat3::Identity() + 2.0 * mu_ * E;
@@ -106,24 +106,7 @@ Mat3 HyperelasticPolymer::pk2(const Mat3& C) const {
   return 2.0 * dW;
 }
 
-void HyperelasticPolymer::update(const Mat3& /*F0*/, const Mat3& F1, const double* /*s0*/,
-                                 double* /*s1*/, Mat3& sigma, double& W) const {
-  const double J = F1.determinant();
-  check_jacobian(J, "hyperelastic_polymer");
-  // sigma = J^-1 F S F^T written with b = F F^T (F C^-1 F^T = I, F C F^T = b^2).
-  const Mat3 b = F1 * F1.transpose();
-  const Mat3 b2 = b * b;
-  const double I1 = b.trace();
-  const double I2 = 0.5 * (I1 * I1 - b2.trace());
-  const double I3 = J * J;
-  const double cj = std::cbrt(J);
-  const double r1 = 1.0 / (cj * cj); // I3^(-1/3) = J^(-2/3)
-  const double I2b = I2 * r1 * r1;
-  const Mat3 I = Mat3::Identity();
-  sigma = (2.0 / J) * (2 * c1_ * (I3 - 1) * I3 * I + c2_ * r1 * (b - I1 / 3.0 * I) +
-                       6 * c2_ * I2b * r1 * r1 * (I1 * b - b2 - 2.0 / 3.0 * I2 * I));
-  W = c1_ * (I3 - 1) * (I3 - 1) + c2_ * (I1 * r1 + 3 * I2b * I2b - 30.0);
-}
+// HyperelasticPolymer::update, update_many: hyperelastic.cpp (D405).
 
 // ---------------------------------------------------------------- polar decomposition
 void polar_decomposition(const Mat3& F, Mat3& R, Mat3& U) {
@@ -171,7 +154,7 @@ double DamageLaw::poisson_ratio() const {
 
 void DamageLaw::update(const Mat3& F0, const Mat3& F1, const double* s0, double* s1, Mat3& sigma,
                        double& W) const {
-  check_jacobian(F1.determinant(), "damage_card");
+  detail::check_jacobian(F1.determinant(), "damage_card");
   // Small strain eps = U - I of F = R U (decision D32).
   Mat3 R0, U0, R1, U1;
   polar_decomposition(F0, R0, U0);

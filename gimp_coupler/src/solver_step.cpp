@@ -6,6 +6,7 @@
 #include "pnc/gimp_coupler/stencil_weights.hpp"
 
 #include "solver_pool.hpp"
+#include "tensor_passes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -19,6 +20,17 @@ using detail::par;
 
 namespace {
 constexpr std::size_t kWeightChunk = 64; // particles per ugimp_weights call in P2G (D376)
+
+/// The doubles of an array of Eigen fixed-size vectors (D per node, no padding), as the row
+/// kernels take them (tensor_passes.hpp).
+template <class V> double* lanes(V* v) {
+  static_assert(sizeof(V) == V::SizeAtCompileTime * sizeof(double), "unpadded vectors");
+  return reinterpret_cast<double*>(v);
+}
+template <class V> const double* lanes(const V* v) {
+  static_assert(sizeof(V) == V::SizeAtCompileTime * sizeof(double), "unpadded vectors");
+  return reinterpret_cast<const double*>(v);
+}
 } // namespace
 
 // P2G of m, p, f^int (sigma^t, V^t), f^ext at x^t. (The f^int,* scatter happens in the stress
@@ -38,6 +50,8 @@ template <int D> void Solver<D>::scatter() {
     if (has_fext_ || T > 1) std::fill(fe, fe + nn, Vec::Zero());
     const auto [b, e] = block(t, T, P.size());
     Stencil<D> st;
+    const detail::RowKernels<D>& rk = detail::row_kernels<D>();
+    const detail::NodeArrays nodes{m, lanes(pp), lanes(fi), lanes(fe)};
     for (std::size_t p = b; p < e; ++p) {
       if ((p - b) % kWeightChunk == 0) { // the weights of the next chunk, SIMD (D376)
         const std::size_t n = std::min(kWeightChunk, e - p);
@@ -45,15 +59,12 @@ template <int D> void Solver<D>::scatter() {
             compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p, wcache_.data() + p);
         if (ok < n) left_grid(p + ok);
       }
-      assemble_stencil(grid, wcache_[p], st);
-      if (nfields_ > 1 && !near_crack(P.x[p])) {
-        fmask_[p] = 0;
-      } else if (nfields_ > 1) {
-        std::uint32_t mask = 0;
-        for (int k = 0; k < Stencil<D>::size; ++k)
-          if (st.S[k] > 0.0 && crosses(P.x[p], grid.position(st.node[k]))) mask |= 1u << k;
-        fmask_[p] = mask;
-        apply_fields(p, st);
+      if (nfields_ == 1 || !near_crack(P.x[p])) { // field 0 at every node: by rows (D404)
+        if (nfields_ > 1) fmask_[p] = 0;
+        const detail::P2GParticle<D> in{P.m[p], P.V[p], P.v[p].data(), P.sigma[p].data(),
+                                        P.fext[p].data()};
+        rk.scatter(grid, wcache_[p], in, has_fext_, nodes);
+        continue;
       }
       // Scalar loops: Eigen temporaries of small fixed-size products spilled to the stack and
       // caused store-forwarding stalls in this hot loop.
@@ -64,6 +75,12 @@ template <int D> void Solver<D>::scatter() {
           sV[a][c] = P.sigma[p](a, c) * P.V[p];
       }
       const double mp = P.m[p];
+      assemble_stencil(grid, wcache_[p], st);
+      std::uint32_t mask = 0;
+      for (int k = 0; k < Stencil<D>::size; ++k)
+        if (st.S[k] > 0.0 && crosses(P.x[p], grid.position(st.node[k]))) mask |= 1u << k;
+      fmask_[p] = mask;
+      apply_fields(p, st);
       for (int k = 0; k < Stencil<D>::size; ++k) {
         const std::int64_t i = st.node[k];
         const double S = st.S[k];
@@ -173,6 +190,7 @@ template <int D> void Solver<D>::update_stress(double dt) {
     const auto [b, e] = block(th, T, n);
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
     std::fill(fi, fi + nn, Vec::Zero());
+    const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     const auto stride = static_cast<std::size_t>(P.state_stride);
     // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of
     // one material (Material::update_many, the plugin's batched entry for a damage card), then
@@ -186,25 +204,45 @@ template <int D> void Solver<D>::update_stress(double dt) {
     for (std::size_t c0 = b; c0 < e; c0 += kChunk) {
       const std::size_t c1 = std::min(e, c0 + kChunk);
       for (std::size_t p = c0; p < c1; ++p) {
-        Stencil<D>& st = sts[p - c0];
-        assemble_stencil(grid, wcache_[p], st); // weights at x^t from the P2G pass
-        if (nfields_ > 1) apply_fields(p, st);
         // grad v* = sum v*_i (x) grad S_ip, with scalar accumulators (an Eigen outer-product
         // temporary here caused store-forwarding stalls that cost half of the 3-D step).
-        double g[D][D] = {};
-        for (int k = 0; k < Stencil<D>::size; ++k) {
-          const Vec& vi = gvs_[st.node[k]];
-          const Vec& dS = st.dS[k];
+        double g[D][D];
+        if (nfields_ == 1 || !fmask_[p]) { // weights at x^t from the P2G pass, by rows (D404)
+          rk.gradient(grid, wcache_[p], lanes(gvs_.data()), g);
+        } else {
+          Stencil<D>& st = sts[p - c0];
+          assemble_stencil(grid, wcache_[p], st);
+          apply_fields(p, st);
           for (int a = 0; a < D; ++a)
             for (int c = 0; c < D; ++c)
-              g[a][c] += vi[a] * dS[c];
+              g[a][c] = 0.0;
+          for (int k = 0; k < Stencil<D>::size; ++k) {
+            const Vec& vi = gvs_[st.node[k]];
+            const Vec& dS = st.dS[k];
+            for (int a = 0; a < D; ++a)
+              for (int c = 0; c < D; ++c)
+                g[a][c] += vi[a] * dS[c];
+          }
         }
-        Mat grad;
+        // F^t+dt = (I + dt grad v*) F^t in scalars: Eigen's product of temporaries wrote them
+        // as scalars and read them back as vectors (store-forwarding stalls, D404).
+        double A[D][D];
         for (int a = 0; a < D; ++a)
           for (int c = 0; c < D; ++c)
-            grad(a, c) = g[a][c];
-        F0[p - c0] = to3<D>(P.F[p]);
-        F1[p - c0] = to3<D>(Mat((Mat::Identity() + dt * grad) * P.F[p]));
+            A[a][c] = (a == c ? 1.0 : 0.0) + dt * g[a][c];
+        const Mat& Ft = P.F[p];
+        Mat3& f0 = F0[p - c0];
+        Mat3& f1 = F1[p - c0];
+        f0.setIdentity();
+        f1.setIdentity();
+        for (int a = 0; a < D; ++a)
+          for (int c = 0; c < D; ++c) {
+            double q = A[a][0] * Ft(0, c);
+            for (int k = 1; k < D; ++k)
+              q += A[a][k] * Ft(k, c);
+            f1(a, c) = q;
+            f0(a, c) = Ft(a, c);
+          }
       }
       for (std::size_t r0 = c0; r0 < c1;) {
         std::size_t r1 = r0 + 1;
@@ -227,19 +265,23 @@ template <int D> void Solver<D>::update_stress(double dt) {
         r0 = r1;
       }
       for (std::size_t p = c0; p < c1; ++p) {
-        const Stencil<D>& st = sts[p - c0];
-        double sV[D][D]; // V^t
-        for (int a = 0; a < D; ++a)
-          for (int c = 0; c < D; ++c)
-            sV[a][c] = P.sigma[p](a, c) * P.V[p];
-        for (int k = 0; k < Stencil<D>::size; ++k) {
-          const Vec& dS = st.dS[k];
-          Vec& f = fi[st.node[k]];
-          for (int a = 0; a < D; ++a) {
-            double q = 0.0;
+        if (nfields_ == 1 || !fmask_[p]) { // V^t
+          rk.scatter_force(grid, wcache_[p], P.sigma[p].data(), P.V[p], lanes(fi));
+        } else {
+          double sV[D][D]; // V^t
+          for (int a = 0; a < D; ++a)
             for (int c = 0; c < D; ++c)
-              q += sV[a][c] * dS[c];
-            f[a] -= q;
+              sV[a][c] = P.sigma[p](a, c) * P.V[p];
+          const Stencil<D>& st = sts[p - c0];
+          for (int k = 0; k < Stencil<D>::size; ++k) {
+            const Vec& dS = st.dS[k];
+            Vec& f = fi[st.node[k]];
+            for (int a = 0; a < D; ++a) {
+              double q = 0.0;
+              for (int c = 0; c < D; ++c)
+                q += sV[a][c] * dS[c];
+              f[a] -= q;
+            }
           }
         }
         const Mat Fnew = F1[p - c0].template topLeftCorner<D, D>();
@@ -333,28 +375,39 @@ template <int D> void Solver<D>::g2p(double dt) {
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
     Stencil<D> st;
+    const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     double wext = 0.0, ke = 0.0, se = 0.0;
     for (std::size_t p = b; p < e; ++p) {
-      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
-      if (nfields_ > 1) apply_fields(p, st);
-      double ddx[D] = {}, ddv[D] = {};
-      for (int k = 0; k < Stencil<D>::size; ++k) {
-        const std::int64_t i = st.node[k];
-        const double S = st.S[k];
-        for (int a = 0; a < D; ++a) {
-          ddx[a] += S * gvs_[i][a];
-          ddv[a] += S * (gvn_[i][a] - gp_[i][a]);
+      double ddx[D], ddv[D];
+      if (nfields_ == 1 || !fmask_[p]) { // by rows (D404)
+        rk.velocities(grid, wcache_[p], lanes(gvs_.data()), lanes(gvn_.data()), lanes(gp_.data()),
+                      ddx, ddv);
+      } else {
+        assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
+        apply_fields(p, st);
+        for (int a = 0; a < D; ++a)
+          ddx[a] = ddv[a] = 0.0;
+        for (int k = 0; k < Stencil<D>::size; ++k) {
+          const std::int64_t i = st.node[k];
+          const double S = st.S[k];
+          for (int a = 0; a < D; ++a) {
+            ddx[a] += S * gvs_[i][a];
+            ddv[a] += S * (gvn_[i][a] - gp_[i][a]);
+          }
         }
       }
-      Vec dx, dv;
+      // scalars: Eigen vectors written by component and read back whole stalled (D404)
+      double wx = 0.0, v2 = 0.0;
       for (int a = 0; a < D; ++a) {
-        dx[a] = dt * ddx[a];
-        dv[a] = ddv[a];
+        const double dx = dt * ddx[a];
+        wx += P.fext[p][a] * dx;
+        P.x[p][a] += dx;
+        const double v = P.v[p][a] + ddv[a];
+        P.v[p][a] = v;
+        v2 += v * v;
       }
-      wext += P.fext[p].dot(dx);
-      P.x[p] += dx;
-      P.v[p] += dv;
-      ke += 0.5 * P.m[p] * P.v[p].squaredNorm();
+      wext += wx;
+      ke += 0.5 * P.m[p] * v2;
       se += P.V0[p] * P.W[p];
     }
     part[static_cast<std::size_t>(th)] = {wext, ke, se};

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <limits>
 #include <random>
 #include <string>
@@ -271,5 +272,60 @@ TEST(GimpMaterials, UpdateManyEqualsUpdateOnEveryPathAndNamesTheFirstFailedPoint
     le.update_many(n, F0.data(), F1.data(), nullptr, 0, sl.data(), Wl.data());
     EXPECT_EQ(sl, sl_ref);
     EXPECT_EQ(Wl, Wl_ref);
+  }
+}
+
+// D405: x^(-1/3) of the hyperelastic law without libm. The last Newton step starts from a
+// relative error below 3e-10 (4 % initial guess, error -> 2 e^2 per step), so its truncation
+// error is below 2e-19; its roundings are y*y, *y, x*(..) (3 u on x y^3 ~ 1, absolute), 4 - t
+// (u on ~3), y*(..), the rounded constant 1/3 and the last product: at most 5 u relative to
+// first order (u = 2^-53). Reference: cbrtl in long double (64-bit mantissa).
+TEST(GimpMaterials, InverseCubeRootIsWithinItsRoundingBound) {
+  const long double u = 0x1p-53L, bound = 5 * u + 1e-18L;
+  std::mt19937 rng(405);
+  std::uniform_real_distribution<double> logx(-1000.0, 1000.0), near1(-0.5, 0.5);
+  auto check = [&](double x) {
+    const double y = HyperelasticPolymer::inverse_cbrt_for_tests(x);
+    const long double ref = 1.0L / cbrtl(static_cast<long double>(x));
+    ASSERT_LE(std::fabs(y / ref - 1.0L), bound) << "x = " << x << ", y = " << y;
+  };
+  for (int k = 0; k < 200000; ++k) {
+    check(std::exp2(logx(rng)));
+    check(1.0 + near1(rng)); // the det F of a solid's deformation
+  }
+  for (double x : {1.0, 8.0, 0.125, 0x1p-1000, 0x1p1000, 0x1.fffffffffffffp-1001, 0x1p1001,
+                   1e-310 /* subnormal: libm fallback */, 1e308})
+    check(x);
+}
+
+TEST(GimpMaterials, HyperelasticUpdateManyEqualsUpdateAndNamesTheFailedPoint) {
+  const HyperelasticPolymer m(1200, 1.8e8, 1.5e7);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-0.3, 0.3);
+  const std::size_t n = 37;
+  std::vector<Mat3> F(n), sig(n);
+  std::vector<double> W(n);
+  for (auto& f : F) {
+    f = Mat3::Identity();
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        f(i, k) += U(rng);
+  }
+  m.update_many(n, F.data(), F.data(), nullptr, 0, sig.data(), W.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    Mat3 s;
+    double w;
+    m.update(F[i], F[i], nullptr, nullptr, s, w);
+    EXPECT_EQ(s, sig[i]);
+    EXPECT_EQ(w, W[i]);
+    EXPECT_EQ(s, s.transpose()) << "Cauchy stress not symmetric";
+  }
+  F[23](0, 0) = -F[23](0, 0) - 5.0; // det F < 0
+  try {
+    m.update_many(n, F.data(), F.data(), nullptr, 0, sig.data(), W.data());
+    FAIL() << "no PointFailure";
+  } catch (const PointFailure& ex) {
+    EXPECT_EQ(ex.index(), 23u);
+    EXPECT_NE(std::string(ex.what()).find("det F"), std::string::npos) << ex.what();
   }
 }

@@ -107,9 +107,14 @@ public:
   std::string type() const override { return "hyperelastic_polymer"; }
   void update(const Mat3& F0, const Mat3& F1, const double* s0, double* s1, Mat3& sigma,
               double& W) const override;
+  /// update() of each particle without the base class's state copies (no state).
+  void update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state, std::size_t stride,
+                   Mat3* sigma, double* W) const override;
   double wave_speed() const override;
   double youngs_modulus() const override;
   double poisson_ratio() const override;
+  /// x^(-1/3) as update() computes it (x > 0; D405), for the tests.
+  static double inverse_cbrt_for_tests(double x);
   double c1() const { return c1_; }
   double c2() const { return c2_; }
   /// Strain energy density W(C) (J/m^3) and second Piola-Kirchhoff stress S = 2 dW/dC (Pa).
