@@ -4,6 +4,8 @@
 // exactly as ugimp_weight does. Units: m, 1/m.
 #include "pnc/gimp_coupler/weights_simd.hpp"
 
+#include "pnc/gimp_coupler/weights.hpp"
+
 // The AVX2 build exists where pnc/core/cpu.hpp says it can (GCC or Clang on x86); elsewhere both
 // entry points are the portable loop.
 #include "pnc/core/cpu.hpp"
@@ -91,5 +93,51 @@ void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, d
   else
     simd::ugimp_weights_default(n, xi, l, L, S, dS);
 }
+
+namespace {
+
+/// The branch-free loop as the weight step of axis_weights_many_body (inlined into each copy).
+struct BodyWeights {
+  inline __attribute__((always_inline)) void operator()(std::size_t n, const double* xi,
+                                                        const double* l, double L, double* S,
+                                                        double* dS) const {
+    weights_body(n, xi, l, L, S, dS);
+  }
+};
+
+template <int D>
+std::size_t axis_weights_many_default(const Grid<D>& g, std::size_t n,
+                                      const Eigen::Matrix<double, D, 1>* x,
+                                      const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  return axis_weights_many_body(g, n, x, l, aw, BodyWeights{});
+}
+
+// The offsets (floor, conversions) and the copies compiled for AVX2 too (D407): floor is one
+// rounding instruction there (SSE4.1), a longer sequence in the baseline; the same values.
+template <int D>
+PNC_TARGET_AVX2 std::size_t
+axis_weights_many_avx2(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  return axis_weights_many_body(g, n, x, l, aw, BodyWeights{});
+}
+
+} // namespace
+
+template <int D>
+std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
+                                      const Eigen::Matrix<double, D, 1>* x,
+                                      const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  return pnc::cpu_has_avx2() ? axis_weights_many_avx2(g, n, x, l, aw)
+                             : axis_weights_many_default(g, n, x, l, aw);
+}
+
+template std::size_t compute_axis_weights_many<2>(const Grid<2>&, std::size_t,
+                                                  const Eigen::Matrix<double, 2, 1>*,
+                                                  const Eigen::Matrix<double, 2, 1>*,
+                                                  AxisWeights<2>*);
+template std::size_t compute_axis_weights_many<3>(const Grid<3>&, std::size_t,
+                                                  const Eigen::Matrix<double, 3, 1>*,
+                                                  const Eigen::Matrix<double, 3, 1>*,
+                                                  AxisWeights<3>*);
 
 } // namespace pnc::gimp

@@ -104,9 +104,9 @@ template <int D> struct AxisWeights {
 /// xi[3a + k] = x_a - X_k (m) and the half-length hl[3a + k] = l_a (m) that ugimp_weight takes.
 /// Returns false if the support leaves the grid (a node index would fall outside [0, n_a)).
 template <int D>
-inline bool axis_offsets(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
-                         const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw, double* xi,
-                         double* hl) {
+inline __attribute__((always_inline)) bool
+axis_offsets(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
+             const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw, double* xi, double* hl) {
   for (int a = 0; a < D; ++a) {
     const double s = (x[a] - l[a] - g.origin[a]) / g.h;
     if (!(s >= 0.0)) return false; // also catches NaN
@@ -141,19 +141,28 @@ inline bool compute_axis_weights(const Grid<D>& g, const Eigen::Matrix<double, D
 }
 
 /// compute_axis_weights of particles [0, n) (x, l, aw indexed alike) in chunks of 64 with one
-/// ugimp_weights call per chunk: SIMD over particles and nodes (D376). Returns the first
-/// particle whose support leaves the grid (its aw and the rest of its chunk unset), or n.
+/// branch-free weight loop per chunk: SIMD over particles and nodes (D376), the whole function
+/// compiled for the baseline and for AVX2 with a run-time choice (D377, D407; same bits).
+/// Returns the first particle whose support leaves the grid (its aw and the rest of its chunk
+/// unset), or n. Defined for D = 2, 3 (weights_simd.cpp).
 template <int D>
-inline std::size_t
-compute_axis_weights_many(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
-                          const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
+                                      const Eigen::Matrix<double, D, 1>* x,
+                                      const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw);
+
+/// The body of compute_axis_weights_many with the weight loop `weights` (one of the copies of
+/// ugimp_weights); inlined into each compiled copy.
+template <int D, class Weights>
+inline __attribute__((always_inline)) std::size_t
+axis_weights_many_body(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw, Weights weights) {
   constexpr std::size_t kChunk = 64, m = 3 * D;
   double xi[kChunk * m], hl[kChunk * m], S[kChunk * m], dS[kChunk * m];
   for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
     const std::size_t c1 = std::min(n, c0 + kChunk);
     for (std::size_t p = c0; p < c1; ++p)
       if (!axis_offsets(g, x[p], l[p], aw[p], xi + (p - c0) * m, hl + (p - c0) * m)) return p;
-    ugimp_weights((c1 - c0) * m, xi, hl, g.h, S, dS);
+    weights((c1 - c0) * m, xi, hl, g.h, S, dS);
     for (std::size_t p = c0; p < c1; ++p) {
       std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &aw[p].w[0][0]);
       std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &aw[p].dw[0][0]);
