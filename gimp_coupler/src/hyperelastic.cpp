@@ -21,7 +21,7 @@ namespace {
 
 // The vector helpers are always inlined: the warning about the ABI of passing 32-byte vectors
 // between functions compiled with and without AVX does not apply.
-#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC diagnostic ignored "-Wpsabi" // GCC and Clang
 
 #define PNC_LAW_INLINE inline __attribute__((always_inline))
 
