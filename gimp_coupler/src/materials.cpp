@@ -109,7 +109,29 @@ Mat3 HyperelasticPolymer::pk2(const Mat3& C) const {
 // HyperelasticPolymer::update, update_many: hyperelastic.cpp (D405).
 
 // ---------------------------------------------------------------- polar decomposition
+namespace {
+/// F = R U for F = [F2 0; 0 F33] with det F2 > 0 and F33 > 0 (plane strain: F33 = 1), in closed
+/// form (D408): R2 is the rotation by theta with (cos, sin) = (a + d, c - b) / rho,
+/// rho = |(a + d, c - b)| = sqrt(|F2|^2 + 2 det F2) > 0, the one that makes R2^T F2 symmetric;
+/// U2 = R2^T F2 (trace rho, det = det F2 > 0: positive definite), its two off-diagonal values
+/// averaged (equal but for rounding). False if F is not of that form.
+bool polar_decomposition_plane(const Mat3& F, Mat3& R, Mat3& U) {
+  if (F(0, 2) != 0.0 || F(1, 2) != 0.0 || F(2, 0) != 0.0 || F(2, 1) != 0.0 || !(F(2, 2) > 0.0))
+    return false;
+  const double a = F(0, 0), b = F(0, 1), c = F(1, 0), d = F(1, 1);
+  if (!(a * d - b * c > 0.0)) return false;
+  const double rho = std::hypot(a + d, c - b);
+  if (!(rho > 0.0) || !std::isfinite(rho)) return false;
+  const double co = (a + d) / rho, si = (c - b) / rho;
+  R << co, -si, 0.0, si, co, 0.0, 0.0, 0.0, 1.0;
+  const double u01 = 0.5 * ((co * b + si * d) + (co * c - si * a));
+  U << co * a + si * c, u01, 0.0, u01, co * d - si * b, 0.0, 0.0, 0.0, F(2, 2);
+  return true;
+}
+} // namespace
+
 void polar_decomposition(const Mat3& F, Mat3& R, Mat3& U) {
+  if (polar_decomposition_plane(F, R, U)) return;
   Eigen::SelfAdjointEigenSolver<Mat3> es;
   es.compute(F.transpose() * F); // QR iterations: accurate to round-off (computeDirect is not)
   const Eigen::Vector3d lam = es.eigenvalues().cwiseMax(0.0).cwiseSqrt();

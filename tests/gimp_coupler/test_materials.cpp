@@ -329,3 +329,42 @@ TEST(GimpMaterials, HyperelasticUpdateManyEqualsUpdateAndNamesTheFailedPoint) {
     EXPECT_NE(std::string(ex.what()).find("det F"), std::string::npos) << ex.what();
   }
 }
+
+// D408: the closed form for plane deformations F = [F2 0; 0 F33]. The three properties that
+// define the polar decomposition, each within its rounding bound (u = 2^-53): R U = F within
+// 32 u |F|max (cos and sin within 2 u: hypot and a division; each entry of U a two-term product,
+// within 8 u |F|max with them; R U another two-term product), R^T R = I within 16 u, det R = 1
+// within 16 u, U exactly symmetric and positive definite; the same U as the eigen-solver path of
+// a general F (the block perturbed out of plane by 1e-300, below any rounding of the entries)
+// within the bound of that path's 1e-13 test.
+TEST(GimpMaterials, PlanePolarDecompositionIsExactToRounding) {
+  const double u = 0x1p-53;
+  std::mt19937 rng(408);
+  std::uniform_real_distribution<double> ang(-3.14159, 3.14159), lst(-1.6, 1.6), sh(-2.0, 2.0);
+  for (int k = 0; k < 20000; ++k) {
+    // F2 = Q diag(l1, l2) P^T: any rotation Q, stretches from 0.2 to 5 along any axes P
+    const double q = ang(rng), pa = ang(rng), l1 = std::exp(lst(rng)), l2 = std::exp(lst(rng));
+    Eigen::Matrix2d Q, P, L = Eigen::Vector2d(l1, l2).asDiagonal();
+    Q << std::cos(q), -std::sin(q), std::sin(q), std::cos(q);
+    P << std::cos(pa), -std::sin(pa), std::sin(pa), std::cos(pa);
+    Mat3 F = Mat3::Identity();
+    F.topLeftCorner<2, 2>() = Q * L * P.transpose();
+    if (k % 2) F(2, 2) = std::exp(0.3 * sh(rng)); // a 3-D block-diagonal F as well
+    Mat3 R, U;
+    polar_decomposition(F, R, U);
+    const double fmax = F.cwiseAbs().maxCoeff();
+    ASSERT_LE((R * U - F).cwiseAbs().maxCoeff(), 32 * u * fmax) << F;
+    ASSERT_LE((R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff(), 16 * u) << F;
+    ASSERT_NEAR(R.determinant(), 1.0, 16 * u) << F;
+    ASSERT_EQ(U, U.transpose());
+    ASSERT_GT(U.determinant(), 0.0);
+    ASSERT_GT(U(0, 0), 0.0);
+    if (k < 200) { // against the general (eigen-solver) path
+      Mat3 Fg = F, Rg, Ug;
+      Fg(0, 2) = 1e-300;
+      polar_decomposition(Fg, Rg, Ug);
+      EXPECT_LT((Ug - U).norm(), 1e-13 * fmax) << F;
+      EXPECT_LT((Rg - R).norm(), 1e-13) << F;
+    }
+  }
+}
