@@ -7,6 +7,7 @@
 #include "pnc/core/cpu.hpp"
 #include "pnc/gimp_coupler/materials.hpp"
 
+#include "inverse_cbrt.hpp"
 #include "material_checks.hpp"
 
 #include <algorithm>
@@ -23,8 +24,6 @@ namespace {
 // between functions compiled with and without AVX does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi" // GCC and Clang
 
-#define PNC_LAW_INLINE inline __attribute__((always_inline))
-
 typedef double v4 __attribute__((vector_size(32)));
 
 constexpr double kCbrtLo = 0x1p-1000, kCbrtHi = 0x1p1000;
@@ -32,7 +31,7 @@ constexpr double kCbrtLo = 0x1p-1000, kCbrtHi = 0x1p1000;
 /// The first guess of x^(-1/3) from the bits of x, 0x1p-1000 <= x <= 0x1p1000: the exponent and
 /// mantissa bits divided by -3 around those of 1.0, shifted by a constant that balances the
 /// guess's relative error over a period of the mantissa (|error| < 3.5 %).
-PNC_LAW_INLINE double inverse_cbrt_guess(double x) {
+[[gnu::always_inline]] inline double inverse_cbrt_guess(double x) {
   std::uint64_t i;
   std::memcpy(&i, &x, sizeof i);
   i = 0x553ef0ff289dd796ULL - i / 3;
@@ -44,20 +43,13 @@ PNC_LAW_INLINE double inverse_cbrt_guess(double x) {
 /// Four Newton steps y <- y (4 - x y^3) / 3 for f(y) = y^-3 - x: the relative error e goes to
 /// about 2 e^2 per step (0.035 -> 2.4e-3 -> 1.2e-5 -> 3e-10 -> 2e-19), so the last step leaves
 /// only its own rounding (at most 5 u to first order; GimpMaterials.InverseCubeRoot...).
-template <class T> PNC_LAW_INLINE T newton_inverse_cbrt(T x, T y) {
+template <class T> [[gnu::always_inline]] inline T newton_inverse_cbrt(T x, T y) {
   for (int k = 0; k < 4; ++k)
     y = y * (4.0 - x * (y * y * y)) * (1.0 / 3.0);
   return y;
 }
 
-/// x^(-1/3) for x > 0 without a division or libm; outside [2^-1000, 2^1000] (and for NaN, inf,
-/// subnormals) 1 / std::cbrt(x).
-double inverse_cbrt(double x) {
-  if (!(x >= kCbrtLo && x <= kCbrtHi)) return 1.0 / std::cbrt(x);
-  return newton_inverse_cbrt(x, inverse_cbrt_guess(x));
-}
-
-template <class T> PNC_LAW_INLINE T det3(const T (&F)[3][3]) {
+template <class T> [[gnu::always_inline]] inline T det3(const T (&F)[3][3]) {
   return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
          F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
          F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
@@ -67,8 +59,8 @@ template <class T> PNC_LAW_INLINE T det3(const T (&F)[3][3]) {
 /// sigma = J^-1 F S F^T written with b = F F^T (F C^-1 F^T = I, F C F^T = b^2), over the six
 /// components of the symmetric tensors.
 template <class T>
-PNC_LAW_INLINE void hyperelastic_body(double c1, double c2, const T (&F)[3][3], T J, T y,
-                                      T (&sig)[6], T& W) {
+[[gnu::always_inline]] inline void hyperelastic_body(double c1, double c2, const T (&F)[3][3], T J,
+                                                     T y, T (&sig)[6], T& W) {
   constexpr int I[6] = {0, 1, 2, 1, 0, 0}, K[6] = {0, 1, 2, 2, 2, 1};
   T b[3][3], b2[6];
   for (int v = 0; v < 6; ++v) {
@@ -94,7 +86,7 @@ PNC_LAW_INLINE void hyperelastic_body(double c1, double c2, const T (&F)[3][3], 
   W = c1 * (I3 - 1) * (I3 - 1) + c2 * (I1 * r1 + 3 * I2b * I2b - 30.0);
 }
 
-PNC_LAW_INLINE void store_voigt(const double (&s)[6], Mat3& sigma) {
+[[gnu::always_inline]] inline void store_voigt(const double (&s)[6], Mat3& sigma) {
   sigma(0, 0) = s[0];
   sigma(1, 1) = s[1];
   sigma(2, 2) = s[2];
@@ -106,8 +98,8 @@ PNC_LAW_INLINE void store_voigt(const double (&s)[6], Mat3& sigma) {
 /// The particles [0, n - n % 4) four at a time; returns how many were done (a group with a
 /// det F outside (0, inf) or a J^(-1/3) needing the libm fallback stops the loop there, and
 /// update_many() goes on point by point).
-PNC_LAW_INLINE std::size_t update_fours(double c1, double c2, std::size_t n, const Mat3* F1,
-                                        Mat3* sigma, double* W) {
+[[gnu::always_inline]] inline std::size_t update_fours(double c1, double c2, std::size_t n,
+                                                       const Mat3* F1, Mat3* sigma, double* W) {
   std::size_t p = 0;
   for (; p + 4 <= n; p += 4) {
     v4 F[3][3];
@@ -144,8 +136,10 @@ PNC_TARGET_AVX2 std::size_t update_fours_avx2(double c1, double c2, std::size_t 
 
 } // namespace
 
-double HyperelasticPolymer::inverse_cbrt_for_tests(double x) {
-  return inverse_cbrt(x);
+/// x^(-1/3) for x > 0 without a division or libm (inverse_cbrt.hpp).
+double detail::inverse_cbrt(double x) {
+  if (!(x >= kCbrtLo && x <= kCbrtHi)) return 1.0 / std::cbrt(x);
+  return newton_inverse_cbrt(x, inverse_cbrt_guess(x));
 }
 
 void HyperelasticPolymer::update(const Mat3& /*F0*/, const Mat3& F1, const double* /*s0*/,
@@ -157,7 +151,7 @@ void HyperelasticPolymer::update(const Mat3& /*F0*/, const Mat3& F1, const doubl
   const double J = det3(F);
   detail::check_jacobian(J, "hyperelastic_polymer");
   double s[6];
-  hyperelastic_body(c1_, c2_, F, J, inverse_cbrt(J), s, W);
+  hyperelastic_body(c1_, c2_, F, J, detail::inverse_cbrt(J), s, W);
   store_voigt(s, sigma);
 }
 

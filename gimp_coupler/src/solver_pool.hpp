@@ -98,13 +98,10 @@ private:
         cv_.wait(lk, fresh);
       }
       seen = gen_.load(std::memory_order_acquire);
-      const std::function<void(int)>* fn;
-      {
-        std::lock_guard<std::mutex> lk(mu_); // stop_ and fn_ were written under the mutex
-        if (stop_) return;
-        fn = fn_;
-      }
-      call(*fn, t);
+      // stop_ and fn_ were written before gen_'s release increment (~ThreadPool, run()), which
+      // the acquire load above has seen: no mutex needed to read them
+      if (stop_) return;
+      call(*fn_, t);
       if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
         std::lock_guard<std::mutex> lk(mu_); // no lost wake-up: run() tests under the mutex
         done_.notify_one();

@@ -10,8 +10,6 @@ namespace pnc::gimp::detail {
 
 namespace {
 
-#define PNC_ROW_INLINE inline __attribute__((always_inline))
-
 /// Row s of aw's stencil along axis 0 (see tensor_passes.hpp): its first node, r and rd
 /// (s = j in 2-D, 3 k + j in 3-D). Scalars computed where they are used: an array of rows
 /// filled first and read back made the compiler reload pairs of scalar stores as vectors
@@ -20,7 +18,7 @@ template <int D> struct Row {
   static constexpr int n = D == 2 ? 3 : 9;
   std::int64_t node;
   double r, rd[D - 1];
-  PNC_ROW_INLINE Row(const Grid<D>& g, const AxisWeights<D>& aw, int s) {
+  [[gnu::always_inline]] inline Row(const Grid<D>& g, const AxisWeights<D>& aw, int s) {
     const auto& w = aw.w;
     const auto& dw = aw.dw;
     if constexpr (D == 2) {
@@ -47,7 +45,7 @@ template <int L> struct Lanes {
   static constexpr int V = L / 4, R = L % 4;
   v4 v[V];
   double t[R];
-  PNC_ROW_INLINE static Lanes load(const double* p) {
+  [[gnu::always_inline]] inline static Lanes load(const double* p) {
     Lanes x;
     for (int k = 0; k < V; ++k)
       x.v[k] = *reinterpret_cast<const v4*>(p + 4 * k);
@@ -55,7 +53,7 @@ template <int L> struct Lanes {
       x.t[k] = p[4 * V + k];
     return x;
   }
-  PNC_ROW_INLINE static Lanes zero() {
+  [[gnu::always_inline]] inline static Lanes zero() {
     Lanes x;
     for (int k = 0; k < V; ++k)
       x.v[k] = v4{0.0, 0.0, 0.0, 0.0};
@@ -63,32 +61,32 @@ template <int L> struct Lanes {
       x.t[k] = 0.0;
     return x;
   }
-  PNC_ROW_INLINE void store(double* p) const {
+  [[gnu::always_inline]] inline void store(double* p) const {
     for (int k = 0; k < V; ++k)
       *reinterpret_cast<v4*>(p + 4 * k) = v[k];
     for (int k = 0; k < R; ++k)
       p[4 * V + k] = t[k];
   }
-  PNC_ROW_INLINE double operator[](int q) const {
+  [[gnu::always_inline]] inline double operator[](int q) const {
     return q < 4 * V ? v[q / 4][q % 4] : t[q - 4 * V];
   }
-  PNC_ROW_INLINE Lanes& operator+=(const Lanes& o) {
+  [[gnu::always_inline]] inline Lanes& operator+=(const Lanes& o) {
     for (int k = 0; k < V; ++k)
       v[k] += o.v[k];
     for (int k = 0; k < R; ++k)
       t[k] += o.t[k];
     return *this;
   }
-  PNC_ROW_INLINE Lanes& operator-=(const Lanes& o) {
+  [[gnu::always_inline]] inline Lanes& operator-=(const Lanes& o) {
     for (int k = 0; k < V; ++k)
       v[k] -= o.v[k];
     for (int k = 0; k < R; ++k)
       t[k] -= o.t[k];
     return *this;
   }
-  PNC_ROW_INLINE friend Lanes operator-(Lanes a, const Lanes& b) { return a -= b; }
-  PNC_ROW_INLINE friend Lanes operator+(Lanes a, const Lanes& b) { return a += b; }
-  PNC_ROW_INLINE friend Lanes operator*(double s, const Lanes& a) {
+  [[gnu::always_inline]] inline friend Lanes operator-(Lanes a, const Lanes& b) { return a -= b; }
+  [[gnu::always_inline]] inline friend Lanes operator+(Lanes a, const Lanes& b) { return a += b; }
+  [[gnu::always_inline]] inline friend Lanes operator*(double s, const Lanes& a) {
     Lanes x;
     for (int k = 0; k < V; ++k)
       x.v[k] = s * a.v[k];
@@ -100,7 +98,7 @@ template <int L> struct Lanes {
 
 /// The lanes q = D i + a of a row with value f(i, a), built in registers (filling an array
 /// and loading it as vectors would stall on store forwarding).
-template <int D, class F> PNC_ROW_INLINE Lanes<3 * D> lanes_of(F f) {
+template <int D, class F> [[gnu::always_inline]] inline Lanes<3 * D> lanes_of(F f) {
   using Ln = Lanes<3 * D>;
   Ln x;
   auto at = [&](int q) { return f(q / D, q % D); };
@@ -112,8 +110,9 @@ template <int D, class F> PNC_ROW_INLINE Lanes<3 * D> lanes_of(F f) {
 }
 
 template <int D>
-PNC_ROW_INLINE void scatter_body(const Grid<D>& g, const AxisWeights<D>& aw,
-                                 const P2GParticle<D>& in, bool external, const NodeArrays& out) {
+[[gnu::always_inline]] inline void scatter_body(const Grid<D>& g, const AxisWeights<D>& aw,
+                                                const P2GParticle<D>& in, bool external,
+                                                const NodeArrays& out) {
   using Ln = Lanes<3 * D>;
   const auto& w0 = aw.w[0];
   const auto& d0 = aw.dw[0];
@@ -156,8 +155,8 @@ PNC_ROW_INLINE void scatter_body(const Grid<D>& g, const AxisWeights<D>& aw,
 }
 
 template <int D>
-PNC_ROW_INLINE void scatter_force_body(const Grid<D>& g, const AxisWeights<D>& aw,
-                                       const double* sigma, double V, double* fi) {
+[[gnu::always_inline]] inline void scatter_force_body(const Grid<D>& g, const AxisWeights<D>& aw,
+                                                      const double* sigma, double V, double* fi) {
   using Ln = Lanes<3 * D>;
   const auto& w0 = aw.w[0];
   const auto& d0 = aw.dw[0];
@@ -181,8 +180,8 @@ PNC_ROW_INLINE void scatter_force_body(const Grid<D>& g, const AxisWeights<D>& a
 }
 
 template <int D>
-PNC_ROW_INLINE void gradient_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* v,
-                                  double (&grad)[D][D]) {
+[[gnu::always_inline]] inline void gradient_body(const Grid<D>& g, const AxisWeights<D>& aw,
+                                                 const double* v, double (&grad)[D][D]) {
   using Ln = Lanes<3 * D>;
   Ln acc[D]; // acc[0]: sum r v; acc[c]: sum rd[c-1] v
   for (int c = 0; c < D; ++c)
@@ -205,9 +204,9 @@ PNC_ROW_INLINE void gradient_body(const Grid<D>& g, const AxisWeights<D>& aw, co
 }
 
 template <int D>
-PNC_ROW_INLINE void velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs,
-                                    const double* vn, const double* v0, double (&vs_p)[D],
-                                    double (&dv_p)[D]) {
+[[gnu::always_inline]] inline void
+velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, const double* vn,
+                const double* v0, double (&vs_p)[D], double (&dv_p)[D]) {
   using Ln = Lanes<3 * D>;
   Ln ax = Ln::zero(), av = Ln::zero();
 #pragma GCC unroll 9

@@ -96,20 +96,31 @@ void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, d
 
 namespace {
 
-/// The branch-free loop as the weight step of axis_weights_many_body (inlined into each copy).
-struct BodyWeights {
-  inline __attribute__((always_inline)) void operator()(std::size_t n, const double* xi,
-                                                        const double* l, double L, double* S,
-                                                        double* dS) const {
-    weights_body(n, xi, l, L, S, dS);
+/// The body of compute_axis_weights_many (weights.hpp), inlined into each compiled copy.
+template <int D>
+[[gnu::always_inline]] inline std::size_t
+axis_weights_many_body(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  constexpr std::size_t kChunk = 64, m = 3 * D;
+  double xi[kChunk * m], hl[kChunk * m], S[kChunk * m], dS[kChunk * m];
+  for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
+    const std::size_t c1 = std::min(n, c0 + kChunk);
+    for (std::size_t p = c0; p < c1; ++p)
+      if (!axis_offsets(g, x[p], l[p], aw[p], xi + (p - c0) * m, hl + (p - c0) * m)) return p;
+    weights_body((c1 - c0) * m, xi, hl, g.h, S, dS);
+    for (std::size_t p = c0; p < c1; ++p) {
+      std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &aw[p].w[0][0]);
+      std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &aw[p].dw[0][0]);
+    }
   }
-};
+  return n;
+}
 
 template <int D>
 std::size_t axis_weights_many_default(const Grid<D>& g, std::size_t n,
                                       const Eigen::Matrix<double, D, 1>* x,
                                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  return axis_weights_many_body(g, n, x, l, aw, BodyWeights{});
+  return axis_weights_many_body(g, n, x, l, aw);
 }
 
 // The offsets (floor, conversions) and the copies compiled for AVX2 too (D407): floor is one
@@ -118,7 +129,7 @@ template <int D>
 PNC_TARGET_AVX2 std::size_t
 axis_weights_many_avx2(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
                        const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  return axis_weights_many_body(g, n, x, l, aw, BodyWeights{});
+  return axis_weights_many_body(g, n, x, l, aw);
 }
 
 } // namespace

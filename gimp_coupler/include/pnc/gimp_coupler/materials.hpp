@@ -113,8 +113,6 @@ public:
   double wave_speed() const override;
   double youngs_modulus() const override;
   double poisson_ratio() const override;
-  /// x^(-1/3) as update() computes it (x > 0; D405), for the tests.
-  static double inverse_cbrt_for_tests(double x);
   double c1() const { return c1_; }
   double c2() const { return c2_; }
   /// Strain energy density W(C) (J/m^3) and second Piola-Kirchhoff stress S = 2 dW/dC (Pa).

@@ -104,7 +104,7 @@ template <int D> struct AxisWeights {
 /// xi[3a + k] = x_a - X_k (m) and the half-length hl[3a + k] = l_a (m) that ugimp_weight takes.
 /// Returns false if the support leaves the grid (a node index would fall outside [0, n_a)).
 template <int D>
-inline __attribute__((always_inline)) bool
+[[gnu::always_inline]] inline bool
 axis_offsets(const Grid<D>& g, const Eigen::Matrix<double, D, 1>& x,
              const Eigen::Matrix<double, D, 1>& l, AxisWeights<D>& aw, double* xi, double* hl) {
   for (int a = 0; a < D; ++a) {
@@ -149,27 +149,6 @@ template <int D>
 std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
                                       const Eigen::Matrix<double, D, 1>* x,
                                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw);
-
-/// The body of compute_axis_weights_many with the weight loop `weights` (one of the copies of
-/// ugimp_weights); inlined into each compiled copy.
-template <int D, class Weights>
-inline __attribute__((always_inline)) std::size_t
-axis_weights_many_body(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
-                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw, Weights weights) {
-  constexpr std::size_t kChunk = 64, m = 3 * D;
-  double xi[kChunk * m], hl[kChunk * m], S[kChunk * m], dS[kChunk * m];
-  for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
-    const std::size_t c1 = std::min(n, c0 + kChunk);
-    for (std::size_t p = c0; p < c1; ++p)
-      if (!axis_offsets(g, x[p], l[p], aw[p], xi + (p - c0) * m, hl + (p - c0) * m)) return p;
-    weights((c1 - c0) * m, xi, hl, g.h, S, dS);
-    for (std::size_t p = c0; p < c1; ++p) {
-      std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &aw[p].w[0][0]);
-      std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &aw[p].dw[0][0]);
-    }
-  }
-  return n;
-}
 
 /// The 3^D stencil as the tensor product of per-axis weights: node indices and S, and grad S
 /// when `kGradients` (without it st.dS is left as it was; D378). One loop for both, so node
