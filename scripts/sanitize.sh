@@ -37,6 +37,13 @@ done
 jobs="$(nproc)"
 fuzz_seconds="${PNC_FUZZ_SECONDS:-20}"
 rss_mb="${PNC_FUZZ_RSS_MB:-2048}"
+for v in "PNC_FUZZ_SECONDS=$fuzz_seconds" "PNC_FUZZ_RSS_MB=$rss_mb"; do
+  [[ "${v#*=}" =~ ^[1-9][0-9]{0,6}$ ]] || {
+    echo "pnc sanitize: environment variable ${v%%=*}='${v#*=}' must be a positive whole number" >&2
+    exit 2
+  }
+done
+fuzz_wall_limit=$((fuzz_seconds + 120)) # s; see the fuzz loop below
 if [ "$full" = 1 ]; then
   build="${PNC_ASAN_BUILD:-$PNC_ROOT/build-asan-full}"
   options=(-DPNC_WITH_LAMMPS=ON -DPNC_BUILD_FUZZ=OFF -DPNC_SANITIZE=ON -DPNC_WITH_DEALII=ON)
@@ -105,10 +112,30 @@ if [ "$fuzz" = 1 ]; then
     # artifact is then replayed and triaged below.
     case "$name" in cases_h5 | card) mode=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1) ;; esac
     echo "pnc sanitize: fuzz_$name for ${fuzz_seconds} s" >&2
-    if ! nice -n 10 "$exe" "${mode[@]}" -max_total_time="$fuzz_seconds" -rss_limit_mb="$rss_mb" \
-      -malloc_limit_mb=1000000 -timeout=30 -print_final_stats=1 \
-      -artifact_prefix="$artifacts/$name/" "$work/$name" "$seeds" >"$work/$name.log" 2>&1; then
-      [ "${#mode[@]}" -gt 0 ] || { tail -n 60 "$work/$name.log" >&2; failed+=("$name"); continue; }
+    # A wall-clock bound on the whole run: libFuzzer's -timeout is per input, and a fork-mode
+    # child once stayed stuck in LeakSanitizer's stop-the-world after an HDF5 crash, its parent
+    # waiting on it for good. `timeout` signals the run's whole process group (children
+    # included). A run that hangs is run once more; a second hang fails, naming the target.
+    rc=0
+    for attempt in 1 2; do
+      rc=0
+      timeout --kill-after=10 "$fuzz_wall_limit" nice -n 10 "$exe" "${mode[@]}" \
+        -max_total_time="$fuzz_seconds" -rss_limit_mb="$rss_mb" \
+        -malloc_limit_mb=1000000 -timeout=30 -print_final_stats=1 \
+        -artifact_prefix="$artifacts/$name/" "$work/$name" "$seeds" >"$work/$name.log" 2>&1 || rc=$?
+      [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ] || break
+      echo "pnc sanitize: fuzz_$name did not end within $fuzz_wall_limit s (attempt $attempt of 2; killed)" >&2
+      tail -n 5 "$work/$name.log" >&2
+    done
+    if [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ]; then
+      echo "pnc sanitize: fuzz_$name: FAILURE: hung twice (${fuzz_wall_limit} s wall-clock bound, PNC_FUZZ_SECONDS=$fuzz_seconds + 120 s)" >&2
+      failed+=("$name")
+      continue
+    fi
+    if [ "$rc" -ne 0 ] && [ "${#mode[@]}" -eq 0 ]; then
+      tail -n 60 "$work/$name.log" >&2
+      failed+=("$name")
+      continue
     fi
     grep -E '^stat::number_of_executed_units|^INFO: exiting|^Done' "$work/$name.log" >&2 || true
     if ! grep -qE '^#[0-9]+' "$work/$name.log"; then # it must have run inputs at all
