@@ -173,8 +173,8 @@ inline Eigen::Matrix3d right_cauchy_green(const Voigt& v) {
   return C;
 }
 // Largest principal stretch of F(v): sqrt of the largest eigenvalue of C = F^T F (closed form:
-// the trigonometric solution of the characteristic cubic, one acos and one cos, one square root
-// for a block-diagonal C; ndm_internal.hpp, D402).
+// the trigonometric solution of the characteristic cubic, its cosine by a Newton iteration
+// (D409), one square root for a block-diagonal C; ndm_internal.hpp, D402).
 inline double largest_stretch(const Voigt& v) {
   double c[6];
   cauchy_green(v, c);

@@ -112,10 +112,10 @@ enum class Blocks { all, none, mixed };
 // Pass 2 for general strains (D402): the stretches of compute_stretch() (pnc: general_stretch(),
 // the caps by Sylvester's criterion; pp: lambda_max) in three loops over the points [0, m): C =
 // F^T F, the uncapped stretches, their caps and the first half of lambda_max^2 (vectorised);
-// the cosine of the points whose lambda_max is needed and not in closed form, point by point
-// (acos and cos have no vector form with the same rounding, D388); lambda_max and the capped
-// stretches (vectorised). Every expression is the kernel's (ndm_internal.hpp). Mixed: only the
-// points that are not block-diagonal take the results, the others keep theirs.
+// the cosine of the trigonometric form for every point (vectorised, D409; formerly libm's acos
+// and cos point by point, D388); lambda_max and the capped stretches (vectorised). Every expression
+// is the kernel's (ndm_internal.hpp). Mixed: only the points that are not block-diagonal take the
+// results, the others keep theirs.
 template <Model M, bool Mixed>
 [[gnu::always_inline]] inline void general_pass(std::size_t m, Chunk& c) {
   constexpr int N = M == Model::pnc ? 3 : 1;
@@ -151,10 +151,9 @@ template <Model M, bool Mixed>
     pp[i] = ppi;
     r[i] = ri;
     trig[i] = (t & need) ? 1.0 : 0.0;
-    cos3[i] = 0.0;
   }
-  for (std::size_t i = 0; i < m; ++i)
-    if (trig[i] != 0.0) cos3[i] = detail::eigen_cos(r[i]);
+  for (std::size_t i = 0; i < m; ++i) // every point: branch-free vector code (D409)
+    cos3[i] = detail::eigen_cos(r[i]);
   for (std::size_t i = 0; i < m; ++i) {
     const double lmax = std::sqrt(detail::eigen_end(val[i], q[i], pp[i], cos3[i], trig[i] != 0.0));
     const bool keep = Mixed && (c.el[3][i] == 0.0) & (c.el[4][i] == 0.0); // block-diagonal

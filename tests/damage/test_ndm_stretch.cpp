@@ -2,6 +2,7 @@
 // damage function, the source's energy functions (sigma = dpsi/de, D1), compliance of
 // engineering constants, and the mode stretches of D6/D7 (closed forms, Eigen's SVD, finite
 // differences). The integration itself: test_ndm_kernel.cpp.
+#include "ndm_internal.hpp"
 #include "ndm_test_support.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/damage/data.hpp"
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 using namespace pnc::damage;
 using namespace pnc_ndm_test;
@@ -278,6 +280,35 @@ TEST(ModeStretch, ClosedFormLargestStretchMatchesEigenOnDegenerateStrains) {
   for (const Voigt& c : cases)
     EXPECT_NEAR(mode_stretches(Model::pp, c, false).lambda_max, reference_largest_stretch(c), 1e-14)
         << c.transpose();
+}
+
+TEST(ModeStretch, CubicRootCosineIsWithinItsRoundingBound) {
+  // cos(acos(r) / 3) without libm (D409): c = 1/2 + w u, w = sqrt(1 + r), u by two Newton
+  // steps. Rounding bound for an exact r (u_r = 2^-53): w carries 1.5 u_r relative (1 + r,
+  // then the root), u about 3.5 u_r relative (the last residual 6u^2 + 4wu^3 - 1 of terms near
+  // 1, over a derivative above 4, and the update), so w u <= 1/2 is within 2.5 u_r and the sum
+  // 1/2 + w u adds half an ulp of c <= 1: about 3.5 u_r; asserted at 8 u_r. Reference:
+  // cosl(acosl(r) / 3) in 64-bit-mantissa long double (its own error ~1e-19). The grid is
+  // dense over [-1, 1] and geometric towards both ends (r = -1: the two largest eigenvalues
+  // meet, c = 1/2 with a square-root slope; r = 1: c = 1).
+  std::vector<double> rs;
+  for (int k = 0; k <= 20000; ++k)
+    rs.push_back(-1.0 + 2.0 * k / 20000.0);
+  for (int k = 1; k <= 60; ++k) {
+    rs.push_back(-1.0 + std::ldexp(1.0, -k));
+    rs.push_back(1.0 - std::ldexp(1.0, -k));
+  }
+  const double bound = 8.0 * std::ldexp(1.0, -53);
+  double worst = 0.0;
+  for (double r : rs) {
+    const long double ref = std::cos(std::acos(static_cast<long double>(r)) / 3.0L);
+    const double err = static_cast<double>(std::abs(pnc::damage::detail::eigen_cos(r) - ref));
+    worst = std::max(worst, err);
+    EXPECT_LE(err, bound) << "r = " << r;
+  }
+  EXPECT_NEAR(pnc::damage::detail::eigen_cos(1.0), 1.0, bound);
+  EXPECT_NEAR(pnc::damage::detail::eigen_cos(-1.0), 0.5, bound);
+  RecordProperty("worst_error_in_units_of_2^-53", std::to_string(worst / std::ldexp(1.0, -53)));
 }
 
 TEST(ModeStretch, PrincipalStretchIsObjectiveToFirstOrder) {
