@@ -158,6 +158,7 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     b.p.assign(nn, Vec::Zero());
     b.fi.assign(nn, Vec::Zero());
     b.fe.assign(nn, Vec::Zero());
+    b.lo = b.hi = 0; // all zero
   }
   update_energies();
   if (fresh_state) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 
 namespace pnc::gimp {
@@ -44,20 +45,38 @@ template <int D> void Solver<D>::scatter() {
     Vec* fi = T > 1 ? buf_[t].fi.data() : gfi_.data();
     Vec* fe = T > 1 ? buf_[t].fe.data() : gfe_.data();
     const std::size_t nn = gm_.size();
-    std::fill(m, m + nn, 0.0);
-    std::fill(pp, pp + nn, Vec::Zero());
-    std::fill(fi, fi + nn, Vec::Zero());
-    if (has_fext_ || T > 1) std::fill(fe, fe + nn, Vec::Zero());
+    // A thread's copy is zeroed where the last step wrote it, not over the whole grid (D410);
+    // until this pass ends, the whole copy counts as written (a particle that leaves the grid
+    // throws part-way).
+    std::size_t z0 = 0, z1 = nn;
+    if (T > 1) {
+      z0 = buf_[t].lo;
+      z1 = buf_[t].hi;
+      buf_[t].lo = 0;
+      buf_[t].hi = nn;
+    }
+    std::fill(m + z0, m + z1, 0.0);
+    std::fill(pp + z0, pp + z1, Vec::Zero());
+    std::fill(fi + z0, fi + z1, Vec::Zero());
+    if (has_fext_ || T > 1) std::fill(fe + z0, fe + z1, Vec::Zero());
     const auto [b, e] = block(t, T, P.size());
     Stencil<D> st;
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     const detail::NodeArrays nodes{m, lanes(pp), lanes(fi), lanes(fe)};
+    // the first nodes of the particles' stencils, lowest and highest (linear node index)
+    std::int64_t first_lo = std::numeric_limits<std::int64_t>::max(), first_hi = -1;
     for (std::size_t p = b; p < e; ++p) {
       if ((p - b) % kWeightChunk == 0) { // the weights of the next chunk, SIMD (D376)
         const std::size_t n = std::min(kWeightChunk, e - p);
         const std::size_t ok =
             compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p, wcache_.data() + p);
         if (ok < n) left_grid(p + ok);
+        if (T > 1)
+          for (std::size_t q = p; q < p + n; ++q) {
+            const std::int64_t i = grid.index(wcache_[q].i0);
+            first_lo = std::min(first_lo, i);
+            first_hi = std::max(first_hi, i);
+          }
       }
       if (nfields_ == 1 || !near_crack(P.x[p])) { // field 0 at every node: by rows (D404)
         if (nfields_ > 1) fmask_[p] = 0;
@@ -98,6 +117,16 @@ template <int D> void Solver<D>::scatter() {
         for (int k = 0; k < Stencil<D>::size; ++k)
           fe[st.node[k]] += st.S[k] * P.fext[p];
     }
+    if (T > 1 && nfields_ == 1 && first_hi >= 0) { // else (cracks: field copies) all of it
+      // a stencil spans nodes first .. first + 2 (1 + n0 [+ n0 n1]) of the linear index
+      std::int64_t span = 0;
+      for (int a = D - 1; a >= 0; --a)
+        span = span * grid.n[a] + 2;
+      buf_[t].lo = static_cast<std::size_t>(first_lo);
+      buf_[t].hi = std::min(nn, static_cast<std::size_t>(first_hi + span + 1));
+    } else if (T > 1 && first_hi < 0) {
+      buf_[t].lo = buf_[t].hi = 0; // no particle: nothing written
+    }
   });
   // The per-thread copies are summed by grid_velocities (D355); the displacement scatter
   // below reads only wcache_, the particles and gu_.
@@ -118,25 +147,31 @@ template <int D> void Solver<D>::scatter() {
 // Sums the per-thread grid copies of nodes [b, e) in thread order (f^int; with `first` also m,
 // p, f^ext). Called inside the node-block passes that use the sums (grid_velocities,
 // advance_grid) on the same blocks, so that the reduction costs no extra hand-over (D355).
+// Each copy is read only where it may be non-zero, [lo, hi) (D410): from zero, the copies added
+// in thread order give the sums of all copies bit for bit but for the sign of a zero.
 template <int D> void Solver<D>::reduce_nodes(bool first, std::size_t b, std::size_t e) {
   const int T = threads;
-  for (std::size_t i = b; i < e; ++i) {
-    Vec fi = buf_[0].fi[i];
-    for (int s = 1; s < T; ++s)
-      fi += buf_[s].fi[i];
-    gfi_[i] = fi;
-    if (first) {
-      double m = buf_[0].m[i];
-      Vec pp = buf_[0].p[i], fe = buf_[0].fe[i];
-      for (int s = 1; s < T; ++s) {
-        m += buf_[s].m[i];
-        pp += buf_[s].p[i];
-        fe += buf_[s].fe[i];
+  std::fill(gfi_.begin() + static_cast<std::ptrdiff_t>(b),
+            gfi_.begin() + static_cast<std::ptrdiff_t>(e), Vec::Zero());
+  if (first) {
+    std::fill(gm_.begin() + static_cast<std::ptrdiff_t>(b),
+              gm_.begin() + static_cast<std::ptrdiff_t>(e), 0.0);
+    std::fill(gp_.begin() + static_cast<std::ptrdiff_t>(b),
+              gp_.begin() + static_cast<std::ptrdiff_t>(e), Vec::Zero());
+    std::fill(gfe_.begin() + static_cast<std::ptrdiff_t>(b),
+              gfe_.begin() + static_cast<std::ptrdiff_t>(e), Vec::Zero());
+  }
+  for (int s = 0; s < T; ++s) {
+    const Buffer& c = buf_[static_cast<std::size_t>(s)];
+    const std::size_t i0 = std::max(b, c.lo), i1 = std::min(e, c.hi);
+    for (std::size_t i = i0; i < i1; ++i)
+      gfi_[i] += c.fi[i];
+    if (first)
+      for (std::size_t i = i0; i < i1; ++i) {
+        gm_[i] += c.m[i];
+        gp_[i] += c.p[i];
+        gfe_[i] += c.fe[i];
       }
-      gm_[i] = m;
-      gp_[i] = pp;
-      gfe_[i] = fe;
-    }
   }
 }
 
@@ -189,7 +224,11 @@ template <int D> void Solver<D>::update_stress(double dt) {
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
-    std::fill(fi, fi + nn, Vec::Zero());
+    // (this pass writes the nodes of scatter()'s pass, same particles and weights: D410)
+    if (T > 1)
+      std::fill(fi + buf_[th].lo, fi + buf_[th].hi, Vec::Zero());
+    else
+      std::fill(fi, fi + nn, Vec::Zero());
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     const auto stride = static_cast<std::size_t>(P.state_stride);
     // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of

@@ -242,9 +242,10 @@ public:
   void update_crack_geometry();
 
 private:
-  struct Buffer {
+  struct Buffer { // one thread's grid copy: zero outside the nodes [lo, hi) (D410)
     std::vector<double> m;
     std::vector<Vec> p, fi, fe;
+    std::size_t lo = 0, hi = 0;
   };
   struct Scratch { // per-thread chunk buffers of the stress update (solver_step.cpp)
     static constexpr std::size_t kChunk = 64;
