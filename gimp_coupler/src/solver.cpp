@@ -160,6 +160,9 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     b.fe.assign(nn, Vec::Zero());
     b.lo = b.hi = 0; // all zero
   }
+  touched_.assign(static_cast<std::size_t>(threads), {0, nn});
+  touch_lo_ = 0; // the first step's node passes: every node (D411)
+  touch_hi_ = nn;
   update_energies();
   if (fresh_state) {
     energy.initial = energy.kinetic + energy.strain;

@@ -39,6 +39,20 @@ template <class V> const double* lanes(const V* v) {
 template <int D> void Solver<D>::scatter() {
   auto& P = particles;
   const int T = threads;
+  // the nodes the last step's P2G touched (D411); until this pass ends, every node counts as
+  // touched (a particle that leaves the grid throws part-way)
+  const std::size_t last_lo = touch_lo_, last_hi = touch_hi_;
+  touch_lo_ = 0;
+  touch_hi_ = gm_.size();
+  // One thread: the global arrays are non-zero only there, and at the nodes where constrain()
+  // wrote velocities into gp_ (boundary conditions; their constrained components are written
+  // again after each use, but the sums start clean), zeroed here; every node with cracks or
+  // nodes prescribed by a coupling (D411).
+  const bool one_range = T == 1 && nfields_ == 1 && prescribed_nodes.empty();
+  if (one_range)
+    for (const auto& bc : bcs)
+      for (std::int64_t i : bc.nodes)
+        gp_[static_cast<std::size_t>(i)].setZero();
   par(pool_.get(), [&](int t) {
     double* m = T > 1 ? buf_[t].m.data() : gm_.data();
     Vec* pp = T > 1 ? buf_[t].p.data() : gp_.data();
@@ -48,7 +62,8 @@ template <int D> void Solver<D>::scatter() {
     // A thread's copy is zeroed where the last step wrote it, not over the whole grid (D410);
     // until this pass ends, the whole copy counts as written (a particle that leaves the grid
     // throws part-way).
-    std::size_t z0 = 0, z1 = nn;
+    std::size_t z0 = one_range ? last_lo : 0, z1 = one_range ? last_hi : nn;
+    touched_[static_cast<std::size_t>(t)] = {0, nn};
     if (T > 1) {
       z0 = buf_[t].lo;
       z1 = buf_[t].hi;
@@ -71,7 +86,7 @@ template <int D> void Solver<D>::scatter() {
         const std::size_t ok =
             compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p, wcache_.data() + p);
         if (ok < n) left_grid(p + ok);
-        if (T > 1)
+        if (nfields_ == 1)
           for (std::size_t q = p; q < p + n; ++q) {
             const std::int64_t i = grid.index(wcache_[q].i0);
             first_lo = std::min(first_lo, i);
@@ -117,17 +132,24 @@ template <int D> void Solver<D>::scatter() {
         for (int k = 0; k < Stencil<D>::size; ++k)
           fe[st.node[k]] += st.S[k] * P.fext[p];
     }
-    if (T > 1 && nfields_ == 1 && first_hi >= 0) { // else (cracks: field copies) all of it
-      // a stencil spans nodes first .. first + 2 (1 + n0 [+ n0 n1]) of the linear index
-      std::int64_t span = 0;
-      for (int a = D - 1; a >= 0; --a)
-        span = span * grid.n[a] + 2;
-      buf_[t].lo = static_cast<std::size_t>(first_lo);
-      buf_[t].hi = std::min(nn, static_cast<std::size_t>(first_hi + span + 1));
-    } else if (T > 1 && first_hi < 0) {
-      buf_[t].lo = buf_[t].hi = 0; // no particle: nothing written
+    if (nfields_ == 1) {          // else (cracks: field copies) all of it
+      std::size_t lo = 0, hi = 0; // no particle: nothing written
+      if (first_hi >= 0) {
+        // a stencil spans nodes first .. first + 2 (1 + n0 [+ n0 n1]) of the linear index
+        std::int64_t span = 0;
+        for (int a = D - 1; a >= 0; --a)
+          span = span * grid.n[a] + 2;
+        lo = static_cast<std::size_t>(first_lo);
+        hi = std::min(nn, static_cast<std::size_t>(first_hi + span + 1));
+      }
+      touched_[static_cast<std::size_t>(t)] = {lo, hi};
+      if (T > 1) {
+        buf_[t].lo = lo;
+        buf_[t].hi = hi;
+      }
     }
   });
+  node_pass_range(last_lo, last_hi);
   // The per-thread copies are summed by grid_velocities (D355); the displacement scatter
   // below reads only wcache_, the particles and gu_.
   if (nfields_ > 1) { // nodal displacements per field for the contact gap test (serial)
@@ -191,12 +213,37 @@ template <int D> void Solver<D>::constrain(std::vector<Vec>& vel, double t, bool
           prescribed_velocity[k];
 }
 
+// The nodes of this step's node passes (D411): those the particles touched now or in the last
+// step (a node that had mass then must be reset). Outside them every node had no mass in
+// either step, so the passes would write what it holds: zero, or a boundary condition's
+// velocity that constrain() writes every step. Every node with cracks (field copies) or
+// with nodes prescribed by a coupling.
+template <int D> void Solver<D>::node_pass_range(std::size_t last_lo, std::size_t last_hi) {
+  const std::size_t nn = gm_.size();
+  std::size_t lo = nn, hi = 0;
+  for (const auto& r : touched_)
+    if (r[1] > r[0]) {
+      lo = std::min(lo, r[0]);
+      hi = std::max(hi, r[1]);
+    }
+  if (hi <= lo) lo = hi = 0;
+  const bool all = nfields_ > 1 || !prescribed_nodes.empty();
+  pass_lo_ = all ? 0 : std::min(lo, last_lo);
+  pass_hi_ = all ? nn : std::max(hi, last_hi);
+  if (last_hi <= last_lo) { // nothing touched in the last step
+    pass_lo_ = all ? 0 : lo;
+    pass_hi_ = all ? nn : hi;
+  }
+  touch_lo_ = lo;
+  touch_hi_ = hi;
+}
+
 // Step 1: the P2G sums of the thread copies, nodal velocities v^t (kept in gp_) and v*.
 template <int D> void Solver<D>::grid_velocities(double dt) {
-  const std::size_t nn = gm_.size();
   const int T = threads;
   par(pool_.get(), [&](int th) {
-    const auto [b, e] = block(th, T, nn);
+    const auto [b0, e0] = block(th, T, pass_hi_ - pass_lo_);
+    const std::size_t b = pass_lo_ + b0, e = pass_lo_ + e0;
     if (T > 1) reduce_nodes(true, b, e);
     for (std::size_t i = b; i < e; ++i) {
       active_[i] = gm_[i] > mass_floor_;
@@ -219,7 +266,6 @@ template <int D> void Solver<D>::grid_velocities(double dt) {
 template <int D> void Solver<D>::update_stress(double dt) {
   auto& P = particles;
   const std::size_t n = P.size();
-  const std::size_t nn = gm_.size();
   const int T = threads;
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
@@ -227,8 +273,8 @@ template <int D> void Solver<D>::update_stress(double dt) {
     // (this pass writes the nodes of scatter()'s pass, same particles and weights: D410)
     if (T > 1)
       std::fill(fi + buf_[th].lo, fi + buf_[th].hi, Vec::Zero());
-    else
-      std::fill(fi, fi + nn, Vec::Zero());
+    else // (gfi_ holds the P2G forces there only; D411)
+      std::fill(fi + touch_lo_, fi + touch_hi_, Vec::Zero());
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     const auto stride = static_cast<std::size_t>(P.state_stride);
     // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of
@@ -334,10 +380,10 @@ template <int D> void Solver<D>::update_stress(double dt) {
 // Step 4: the f^int,* sums of the thread copies, v^t+dt at the nodes; returns the work of the
 // damping forces (D41).
 template <int D> double Solver<D>::advance_grid(double dt) {
-  const std::size_t nn = gm_.size();
   const int T = threads;
-  par(pool_.get(), [&](int th) {
-    const auto [b, e] = block(th, T, nn);
+  par(pool_.get(), [&](int th) { // the nodes of grid_velocities (D411)
+    const auto [b0, e0] = block(th, T, pass_hi_ - pass_lo_);
+    const std::size_t b = pass_lo_ + b0, e = pass_lo_ + e0;
     if (T > 1) reduce_nodes(false, b, e);
     for (std::size_t i = b; i < e; ++i)
       gvn_[i] = active_[i] ? Vec(gvs_[i] + (0.5 * dt / gm_[i]) * (gfi_[i] + gfe_[i]) -
@@ -358,7 +404,7 @@ template <int D> double Solver<D>::advance_grid(double dt) {
                 0.5 * (gvs_[i][a] + gvn_[i][a]) * gvs_[i][a]);
       return w;
     };
-    for (std::size_t i = 0; i < nn; ++i)
+    for (std::size_t i = pass_lo_; i < pass_hi_; ++i) // (no active node outside, D411)
       if (active_[i]) wdamp += dw(i);
     for (std::int64_t i0 : prescribed_nodes) // fully prescribed by a coupling: not damped
       for (int fld = 0; fld < nfields_; ++fld) {
@@ -466,6 +512,8 @@ template void Solver<2>::scatter();
 template void Solver<3>::scatter();
 template void Solver<2>::reduce_nodes(bool, std::size_t, std::size_t);
 template void Solver<3>::reduce_nodes(bool, std::size_t, std::size_t);
+template void Solver<2>::node_pass_range(std::size_t, std::size_t);
+template void Solver<3>::node_pass_range(std::size_t, std::size_t);
 template void Solver<2>::constrain(std::vector<Vec>&, double, bool) const;
 template void Solver<3>::constrain(std::vector<Vec>&, double, bool) const;
 template void Solver<2>::grid_velocities(double);

@@ -263,6 +263,7 @@ private:
   double reactions(double dt, double t);
   void g2p(double dt);
   void reduce_nodes(bool first, std::size_t b, std::size_t e);
+  void node_pass_range(std::size_t last_lo, std::size_t last_hi);
   void constrain(std::vector<Vec>& vel, double t, bool with_mass) const;
   void apply_fields(std::size_t p, Stencil<D>& st) const;
   void contact(std::vector<Vec>& vel) const;
@@ -271,13 +272,17 @@ private:
   Vec crack_normal(const Vec& X) const;
   [[noreturn]] void left_grid(std::size_t p) const;
 
-  std::vector<Buffer> buf_;      // per-thread grid copies
-  std::vector<Scratch> scratch_; // per-thread scratch of update_stress
-  std::vector<double> gm_;       // node mass, kg
-  std::vector<Vec> gp_;          // node momentum, then v_i^t (m/s)
-  std::vector<Vec> gfi_, gfe_;   // internal, external force, N
-  std::vector<Vec> gfi0_;        // f^int,t kept for the reaction and velocity update
-  std::vector<Vec> gvs_, gvn_;   // v*, v^t+dt
+  std::vector<Buffer> buf_; // per-thread grid copies
+  // D411: the nodes the particles touched in this step's P2G (all threads) and in the last
+  // step's; the node passes run over their union, [pass_lo_, pass_hi_)
+  std::size_t touch_lo_ = 0, touch_hi_ = 0, pass_lo_ = 0, pass_hi_ = 0;
+  std::vector<std::array<std::size_t, 2>> touched_; // per thread, this step's P2G
+  std::vector<Scratch> scratch_;                    // per-thread scratch of update_stress
+  std::vector<double> gm_;                          // node mass, kg
+  std::vector<Vec> gp_;                             // node momentum, then v_i^t (m/s)
+  std::vector<Vec> gfi_, gfe_;                      // internal, external force, N
+  std::vector<Vec> gfi0_;      // f^int,t kept for the reaction and velocity update
+  std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
   std::vector<unsigned char> active_;
   std::vector<unsigned char> bcmask_; // per node: bit a = component a prescribed by a BC
   std::size_t nnodes_ = 0;            // grid nodes; arrays hold nfields_ x nnodes_ entries
