@@ -128,10 +128,43 @@ bool polar_decomposition_plane(const Mat3& F, Mat3& R, Mat3& U) {
   U << co * a + si * c, u01, 0.0, u01, co * d - si * b, 0.0, 0.0, 0.0, F(2, 2);
   return true;
 }
+
+/// F = R U for det F > 0 by Higham's Newton iteration on the rotation (D412): X <- (g X +
+/// X^-T / g) / 2 from X = F, with the Frobenius-norm scaling g = (|X^-1| / |X|)^(1/2) while the
+/// step is large, unscaled once it is below 1e-2 |X|, stopping when a step is below 1e-9 |X|:
+/// that step is the error of the iterate it started from, and the quadratic convergence
+/// (error <= |X^-1| e^2 / 2) leaves the new iterate at a rounding-level error for |X^-1| up to
+/// 10^6.
+/// U = R^T F, symmetrised. Every iterate has a positive determinant, so R is a rotation.
+/// False (the caller takes the eigen solver) if det F is not positive and finite or the
+/// iteration has not converged within 40 steps.
+bool polar_decomposition_newton(const Mat3& F, Mat3& R, Mat3& U) {
+  const double det = F.determinant();
+  if (!(det > 0.0) || !std::isfinite(det)) return false;
+  Mat3 X = F;
+  bool scaled = true;
+  for (int k = 0; k < 40; ++k) {
+    const Mat3 Xi = X.inverse();
+    const double g = scaled ? std::sqrt(std::sqrt(Xi.squaredNorm() / X.squaredNorm())) : 1.0;
+    const Mat3 Xn = 0.5 * (g * X + Xi.transpose() / g);
+    const double step = (Xn - X).norm(), size = Xn.norm();
+    X = Xn;
+    if (!std::isfinite(step)) return false;
+    if (step < 1e-9 * size) {
+      R = X;
+      const Mat3 Ur = X.transpose() * F;
+      U = 0.5 * (Ur + Ur.transpose());
+      return true;
+    }
+    if (step < 1e-2 * size) scaled = false;
+  }
+  return false;
+}
 } // namespace
 
 void polar_decomposition(const Mat3& F, Mat3& R, Mat3& U) {
   if (polar_decomposition_plane(F, R, U)) return;
+  if (polar_decomposition_newton(F, R, U)) return;
   Eigen::SelfAdjointEigenSolver<Mat3> es;
   es.compute(F.transpose() * F); // QR iterations: accurate to round-off (computeDirect is not)
   const Eigen::Vector3d lam = es.eigenvalues().cwiseMax(0.0).cwiseSqrt();
