@@ -56,7 +56,8 @@ CsvTable read_csv(const std::string& path) {
                "column " + std::to_string(j + 1), "every column needs a name");
         for (std::size_t k = 0; k < j; ++k)
           if (cells[k] == cells[j])
-            fail(path, cells[j], "columns " + std::to_string(k + 1) + " and " + std::to_string(j + 1),
+            fail(path, cells[j],
+                 "columns " + std::to_string(k + 1) + " and " + std::to_string(j + 1),
                  "duplicated column name in the header (line " + std::to_string(lineno) +
                      "): every column must be named once");
       }

@@ -15,8 +15,8 @@ static_assert(std::atomic<int>::is_always_lock_free, "request() must be async-si
 
 StopToken::StopToken() {
   // shared with children forked later: a request in the parent is seen by them
-  void* p = ::mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS,
-                   -1, 0);
+  void* p =
+      ::mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) throw std::bad_alloc();
   s_ = new (p) Shared;
 }

@@ -57,8 +57,7 @@ bool covariance_known_errors(const Eigen::MatrixXd& J, Eigen::MatrixXd& cov) {
   return inverse_normal_matrix(J, cov);
 }
 
-bool covariance_sandwich(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,
-                         Eigen::MatrixXd& cov) {
+bool covariance_sandwich(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, Eigen::MatrixXd& cov) {
   Eigen::MatrixXd inv;
   if (!inverse_normal_matrix(J, inv)) return false;
   // Leverages h_ii = J_i (J^T J)^-1 J_i^T; HC3 weights r_i^2 / (1 - h_ii)^2.

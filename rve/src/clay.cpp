@@ -295,8 +295,8 @@ std::array<double, 3> composite_box(const md::BuildSpec& spec, const md::Polymer
   return {Lx, Lyz, Lyz};
 }
 
-md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff, const ClaySpec& clay,
-                       CompositeInfo* info) {
+md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff,
+                           const ClaySpec& clay, CompositeInfo* info) {
   spec.validate("<build>");
   ff.validate("<build>");
   clay.validate("<build>");

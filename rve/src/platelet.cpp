@@ -73,7 +73,7 @@ void check_kg_platelet_box(const md::BuildSpec& spec, const BeadSpringForceField
 }
 
 md::System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff, const Vec& centre,
-                      int mol) {
+                          int mol) {
   md::System s;
   const double a = p.spacing_sigma * ff.sigma;
   const int n = p.beads_side, m = p.layers;
@@ -107,7 +107,7 @@ md::System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff,
 }
 
 md::System build_kg_platelet(const md::BuildSpec& spec, const BeadSpringForceField& ff,
-                         const PlateletSpec& p, PlateletInfo* info) {
+                             const PlateletSpec& p, PlateletInfo* info) {
   spec.validate("<build>");
   ff.validate("<build>");
   p.validate("<build>");

@@ -101,8 +101,10 @@ void write_work_csv(const std::string& path, const WorkResult& r) {
   o << "case,point,e11_1,e22_1,e33_1,g23_1,g13_1,g12_1,da_J_per_m3,da_stderr_indep_J_per_m3,"
        "da_stderr_bound_J_per_m3,dA_J,dA_kcal_mol";
   if (r.runs == 2)
-    o << ",da_entropic_J_per_m3,da_entropic_stderr_indep_J_per_m3,da_entropic_stderr_bound_J_per_m3,"
-         "da_energetic_J_per_m3,da_energetic_stderr_indep_J_per_m3,da_energetic_stderr_bound_J_per_m3";
+    o << ",da_entropic_J_per_m3,da_entropic_stderr_indep_J_per_m3,da_entropic_stderr_bound_J_per_"
+         "m3,"
+         "da_energetic_J_per_m3,da_energetic_stderr_indep_J_per_m3,da_energetic_stderr_bound_J_per_"
+         "m3";
   o << '\n';
   for (const auto& c : r.cases)
     for (Eigen::Index k = 0; k < c.strain.rows(); ++k) {

@@ -47,7 +47,7 @@ struct PolymerBlockSpec {
   int min_beads_per_cell = 4;       ///< D105
   double strain_probe = 1e-2;       ///< D102
   bool measure_elastic = true;      ///< D102 (else elastic constants given by the user)
-  pnc::md::PolymerForceField ff;   ///< md/ defaults (sigma, epsilon, cutoff_sigma overridable)
+  pnc::md::PolymerForceField ff;    ///< md/ defaults (sigma, epsilon, cutoff_sigma overridable)
   /// Cases II/III (D114): >= 0 puts a weak interface on the line y = interface_row x h across
   /// the whole block: no bonded term crosses it (cut, like the faces) and the beads above it
   /// are atom type 2 with LJ epsilon x interface_fraction to type 1 (the same sigma).

@@ -80,16 +80,17 @@ md::System build_bead_spring(const md::BuildSpec& spec, const BeadSpringForceFie
 /// the platelet of platelet.hpp) are obstacles no bead centre may approach closer than
 /// `obstacle_min_distance` (A). The chains are appended: type 1, molecules 1..chains, bond type 1.
 /// build_bead_spring is this on an empty box (identical beads for a given seed).
-void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec, const BeadSpringForceField& ff,
-                             double obstacle_min_distance);
+void grow_bead_spring_chains(md::System& s, const md::BuildSpec& spec,
+                             const BeadSpringForceField& ff, double obstacle_min_distance);
 
 /// Smallest minimum-image distance (A) between beads that are not bonded (1-2) neighbours.
 double min_unbonded_distance(const md::System& s);
 
 /// HDF5 record of the build (spec, force field with its reduced-unit mapping, counts,
 /// positions, box, measured density and smallest distances). Written atomically.
-void write_bead_spring_record(const std::string& path, const md::System& s, const md::BuildSpec& spec,
-                              const BeadSpringForceField& ff, const std::string& recipe_json);
+void write_bead_spring_record(const std::string& path, const md::System& s,
+                              const md::BuildSpec& spec, const BeadSpringForceField& ff,
+                              const std::string& recipe_json);
 
 /// The glass protocol's rules on an EquilibrateSpec (on top of EquilibrateSpec::validate):
 /// ensemble "npt", hot_temperature > temperature, hot_steps >= 1000, cool_steps and npt_steps

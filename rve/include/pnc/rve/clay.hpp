@@ -128,8 +128,8 @@ std::array<double, 3> composite_box(const md::BuildSpec& spec, const md::Polymer
 
 /// Platelet centred in the box (clay atoms first, molecule chains + 1), then the chains
 /// grown around it (no bead closer than clay.min_distance to a clay atom).
-md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff, const ClaySpec& clay,
-                       CompositeInfo* info = nullptr);
+md::System build_composite(const md::BuildSpec& spec, const md::PolymerForceField& ff,
+                           const ClaySpec& clay, CompositeInfo* info = nullptr);
 
 /// Smallest minimum-image distance between a polymer bead (type 1) and a clay atom.
 double min_polymer_clay_distance(const md::System& s);

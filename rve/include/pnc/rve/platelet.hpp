@@ -18,8 +18,8 @@
 // its shape is its bonds'. Platelet-polymer: LJ 12-6 with eps_wp = epsilon_wp_reduced eps,
 // sigma_wp = sigma_wp_sigma sigma, cut at cutoff_sigma sigma_wp (the adhesion, so that the
 // interface can open: debonding). Why bonds, not a rigid body (fix rigid): decision D171.
-#include "pnc/rve/bead_spring.hpp"
 #include "pnc/md/builder.hpp"
+#include "pnc/rve/bead_spring.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -67,12 +67,12 @@ struct PlateletInfo {
 /// The platelet alone (atoms 0..n-1 of the result, type 2, molecule `mol`, bonds types 2, 3),
 /// centred at `centre` (A). Positions unwrapped.
 md::System build_platelet(const PlateletSpec& p, const BeadSpringForceField& ff,
-                      const std::array<double, 3>& centre, int mol);
+                          const std::array<double, 3>& centre, int mol);
 /// The composite: the platelet at the box centre, then the chains grown around it (the random
 /// walk of build_bead_spring, a trial bead also rejected when closer than min_distance_sigma
 /// sigma to a platelet bead). Deterministic for a given spec.
 md::System build_kg_platelet(const md::BuildSpec& spec, const BeadSpringForceField& ff,
-                         const PlateletSpec& p, PlateletInfo* info = nullptr);
+                             const PlateletSpec& p, PlateletInfo* info = nullptr);
 
 /// Upper bound of the angular frequencies (1/fs) of the platelet's bond network with its
 /// beads of mass ff.bead_mass: omega^2 <= 2 max_i lambda_max(sum over i's bonds of k e e^T) / m

@@ -15,9 +15,9 @@
 //     apart as reference_stderr;
 //   * N >= 2 replicas: mean over replicas, point error sd/sqrt(N) over replicas.
 // A moving average (analysis.moving_average > 1) is stored for display only (D133).
+#include "pnc/md/statistics.hpp"
 #include "pnc/rve/deform.hpp"
 #include "pnc/rve/recipe.hpp"
-#include "pnc/md/statistics.hpp"
 
 #include <nlohmann/json.hpp>
 
