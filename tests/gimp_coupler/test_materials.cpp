@@ -340,13 +340,28 @@ TEST(GimpMaterials, HyperelasticUpdateManyEqualsUpdateAndNamesTheFailedPoint) {
 // within 16 u, U exactly symmetric and positive definite; the same U as the eigen-solver path of
 // a general F (the block perturbed out of plane by 1e-300, below any rounding of the entries)
 // within the bound of that path's 1e-13 test.
+namespace {
+/// F = R U to rounding: R U = F within 32 u |F|_max, R^T R = I and det R = 1 within 16 u
+/// (u = 2^-53), U exactly symmetric.
+testing::AssertionResult polar_factors_to_rounding(const Mat3& F, const Mat3& R, const Mat3& U) {
+  const double u = 0x1p-53, fmax = F.cwiseAbs().maxCoeff();
+  if ((R * U - F).cwiseAbs().maxCoeff() > 32 * u * fmax)
+    return testing::AssertionFailure() << "R U != F for F =\n" << F;
+  if ((R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff() > 16 * u)
+    return testing::AssertionFailure() << "R not orthogonal for F =\n" << F;
+  if (std::abs(R.determinant() - 1.0) > 16 * u)
+    return testing::AssertionFailure() << "det R != 1 for F =\n" << F;
+  if (U != U.transpose()) return testing::AssertionFailure() << "U not symmetric for F =\n" << F;
+  return testing::AssertionSuccess();
+}
+} // namespace
+
 TEST(GimpMaterials, GeneralPolarDecompositionIsExactToRoundingAndMatchesTheSvd) {
   // 3-D F with det F > 0 take Higham's Newton iteration (D412). Bounds as for plane F below:
   // R U = F to a few units of rounding of |F|, R a rotation to rounding, U symmetric positive
   // definite; against the polar factors of Eigen's Jacobi SVD F = W S V^T (R = W V^T,
   // U = V S V^T; an independent algorithm), whose perturbation bound for R is |dF| / sigma_min
   // with sigma_min >= 0.2 here: 1e-13 leaves a factor > 10 to both methods' rounding.
-  const double u = 0x1p-53;
   std::mt19937 rng(412);
   std::uniform_real_distribution<double> ang(-3.14159, 3.14159), lst(-1.6, 1.6);
   auto rotation = [&] {
@@ -364,10 +379,7 @@ TEST(GimpMaterials, GeneralPolarDecompositionIsExactToRoundingAndMatchesTheSvd) 
     Mat3 R, U;
     polar_decomposition(F, R, U);
     const double fmax = F.cwiseAbs().maxCoeff();
-    ASSERT_LE((R * U - F).cwiseAbs().maxCoeff(), 32 * u * fmax) << F;
-    ASSERT_LE((R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff(), 16 * u) << F;
-    ASSERT_NEAR(R.determinant(), 1.0, 16 * u) << F;
-    ASSERT_EQ(U, U.transpose());
+    ASSERT_TRUE(polar_factors_to_rounding(F, R, U));
     ASSERT_GT(Eigen::SelfAdjointEigenSolver<Mat3>(U).eigenvalues().minCoeff(), 0.0) << F;
     if (k < 2000) {
       const Eigen::JacobiSVD<Mat3> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -389,7 +401,6 @@ TEST(GimpMaterials, GeneralPolarDecompositionIsExactToRoundingAndMatchesTheSvd) 
 }
 
 TEST(GimpMaterials, PlanePolarDecompositionIsExactToRounding) {
-  const double u = 0x1p-53;
   std::mt19937 rng(408);
   std::uniform_real_distribution<double> ang(-3.14159, 3.14159), lst(-1.6, 1.6), sh(-2.0, 2.0);
   for (int k = 0; k < 20000; ++k) {
@@ -404,10 +415,7 @@ TEST(GimpMaterials, PlanePolarDecompositionIsExactToRounding) {
     Mat3 R, U;
     polar_decomposition(F, R, U);
     const double fmax = F.cwiseAbs().maxCoeff();
-    ASSERT_LE((R * U - F).cwiseAbs().maxCoeff(), 32 * u * fmax) << F;
-    ASSERT_LE((R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff(), 16 * u) << F;
-    ASSERT_NEAR(R.determinant(), 1.0, 16 * u) << F;
-    ASSERT_EQ(U, U.transpose());
+    ASSERT_TRUE(polar_factors_to_rounding(F, R, U));
     ASSERT_GT(U.determinant(), 0.0);
     ASSERT_GT(U(0, 0), 0.0);
     if (k < 200) { // against the general (eigen-solver) path
