@@ -384,8 +384,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_batch: --points and --reps must be >= 1, --min-time > 0\n");
     return 2;
   }
-  std::printf("batch loops: %s (pnc::damage::BatchIsa, D386)\n",
-              pnc::damage::batch_isa_available(pnc::damage::BatchIsa::avx2) ? "AVX2" : "SSE2");
+  using pnc::damage::BatchIsa;
+  std::printf("batch loops: %s (pnc::damage::BatchIsa, D386, D413)\n",
+              pnc::damage::batch_isa_available(BatchIsa::avx512) ? "AVX-512"
+              : pnc::damage::batch_isa_available(BatchIsa::avx2) ? "AVX2"
+                                                                 : "SSE2");
   for (const Scenario& s : kScenarios) {
     if (!o.only.empty() && o.only != s.name) continue;
     for (const int request : {PNC_MATERIAL_TANGENT_CONSISTENT, PNC_MATERIAL_TANGENT_NONE})

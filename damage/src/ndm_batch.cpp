@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 // The AVX2 copy of the batch (D386) where pnc/core/cpu.hpp can compile one (GCC or Clang on
 // x86); elsewhere the baseline only.
@@ -342,6 +343,11 @@ template <bool R, bool B>
                                                    std::size_t ng, Chunk& c) {
   growth_impl(q, kind, block, gidx, ng, c);
 }
+[[gnu::noinline]] PNC_TARGET_AVX512 void growth_avx512(const PreparedNdm& q, TangentKind kind,
+                                                       bool block, const std::size_t* gidx,
+                                                       std::size_t ng, Chunk& c) {
+  growth_impl(q, kind, block, gidx, ng, c);
+}
 #endif
 
 // Pass 4d: a kernel point through integrate_row_major(); its tangent into K36 (pass 4c, the
@@ -381,9 +387,12 @@ template <bool R, bool B>
       c.bad[i] += nf(K36[k]);
 }
 
+// The copy of the batch: which instruction set run() is compiled for (D386, D413).
+enum class Copy { baseline, avx2, avx512 };
+
 // The whole batch, inlined (with every pass above) into one function per instruction set
 // below, so that each gets its own vectorised loops (D386).
-template <bool Avx2>
+template <Copy I>
 [[gnu::always_inline]] inline NdmBatchStats run(const PreparedNdm& q, const NdmBatch& b) {
   NdmBatchStats stats;
   stats.first_failed = b.n;
@@ -435,9 +444,10 @@ template <bool Avx2>
     for (std::size_t j = 0; j < ng; ++j)
       block = block && c.el[3][gidx[j]] == 0.0 && c.el[4][gidx[j]] == 0.0;
 #if PNC_HAVE_AVX2_COPY
-    if (ng && Avx2) growth_avx2(q, gk, block, gidx, ng, c);
+    if (ng && I == Copy::avx2) growth_avx2(q, gk, block, gidx, ng, c);
+    if (ng && I == Copy::avx512) growth_avx512(q, gk, block, gidx, ng, c);
 #endif
-    if (ng && !Avx2) growth_baseline(q, gk, block, gidx, ng, c);
+    if (ng && I == Copy::baseline) growth_baseline(q, gk, block, gidx, ng, c);
     for (std::size_t j = 0; j < ng; ++j) // lambda_max repeated where a capped mode grows
       if (c.vec_growth[gidx[j]] == 0.0) kidx[nk++] = gidx[j];
     for (std::size_t j = 0; j < nk; ++j)
@@ -473,17 +483,36 @@ template <bool Avx2>
 
 // SSE2, the project's baseline: for every x86-64 CPU.
 [[gnu::noinline]] NdmBatchStats run_baseline(const PreparedNdm& q, const NdmBatch& b) {
-  return run<false>(q, b);
+  return run<Copy::baseline>(q, b);
 }
 
 #if PNC_HAVE_AVX2_COPY
-// The same source for CPUs with AVX2 (4 doubles a vector). No FMA: the file is compiled with
-// -ffp-contract=off and "avx2" does not enable FMA, so every operation rounds as in the
-// baseline and the two functions give the same bits (D386).
+// The same source for CPUs with AVX2 (4 doubles a vector) and with AVX-512 (8 doubles a vector,
+// and masked loads and stores, D413). No FMA: the file is compiled with -ffp-contract=off and
+// neither target enables contraction, so every operation rounds as in the baseline and the
+// three functions give the same bits (D386).
 [[gnu::noinline]] PNC_TARGET_AVX2 NdmBatchStats run_avx2(const PreparedNdm& q, const NdmBatch& b) {
-  return run<true>(q, b);
+  return run<Copy::avx2>(q, b);
+}
+[[gnu::noinline]] PNC_TARGET_AVX512 NdmBatchStats run_avx512(const PreparedNdm& q,
+                                                             const NdmBatch& b) {
+  return run<Copy::avx512>(q, b);
 }
 #endif
+
+const char* isa_name(BatchIsa isa) {
+  switch (isa) {
+  case BatchIsa::automatic:
+    return "BatchIsa::automatic";
+  case BatchIsa::baseline:
+    return "BatchIsa::baseline";
+  case BatchIsa::avx2:
+    return "BatchIsa::avx2 (AVX2)";
+  case BatchIsa::avx512:
+    return "BatchIsa::avx512 (AVX-512 F, CD, VL, BW, DQ)";
+  }
+  return "an unknown BatchIsa value";
+}
 
 } // namespace
 
@@ -494,18 +523,25 @@ bool batch_isa_available(BatchIsa isa) {
     return true;
   case BatchIsa::avx2:
     return pnc::cpu_has_avx2(); // false where the build has no AVX2 copy (cpu.hpp)
+  case BatchIsa::avx512:
+    return pnc::cpu_has_avx512(); // the same for AVX-512
   }
   return false;
 }
 
 NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa isa) {
   if (!batch_isa_available(isa))
-    throw std::invalid_argument(
-        "pnc::damage::integrate_batch: instruction set BatchIsa::avx2 was requested, but this "
-        "CPU or build has no AVX2 (use BatchIsa::automatic or BatchIsa::baseline)");
+    throw std::invalid_argument(std::string("pnc::damage::integrate_batch: instruction set ") +
+                                isa_name(isa) +
+                                " was requested, but this CPU or build does not have it (use "
+                                "BatchIsa::automatic or BatchIsa::baseline)");
 #if PNC_HAVE_AVX2_COPY
-  if (isa == BatchIsa::avx2 || (isa == BatchIsa::automatic && pnc::cpu_has_avx2()))
-    return run_avx2(q, b);
+  if (isa == BatchIsa::automatic)
+    isa = pnc::cpu_has_avx512() ? BatchIsa::avx512
+          : pnc::cpu_has_avx2() ? BatchIsa::avx2
+                                : BatchIsa::baseline;
+  if (isa == BatchIsa::avx512) return run_avx512(q, b);
+  if (isa == BatchIsa::avx2) return run_avx2(q, b);
 #endif
   return run_baseline(q, b);
 }

@@ -604,35 +604,35 @@ TEST(FeMaterialBatch, TheSymbolCarriesMinorTwoAndTheWrapperReachesIt) {
 } // namespace
 
 // ------------------------------------------------------------------ instruction sets
-// The batch is compiled for SSE2 and for AVX2 from one source without fused multiply-adds
-// (D386): the two must give the same bits for every output on every path, including the
-// mixed, all-plane and all-general chunks and the points that fail. A CPU without AVX2 fails
-// this test (the AVX2 copy could not be checked there).
+// The batch is compiled for SSE2, AVX2 and AVX-512 from one source without fused multiply-adds
+// (D386, D413): the copies must give the same bits for every output on every path, including the
+// mixed, all-plane and all-general chunks and the points that fail.
+//
+// One policy for the vector copies (tests/CMakeLists.txt): where the configure check finds the
+// instruction set the copy is compared with the baseline bit for bit; elsewhere an explicit
+// request for it must be refused by name instead of running an illegal instruction.
+namespace {
 
-// One policy for the AVX2 copies (tests/CMakeLists.txt): where the configure check finds AVX2
-// the copy is compared with the baseline bit for bit; elsewhere an explicit request for it must
-// be refused by name instead of running an illegal instruction.
-#if !PNC_TEST_CPU_HAS_AVX2
-TEST(FeMaterialBatch, AnAvx2RequestIsRefusedOnACpuWithoutAvx2) {
-  using pnc::damage::BatchIsa;
-  EXPECT_FALSE(pnc::damage::batch_isa_available(BatchIsa::avx2));
+using pnc::damage::BatchIsa;
+
+[[maybe_unused]] void expect_request_refused(BatchIsa isa, const char* name) {
+  EXPECT_FALSE(pnc::damage::batch_isa_available(isa));
   auto m = make(params(Model::pnc, false));
   auto pts = make_points(m.get(), Model::pnc, 8, 386, 0.7, 0.2, 1);
   Blocks b(pts, pnc_material_n_state(m.get()), 3);
   const pnc::damage::NdmBatch view = batch_view(b, pnc::damage::TangentKind::none);
   try {
-    pnc::damage::integrate_batch(pnc::damage::prepare(params(Model::pnc, false)), view,
-                                 BatchIsa::avx2);
-    ADD_FAILURE() << "the AVX2 copy ran on a CPU without AVX2";
+    pnc::damage::integrate_batch(pnc::damage::prepare(params(Model::pnc, false)), view, isa);
+    ADD_FAILURE() << "the " << name << " copy ran on a CPU without " << name;
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("AVX2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
   }
 }
-#else
-TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
-  using pnc::damage::BatchIsa;
-  ASSERT_TRUE(pnc::damage::batch_isa_available(BatchIsa::avx2))
-      << "the configure check found AVX2, the library has no AVX2 copy or does not see it";
+
+[[maybe_unused]] void expect_same_bits_as_baseline(BatchIsa isa, const char* name) {
+  ASSERT_TRUE(pnc::damage::batch_isa_available(isa))
+      << "the configure check found " << name << ", the library has no " << name
+      << " copy or does not see it";
   const Eigen::Matrix3d in_3d = rotation_zx(30.0, 20.0);
   for (const Model model : {Model::pnc, Model::pp})
     for (const int plane_every : {5, 1, 0})
@@ -643,8 +643,9 @@ TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
         auto pts = make_points(m.get(), model, 150, 386, 0.7, 0.2, plane_every);
         pts[33].de[1] = std::numeric_limits<double>::quiet_NaN(); // a failing point
         const pnc::damage::PreparedNdm q = pnc::damage::prepare(p);
-        const std::string what = std::string(pnc::damage::model_name(model)) + " plane_every " +
-                                 std::to_string(plane_every) + (rotated ? " rotated" : "");
+        const std::string what = std::string(name) + ": " + pnc::damage::model_name(model) +
+                                 " plane_every " + std::to_string(plane_every) +
+                                 (rotated ? " rotated" : "");
         for (const auto kind :
              {pnc::damage::TangentKind::none, pnc::damage::TangentKind::consistent}) {
           Blocks out[2] = {Blocks(pts, pnc_material_n_state(m.get()), 3),
@@ -653,7 +654,7 @@ TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
           for (int v = 0; v < 2; ++v) {
             Blocks& b = out[v];
             st[v] = pnc::damage::integrate_batch(q, batch_view(b, kind),
-                                                 v == 0 ? BatchIsa::baseline : BatchIsa::avx2);
+                                                 v == 0 ? BatchIsa::baseline : isa);
           }
           EXPECT_EQ(st[0].elastic, st[1].elastic) << what;
           EXPECT_EQ(st[0].unloading, st[1].unloading) << what;
@@ -683,5 +684,26 @@ TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
           EXPECT_EQ(out[0].status, out[1].status) << what;
         }
       }
+}
+
+} // namespace
+
+#if PNC_TEST_CPU_HAS_AVX2
+TEST(FeMaterialBatch, TheAvx2AndBaselineCopiesGiveTheSameBits) {
+  expect_same_bits_as_baseline(BatchIsa::avx2, "AVX2");
+}
+#else
+TEST(FeMaterialBatch, AnAvx2RequestIsRefusedOnACpuWithoutAvx2) {
+  expect_request_refused(BatchIsa::avx2, "AVX2");
+}
+#endif
+
+#if PNC_TEST_CPU_HAS_AVX512
+TEST(FeMaterialBatch, TheAvx512AndBaselineCopiesGiveTheSameBits) {
+  expect_same_bits_as_baseline(BatchIsa::avx512, "AVX-512");
+}
+#else
+TEST(FeMaterialBatch, AnAvx512RequestIsRefusedOnACpuWithoutAvx512) {
+  expect_request_refused(BatchIsa::avx512, "AVX-512");
 }
 #endif

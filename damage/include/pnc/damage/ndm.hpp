@@ -276,11 +276,12 @@ struct NdmBatchStats {
 /// repeated lambda_max) one by one through the kernel's routine.
 NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b);
 
-/// The instruction set of integrate_batch()'s loops over points (decision D386). The batch is
-/// compiled twice from one source: for the project's baseline (SSE2) and, on x86-64 with GCC or
-/// Clang, for AVX2 (4 doubles a vector, no FMA); `automatic` takes AVX2 when the CPU has it.
-/// Both give the same numbers bit for bit; forcing one is for tests and benchmarks.
-enum class BatchIsa { automatic, baseline, avx2 };
+/// The instruction set of integrate_batch()'s loops over points (decisions D386, D413). The batch
+/// is compiled three times from one source: for the project's baseline (SSE2) and, on x86-64 with
+/// GCC or Clang, for AVX2 (4 doubles a vector) and AVX-512 (8 doubles a vector), never with
+/// FMA; `automatic` takes the widest the CPU has. All give the same numbers bit for bit; forcing
+/// one is for tests and benchmarks (and for a CPU whose clock drops on 512-bit vectors).
+enum class BatchIsa { automatic, baseline, avx2, avx512 };
 /// Whether integrate_batch(q, b, isa) can run `isa` on this CPU and build.
 bool batch_isa_available(BatchIsa isa);
 /// integrate_batch() on a chosen instruction set; throws std::invalid_argument (naming the
