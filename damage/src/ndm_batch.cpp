@@ -533,8 +533,9 @@ NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa 
   if (!batch_isa_available(isa))
     throw std::invalid_argument(std::string("pnc::damage::integrate_batch: instruction set ") +
                                 isa_name(isa) +
-                                " was requested, but this CPU or build does not have it (use "
-                                "BatchIsa::automatic or BatchIsa::baseline)");
+                                " was requested, but this CPU or build does not have it, or the "
+                                "environment variable PNC_SIMD caps it (use BatchIsa::automatic "
+                                "or BatchIsa::baseline)");
 #if PNC_HAVE_AVX2_COPY
   if (isa == BatchIsa::automatic)
     isa = pnc::cpu_has_avx512() ? BatchIsa::avx512

@@ -1,7 +1,7 @@
 // The hyperelastic polymer law's stress update (materials.hpp, HyperelasticPolymer; D405): one
 // body written for a scalar and for four particles at once (GCC/Clang vector extension), the
-// four-particle loop compiled for the baseline and for AVX2 (run-time choice as D377). Same
-// operations in the same order for both types and no FMA contraction (-ffp-contract=off,
+// four-particle loop compiled for the baseline, AVX2 and AVX-512 (run-time choice as D377, D414).
+// Same operations in the same order for both types and no FMA contraction (-ffp-contract=off,
 // CMakeLists.txt): update_many() equals update() bit for bit. SI units: F dimensionless,
 // sigma and W in Pa (J/m^3).
 #include "pnc/core/cpu.hpp"
@@ -134,6 +134,11 @@ PNC_TARGET_AVX2 std::size_t update_fours_avx2(double c1, double c2, std::size_t 
   return update_fours(c1, c2, n, F1, sigma, W);
 }
 
+PNC_TARGET_AVX512 std::size_t update_fours_avx512(double c1, double c2, std::size_t n,
+                                                  const Mat3* F1, Mat3* sigma, double* W) {
+  return update_fours(c1, c2, n, F1, sigma, W);
+}
+
 } // namespace
 
 /// x^(-1/3) for x > 0 without a division or libm (inverse_cbrt.hpp).
@@ -160,8 +165,9 @@ void HyperelasticPolymer::update_many(std::size_t n, const Mat3* F0, const Mat3*
                                       double* W) const {
   std::size_t p = 0;
   while (p < n) {
-    p += pnc::cpu_has_avx2() ? update_fours_avx2(c1_, c2_, n - p, F1 + p, sigma + p, W + p)
-                             : update_fours_baseline(c1_, c2_, n - p, F1 + p, sigma + p, W + p);
+    p += pnc::cpu_has_avx512() ? update_fours_avx512(c1_, c2_, n - p, F1 + p, sigma + p, W + p)
+         : pnc::cpu_has_avx2() ? update_fours_avx2(c1_, c2_, n - p, F1 + p, sigma + p, W + p)
+                               : update_fours_baseline(c1_, c2_, n - p, F1 + p, sigma + p, W + p);
     const std::size_t end = std::min(n, p + 4); // the remainder, or the group the loop left
     for (; p < end; ++p) {
       try {

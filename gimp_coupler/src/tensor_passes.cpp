@@ -1,7 +1,7 @@
-// The row kernels of the uGIMP step (tensor_passes.hpp, D404), compiled for the baseline and for
-// AVX2 (D377's run-time choice). Compiled with -O3 -ffp-contract=off (CMakeLists.txt): no FMA
-// contraction, and every lane loop keeps each lane's own order of operations, so both copies
-// give the same bits. Units as in tensor_passes.hpp.
+// The row kernels of the uGIMP step (tensor_passes.hpp, D404), compiled for the baseline, for
+// AVX2 and for AVX-512 (D377's run-time choice, D414). Compiled with -O3 -ffp-contract=off
+// (CMakeLists.txt): no FMA contraction, and every lane loop keeps each lane's own order of
+// operations, so all copies give the same bits. Units as in tensor_passes.hpp.
 #include "tensor_passes.hpp"
 
 #include "pnc/core/cpu.hpp"
@@ -224,7 +224,7 @@ velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, co
   }
 }
 
-// The two copies: the same bodies under the baseline and the AVX2 target.
+// The three copies: the same bodies under the baseline, the AVX2 and the AVX-512 targets.
 #define PNC_ROW_COPY(NS, ATTR)                                                                     \
   namespace NS {                                                                                   \
   template <int D>                                                                                 \
@@ -253,16 +253,18 @@ velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, co
 
 PNC_ROW_COPY(baseline, )
 PNC_ROW_COPY(avx2, PNC_TARGET_AVX2)
+PNC_ROW_COPY(avx512, PNC_TARGET_AVX512)
 #undef PNC_ROW_COPY
 
 } // namespace
 
 template <int D> const RowKernels<D>& row_kernels(int copy) {
-  return copy == 1 && PNC_HAVE_AVX2_COPY ? avx2::kernels<D> : baseline::kernels<D>;
+  if (!PNC_HAVE_AVX2_COPY) return baseline::kernels<D>;
+  return copy == 2 ? avx512::kernels<D> : copy == 1 ? avx2::kernels<D> : baseline::kernels<D>;
 }
 
 template <int D> const RowKernels<D>& row_kernels() {
-  return row_kernels<D>(pnc::cpu_has_avx2() ? 1 : 0);
+  return row_kernels<D>(pnc::cpu_has_avx512() ? 2 : pnc::cpu_has_avx2() ? 1 : 0);
 }
 
 template const RowKernels<2>& row_kernels<2>(int);

@@ -60,10 +60,11 @@ template <int D> struct RowKernels {
                      const double* v0, double (&vs_p)[D], double (&dv_p)[D]);
 };
 
-/// The copy for this CPU: AVX2 where pnc::cpu_has_avx2(), else the baseline build.
+/// The copy for this CPU: AVX-512 where pnc::cpu_has_avx512(), else AVX2 where
+/// pnc::cpu_has_avx2(), else the baseline build (D377, D414).
 template <int D> const RowKernels<D>& row_kernels();
-/// Both copies, for the tests: 0 = baseline, 1 = AVX2 (the baseline again where the build has
-/// no AVX2 copy, PNC_HAVE_AVX2_COPY = 0).
+/// Each copy, for the tests: 0 = baseline, 1 = AVX2, 2 = AVX-512 (the baseline again where the
+/// build has no vector copies, PNC_HAVE_AVX2_COPY = 0).
 template <int D> const RowKernels<D>& row_kernels(int copy);
 
 } // namespace pnc::gimp::detail

@@ -1,13 +1,13 @@
-// Branch-free uGIMP 1-D weights of many points (weights_simd.hpp, D376), baseline and AVX2
-// builds with a run-time choice (D377). Compiled with -O3 -ffp-contract=off
-// (gimp_coupler/CMakeLists.txt): no FMA contraction, so both builds round every operation
+// Branch-free uGIMP 1-D weights of many points (weights_simd.hpp, D376), baseline, AVX2 and
+// AVX-512 builds with a run-time choice (D377, D414). Compiled with -O3 -ffp-contract=off
+// (gimp_coupler/CMakeLists.txt): no FMA contraction, so every build rounds every operation
 // exactly as ugimp_weight does. Units: m, 1/m.
 #include "pnc/gimp_coupler/weights_simd.hpp"
 
 #include "pnc/gimp_coupler/weights.hpp"
 
-// The AVX2 build exists where pnc/core/cpu.hpp says it can (GCC or Clang on x86); elsewhere both
-// entry points are the portable loop.
+// The AVX2 and AVX-512 builds exist where pnc/core/cpu.hpp says it can (GCC or Clang on x86);
+// elsewhere both entry points are the portable loop.
 #include "pnc/core/cpu.hpp"
 
 namespace pnc::gimp {
@@ -84,11 +84,18 @@ PNC_TARGET_AVX2 void ugimp_weights_avx2(std::size_t n, const double* xi, const d
   weights_body(n, xi, l, L, S, dS);
 }
 
+PNC_TARGET_AVX512 void ugimp_weights_avx512(std::size_t n, const double* xi, const double* l,
+                                            double L, double* S, double* dS) {
+  weights_body(n, xi, l, L, S, dS);
+}
+
 } // namespace simd
 
 void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, double* S,
                    double* dS) {
-  if (pnc::cpu_has_avx2())
+  if (pnc::cpu_has_avx512())
+    simd::ugimp_weights_avx512(n, xi, l, L, S, dS);
+  else if (pnc::cpu_has_avx2())
     simd::ugimp_weights_avx2(n, xi, l, L, S, dS);
   else
     simd::ugimp_weights_default(n, xi, l, L, S, dS);
@@ -123,12 +130,20 @@ std::size_t axis_weights_many_default(const Grid<D>& g, std::size_t n,
   return axis_weights_many_body(g, n, x, l, aw);
 }
 
-// The offsets (floor, conversions) and the copies compiled for AVX2 too (D407): floor is one
-// rounding instruction there (SSE4.1), a longer sequence in the baseline; the same values.
+// The offsets (floor, conversions) and the copies compiled for AVX2 and AVX-512 too (D407,
+// D414): floor is one rounding instruction there (SSE4.1), a longer sequence in the baseline;
+// the same values.
 template <int D>
 PNC_TARGET_AVX2 std::size_t
 axis_weights_many_avx2(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
                        const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  return axis_weights_many_body(g, n, x, l, aw);
+}
+
+template <int D>
+PNC_TARGET_AVX512 std::size_t
+axis_weights_many_avx512(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                         const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
   return axis_weights_many_body(g, n, x, l, aw);
 }
 
@@ -138,6 +153,7 @@ template <int D>
 std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
                                       const Eigen::Matrix<double, D, 1>* x,
                                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+  if (pnc::cpu_has_avx512()) return axis_weights_many_avx512(g, n, x, l, aw);
   return pnc::cpu_has_avx2() ? axis_weights_many_avx2(g, n, x, l, aw)
                              : axis_weights_many_default(g, n, x, l, aw);
 }

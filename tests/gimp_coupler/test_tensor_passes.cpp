@@ -213,9 +213,10 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-template <int D> void check_copies_agree(int seed) {
+// The baseline copy against copy `copy` (1 = AVX2, 2 = AVX-512), bit for bit.
+template <int D> void check_copies_agree(int seed, int copy) {
   const auto& k0 = detail::row_kernels<D>(0);
-  const auto& k1 = detail::row_kernels<D>(1);
+  const auto& k1 = detail::row_kernels<D>(copy);
   std::mt19937 rng(static_cast<unsigned>(seed));
   for (int trial = 0; trial < 100; ++trial) {
     Setup<D> s(rng);
@@ -265,14 +266,22 @@ TEST(GimpTensorPasses, TheNodeByNodePathMeetsTheSameBound) {
 
 #if PNC_HAVE_AVX2_COPY && PNC_TEST_CPU_HAS_AVX2
 TEST(GimpTensorPasses, BaselineAndAvx2CopiesGiveTheSameBits) {
-  check_copies_agree<2>(7);
-  check_copies_agree<3>(8);
+  check_copies_agree<2>(7, 1);
+  check_copies_agree<3>(8, 1);
 }
 #endif
 
-TEST(GimpTensorPasses, TheChosenCopyIsTheAvx2OneWhereTheCpuHasIt) {
-  const bool avx2 = pnc::cpu_has_avx2();
-  EXPECT_EQ(&detail::row_kernels<2>(), &detail::row_kernels<2>(avx2 ? 1 : 0));
-  EXPECT_EQ(&detail::row_kernels<3>(), &detail::row_kernels<3>(avx2 ? 1 : 0));
+#if PNC_HAVE_AVX2_COPY && PNC_TEST_CPU_HAS_AVX512
+TEST(GimpTensorPasses, BaselineAndAvx512CopiesGiveTheSameBits) {
+  check_copies_agree<2>(9, 2);
+  check_copies_agree<3>(10, 2);
+}
+#endif
+
+TEST(GimpTensorPasses, TheChosenCopyIsTheWidestTheCpuHas) {
+  const int copy = pnc::cpu_has_avx512() ? 2 : pnc::cpu_has_avx2() ? 1 : 0;
+  EXPECT_EQ(&detail::row_kernels<2>(), &detail::row_kernels<2>(copy));
+  EXPECT_EQ(&detail::row_kernels<3>(), &detail::row_kernels<3>(copy));
   EXPECT_EQ(&detail::row_kernels<3>(1) != &detail::row_kernels<3>(0), PNC_HAVE_AVX2_COPY == 1);
+  EXPECT_EQ(&detail::row_kernels<3>(2) != &detail::row_kernels<3>(1), PNC_HAVE_AVX2_COPY == 1);
 }

@@ -87,6 +87,13 @@ TEST(GimpWeightsSimd, Avx2BuildEqualsTableBitForBit) {
 }
 #endif
 
+#if PNC_HAVE_AVX2_COPY && PNC_TEST_CPU_HAS_AVX512
+// The same for the AVX-512 build (D414).
+TEST(GimpWeightsSimd, Avx512BuildEqualsTableBitForBit) {
+  expect_equals_table(simd::ugimp_weights_avx512, "avx512");
+}
+#endif
+
 TEST(GimpWeightsSimd, DispatchEqualsTableBitForBit) {
   expect_equals_table(ugimp_weights, "dispatch");
 }

@@ -280,12 +280,14 @@ NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b);
 /// is compiled three times from one source: for the project's baseline (SSE2) and, on x86-64 with
 /// GCC or Clang, for AVX2 (4 doubles a vector) and AVX-512 (8 doubles a vector), never with
 /// FMA; `automatic` takes the widest the CPU has. All give the same numbers bit for bit; forcing
-/// one is for tests and benchmarks (and for a CPU whose clock drops on 512-bit vectors).
+/// one is for tests and benchmarks (and for a CPU whose clock drops on 512-bit vectors; the
+/// environment variable PNC_SIMD caps the choice for a whole process, D415).
 enum class BatchIsa { automatic, baseline, avx2, avx512 };
-/// Whether integrate_batch(q, b, isa) can run `isa` on this CPU and build.
+/// Whether integrate_batch(q, b, isa) can run `isa` on this CPU and build, under PNC_SIMD.
 bool batch_isa_available(BatchIsa isa);
 /// integrate_batch() on a chosen instruction set; throws std::invalid_argument (naming the
-/// instruction set) when !batch_isa_available(isa).
+/// instruction set) when !batch_isa_available(isa) (the CPU or build lacks it, or PNC_SIMD caps
+/// it).
 NdmBatchStats integrate_batch(const PreparedNdm& q, const NdmBatch& b, BatchIsa isa);
 
 /// Damage of one mode at the largest stretch kappa, as integrate() computes it: 0 up to the
