@@ -158,9 +158,8 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     b.p.assign(nn, Vec::Zero());
     b.fi.assign(nn, Vec::Zero());
     b.fe.assign(nn, Vec::Zero());
-    b.lo = b.hi = 0; // all zero
   }
-  touched_.assign(static_cast<std::size_t>(threads), {0, nn});
+  touched_.assign(static_cast<std::size_t>(threads), {0, nn}); // (the first P2G zeroes it all)
   touch_lo_ = 0; // the first step's node passes: every node (D411)
   touch_hi_ = nn;
   update_energies();

@@ -62,14 +62,13 @@ template <int D> void Solver<D>::scatter() {
     // A thread's copy is zeroed where the last step wrote it, not over the whole grid (D410);
     // until this pass ends, the whole copy counts as written (a particle that leaves the grid
     // throws part-way).
+    auto& touched = touched_[static_cast<std::size_t>(t)];
     std::size_t z0 = one_range ? last_lo : 0, z1 = one_range ? last_hi : nn;
-    touched_[static_cast<std::size_t>(t)] = {0, nn};
     if (T > 1) {
-      z0 = buf_[t].lo;
-      z1 = buf_[t].hi;
-      buf_[t].lo = 0;
-      buf_[t].hi = nn;
+      z0 = touched[0];
+      z1 = touched[1];
     }
+    touched = {0, nn};
     std::fill(m + z0, m + z1, 0.0);
     std::fill(pp + z0, pp + z1, Vec::Zero());
     std::fill(fi + z0, fi + z1, Vec::Zero());
@@ -142,11 +141,7 @@ template <int D> void Solver<D>::scatter() {
         lo = static_cast<std::size_t>(first_lo);
         hi = std::min(nn, static_cast<std::size_t>(first_hi + span + 1));
       }
-      touched_[static_cast<std::size_t>(t)] = {lo, hi};
-      if (T > 1) {
-        buf_[t].lo = lo;
-        buf_[t].hi = hi;
-      }
+      touched = {lo, hi};
     }
   });
   node_pass_range(last_lo, last_hi);
@@ -169,7 +164,7 @@ template <int D> void Solver<D>::scatter() {
 // Sums the per-thread grid copies of nodes [b, e) in thread order (f^int; with `first` also m,
 // p, f^ext). Called inside the node-block passes that use the sums (grid_velocities,
 // advance_grid) on the same blocks, so that the reduction costs no extra hand-over (D355).
-// Each copy is read only where it may be non-zero, [lo, hi) (D410): from zero, the copies added
+// Each copy is read only where it may be non-zero, touched_ (D410): from zero, the copies added
 // in thread order give the sums of all copies bit for bit but for the sign of a zero.
 template <int D> void Solver<D>::reduce_nodes(bool first, std::size_t b, std::size_t e) {
   const int T = threads;
@@ -185,7 +180,8 @@ template <int D> void Solver<D>::reduce_nodes(bool first, std::size_t b, std::si
   }
   for (int s = 0; s < T; ++s) {
     const Buffer& c = buf_[static_cast<std::size_t>(s)];
-    const std::size_t i0 = std::max(b, c.lo), i1 = std::min(e, c.hi);
+    const auto& r = touched_[static_cast<std::size_t>(s)];
+    const std::size_t i0 = std::max(b, r[0]), i1 = std::min(e, r[1]);
     for (std::size_t i = i0; i < i1; ++i)
       gfi_[i] += c.fi[i];
     if (first)
@@ -272,7 +268,8 @@ template <int D> void Solver<D>::update_stress(double dt) {
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
     // (this pass writes the nodes of scatter()'s pass, same particles and weights: D410)
     if (T > 1)
-      std::fill(fi + buf_[th].lo, fi + buf_[th].hi, Vec::Zero());
+      std::fill(fi + touched_[static_cast<std::size_t>(th)][0],
+                fi + touched_[static_cast<std::size_t>(th)][1], Vec::Zero());
     else // (gfi_ holds the P2G forces there only; D411)
       std::fill(fi + touch_lo_, fi + touch_hi_, Vec::Zero());
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();

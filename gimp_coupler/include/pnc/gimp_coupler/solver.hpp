@@ -242,10 +242,9 @@ public:
   void update_crack_geometry();
 
 private:
-  struct Buffer { // one thread's grid copy: zero outside the nodes [lo, hi) (D410)
+  struct Buffer { // one thread's grid copy: zero outside the nodes touched_ names (D410)
     std::vector<double> m;
     std::vector<Vec> p, fi, fe;
-    std::size_t lo = 0, hi = 0;
   };
   struct Scratch { // per-thread chunk buffers of the stress update (solver_step.cpp)
     static constexpr std::size_t kChunk = 64;
@@ -276,13 +275,15 @@ private:
   // D411: the nodes the particles touched in this step's P2G (all threads) and in the last
   // step's; the node passes run over their union, [pass_lo_, pass_hi_)
   std::size_t touch_lo_ = 0, touch_hi_ = 0, pass_lo_ = 0, pass_hi_ = 0;
-  std::vector<std::array<std::size_t, 2>> touched_; // per thread, this step's P2G
-  std::vector<Scratch> scratch_;                    // per-thread scratch of update_stress
-  std::vector<double> gm_;                          // node mass, kg
-  std::vector<Vec> gp_;                             // node momentum, then v_i^t (m/s)
-  std::vector<Vec> gfi_, gfe_;                      // internal, external force, N
-  std::vector<Vec> gfi0_;      // f^int,t kept for the reaction and velocity update
-  std::vector<Vec> gvs_, gvn_; // v*, v^t+dt
+  // per thread, the nodes [lo, hi) this step's P2G wrote ([0, nodes) until its pass ends); with
+  // 2+ threads its grid copy is zero outside them (D410)
+  std::vector<std::array<std::size_t, 2>> touched_;
+  std::vector<Scratch> scratch_; // per-thread scratch of update_stress
+  std::vector<double> gm_;       // node mass, kg
+  std::vector<Vec> gp_;          // node momentum, then v_i^t (m/s)
+  std::vector<Vec> gfi_, gfe_;   // internal, external force, N
+  std::vector<Vec> gfi0_;        // f^int,t kept for the reaction and velocity update
+  std::vector<Vec> gvs_, gvn_;   // v*, v^t+dt
   std::vector<unsigned char> active_;
   std::vector<unsigned char> bcmask_; // per node: bit a = component a prescribed by a BC
   std::size_t nnodes_ = 0;            // grid nodes; arrays hold nfields_ x nnodes_ entries
