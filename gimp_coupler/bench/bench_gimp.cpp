@@ -79,6 +79,31 @@ std::unique_ptr<Solver<D>> make_block(long n_target, int threads, bool wide = fa
   return s;
 }
 
+// Three warm-up steps, then one step per iteration at half the stable time step; the counters
+// every step benchmark reports (particles, threads, particle-steps/s in all and per thread) and,
+// with count_faults, the minor page faults per timed step (the first-touch test of the README's
+// bimodal step cost, D356).
+template <int D>
+void time_steps(benchmark::State& st, Solver<D>& s, int threads, bool count_faults) {
+  const double dt = 0.5 * s.stable_dt();
+  for (int i = 0; i < 3; ++i)
+    s.step(dt); // warm-up
+  const long faults0 = minor_faults();
+  for (auto _ : st)
+    s.step(dt);
+  const auto n = static_cast<double>(s.particles.size());
+  st.counters["particles"] = n;
+  if (count_faults)
+    st.counters["faults_per_step"] =
+        static_cast<double>(minor_faults() - faults0) /
+        static_cast<double>(std::max<benchmark::IterationCount>(1, st.iterations()));
+  st.counters["threads"] = static_cast<double>(threads);
+  st.counters["psteps_per_s"] =
+      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  st.counters["psteps_per_s_per_thread"] = benchmark::Counter(
+      n / static_cast<double>(threads), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 template <int D> void BM_Step(benchmark::State& st) {
   auto s = make_block<D>(st.range(0), static_cast<int>(st.range(1)));
   if constexpr (D == 2) {
@@ -95,39 +120,14 @@ template <int D> void BM_Step(benchmark::State& st) {
       s->initialize();
     }
   }
-  const double dt = 0.5 * s->stable_dt();
-  for (int i = 0; i < 3; ++i)
-    s->step(dt); // warm-up
-  const long faults0 = minor_faults();
-  for (auto _ : st)
-    s->step(dt);
-  const auto n = static_cast<double>(s->particles.size());
-  st.counters["particles"] = n;
-  // first-touch test of the README's bimodal step cost (D356): page faults in the timed steps
-  st.counters["faults_per_step"] =
-      static_cast<double>(minor_faults() - faults0) /
-      static_cast<double>(std::max<benchmark::IterationCount>(1, st.iterations()));
-  st.counters["threads"] = static_cast<double>(st.range(1));
-  st.counters["psteps_per_s"] =
-      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
-  st.counters["psteps_per_s_per_thread"] = benchmark::Counter(
-      n / static_cast<double>(st.range(1)), benchmark::Counter::kIsIterationInvariantRate);
+  time_steps(st, *s, static_cast<int>(st.range(1)), true);
 }
 
 /// BM_Step's block (no crack) in a background grid 3 times its size per axis (D410: the thread
 /// copies are zeroed and summed over the nodes the particles touch, not the whole grid).
 template <int D> void BM_StepWideGrid(benchmark::State& st) {
   auto s = make_block<D>(st.range(0), static_cast<int>(st.range(1)), true);
-  const double dt = 0.5 * s->stable_dt();
-  for (int i = 0; i < 3; ++i)
-    s->step(dt); // warm-up
-  for (auto _ : st)
-    s->step(dt);
-  const auto n = static_cast<double>(s->particles.size());
-  st.counters["particles"] = n;
-  st.counters["threads"] = static_cast<double>(st.range(1));
-  st.counters["psteps_per_s"] =
-      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  time_steps(st, *s, static_cast<int>(st.range(1)), false);
 }
 
 /// The step of a block whose particles were added in a shuffled order (as after much motion
@@ -151,15 +151,7 @@ template <int D> void BM_StepShuffled(benchmark::State& st) {
     shuffled->particles.add(P.x[k], P.l[k], P.m[k], P.V0[k], P.mat[k], P.v[k]);
   shuffled->sort_every = static_cast<int>(st.range(1));
   shuffled->initialize();
-  const double dt = 0.5 * shuffled->stable_dt();
-  for (int i = 0; i < 3; ++i)
-    shuffled->step(dt);
-  for (auto _ : st)
-    shuffled->step(dt);
-  const auto n = static_cast<double>(P.size());
-  st.counters["particles"] = n;
-  st.counters["psteps_per_s"] =
-      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  time_steps(st, *shuffled, 1, false);
 }
 
 /// One J / G_I / G_II evaluation (crack_tips, D38-D39) of the edge-cracked 2-D block of
