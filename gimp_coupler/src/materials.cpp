@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -252,6 +253,18 @@ struct BatchScratch {
 
 void DamageLaw::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
                             std::size_t stride, Mat3* sigma, double* W) const {
+  update_batch(n, F0, F1, state, stride, nullptr, 0, sigma, W);
+}
+
+void DamageLaw::update_many_cached(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                                   std::size_t stride, double* scratch, std::size_t scratch_stride,
+                                   Mat3* sigma, double* W) const {
+  update_batch(n, F0, F1, state, stride, scratch, scratch_stride, sigma, W);
+}
+
+void DamageLaw::update_batch(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                             std::size_t stride, double* scratch, std::size_t scratch_stride,
+                             Mat3* sigma, double* W) const {
   if (!law_->has_batch()) {
     Material::update_many(n, F0, F1, state, stride, sigma, W);
     return;
@@ -267,12 +280,24 @@ void DamageLaw::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, doubl
   thread_local BatchScratch b;
   b.resize(m, ns);
   const Mat3 I = Mat3::Identity();
+  constexpr std::size_t kF = 9 * sizeof(double);
   for (std::size_t i = 0; i < m; ++i) { // eps = U - I (D32), component blocks of ld = m
-    Mat3 R0, U0;
-    polar_decomposition(F0[i], R0, U0);
+    // eps of F0: the point's scratch when it holds this F0 (the last step's F1), else computed
+    double* c = scratch ? scratch + i * scratch_stride : nullptr;
+    std::array<double, 6> e0;
+    if (c && std::memcmp(c, F0[i].data(), kF) == 0) {
+      std::copy_n(c + 9, 6, e0.begin());
+    } else {
+      Mat3 R0, U0;
+      polar_decomposition(F0[i], R0, U0);
+      e0 = to_voigt_strain(U0 - I);
+    }
     polar_decomposition(F1[i], b.R1[i], b.U1[i]);
-    const auto e0 = to_voigt_strain(U0 - I);
     const auto e1 = to_voigt_strain(b.U1[i] - I);
+    if (c) { // (a pure function of F1: right whatever happens to the step)
+      std::memcpy(c, F1[i].data(), kF);
+      std::copy(e1.begin(), e1.end(), c + 9);
+    }
     for (std::size_t k = 0; k < 6; ++k) {
       b.e0[k * m + i] = e0[k];
       b.de[k * m + i] = e1[k] - e0[k];

@@ -141,6 +141,11 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   gvn_.assign(nn, Vec::Zero());
   active_.assign(nn, 0);
   wcache_.resize(n);
+  law_scratch_stride_ = 0;
+  for (const auto& mt : materials)
+    law_scratch_stride_ =
+        std::max(law_scratch_stride_, static_cast<std::size_t>(std::max(mt->n_scratch(), 0)));
+  law_scratch_.assign(n * law_scratch_stride_, 0.0); // (D416: nothing carried over)
   order_.resize(n);
   std::iota(order_.begin(), order_.end(), std::size_t{0});
   if (threads > 1 && (!pool_ || pool_->size() != threads))

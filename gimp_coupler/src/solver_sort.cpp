@@ -76,6 +76,13 @@ template <int D> void Solver<D>::sort_particles() {
   // The next P2G recomputes these for every particle; permuted anyway so that nothing read
   // between steps sees another particle's weights or crack fields.
   if (wcache_.size() == n) permute(wcache_, perm);
+  const std::size_t ls = law_scratch_stride_; // the laws' scratch (D416) follows its particle
+  if (ls > 0 && law_scratch_.size() == n * ls) {
+    std::vector<double> tmp(law_scratch_.size());
+    for (std::size_t q = 0; q < n; ++q)
+      std::copy_n(law_scratch_.data() + perm[q] * ls, ls, tmp.data() + q * ls);
+    law_scratch_.swap(tmp);
+  }
   if (fmask_.size() == n) permute(fmask_, perm);
   std::vector<std::size_t> where(n); // old index -> new index
   for (std::size_t q = 0; q < n; ++q)

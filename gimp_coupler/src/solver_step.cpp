@@ -274,6 +274,8 @@ template <int D> void Solver<D>::update_stress(double dt) {
       std::fill(fi + touch_lo_, fi + touch_hi_, Vec::Zero());
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();
     const auto stride = static_cast<std::size_t>(P.state_stride);
+    // the laws' scratch (D416): sized at initialize(), none if the particles changed since
+    const std::size_t ls = law_scratch_.size() == n * law_scratch_stride_ ? law_scratch_stride_ : 0;
     // Particles in chunks (D264): F of the chunk, then the laws over each run of particles of
     // one material (Material::update_many, the plugin's batched entry for a damage card), then
     // the forces in particle order as before.
@@ -332,8 +334,9 @@ template <int D> void Solver<D>::update_stress(double dt) {
           ++r1;
         const Material& mt = *materials[static_cast<std::size_t>(P.mat[r0])];
         try {
-          mt.update_many(r1 - r0, &F0[r0 - c0], &F1[r0 - c0], P.state.data() + r0 * stride, stride,
-                         &P.sigma[r0], &P.W[r0]);
+          mt.update_many_cached(r1 - r0, &F0[r0 - c0], &F1[r0 - c0], P.state.data() + r0 * stride,
+                                stride, ls ? law_scratch_.data() + r0 * ls : nullptr, ls,
+                                &P.sigma[r0], &P.W[r0]);
         } catch (const pnc::InputError&) {
           throw; // a material that refuses its configuration: the user's input
         } catch (const PointFailure& ex) {

@@ -11,6 +11,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -425,5 +427,84 @@ TEST(GimpMaterials, PlanePolarDecompositionIsExactToRounding) {
       EXPECT_LT((Ug - U).norm(), 1e-13 * fmax) << F;
       EXPECT_LT((Rg - R).norm(), 1e-13) << F;
     }
+  }
+}
+
+// The damage law's scratch between steps (D416): along a path of three steps, update_many_cached
+// gives update_many's stress, energy and state bit for bit from a zero scratch, after its
+// entries were swapped between points (a reorder: every key misses) and with a padded stride;
+// an entry holds the step's F1 and that F1's strain U - I; and a hit is really taken.
+TEST(GimpMaterials, TheDamageLawsScratchSkipsTheRepeatedPolarDecompositionAndChangesNoBit) {
+  std::mt19937 rng(20261206);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto model : {pnc::damage::Model::pp, pnc::damage::Model::pnc}) {
+    const DamageLaw dl(1000, card_law(model));
+    const std::size_t n = 40, ns = static_cast<std::size_t>(dl.n_state());
+    const std::size_t cs = static_cast<std::size_t>(dl.n_scratch()) + 1; // one padding double
+    ASSERT_EQ(dl.n_scratch(), 15);
+    std::vector<std::array<Mat3, 4>> F(n); // F^0 .. F^3 of each point: growing, rotating strain
+    for (std::size_t i = 0; i < n; ++i) {
+      Mat3 e;
+      e << u(rng), u(rng), u(rng), 0, u(rng), u(rng), 0, 0, u(rng);
+      e = 0.5 * (e + e.transpose());
+      const Eigen::Vector3d axis(u(rng), u(rng), 1.0);
+      for (int k = 0; k < 4; ++k)
+        F[i][static_cast<std::size_t>(k)] =
+            rot(0.3 * k * u(rng), axis) * (Mat3::Identity() + 0.12 * k * e);
+    }
+    std::vector<double> st_ref(n * ns), st(n * ns);
+    for (std::size_t i = 0; i < n; ++i) {
+      dl.init_state(st_ref.data() + i * ns);
+      dl.init_state(st.data() + i * ns);
+    }
+    std::vector<double> scratch(n * cs, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      scratch[i * cs + cs - 1] = -3.0; // the padding must stay untouched
+    const std::vector<double> st0 = st;
+    int grew = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      std::vector<Mat3> F0(n), F1(n), sig_ref(n), sig(n);
+      std::vector<double> W_ref(n), W(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        F0[i] = F[i][k];
+        F1[i] = F[i][k + 1];
+      }
+      if (k == 2) // a reorder: the entries of neighbours swapped, so that no key matches
+        for (std::size_t i = 0; i + 1 < n; i += 2)
+          std::swap_ranges(scratch.begin() + static_cast<long>(i * cs),
+                           scratch.begin() + static_cast<long>(i * cs + cs - 1),
+                           scratch.begin() + static_cast<long>((i + 1) * cs));
+      const std::vector<double> before = st_ref;
+      dl.update_many(n, F0.data(), F1.data(), st_ref.data(), ns, sig_ref.data(), W_ref.data());
+      dl.update_many_cached(n, F0.data(), F1.data(), st.data(), ns, scratch.data(), cs, sig.data(),
+                            W.data());
+      grew += before != st_ref;
+      for (std::size_t i = 0; i < n; ++i) {
+        EXPECT_EQ(sig[i], sig_ref[i]) << "step " << k << ", point " << i;
+        EXPECT_EQ(W[i], W_ref[i]) << "step " << k << ", point " << i;
+        Mat3 R, U;
+        polar_decomposition(F1[i], R, U);
+        const auto e1 = to_voigt_strain(U - Mat3::Identity());
+        const double* c = scratch.data() + i * cs;
+        EXPECT_TRUE(std::equal(c, c + 9, F1[i].data())) << "the key is F1, point " << i;
+        EXPECT_TRUE(std::equal(c + 9, c + 15, e1.begin())) << "the strain of F1, point " << i;
+        EXPECT_EQ(c[15], -3.0);
+      }
+      EXPECT_EQ(st, st_ref) << "step " << k;
+    }
+    EXPECT_GE(grew, 2) << "the path must grow damage";
+    // a hit is taken: the right key with a non-finite strain makes the point fail (a wrong
+    // finite strain would not show: the law reads eps0 + deps, which is F1's strain either way)
+    std::vector<double> poisoned(cs, std::numeric_limits<double>::quiet_NaN()),
+        s_a(st0.begin(), st0.begin() + static_cast<long>(ns)), s_b(s_a);
+    std::copy_n(F[0][1].data(), 9, poisoned.begin());
+    Mat3 sa, sb;
+    double wa = 0.0, wb = 0.0;
+    dl.update_many(1, &F[0][1], &F[0][2], s_a.data(), ns, &sa, &wa);
+    EXPECT_TRUE(sa.allFinite());
+    EXPECT_THROW(
+        dl.update_many_cached(1, &F[0][1], &F[0][2], s_b.data(), ns, poisoned.data(), cs, &sb, &wb),
+        PointFailure)
+        << "the scratch's strain was not used";
   }
 }

@@ -69,6 +69,20 @@ public:
   /// the rest unspecified); InputError passes through. The default is the loop over update().
   virtual void update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
                            std::size_t stride, Mat3* sigma, double* W) const;
+  /// Doubles per particle of a scratch that update_many_cached() keeps between steps to save
+  /// work (decision D416). Not state: never in checkpoints or output, zero after the solver's
+  /// initialize() (a resume included) and stale after the particles are reordered, so a law
+  /// uses an entry only after checking that it belongs to the point's F0. 0 (default): none.
+  virtual int n_scratch() const { return 0; }
+  /// update_many() with that scratch: point i's n_scratch() doubles at
+  /// scratch + i * scratch_stride (scratch_stride >= n_scratch()), which must hold zeros or
+  /// what this law wrote there for some point. The same numbers as update_many(), bit for bit.
+  /// The default calls update_many().
+  virtual void update_many_cached(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                                  std::size_t stride, double* /*scratch*/,
+                                  std::size_t /*scratch_stride*/, Mat3* sigma, double* W) const {
+    update_many(n, F0, F1, state, stride, sigma, W);
+  }
   /// Small-strain dilatational wave speed sqrt(M / rho0), M the largest diagonal stiffness
   /// (m/s); the CFL time step uses it.
   virtual double wave_speed() const = 0;
@@ -141,12 +155,22 @@ public:
   /// bit; W to the last bits (the batched energies, D261).
   void update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state, std::size_t stride,
                    Mat3* sigma, double* W) const override;
+  /// The scratch of a point (D416): its last F1 (9 doubles, column-major) and that F1's small
+  /// strain U - I (6, Voigt, engineering shear). The next step's F0 is that F1 bit for bit, so
+  /// its polar decomposition is not repeated; a point whose F0 differs computes it.
+  int n_scratch() const override { return 15; }
+  void update_many_cached(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                          std::size_t stride, double* scratch, std::size_t scratch_stride,
+                          Mat3* sigma, double* W) const override;
   double wave_speed() const override { return c_; }
   double youngs_modulus() const override;
   double poisson_ratio() const override;
   const pnc::fe_material::Material& law() const { return *law_; }
 
 private:
+  void update_batch(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
+                    std::size_t stride, double* scratch, std::size_t scratch_stride, Mat3* sigma,
+                    double* W) const;
   std::shared_ptr<const pnc::fe_material::Material> law_;
   int n_state_;
   std::vector<std::string> names_;

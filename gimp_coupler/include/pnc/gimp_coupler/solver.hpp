@@ -299,8 +299,12 @@ private:
   }
   std::vector<std::size_t> order_;     // initial index of each particle (sort_particles)
   std::vector<AxisWeights<D>> wcache_; // per-particle weights at x^t, reused within a step
-  std::shared_ptr<ThreadPool> pool_;   // threads - 1 workers; null for one thread
-  bool has_fext_ = false;              // any body force or traction this step
+  // per-particle scratch of the laws between steps (Material::n_scratch, D416), zero at
+  // initialize(); law_scratch_stride_ doubles per particle (the largest n_scratch; 0: none)
+  std::vector<double> law_scratch_;
+  std::size_t law_scratch_stride_ = 0;
+  std::shared_ptr<ThreadPool> pool_; // threads - 1 workers; null for one thread
+  bool has_fext_ = false;            // any body force or traction this step
   bool fext_zeroed_ = false;
   double mass_floor_ = 0.0;
 };
