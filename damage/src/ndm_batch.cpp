@@ -488,7 +488,7 @@ template <Copy I>
 
 #if PNC_HAVE_AVX2_COPY
 // The same source for CPUs with AVX2 (4 doubles a vector) and with AVX-512 (8 doubles a vector,
-// and masked loads and stores, D413). No FMA: the file is compiled with -ffp-contract=off and
+// D413). No FMA: the file is compiled with -ffp-contract=off and
 // neither target enables contraction, so every operation rounds as in the baseline and the
 // three functions give the same bits (D386).
 [[gnu::noinline]] PNC_TARGET_AVX2 NdmBatchStats run_avx2(const PreparedNdm& q, const NdmBatch& b) {

@@ -102,8 +102,8 @@ template <class T>
                                                        const Mat3* F1, Mat3* sigma, double* W) {
   std::size_t p = 0;
   for (; p + 4 <= n; p += 4) {
-    v4 F[3]
-        [3]{}; // (every entry set below; {} for GCC 12's -Wmaybe-uninitialized in the AVX-512 copy)
+    // every entry is set below; {} for GCC 12's -Wmaybe-uninitialized in the AVX-512 copy
+    v4 F[3][3]{};
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k)
         F[i][k] = v4{F1[p](i, k), F1[p + 1](i, k), F1[p + 2](i, k), F1[p + 3](i, k)};
