@@ -253,18 +253,12 @@ struct BatchScratch {
 
 void DamageLaw::update_many(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
                             std::size_t stride, Mat3* sigma, double* W) const {
-  update_batch(n, F0, F1, state, stride, nullptr, 0, sigma, W);
+  update_many_cached(n, F0, F1, state, stride, nullptr, 0, sigma, W); // no scratch: no reuse
 }
 
 void DamageLaw::update_many_cached(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
                                    std::size_t stride, double* scratch, std::size_t scratch_stride,
                                    Mat3* sigma, double* W) const {
-  update_batch(n, F0, F1, state, stride, scratch, scratch_stride, sigma, W);
-}
-
-void DamageLaw::update_batch(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
-                             std::size_t stride, double* scratch, std::size_t scratch_stride,
-                             Mat3* sigma, double* W) const {
   if (!law_->has_batch()) {
     Material::update_many(n, F0, F1, state, stride, sigma, W);
     return;

@@ -18,6 +18,17 @@ template <class T> void permute(std::vector<T>& a, const std::vector<std::size_t
     tmp[q] = a[perm[q]];
   a.swap(tmp);
 }
+
+/// Blocks of `stride` values, one per particle: block q <- old block perm[q]. A vector whose
+/// size is not n * stride (not allocated yet) is left alone.
+void permute_blocks(std::vector<double>& a, const std::vector<std::size_t>& perm,
+                    std::size_t stride) {
+  if (stride == 0 || a.size() != perm.size() * stride) return;
+  std::vector<double> tmp(a.size());
+  for (std::size_t q = 0; q < perm.size(); ++q)
+    std::copy_n(a.data() + perm[q] * stride, stride, tmp.data() + q * stride);
+  a.swap(tmp);
+}
 } // namespace
 
 template <int D> void Solver<D>::sort_particles() {
@@ -66,23 +77,11 @@ template <int D> void Solver<D>::sort_particles() {
   permute(P.W, perm);
   permute(P.mat, perm);
   if (order_.size() == n) permute(order_, perm);
-  const auto stride = static_cast<std::size_t>(P.state_stride);
-  if (stride > 0) {
-    std::vector<double> tmp(P.state.size());
-    for (std::size_t q = 0; q < n; ++q)
-      std::copy_n(P.state.data() + perm[q] * stride, stride, tmp.data() + q * stride);
-    P.state.swap(tmp);
-  }
+  permute_blocks(P.state, perm, static_cast<std::size_t>(P.state_stride));
   // The next P2G recomputes these for every particle; permuted anyway so that nothing read
   // between steps sees another particle's weights or crack fields.
   if (wcache_.size() == n) permute(wcache_, perm);
-  const std::size_t ls = law_scratch_stride_; // the laws' scratch (D416) follows its particle
-  if (ls > 0 && law_scratch_.size() == n * ls) {
-    std::vector<double> tmp(law_scratch_.size());
-    for (std::size_t q = 0; q < n; ++q)
-      std::copy_n(law_scratch_.data() + perm[q] * ls, ls, tmp.data() + q * ls);
-    law_scratch_.swap(tmp);
-  }
+  permute_blocks(law_scratch_, perm, law_scratch_stride_); // the laws' scratch (D416)
   if (fmask_.size() == n) permute(fmask_, perm);
   std::vector<std::size_t> where(n); // old index -> new index
   for (std::size_t q = 0; q < n; ++q)

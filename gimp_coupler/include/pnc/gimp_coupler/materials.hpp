@@ -168,9 +168,6 @@ public:
   const pnc::fe_material::Material& law() const { return *law_; }
 
 private:
-  void update_batch(std::size_t n, const Mat3* F0, const Mat3* F1, double* state,
-                    std::size_t stride, double* scratch, std::size_t scratch_stride, Mat3* sigma,
-                    double* W) const;
   std::shared_ptr<const pnc::fe_material::Material> law_;
   int n_state_;
   std::vector<std::string> names_;
