@@ -106,26 +106,18 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
   f.trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
   const rve::ReplicaTrend& trend = f.trend;
+  MdCardGates gates;
   if (trend.applicable) {
-    static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
     VerdictLimits limits;
     limits.independent_residuals = false;
     card.verdict = judge_fit(honest, limits);
-    if (trend.p_family < limits.p_misfit) {
-      const rve::TrendCurve* worst = trend.worst();
-      const std::string where = worst->role.empty() ? fmt::format("case {} sigma{}", worst->case_id,
-                                                                  kVoigt[worst->component % 6])
-                                                    : "pooled " + worst->role + ", D397";
-      card.verdict.warn(fmt::format(
-          "the model misses a trend common to the {} replicas ({}: Legendre coefficients of the "
-          "residuals against their between-replica errors, p = {:.2g}, Bonferroni over {} "
-          "curves and {} pooled roles; D12k)",
-          trend.replicas, where, trend.p_family, trend.curves.size(), trend.roles.size()));
-    }
+    // decision D417: a resolved trend is a warning only when it may exceed max_shape_error of
+    // its curve's stress; the size goes on the card either way
+    rve::judge_replica_trend(trend, limits.p_misfit, gates.max_shape_error, card.verdict);
+    card.fit.shape_error = trend.shape_error();
   }
   // decision D12f: what "usable" means for an MD card (replicas, chi^2/dof, relative errors,
   // points in the linear range)
-  MdCardGates gates;
   gates.replicas = md.statistics.replicas;
   gates.deterministic = r.deform.temperature == 0;
   judge_md_card(honest, data, gates, card.verdict);

@@ -81,6 +81,10 @@ std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
   if (std::isfinite(f.chi2) && f.dof > 0)
     s += fmt::format("    chi^2/dof = {:.4g} ({} dof), P(chi^2 >= observed) = {:.3g}\n",
                      f.chi2 / f.dof, f.dof, f.chi2_p);
+  if (std::isfinite(f.shape_error)) // decision D417
+    s += fmt::format("    shape error of the law: the residual trend common to the replicas "
+                     "stays below {:.3g} % of its curve's stress (97.5 % bound, largest curve)\n",
+                     100 * f.shape_error);
   for (const auto& c : f.components)
     s += fmt::format("    case {} sigma{}: R^2 = {:.4f}, rms residual = {:.3g} MPa ({} points), "
                      "runs {} (expected {:.1f}, p = {:.2g}), lag-1 autocorrelation {:.2f}\n",
@@ -119,6 +123,9 @@ nlohmann::json fit_json(const damage::FitRecord& f) {
   j["rows_beyond_strain_max"] = f.rows_beyond_strain_max;
   j["stretch_max"] = f.stretch_max; // lambda_max - 1, dimensionless, 0 = none (D12m)
   j["isotropic"] = f.isotropic;     // C44 and B4 derived by isotropy (D396)
+  // the 97.5 % bound of the replicas' common residual trend / its curve's stress,
+  // dimensionless, null = not tested (D417)
+  j["shape_error"] = num(f.shape_error);
   j["chi2"] = num(f.chi2);
   j["dof"] = f.dof;
   j["chi2_p"] = num(f.chi2_p);

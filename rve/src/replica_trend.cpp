@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace pnc::rve {
@@ -41,6 +42,24 @@ void test_coefficients(const std::array<std::vector<double>, 4>& coef, int repli
     pmin = std::min(pmin, p);
   }
   tc.p = std::min(1.0, 4 * pmin);
+  // decision D417: the size of the trend, on a fine grid of x; bound = |mean| + k se, k the
+  // two-sided 99 % factor (one-sided 99.5 % at each x; the joint fit's own scatter takes part
+  // of it: the bound covers the true size in >= 97.5 % of Monte-Carlo trials)
+  const double k = md::coverage_factor(replicas - 1, 0.99);
+  constexpr int kGrid = 201;
+  std::vector<double> r(coef[0].size());
+  tc.amplitude = tc.bound = 0;
+  for (int g = 0; g < kGrid; ++g) {
+    const double x = -1.0 + 2.0 * g / (kGrid - 1);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      r[i] = 0;
+      for (int m = 0; m < 4; ++m)
+        r[i] += coef[m][i] * legendre(m, x);
+    }
+    const md::ReplicaEstimate e = md::replica_mean_se(r);
+    tc.amplitude = std::max(tc.amplitude, std::fabs(e.mean));
+    tc.bound = std::max(tc.bound, std::fabs(e.mean) + k * e.se);
+  }
 }
 
 // The role of a curve of the isotropic pure polymer (decision D397).
@@ -51,6 +70,28 @@ std::string role_of(const CombinedCase& c, int component) {
 }
 
 } // namespace
+
+double TrendCurve::relative_bound() const {
+  return scale > 0 ? bound / scale : std::numeric_limits<double>::quiet_NaN();
+}
+
+double ReplicaTrend::shape_error() const {
+  if (!applicable) return std::numeric_limits<double>::quiet_NaN();
+  double e = 0;
+  for (const auto* list : {&curves, &roles})
+    for (const auto& c : *list)
+      e = std::max(e, c.relative_bound()); // NaN (zero scale) does not win
+  return e;
+}
+
+double ReplicaTrend::resolved_shape_error(double p_misfit) const {
+  const double tests = static_cast<double>(std::max<std::size_t>(1, curves.size() + roles.size()));
+  double e = 0;
+  for (const auto* list : {&curves, &roles})
+    for (const auto& c : *list)
+      if (c.p * tests < p_misfit) e = std::max(e, c.scale > 0 ? c.relative_bound() : INFINITY);
+  return e;
+}
 
 const TrendCurve* ReplicaTrend::worst() const {
   const TrendCurve* w = nullptr;
@@ -72,6 +113,7 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
   struct Pool {
     std::vector<int> cases;
     int curves = 0, points = 0;
+    double scale = 0; // sum of the curves' scales
     std::array<std::vector<double>, 4> sum;
   };
   std::map<std::string, Pool> pools; // decision D397: the pure polymer's roles
@@ -89,6 +131,13 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     tc.case_id = fc.case_id;
     tc.component = fc.component;
     tc.points = static_cast<int>(n);
+    for (Eigen::Index k = 0; k < n; ++k) { // D417: the stress the trend is measured against
+      double mean = 0;
+      for (const auto& ys : it->replica_stress)
+        mean += ys(k, fc.component);
+      tc.scale =
+          std::max(tc.scale, std::fabs(mean) / static_cast<double>(it->replica_stress.size()));
+    }
     std::array<std::vector<double>, 4> coef;
     for (const auto& ys : it->replica_stress) {
       for (int m = 0; m < 4; ++m) {
@@ -111,6 +160,7 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     if (std::find(pool.cases.begin(), pool.cases.end(), fc.case_id) == pool.cases.end())
       pool.cases.push_back(fc.case_id);
     ++pool.curves;
+    pool.scale += tc.scale;
     pool.points = pool.points == 0 ? tc.points : std::min(pool.points, tc.points);
     for (int m = 0; m < 4; ++m) {
       pool.sum[m].resize(coef[m].size(), 0.0);
@@ -128,6 +178,7 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
       for (double& x : v)
         x /= pool.curves; // one replica's mean over the role: one independent sample
     test_coefficients(pool.sum, c.replicas, tc);
+    tc.scale = pool.scale / pool.curves;
     out.roles.push_back(tc);
   }
   const TrendCurve* w = out.worst();
@@ -135,6 +186,34 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
   out.p_family =
       w ? std::min(1.0, w->p * static_cast<double>(std::max<std::size_t>(1, tests))) : 1.0;
   return out;
+}
+
+void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shape_error,
+                         damage::Verdict& v) {
+  if (!t.applicable || !(t.p_family < p_misfit)) return;
+  static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
+  const double tests =
+      static_cast<double>(std::max<std::size_t>(1, t.curves.size() + t.roles.size()));
+  // the resolved trend with the largest relative bound (D417); a zero scale counts as too large
+  const TrendCurve* big = nullptr;
+  double big_rel = -1;
+  for (const auto* list : {&t.curves, &t.roles})
+    for (const auto& c : *list) {
+      if (!(c.p * tests < p_misfit)) continue;
+      const double rel = c.scale > 0 ? c.relative_bound() : INFINITY;
+      if (rel > big_rel) big = &c, big_rel = rel;
+    }
+  if (!big || !(big_rel > max_shape_error)) return; // every resolved trend within the tolerance
+  const std::string where =
+      big->role.empty() ? fmt::format("case {} sigma{}", big->case_id, kVoigt[big->component % 6])
+                        : "pooled " + big->role + ", D397";
+  v.warn(fmt::format(
+      "the model misses a trend common to the {} replicas ({}: Legendre coefficients of the "
+      "residuals against their between-replica errors, p = {:.2g} family-wise over {} curves "
+      "and pooled roles; D12k) of up to {:.3g} MPa, {:.3g} % of the curve's stress at its "
+      "97.5 % bound, above the {:.3g} % of its stress a card may miss (D417)",
+      t.replicas, where, std::min(1.0, big->p * tests), static_cast<int>(tests), big->bound * 1e-6,
+      100 * big_rel, 100 * max_shape_error));
 }
 
 std::string replica_trend_markdown(const ReplicaTrend& t) {
@@ -147,7 +226,12 @@ std::string replica_trend_markdown(const ReplicaTrend& t) {
       "standard error (Student t, {} dof). A trend the model misses is common to every replica; "
       "the correlated noise along one replica's curve is not (the runs test and the chi^2 "
       "p-value assume independent residuals and are not used for replica data).\n\n"
-      "| curve | points | P0 | P1 | P2 | P3 | p (x4) |\n|---|---|---|---|---|---|---|\n",
+      "The last two columns give the size of the trend (D417): the largest |mean trend| over "
+      "the fitted range and its 97.5 % upper bound (|mean| + the 99 % two-sided Student factor x "
+      "its between-replica error; D417), the bound also as a share of the curve's largest "
+      "replica-mean stress.\n\n"
+      "| curve | points | P0 | P1 | P2 | P3 | p (x4) | size | bound (share of stress) |\n"
+      "|---|---|---|---|---|---|---|---|---|\n",
       t.replicas, t.replicas - 1);
   for (const auto* list : {&t.curves, &t.roles})
     for (const auto& c : *list) {
@@ -157,15 +241,18 @@ std::string replica_trend_markdown(const ReplicaTrend& t) {
         s += fmt::format("| pooled: {} | {} |", c.role, c.points);
       for (int m = 0; m < 4; ++m)
         s += fmt::format(" {:+.3g} +- {:.2g} MPa |", c.mean[m] * 1e-6, c.se[m] * 1e-6);
-      s += fmt::format(" {:.2g} |\n", c.p);
+      s += fmt::format(" {:.2g} | {:.3g} MPa | {:.3g} MPa ({:.3g} %) |\n", c.p, c.amplitude * 1e-6,
+                       c.bound * 1e-6, 100 * c.relative_bound());
     }
   if (!t.roles.empty())
     s += "\nThe pure polymer's law is isotropic: the curves of one role (the driven or the "
          "lateral stress of an extension case, the stress of a shear) are one experiment in "
          "several directions, and each replica's coefficients averaged over a role are one "
          "sample of a pooled test (D397).\n";
-  s += fmt::format("\nFamily-wise p (Bonferroni over {} curves and {} pooled roles): {:.2g}.\n\n",
-                   t.curves.size(), t.roles.size(), t.p_family);
+  s += fmt::format(
+      "\nFamily-wise p (Bonferroni over {} curves and {} pooled roles): {:.2g}. "
+      "The law's shape error (the largest bound as a share of its stress): {:.3g} %.\n\n",
+      t.curves.size(), t.roles.size(), t.p_family, 100 * t.shape_error());
   return s;
 }
 

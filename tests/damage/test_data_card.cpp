@@ -286,6 +286,23 @@ TEST_F(Cards, NonPositiveDefiniteC0IsRejectedOnReadAndNeverWritten) {
   EXPECT_NE(m.find("positive definite"), std::string::npos) << m;
 }
 
+// decision D417: the law's shape error is a fit attribute, dimensionless, absent = not tested
+TEST_F(Cards, TheShapeErrorRoundTripsAndANegativeOneIsRefusedOnRead) {
+  Card card = card_from_parameters(dissertation_parameters(Model::pp), "test");
+  card.fit.present = true;
+  write_card(path("untested.h5"), card, "test");
+  EXPECT_TRUE(std::isnan(read_card(path("untested.h5")).fit.shape_error));
+  card.fit.shape_error = 0.037;
+  write_card(path("tested.h5"), card, "test");
+  EXPECT_EQ(read_card(path("tested.h5")).fit.shape_error, 0.037);
+  card.fit.shape_error = -0.5;
+  write_card(path("negative.h5"), card, "test");
+  const std::string m = error_of([&] { read_card(path("negative.h5")); });
+  EXPECT_NE(m.find("negative.h5"), std::string::npos) << m;
+  EXPECT_NE(m.find("/fit@shape_error"), std::string::npos) << m;
+  EXPECT_NE(m.find("-0.5"), std::string::npos) << m;
+}
+
 TEST_F(Cards, NotACard) {
   write("text.h5", "not hdf5");
   EXPECT_NE(error_of([&] { read_card(path("text.h5")); }).find("not an HDF5 file"),

@@ -29,12 +29,12 @@ struct Trial {
 // that both modes damage within 0.12), rows 0.003 .. 0.12; noise sd 2 MPa per point (offset 1
 // MPa + AR(1) 1.7 MPa, rho 0.9); `bump` Pa of a shape the law does not have, common to all.
 Trial make_trial(int nrep, std::mt19937_64& rng, double bump,
-                 const std::vector<int>& cases = {2, 6}) {
+                 const std::vector<int>& cases = {2, 6}, double noise = 1.0) {
   damage::NdmParameters p = damage::dissertation_parameters(damage::Model::pp);
   p["alpha"] = 0.85;
   std::normal_distribution<double> g(0, 1);
   const int n = 40;
-  const double rho = 0.9, s_off = 1e6, s_ar = 1.7e6;
+  const double rho = 0.9, s_off = 1e6 * noise, s_ar = 1.7e6 * noise;
   Trial t;
   t.cases.replicas = nrep;
   t.mean.source = "<monte carlo>";
@@ -192,4 +192,77 @@ TEST(ReplicaTrend, TheNanocompositeLawHasNoPooledRoles) {
   const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, f, 0.0);
   EXPECT_TRUE(r.roles.empty());
   EXPECT_EQ(r.curves.size(), 9u);
+}
+
+// Decision D417: the size of a common trend. The true trend is that of the same construction
+// without noise (identical replicas: the test then measures it exactly, bound = amplitude); the
+// point errors the joint fit weighs by are set to the noisy trials' 2 MPa so that the fit is the
+// same weighted fit. The claim is that the bound covers the true size in >= 97.5 % of the
+// cases: at the x where the true trend is largest the bound's one-sided level is 99.5 %, less
+// what the joint fit's own scatter takes (measured in 1000 trials: 99.4 %; with the 95 %
+// factor it was 95.5 %, short of the claim). binomial(400, 0.975): mean 390, sd 3.1; 381 is
+// 3 sd below.
+TEST(ReplicaTrend, TheBoundOfACommonTrendCoversItsTrueSize) {
+  std::mt19937_64 rng(17);
+  Trial exact = make_trial(3, rng, 4e6, {2, 6}, 0.0);
+  for (auto& mc : exact.mean.cases)
+    mc.stress_stderr.setConstant(2e6);
+  const rve::ReplicaTrend truth = rve::replica_trend_test(exact.cases, joint_fit(exact), 0.0);
+  ASSERT_TRUE(truth.applicable);
+  const auto driven = [](const rve::ReplicaTrend& r) {
+    for (const auto& c : r.curves)
+      if (c.case_id == 2 && c.component == 1) return c;
+    ADD_FAILURE() << "no case 2 sigma22 curve";
+    return rve::TrendCurve{};
+  };
+  const double size = driven(truth).amplitude;
+  EXPECT_DOUBLE_EQ(driven(truth).bound, size);
+  ASSERT_GT(size, 1e6) << "the law absorbs no more than part of a 4 MPa bump";
+  const int trials = 400;
+  int covered = 0;
+  for (int i = 0; i < trials; ++i) {
+    const Trial t = make_trial(8, rng, 4e6);
+    const rve::TrendCurve c = driven(rve::replica_trend_test(t.cases, joint_fit(t), 0.0));
+    EXPECT_GE(c.bound, c.amplitude);
+    if (c.bound >= size) ++covered;
+  }
+  EXPECT_GE(covered, 381) << covered << " of " << trials;
+}
+
+// A trend the test resolves is a warning only when its bound may exceed 10 % of its curve's
+// stress (MdCardGates::max_shape_error). Two bumps on the driven stress of cases 1-3 with 24
+// replicas, sized against the largest driven stress of the law (the curve's scale up to the
+// noise): 4 % (resolved: t ~ 20 against a critical ~ 5; its bound about 4 % plus 1-3 % of
+// error, below 10 %) and 30 % (a bound above 10 % whatever part of it the law absorbs).
+TEST(ReplicaTrend, AResolvedTrendIsAWarningOnlyWhenItMayExceedTheTolerance) {
+  damage::NdmParameters p = damage::dissertation_parameters(damage::Model::pp);
+  p["alpha"] = 0.85;
+  Eigen::Matrix<double, Eigen::Dynamic, 6> e(40, 6);
+  for (int k = 0; k < 40; ++k)
+    e.row(k) = damage::case_strain(1, 0.12 * (k + 1) / 40).transpose();
+  const double scale = damage::stress_path(p, e).col(0).cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 20e6);
+  const damage::MdCardGates gates;
+  std::mt19937_64 rng(23);
+  int resolved_small = 0;
+  for (int i = 0; i < 5; ++i) {
+    for (const double share : {0.04, 0.30}) {
+      const Trial t = make_trial(24, rng, share * scale, {1, 2, 3});
+      const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, joint_fit(t), 0.0);
+      damage::Verdict v;
+      rve::judge_replica_trend(r, 1e-3, gates.max_shape_error, v);
+      if (share < 0.1) {
+        resolved_small += r.p_family < 1e-3;
+        EXPECT_LT(r.resolved_shape_error(1e-3), gates.max_shape_error);
+        EXPECT_EQ(v.level, damage::VerdictLevel::usable) << v.reasons.at(0);
+      } else {
+        EXPECT_GT(r.resolved_shape_error(1e-3), gates.max_shape_error);
+        ASSERT_EQ(v.reasons.size(), 1u);
+        EXPECT_NE(v.reasons[0].find("misses a trend common to the 24 replicas"), std::string::npos)
+            << v.reasons[0];
+        EXPECT_NE(v.reasons[0].find("D417"), std::string::npos) << v.reasons[0];
+      }
+    }
+  }
+  EXPECT_GE(resolved_small, 4) << "the 4 % trend must be resolved, or the test proves nothing";
 }

@@ -1,5 +1,6 @@
 #pragma once
-// pnc/rve/replica_trend.hpp: the misfit test of a fit to replica-mean curves (decision D12k).
+// pnc/rve/replica_trend.hpp: the misfit test of a fit to replica-mean curves (decisions D12k,
+// D417).
 // Units: stresses Pa, strains dimensionless.
 //
 // All strain steps of one replica deform the same frozen structure, so its deviations from
@@ -18,7 +19,11 @@
 // lateral stresses, the stress of a shear), and one replica's coefficients averaged over the
 // curves of a role are again one independent sample (decision D397): the pooled roles are
 // tested as well, and the family-wise p runs over curves and roles.
+//
+// A resolved trend is also measured (decision D417): its size and an upper bound on it, as a
+// share of the curve's stress; a card may miss up to MdCardGates::max_shape_error of it.
 #include "pnc/damage/fit.hpp"
+#include "pnc/damage/verdict.hpp"
 #include "pnc/rve/replicas.hpp"
 
 #include <array>
@@ -34,6 +39,19 @@ struct TrendCurve {
   std::array<double, 4> mean{}, se{}; ///< Pa: coefficients of P0..P3 over the replicas
   std::array<double, 4> t{};          ///< mean / se
   double p = 1; ///< smallest two-sided p of the four coefficients, times 4 (Bonferroni)
+  /// Pa: the size of the trend (decision D417). With r_i(x) = sum_m c_mi P_m(x) the trend of
+  /// replica i, its mean over the replicas rbar(x) and that mean's between-replica standard
+  /// error se(x), on x in [-1, 1]: `amplitude` = max |rbar(x)|, `bound` = max (|rbar(x)| +
+  /// k se(x)) with k the two-sided 99 % Student factor (N - 1 dof). The bound is at least the
+  /// true trend's largest |r(x)| in >= 97.5 % of the cases: at the x where the true trend is
+  /// largest the one-sided level is 99.5 %, less what the joint fit's own scatter takes
+  /// (measured by Monte Carlo, docs/decisions/damage.md D417).
+  double amplitude = 0, bound = 0;
+  /// Pa: the stress the trend is measured against, max |replica-mean stress| of the curve over
+  /// the fitted rows (a pooled role: the mean of its curves' scales)
+  double scale = 0;
+  /// bound / scale (dimensionless; NaN for a zero scale)
+  double relative_bound() const;
 };
 
 struct ReplicaTrend {
@@ -47,7 +65,21 @@ struct ReplicaTrend {
   double p_family = 1;
   /// the curve or role with the smallest p
   const TrendCurve* worst() const;
+  /// The law's shape error (decision D417): the largest relative_bound() over the curves and
+  /// roles (dimensionless; NaN when not applicable). Below it at >= 97.5 % per curve.
+  double shape_error() const;
+  /// The largest relative_bound() among the curves and roles whose trend the test resolves
+  /// (p times the number of curves and roles below `p_misfit`); 0 when it resolves none.
+  double resolved_shape_error(double p_misfit) const;
 };
+
+/// The verdict of the test (decisions D12k, D417): a trend resolved at the family-wise level
+/// `p_misfit` whose bound exceeds `max_shape_error` of its curve's stress is a warning ("the
+/// model misses a trend common to the N replicas"), naming the curve, p and the size; a
+/// resolved trend within it is no finding (the card records the size, FitRecord::shape_error).
+/// Nothing when the test is not applicable.
+void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shape_error,
+                         damage::Verdict& v);
 
 /// The test for the fitted curves of `joint` (its components list) on the replica curves of
 /// `c`, over the rows the fit used (damage::rows_in_fit_range: every strain component <=
