@@ -82,9 +82,11 @@ std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
     s += fmt::format("    chi^2/dof = {:.4g} ({} dof), P(chi^2 >= observed) = {:.3g}\n",
                      f.chi2 / f.dof, f.dof, f.chi2_p);
   if (std::isfinite(f.shape_error)) // decision D417
-    s += fmt::format("    shape error of the law: the residual trend common to the replicas "
-                     "stays below {:.3g} % of its curve's stress (97.5 % bound, largest curve)\n",
-                     100 * f.shape_error);
+    s += fmt::format(
+        "    shape error of the law: the residual trend common to the replicas "
+        "stays below {:.3g} % of its curve's stress (97.5 % bound, largest curve or pooled "
+        "role)\n",
+        100 * f.shape_error);
   for (const auto& c : f.components)
     s += fmt::format("    case {} sigma{}: R^2 = {:.4f}, rms residual = {:.3g} MPa ({} points), "
                      "runs {} (expected {:.1f}, p = {:.2g}), lag-1 autocorrelation {:.2f}\n",

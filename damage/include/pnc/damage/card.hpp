@@ -46,8 +46,9 @@ struct FitRecord {
   /// fit option isotropic (D396): C44 and B4 derived, C44 = (C11 - C12)/2, B4 = B1 - B2/2
   bool isotropic = false;
   /// the law's shape error (D417): the 97.5 % bound of the residual trend common to the
-  /// replicas, as a share of its curve's stress, largest over the curves (dimensionless;
-  /// NaN: not tested, fewer than 3 replicas or not MD data)
+  /// replicas, as a share of its curve's stress, largest over the curves (the pure polymer's:
+  /// over its pooled roles, D397) (dimensionless; NaN: not tested, fewer than 3 replicas or not
+  /// MD data)
   double shape_error = std::numeric_limits<double>::quiet_NaN();
   double chi2 = std::numeric_limits<double>::quiet_NaN(), chi2_p = chi2;
   int dof = 0;

@@ -60,9 +60,10 @@ struct MdCardGates {
   double max_relative_error = 0.10; ///< standard error / the constant's scale
   double chi2_dof_min = 0.5;        ///< below: errors too large (or correlated points)
   double chi2_dof_max = 2.0;        ///< above: the model or the errors are wrong
-  /// a trend of the residuals common to the replicas that the misfit test resolves is a
-  /// warning when its 97.5 % bound exceeds this fraction of its curve's stress (applied by
-  /// pnc::rve::judge_replica_trend; decision D417): the same 10 % as max_relative_error
+  /// the law's shape error (the 97.5 % bound of the residual trend common to the replicas, as
+  /// a fraction of its curve's stress) above this is a warning, whether the misfit test
+  /// resolves the trend or not (applied by pnc::rve::judge_replica_trend; decision D417): the
+  /// same 10 % as max_relative_error
   double max_shape_error = 0.10;
   /// static (0 K) data have no noise: the replica and chi^2 gates do not apply
   bool deterministic = false;

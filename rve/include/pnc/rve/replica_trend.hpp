@@ -52,6 +52,8 @@ struct TrendCurve {
   double scale = 0;
   /// bound / scale (dimensionless; NaN for a zero scale)
   double relative_bound() const;
+  /// a curve of a pooled role (D397): judged through its role for the shape error (D417)
+  bool pooled = false;
 };
 
 struct ReplicaTrend {
@@ -65,19 +67,23 @@ struct ReplicaTrend {
   double p_family = 1;
   /// the curve or role with the smallest p
   const TrendCurve* worst() const;
-  /// The law's shape error (decision D417): the largest relative_bound() over the curves and
-  /// roles (dimensionless; NaN when not applicable). Below it at >= 97.5 % per curve.
+  /// The units the shape is judged by (decision D417): the pooled roles and the curves that
+  /// are in none; the one with the largest relative_bound() (a zero scale counts as the
+  /// largest), nullptr when there is none.
+  const TrendCurve* largest_shape() const;
+  /// The law's shape error (decision D417): largest_shape()'s relative_bound() (dimensionless;
+  /// NaN when not applicable). The true trend of each unit is below its bound in >= 97.5 % of
+  /// the cases.
   double shape_error() const;
-  /// The largest relative_bound() among the curves and roles whose trend the test resolves
-  /// (p times the number of curves and roles below `p_misfit`); 0 when it resolves none.
-  double resolved_shape_error(double p_misfit) const;
 };
 
-/// The verdict of the test (decisions D12k, D417): a trend resolved at the family-wise level
-/// `p_misfit` whose bound exceeds `max_shape_error` of its curve's stress is a warning ("the
-/// model misses a trend common to the N replicas"), naming the curve, p and the size; a
-/// resolved trend within it is no finding (the card records the size, FitRecord::shape_error).
-/// Nothing when the test is not applicable.
+/// The verdict of the test (decisions D12k, D417): the card states the law's shape to within
+/// `max_shape_error` of each stress, so a unit whose bound exceeds that share of its stress is
+/// a warning, naming it and the size: "the model misses a trend common to the N replicas" when
+/// the test resolves its trend (p times the number of curves and roles below `p_misfit`),
+/// "the law's shape is not resolved" when it does not (too few replicas). Within it, resolved
+/// or not, no finding (the card records the size, FitRecord::shape_error). Nothing when the
+/// test is not applicable.
 void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shape_error,
                          damage::Verdict& v);
 
