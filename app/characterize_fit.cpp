@@ -111,8 +111,9 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
     VerdictLimits limits;
     limits.independent_residuals = false;
     card.verdict = judge_fit(honest, limits);
-    // decision D417: a resolved trend is a warning only when it may exceed max_shape_error of
-    // its curve's stress; the size goes on the card either way
+    // decision D417: the law's shape error (the largest bound of a trend common to the
+    // replicas, as a share of its stress) above max_shape_error is a warning, resolved or not;
+    // it goes on the card either way
     rve::judge_replica_trend(trend, limits.p_misfit, gates.max_shape_error, card.verdict);
     card.fit.shape_error = trend.shape_error();
   }

@@ -243,7 +243,7 @@ void add_card_numbers(html::Page& page, const damage::Card& c) {
         std::isfinite(c.fit.chi2) && c.fit.dof > 0
             ? fmt::format("; chi²/dof = {:.3g} ({} dof)", c.fit.chi2 / c.fit.dof, c.fit.dof)
             : std::string(),
-        std::isfinite(c.fit.shape_error) // D417
+        !std::isnan(c.fit.shape_error) // D417
             ? fmt::format("; the law's shape error (trend common to the replicas, 97.5 % bound): "
                           "≤ {:.3g} % of a curve's stress",
                           100 * c.fit.shape_error)

@@ -81,7 +81,7 @@ std::string fit_tables(const damage::FitRecord& f, damage::Model m) {
   if (std::isfinite(f.chi2) && f.dof > 0)
     s += fmt::format("    chi^2/dof = {:.4g} ({} dof), P(chi^2 >= observed) = {:.3g}\n",
                      f.chi2 / f.dof, f.dof, f.chi2_p);
-  if (std::isfinite(f.shape_error)) // decision D417
+  if (!std::isnan(f.shape_error)) // decision D417
     s += fmt::format(
         "    shape error of the law: the residual trend common to the replicas "
         "stays below {:.3g} % of its curve's stress (97.5 % bound, largest curve or pooled "

@@ -232,7 +232,7 @@ std::string replica_trend_markdown(const ReplicaTrend& t) {
       "p-value assume independent residuals and are not used for replica data).\n\n"
       "The last two columns give the size of the trend (D417): the largest |mean trend| over "
       "the fitted range and its 97.5 % upper bound (|mean| + the 99 % two-sided Student factor x "
-      "its between-replica error; D417), the bound also as a share of the curve's largest "
+      "its between-replica error), the bound also as a share of the curve's largest "
       "replica-mean stress.\n\n"
       "| curve | points | P0 | P1 | P2 | P3 | p (x4) | size | bound (share of stress) |\n"
       "|---|---|---|---|---|---|---|---|---|\n",

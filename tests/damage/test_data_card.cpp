@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -295,6 +296,9 @@ TEST_F(Cards, TheShapeErrorRoundTripsAndANegativeOneIsRefusedOnRead) {
   card.fit.shape_error = 0.037;
   write_card(path("tested.h5"), card, "test");
   EXPECT_EQ(read_card(path("tested.h5")).fit.shape_error, 0.037);
+  card.fit.shape_error = std::numeric_limits<double>::infinity(); // a curve of zero stress
+  write_card(path("infinite.h5"), card, "test");
+  EXPECT_EQ(read_card(path("infinite.h5")).fit.shape_error, card.fit.shape_error);
   card.fit.shape_error = -0.5;
   write_card(path("negative.h5"), card, "test");
   const std::string m = error_of([&] { read_card(path("negative.h5")); });
