@@ -22,6 +22,7 @@ struct CharacterizeArgs {
   bool resume = false, json = false, no_plots = false;
   bool refit = false; ///< --refit (D400): a finished run fitted again with a changed fit section
   int jobs = 0, ranks = 0, equilibrate_ranks = 0;
+  int replicas = 0; ///< --replicas: the recipe's run.replicas overridden (0: not given; D418)
   std::string executor = "local"; ///< "local" or "slurm"
   SlurmOptions slurm;             ///< slurm: overrides of the recipe's section, --wait
 };
@@ -31,6 +32,7 @@ int run_characterize(const CharacterizeArgs& a);
 struct FitUnitArgs {
   std::string recipe, out; ///< the recipe argument as given, the run folder
   bool no_plots = false;
+  int replicas = 0; ///< --replicas as given (0: the recipe's), for the command the card records
 };
 /// The fit unit: fit of cases.h5 -> card.h5, plots, report.md and summary.json (what
 /// `pnc characterize --json` prints). Returns 0, 3 (fit not converged) or 4 (card not usable).

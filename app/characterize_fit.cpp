@@ -37,6 +37,7 @@ struct MdFit {
   rve::ReplicaFits replica_fits;
   damage::Card card;
   rve::ReplicaTrend trend;
+  double max_shape_error = 0; ///< the tolerance the verdict judged the shape by (D417)
 };
 
 /// The joint NDM fit of cases.h5 with the replicas' honest errors and the MD verdict gates.
@@ -107,6 +108,7 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   f.trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
   const rve::ReplicaTrend& trend = f.trend;
   MdCardGates gates;
+  f.max_shape_error = gates.max_shape_error;
   if (trend.applicable) {
     VerdictLimits limits;
     limits.independent_residuals = false;
@@ -136,23 +138,19 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
   std::cerr << "pnc characterize [fit] " << md.cases_h5 << "\n";
   const MdFit f = fit_md(r, md);
   const std::string card_path = (fs::path(a.out) / "card.h5").string();
-  const std::string command = fmt::format("pnc characterize {} --out {}", a.recipe, a.out);
+  const std::string command =
+      fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out,
+                  a.replicas > 0 ? fmt::format(" --replicas {}", a.replicas) : std::string());
   write_card(card_path, f.card, command);
   // every figure of the run in one plotting process, after the card is written (a plotting
   // failure is a warning: the run and its report are complete without figures)
-  CharacterizeRun run{r,
-                      md,
-                      f.data,
-                      f.rep,
-                      f.card,
-                      f.replica_fits,
-                      f.trend,
-                      f.o.model,
-                      a.out,
-                      command,
-                      read_clay_info(r, md),
-                      0.0,
-                      !a.no_plots,
+  CharacterizeRun run{r,         md,
+                      f.data,    f.rep,
+                      f.card,    f.replica_fits,
+                      f.trend,   f.max_shape_error,
+                      f.o.model, a.out,
+                      command,   read_clay_info(r, md),
+                      0.0,       !a.no_plots,
                       {}};
   if (!a.no_plots) {
     const std::string plots = (fs::path(a.out) / "plots").string();

@@ -149,7 +149,7 @@ std::string details_markdown(const CharacterizeRun& c) {
   rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += rve::replica_fits_markdown(replica_fits, rep);
-  rep_md += rve::replica_trend_markdown(trend);
+  rep_md += rve::replica_trend_markdown(trend, c.max_shape_error);
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, c.model));
   rep_md +=
@@ -260,7 +260,9 @@ std::string write_characterize_report(const CharacterizeRun& c) {
        {"run folder", "`" + c.out + "`"},
        {"deformation cases", cases},
        {"replicas",
-        fmt::format("{} (error bars: {})", md.statistics.replicas, md.statistics.error_method)},
+        fmt::format("{} (error bars: {}){}", md.statistics.replicas, md.statistics.error_method,
+                    md.replica_history.empty() ? std::string()
+                                               : "; " + md.replica_history + " (D418)")},
        {"model fitted", std::string("NDM, ") + damage::model_name(c.model)},
        {"software", version_string()},
        {"finished", utc_timestamp()},
@@ -381,6 +383,7 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["fit"] = fit_json(card.fit);
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
+  if (!md.replica_history.empty()) j["statistics"]["replica_history"] = md.replica_history; // D418
   j["moduli"] = {{"E_isotropic_formula_Pa", num(dm.E_isotropic_formula)},
                  {"E1_Pa", num(dm.E1)},
                  {"G12_Pa", num(dm.G12)}};

@@ -28,6 +28,7 @@ struct CharacterizeRun {
   const damage::Card& card;             ///< as written (errors and verdict of the MD gates)
   const rve::ReplicaFits& replica_fits;
   const rve::ReplicaTrend& trend;
+  double max_shape_error; ///< the tolerance of the shape error the verdict used (D417)
   damage::Model model;
   std::string out, command;
   nlohmann::json clay_info; ///< read_clay_info

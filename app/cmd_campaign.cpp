@@ -73,7 +73,7 @@ int unit_main(const std::string& dir, const campaign::Plan& p, const rve::Recipe
       campaign::run_unit_recorded(dir, u, [&] {
         const rve::MdOutcome md = rve::collect_md(r, dir, p);
         FitUnitArgs fa{p.parameters.value("recipe", std::string(dir)), dir,
-                       p.parameters.value("no_plots", false)};
+                       p.parameters.value("no_plots", false), p.parameters.value("replicas", 0)};
         code = run_fit_unit(r, md, fa);
         return nlohmann::json{{"exit_code", code}, {"summary", summary_path(dir)}};
       });
@@ -427,7 +427,8 @@ int run_plan_slurm(const PlanDriver& d, const campaign::Plan& p, campaign::Slurm
 }
 
 int run_characterize(const CharacterizeArgs& a) {
-  const rve::Recipe r = load_recipe(a.recipe);
+  rve::Recipe r = load_recipe(a.recipe);
+  if (a.replicas > 0) r.replicas = a.replicas; // D418: a run of more replicas, or more added
   if (a.executor != "local" && a.executor != "slurm")
     fail("<command line>", "--executor", a.executor, "must be local or slurm");
   int ranks = 1, jobs = 1;
@@ -458,6 +459,7 @@ int run_characterize(const CharacterizeArgs& a) {
   if (resume) campaign::clear_status(a.out, "fit");
   const nlohmann::json params = {
       {"recipe", a.recipe},
+      {"replicas", a.replicas}, // --replicas as given (0: the recipe's; D418)
       {"no_plots", a.no_plots},
       {"executor", a.executor},
       {"jobs", jobs},

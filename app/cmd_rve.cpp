@@ -266,6 +266,14 @@ void register_rve(CLI::App& app, Action& action) {
                                       "(default: the recipe's run.jobs); " +
                                           jobs.rule()),
                        jobs);
+  const Parameter& replicas = recipe_keys.at("run.replicas");
+  bind_declared_option(
+      ch->add_option("--replicas", ca->replicas,
+                     "independent replicas (default: the recipe's run.replicas); with --resume a "
+                     "larger number adds replicas to a run of >= 2 (the ones run are kept, the new "
+                     "ones get their own seeds; D418); " +
+                         replicas.rule()),
+      replicas);
   ch->add_option("--equilibrate-ranks", ca->equilibrate_ranks,
                  "MPI ranks of the equilibration stages (default: ranks x jobs, at most the "
                  "machine's cores, shared by the equilibrations that run at once)")

@@ -5,6 +5,7 @@
 #include "pnc/core/error.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/stop.hpp"
+#include "pnc/core/version.hpp"
 #include "pnc/damage/data.hpp"
 #include "pnc/md/runner.hpp"
 #include "pnc/md/stage_stop.hpp"
@@ -324,6 +325,68 @@ Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ranks,
   return p;
 }
 
+namespace {
+/// DIR/replica_history.json: [{"from": M, "to": N, "utc": "..."}, ...] (decision D418).
+nlohmann::json read_replica_history(const std::string& path) {
+  std::ifstream f(path);
+  nlohmann::json h = nlohmann::json::parse(f, nullptr, false);
+  bool ok = h.is_array();
+  for (const auto& e : ok ? h : nlohmann::json::array())
+    ok = ok && e.is_object() && e.contains("from") && e["from"].is_number_integer() &&
+         e.contains("to") && e["to"].is_number_integer() && e.contains("utc") &&
+         e["utc"].is_string();
+  if (!ok)
+    fail(path, "", "",
+         "is not pnc's replica history (a JSON array of {\"from\": M, \"to\": N, \"utc\": "
+         "TIME}, D418)");
+  return h;
+}
+
+/// --resume with a recipe that differs from the run's stored one (decision D418): allowed only
+/// when the one difference is a larger run.replicas on a run of >= 2 replicas (their folders,
+/// seeds and units do not depend on the count: replica_dir, replica_build_seed); fails naming
+/// the first other difference, or the count's rule.
+void check_replica_extension(const Recipe& r, const std::string& recipe_path,
+                             const std::string& stored_text) {
+  nlohmann::json stored = nlohmann::json::parse(stored_text, nullptr, false);
+  if (!stored.is_object()) fail(recipe_path, "", "", "is not a JSON object (not pnc's)");
+  nlohmann::json now = expanded_json(r);
+  const auto count = [](const nlohmann::json& j) {
+    const nlohmann::json* run = j.contains("run") && j["run"].is_object() ? &j["run"] : nullptr;
+    return run && run->contains("replicas") && (*run)["replicas"].is_number_integer()
+               ? (*run)["replicas"].get<int>()
+               : 1;
+  };
+  const int was = count(stored);
+  const int is = std::max(1, r.replicas);
+  for (nlohmann::json* j : {&stored, &now})
+    if (j->contains("run") && (*j)["run"].is_object()) (*j)["run"].erase("replicas");
+  require_same_input(recipe_path, stored, now, recipe_path, "run.replicas, to add replicas (D418)");
+  if (is < was)
+    fail(recipe_path, "run.replicas", std::to_string(is),
+         fmt::format("is fewer than the {} replicas this run was started with: --resume keeps "
+                     "every replica of a run and may add more (D418); a run of fewer replicas "
+                     "needs a new --out directory",
+                     was));
+  if (was < 2)
+    fail(recipe_path, "run.replicas", std::to_string(is),
+         "differs from the 1 replica this run was started with: a run of one replica keeps its "
+         "files in the run folder itself, not in replica_<k> folders, and cannot be extended "
+         "(D418); start the run of several replicas in a new --out directory");
+  if (is == was) return;
+  std::cerr << fmt::format("pnc characterize: --resume adds replicas {}..{} to the {} of this run "
+                           "(their own seeds; the {} done are kept; D418)\n",
+                           was + 1, is, was, was);
+  // the additions are kept: a reader of the card can tell a count fixed in advance from one
+  // extended after a result was seen (D418)
+  const std::string hist = (fs::path(recipe_path).parent_path() / "replica_history.json").string();
+  nlohmann::json h = nlohmann::json::array();
+  if (fs::exists(hist)) h = read_replica_history(hist);
+  h.push_back({{"from", was}, {"to", is}, {"utc", utc_timestamp()}});
+  write_text_atomically(hist, h.dump(2) + "\n");
+}
+} // namespace
+
 void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bool refit) {
   make_output_directory(dir);
   if (r.system.enabled && resume) check_user_input_unchanged(r.system, dir); // decision D121
@@ -335,10 +398,8 @@ void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bo
     ss << f.rdbuf();
     if (ss.str() != recipe_text + "\n" && !refit) {
       if (resume)
-        fail(recipe_path, "", "",
-             "--resume with a recipe different from the one this directory was made with; "
-             "use a new --out directory");
-      if (!fs::is_empty(fs::path(dir)))
+        check_replica_extension(r, recipe_path, ss.str()); // D418
+      else if (!fs::is_empty(fs::path(dir)))
         fail(dir, "--out", dir,
              "holds a run of another recipe; use a new --out directory or delete it");
     } else {
@@ -378,6 +439,17 @@ void check_refit(const Recipe& r, const std::string& dir) {
          fmt::format("--refit fits a finished run again, and {} of its {} MD unit(s) are not done "
                      "(the first: {}; pnc status {}); finish the run with --resume first",
                      open.size(), md_units, open.front(), dir));
+}
+
+std::string replica_history(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "replica_history.json").string();
+  if (!fs::exists(path)) return "";
+  std::string s;
+  for (const auto& e : read_replica_history(path))
+    s += fmt::format("{}{} at first, {}-{} added by --resume ({})", s.empty() ? "" : "; ",
+                     e["from"].get<int>(), e["from"].get<int>() + 1, e["to"].get<int>(),
+                     e["utc"].get<std::string>());
+  return s;
 }
 
 Recipe read_run_recipe(const std::string& dir) {
@@ -490,6 +562,12 @@ MdOutcome collect_md(const Recipe& r, const std::string& dir, const Plan& p) {
   o.cases_h5 = (fs::path(dir) / "cases.h5").string();
   o.statistics = write_replica_cases_h5(o.cases_h5, r, results);
   o.statistics_markdown = statistics_markdown(o.statistics);
+  o.replica_history = replica_history(dir); // D418
+  if (!o.replica_history.empty())
+    o.statistics_markdown += fmt::format(
+        "Replicas added to the run (D418): {}. The 97.5 % bounds hold for a count fixed before "
+        "its data were seen; a count extended until a card passes covers less.\n\n",
+        o.replica_history);
   return o;
 }
 

@@ -72,7 +72,7 @@ std::string role_of(const CombinedCase& c, int component) {
 } // namespace
 
 double TrendCurve::relative_bound() const {
-  return scale > 0 ? bound / scale : std::numeric_limits<double>::quiet_NaN();
+  return scale > 0 ? bound / scale : INFINITY; // a curve of zero stress: no share holds (D417)
 }
 
 const TrendCurve* ReplicaTrend::largest_shape() const {
@@ -81,7 +81,7 @@ const TrendCurve* ReplicaTrend::largest_shape() const {
   for (const auto* list : {&curves, &roles})
     for (const auto& c : *list) {
       if (c.pooled) continue; // judged through its role (D397)
-      const double rel = c.scale > 0 ? c.relative_bound() : INFINITY;
+      const double rel = c.relative_bound();
       if (rel > big_rel) big = &c, big_rel = rel;
     }
   return big;
@@ -89,8 +89,11 @@ const TrendCurve* ReplicaTrend::largest_shape() const {
 
 double ReplicaTrend::shape_error() const {
   const TrendCurve* big = applicable ? largest_shape() : nullptr;
-  if (!big) return std::numeric_limits<double>::quiet_NaN();
-  return big->scale > 0 ? big->relative_bound() : INFINITY;
+  return big ? big->relative_bound() : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::size_t ReplicaTrend::tests() const {
+  return std::max<std::size_t>(1, curves.size() + roles.size());
 }
 
 const TrendCurve* ReplicaTrend::worst() const {
@@ -186,9 +189,7 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
       if (curve_role[i] == role) out.curves[i].pooled = true;
   }
   const TrendCurve* w = out.worst();
-  const std::size_t tests = out.curves.size() + out.roles.size();
-  out.p_family =
-      w ? std::min(1.0, w->p * static_cast<double>(std::max<std::size_t>(1, tests))) : 1.0;
+  out.p_family = w ? std::min(1.0, w->p * static_cast<double>(out.tests())) : 1.0;
   return out;
 }
 
@@ -196,11 +197,10 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
                          damage::Verdict& v) {
   const TrendCurve* big = t.applicable ? t.largest_shape() : nullptr;
   if (!big) return;
-  const double rel = t.shape_error();
-  if (!(rel > max_shape_error)) return; // the law's shape within the tolerance (D417)
+  const double rel = big->relative_bound(); // the shape error (D417)
+  if (!(rel > max_shape_error)) return;     // the law's shape within the tolerance (D417)
   static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
-  const double tests =
-      static_cast<double>(std::max<std::size_t>(1, t.curves.size() + t.roles.size()));
+  const double tests = static_cast<double>(t.tests());
   const double p = std::min(1.0, big->p * tests); // family-wise (D12k)
   const std::string where =
       big->role.empty() ? fmt::format("case {} sigma{}", big->case_id, kVoigt[big->component % 6])
@@ -220,7 +220,7 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
                        100 * max_shape_error, t.replicas, where, p, size));
 }
 
-std::string replica_trend_markdown(const ReplicaTrend& t) {
+std::string replica_trend_markdown(const ReplicaTrend& t, double max_shape_error) {
   if (!t.applicable) return "";
   static const char* comp[6] = {"sigma11", "sigma22", "sigma33", "sigma23", "sigma13", "sigma12"};
   std::string s = fmt::format(
@@ -257,8 +257,7 @@ std::string replica_trend_markdown(const ReplicaTrend& t) {
       "\nFamily-wise p (Bonferroni over {} curves and {} pooled roles): {:.2g}. "
       "The law's shape error (the largest bound as a share of its stress, over the pooled roles "
       "and the curves in none; D417): {:.3g} %, at most {:.3g} % for a card without warnings.\n\n",
-      t.curves.size(), t.roles.size(), t.p_family, 100 * t.shape_error(),
-      100 * damage::MdCardGates{}.max_shape_error);
+      t.curves.size(), t.roles.size(), t.p_family, 100 * t.shape_error(), 100 * max_shape_error);
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include "pnc/core/version.hpp"
 #include "pnc/damage/data.hpp"
 
+#include "characterize_support.hpp"
 #include "common/page_check.hpp"
 #include "common/run_command.hpp"
 #include "common/temp_dir.hpp"
@@ -25,27 +26,14 @@
 namespace fs = std::filesystem;
 
 namespace {
+using pnc::test::tiny_recipe;
 using Proc = pnc::test::CommandResult;
+using pnc::test::run_pnc;
 Proc run(const std::string& args) {
-  return pnc::test::run_command(std::string(PNC_EXE) + " " + args);
+  return run_pnc(args);
 }
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-const char* tiny = R"({
-  "name": "tiny", "seed": 3,
-  "build": { "chains": 8 },
-  "equilibrate": { "pushoff_steps": 500, "hot_steps": 1000, "cool_steps": 500,
-                   "langevin_chunk_steps": 200, "langevin_max_chunks": 2,
-                   "npt_steps": 1000, "final_steps": 200 },
-  "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
-              "hold_steps": 200, "sample_every": 10, "blocks": 4 },
-  "phase_check": { "enabled": true, "steps": 1000, "sample_every": 5,
-                   "cavitation_steps": 200 },
-  "analysis": { "moving_average": 1 },
-  "run": { "jobs": 2 }
-})";
+using pnc::test::slurp;
+const char* tiny = tiny_recipe;
 /// report.html of a run drawn with its figures: self-contained, the verdict and every
 /// constant of the JSON summary `j`, both figures (the fit, the MD stresses) embedded; the
 /// progress line counts them.

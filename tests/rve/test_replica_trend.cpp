@@ -282,3 +282,27 @@ TEST(ReplicaTrend, TheShapeIsAWarningWhenItsBoundExceedsTheTolerance) {
             std::string::npos)
       << v.reasons[0];
 }
+
+// A unit of zero stress cannot bound its trend by a share of it: its relative bound is +inf
+// (not NaN, which on a card means "not tested"), it is the largest shape, and the markdown
+// quotes the tolerance it is given, not a default.
+TEST(ReplicaTrend, AZeroStressUnitHasAnInfiniteShareAndTheTableQuotesTheTolerance) {
+  rve::ReplicaTrend t;
+  t.applicable = true;
+  t.replicas = 4;
+  rve::TrendCurve a, b;
+  a.case_id = 1, a.component = 0, a.bound = 1e6, a.scale = 50e6;
+  b.case_id = 4, b.component = 3, b.bound = 1e5, b.scale = 0;
+  t.curves = {a, b};
+  EXPECT_DOUBLE_EQ(t.curves[0].relative_bound(), 0.02);
+  EXPECT_TRUE(std::isinf(t.curves[1].relative_bound()));
+  EXPECT_EQ(t.largest_shape(), &t.curves[1]);
+  EXPECT_TRUE(std::isinf(t.shape_error()));
+  EXPECT_EQ(t.tests(), 2u);
+  const std::string md = rve::replica_trend_markdown(t, 0.25);
+  EXPECT_NE(md.find("at most 25 % for a card without warnings"), std::string::npos) << md;
+  damage::Verdict v;
+  rve::judge_replica_trend(t, 1e-3, 0.25, v);
+  ASSERT_EQ(v.reasons.size(), 1u);
+  EXPECT_NE(v.reasons[0].find("case 4 sigma23"), std::string::npos) << v.reasons[0];
+}

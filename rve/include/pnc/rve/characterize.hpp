@@ -41,6 +41,9 @@ struct MdOutcome {
   std::vector<ReplicaOutcome> replicas;                            ///< every replica, in order
   CombinedCases statistics;        ///< what went into cases.h5 (replicas.hpp)
   std::string statistics_markdown; ///< a "## Statistics" section for report.md
+  /// how the replicas came to be (decision D418): "" when the run started with all of them,
+  /// else e.g. "24 at first, 25-48 added by --resume (2026-12-06T20:16:44Z)"
+  std::string replica_history;
   double seconds_build = 0, seconds_equilibrate = 0, seconds_phase = 0, seconds_cases = 0;
   double started_s = 0; ///< UTC epoch seconds when the first unit of the run started
 };
@@ -58,8 +61,10 @@ campaign::Plan characterize_plan(const Recipe& r, int ranks, int equilibrate_ran
 
 /// Checks the run folder against the recipe and writes recipe.json (the expanded recipe):
 /// without `resume` a folder holding another run is refused; with `resume` the recipe (and a
-/// user system's input, D121) must equal the stored one; `refit`: check_refit() passed, the
-/// stored recipe is replaced by r's.
+/// user system's input, D121) must equal the stored one but for a larger run.replicas on a
+/// run of >= 2 replicas, which adds replicas (decision D418; InputError naming the first other
+/// difference, or the count's rule); `refit`: check_refit() passed, the stored recipe is
+/// replaced by r's. Each addition is appended to DIR/replica_history.json (replica_history()).
 void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bool refit = false);
 /// `pnc characterize --refit` (decision D400): fit a finished run again with another fit section.
 /// The run folder's stored recipe (DIR/recipe.json) and `r` may differ only under "fit", and
@@ -67,6 +72,10 @@ void prepare_run_folder(const Recipe& r, const std::string& dir, bool resume, bo
 /// difference, or the units not done (and that --resume finishes them). Then the caller
 /// continues as --resume: prepare_run_folder() stores r's recipe, only the fit unit runs.
 void check_refit(const Recipe& r, const std::string& dir);
+/// How the replicas of run folder `dir` came to be (decision D418), from its
+/// replica_history.json: "" when none were added, else "M at first, M+1-N added by --resume
+/// (UTC time)" per addition, "; "-separated. InputError naming the file if it is not pnc's.
+std::string replica_history(const std::string& dir);
 /// The recipe a run folder was made with (DIR/recipe.json).
 Recipe read_run_recipe(const std::string& dir);
 

@@ -50,7 +50,7 @@ struct TrendCurve {
   /// Pa: the stress the trend is measured against, max |replica-mean stress| of the curve over
   /// the fitted rows (a pooled role: the mean of its curves' scales)
   double scale = 0;
-  /// bound / scale (dimensionless; NaN for a zero scale)
+  /// bound / scale (dimensionless; +inf for a zero scale: no share of it holds the bound)
   double relative_bound() const;
   /// a curve of a pooled role (D397): judged through its role for the shape error (D417)
   bool pooled = false;
@@ -71,6 +71,8 @@ struct ReplicaTrend {
   /// are in none; the one with the largest relative_bound() (a zero scale counts as the
   /// largest), nullptr when there is none.
   const TrendCurve* largest_shape() const;
+  /// The number of tests the family-wise p counts: curves plus pooled roles, at least 1.
+  std::size_t tests() const;
   /// The law's shape error (decision D417): largest_shape()'s relative_bound() (dimensionless;
   /// NaN when not applicable). The true trend of each unit is below its bound in >= 97.5 % of
   /// the cases.
@@ -93,7 +95,8 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
 ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport& joint,
                                 double strain_max, double stretch_max = 0);
 
-/// Markdown section: per curve the coefficients, their errors and p.
-std::string replica_trend_markdown(const ReplicaTrend& t);
+/// Markdown section: per curve the coefficients, their errors, p and the trend's size; its
+/// last line quotes `max_shape_error` (dimensionless), the tolerance the verdict used.
+std::string replica_trend_markdown(const ReplicaTrend& t, double max_shape_error);
 
 } // namespace pnc::rve
