@@ -18,8 +18,7 @@ using namespace detail; // the kernel pieces shared with the batched route (ndm_
 
 // ---------------------------------------------------------------- stiffness
 namespace {
-// the pnc constants' indices (detail::PncIdx) are in ndm_internal.hpp
-enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
+// the constants' indices (detail::PncIdx, detail::PpIdx) are in ndm_internal.hpp
 } // namespace
 
 namespace {
@@ -326,11 +325,7 @@ Voigt c1_times(const NdmParameters& p, int m, const Voigt& e) {
   if (p.model == Model::pnc) {
     pnc_c1_times(k, m, e, v); // shared with the batched route (D399)
   } else {
-    const double s = e[0] + e[1] + e[2];
-    for (int i = 0; i < 3; ++i) {
-      v[i] = 2 * k[jB1] * e[i] + k[jB2] * (s - e[i]);
-      v[3 + i] = k[jB4] * e[3 + i];
-    }
+    pp_c1_times(k, e, v); // shared with the batched route (D419)
   }
   return v;
 }

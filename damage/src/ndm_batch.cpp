@@ -9,9 +9,9 @@
 //     (no mode with damage growth) or kernel (damage growth);
 //  4. sigma = C0g eps for the chunk (run with pass 1's rotation, in the chunk's one form of the
 //     products with the strain, D401), sigma = (C0g + sum_m D_m dC1g_m) eps for the unloading
-//     points gathered into a compact block, the damage growth of pnc points in loops over a
-//     compact block as well (ndm_batch_growth.hpp, D399, D403), integrate_row_major() for the
-//     other kernel points (pp; a capped mode growing at a repeated lambda_max);
+//     points gathered into a compact block, the damage growth (pnc and pp points) in loops over
+//     a compact block as well (ndm_batch_growth.hpp, D399, D403, D419), integrate_row_major()
+//     for the kernel points it hands back (a capped mode growing at a repeated lambda_max);
 //  5. the result check and the writes to the caller's arrays.
 // How the passes move their numbers (full chunks, one product form per chunk, padded compact
 // blocks) is D401.
@@ -163,8 +163,8 @@ template <Model M, bool Mixed>
       const double lam = M == Model::pp ? lmax : (clip[k][i] != 0.0 ? lmax : un[k][i]);
       c.lam[k][i] = keep ? c.lam[k][i] : lam;
     }
-    if constexpr (M == Model::pnc) { // the pieces of the growth pass (D403)
-      c.lmax[i] = keep ? c.lmax[i] : lmax;
+    c.lmax[i] = keep ? c.lmax[i] : lmax; // a piece of the growth pass (D403; pp: D419)
+    if constexpr (M == Model::pnc) {     // the pieces of the growth pass (D403)
 #pragma GCC unroll 3
       for (int k = 0; k < 3; ++k) {
         c.tsh[k][i] = keep ? c.tsh[k][i] : sh[k][i];
@@ -311,15 +311,23 @@ template <int N, bool KeepSecant>
 // line, one copy per instruction set: inlined into run(), its scratch (about 12 KB) made the
 // other paths of a 3-D batch about a fifth slower for the same instructions (bench/README.md,
 // "Results after D399").
+template <int N, bool R, bool B>
+[[gnu::always_inline]] inline void growth_kind(const PreparedNdm& q, TangentKind kind,
+                                               const std::size_t* gidx, std::size_t ng, Chunk& c) {
+  if (kind == TangentKind::consistent)
+    growth_points<N, R, B, GrowthK::consistent>(q, gidx, ng, c);
+  else if (kind == TangentKind::secant)
+    growth_points<N, R, B, GrowthK::secant>(q, gidx, ng, c);
+  else
+    growth_points<N, R, B, GrowthK::none>(q, gidx, ng, c);
+}
 template <bool R, bool B>
 [[gnu::always_inline]] inline void growth_with(const PreparedNdm& q, TangentKind kind,
                                                const std::size_t* gidx, std::size_t ng, Chunk& c) {
-  if (kind == TangentKind::consistent)
-    growth_points<R, B, GrowthK::consistent>(q, gidx, ng, c);
-  else if (kind == TangentKind::secant)
-    growth_points<R, B, GrowthK::secant>(q, gidx, ng, c);
-  else
-    growth_points<R, B, GrowthK::none>(q, gidx, ng, c);
+  if (q.p.model == Model::pnc)
+    growth_kind<3, R, B>(q, kind, gidx, ng, c);
+  else // the pp law's one mode (D419)
+    growth_kind<1, R, B>(q, kind, gidx, ng, c);
 }
 // (No lambda here: a lambda would not inherit the AVX2 copy's target attribute.)
 [[gnu::always_inline]] inline void growth_impl(const PreparedNdm& q, TangentKind kind, bool block,
@@ -428,10 +436,7 @@ template <Copy I>
       if (c.bad[i] != 0.0) continue; // failed on input: no path
       if (c.path[i] == kUnloading) uidx[nu++] = i;
       if (c.path[i] != kKernel) continue;
-      if (model == Model::pnc)
-        gidx[ng++] = i; // damage growth of a pnc point: the growth pass (D399, D403)
-      else
-        kidx[nk++] = i;
+      gidx[ng++] = i; // damage growth: the growth pass (D399, D403; pp: D419)
     }
     const bool want_K = b.kind != TangentKind::none && b.K;
     const bool secant = want_K && b.kind != TangentKind::elastic; // unloading: K = Cd
@@ -467,7 +472,7 @@ template <Copy I>
     for (std::size_t i = 0; i < m; ++i) {
       if (c.bad[i] != 0.0) {
         if (stats.failed++ == 0) stats.first_failed = base + i;
-      } else if (c.path[i] == kKernel && model == Model::pnc && c.vec_growth[i] != 0.0) {
+      } else if (c.path[i] == kKernel && c.vec_growth[i] != 0.0) {
         ++stats.growth;
       } else if (c.path[i] == kKernel) {
         ++stats.kernel;

@@ -10,9 +10,9 @@
 namespace pnc::damage::batch {
 
 constexpr std::size_t kChunk = 32;
-// Chunk::path. kKernel: damage growth (a loading mode whose damage grows); a pnc point takes
-// the vectorised damage-growth pass (D399, D403), which may hand it back (Chunk::vec_growth),
-// a pp point integrate_row_major().
+// Chunk::path. kKernel: damage growth (a loading mode whose damage grows); the point takes the
+// vectorised damage-growth pass (D399, D403; pp points too, D419), which may hand it back to
+// integrate_row_major() (Chunk::vec_growth).
 constexpr double kElastic = 0.0, kUnloading = 1.0, kKernel = 2.0;
 
 // Scratch of one chunk (about 34 KB on the stack; no allocation).

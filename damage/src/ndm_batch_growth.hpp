@@ -1,8 +1,9 @@
 #pragma once
-// Pass 4c of the batched NDM route (ndm_batch.cpp; decisions D399, D403): the damage-growth
-// points of the pnc law, in loops over the points instead of one integrate_row_major() call
-// each (a point whose capped mode grows at a repeated lambda_max is handed back to the kernel,
-// which takes Eigen's solver for the direction). For each point the kernel's numbers
+// Pass 4c of the batched NDM route (ndm_batch.cpp; decisions D399, D403, D419): the
+// damage-growth points of the pnc law and of the pp law (its one mode, lambda_max: always the
+// capped row), in loops over the points instead of one integrate_row_major() call each (a point
+// whose capped mode grows at a repeated lambda_max is handed back to the kernel, which takes
+// Eigen's solver for the direction). For each point the kernel's numbers
 // (integrate_impl() in ndm.cpp), expression for expression and in its order: the secant Cd =
 // C0g + sum_m D_m dC1g_m, sigma = Cd eps, the consistent tangent Cd + sum_m a_m g_m over the
 // modes with damage growth (a = T^T dC1_m el, g = (dD_m / alpha) (d lambda_m / d el) T), the
@@ -54,14 +55,18 @@ template <int M>
 
 // The growth terms a_m (A) and g_m (G) of mode M for point j, and its part of the released
 // energy; act: the mode grows (dD != 0 while loading).
-template <int M, bool Rotated, bool Consistent>
+// PP: the pp law (mode 0 only, dC1 e by pp_c1_times; D419).
+template <int M, bool Rotated, bool Consistent, bool PP>
 [[gnu::always_inline]] inline void
 growth_mode(const std::array<double, kMaxConstants>& k, const double (&tc)[6][6], double alpha,
             double ndb, const double (&l)[6], double k0, double D1, double dg, double t,
             double grow, bool clip, const double (&capped)[6], double& released, double (&a)[6],
             double (&g)[6]) {
   double v[6];
-  detail::pnc_c1_times(k, M, l, v);
+  if constexpr (PP)
+    detail::pp_c1_times(k, l, v);
+  else
+    detail::pnc_c1_times(k, M, l, v);
   // the released energy of the mode (the kernel's mode_damage() of the start kappa)
   double D0, dD0;
   detail::damage_and_slope(k0 / alpha, D0, dD0);
@@ -100,10 +105,13 @@ enum class GrowthK { none, secant, consistent };
 
 // The damage-growth points idx[0..u) of the chunk (D399, D403). Block: every one of them has a
 // block-diagonal platelet-frame strain, so mode 3 has no shear and no cap, and without rotation
-// the tangent entries of the out-of-plane shears are skipped (below).
-template <bool Rotated, bool Block, GrowthK Kind>
+// the tangent entries of the out-of-plane shears are skipped (below). N: the law's modes, 3
+// (pnc) or 1 (pp, D419: its mode is lambda_max, the capped row, whatever c.clip holds).
+template <int N, bool Rotated, bool Block, GrowthK Kind>
 [[gnu::always_inline]] inline void growth_points(const PreparedNdm& q, const std::size_t* idx,
                                                  std::size_t u, Chunk& c) {
+  static_assert(N == 1 || N == 3, "the pp (1) or the pnc law (3)");
+  constexpr bool PP = N == 1;
   constexpr bool Consistent = Kind == GrowthK::consistent;
   constexpr bool Skip = Block && !Rotated;
   const double alpha = q.p.alpha();
@@ -129,17 +137,17 @@ template <bool Rotated, bool Block, GrowthK Kind>
       e[k][j] = c.eps[k][i];
     }
 #pragma GCC unroll 6
-    for (int m = 0; m < 3; ++m) {
-      D[m][j] = c.D[m][i];
-      dg[m][j] = c.dg[m][i];
-      k0[m][j] = c.s0[m][i];
+    for (int m = 0; m < 3; ++m) { // pp: modes 1 and 2 absent (no damage, no growth)
+      D[m][j] = m < N ? c.D[m][i] : 0.0;
+      dg[m][j] = m < N ? c.dg[m][i] : 0.0;
+      k0[m][j] = m < N ? c.s0[m][i] : 0.0;
     }
     lmax[j] = c.lmax[i];
 #pragma GCC unroll 6
-    for (int m = 0; m < 3; ++m) {
-      t[m][j] = c.tsh[m][i];
-      grow[m][j] = c.grow[m][i];
-      clip[m][j] = c.clip[m][i];
+    for (int m = 0; m < 3; ++m) { // pp: lambda_max, the capped row (compute_stretch())
+      t[m][j] = PP ? 0.0 : c.tsh[m][i];
+      grow[m][j] = PP ? 1.0 : c.grow[m][i];
+      clip[m][j] = PP ? (m == 0 ? 1.0 : 0.0) : c.clip[m][i];
     }
   }
   // per point: the modes' growth terms and the released energy
@@ -149,7 +157,7 @@ template <bool Rotated, bool Block, GrowthK Kind>
     for (int k = 0; k < 6; ++k)
       lj[k] = l[k][j];
 #pragma GCC unroll 6
-    for (int m = 0; m < 3; ++m)
+    for (int m = 0; m < N; ++m)
       act[m][j] = dg[m][j] != 0.0 ? 1.0 : 0.0;
     double released = 0.0;
     const bool clip0 = clip[0][j] != 0.0, clip1 = clip[1][j] != 0.0,
@@ -164,19 +172,23 @@ template <bool Rotated, bool Block, GrowthK Kind>
           (clip0 & (dg[0][j] != 0.0)) | (clip1 & (dg[1][j] != 0.0)) | (clip2 & (dg[2][j] != 0.0));
       direction = capped_growth ? unique : 1.0;
     }
-    growth_mode<0, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[0][j], D[0][j], dg[0][j],
-                                        t[0][j], grow[0][j], clip0, capped, released, a[0], g[0]);
-    growth_mode<1, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[1][j], D[1][j], dg[1][j],
-                                        t[1][j], grow[1][j], clip1, capped, released, a[1], g[1]);
-    growth_mode<2, Rotated, Consistent>(q.p.k, tc, alpha, ndb, lj, k0[2][j], D[2][j], dg[2][j],
-                                        Block ? 0.0 : t[2][j], Block ? 1.0 : grow[2][j], clip2,
-                                        capped, released, a[2], g[2]);
+    growth_mode<0, Rotated, Consistent, PP>(q.p.k, tc, alpha, ndb, lj, k0[0][j], D[0][j], dg[0][j],
+                                            t[0][j], grow[0][j], clip0, capped, released, a[0],
+                                            g[0]);
+    if constexpr (!PP) {
+      growth_mode<1, Rotated, Consistent, false>(q.p.k, tc, alpha, ndb, lj, k0[1][j], D[1][j],
+                                                 dg[1][j], t[1][j], grow[1][j], clip1, capped,
+                                                 released, a[1], g[1]);
+      growth_mode<2, Rotated, Consistent, false>(
+          q.p.k, tc, alpha, ndb, lj, k0[2][j], D[2][j], dg[2][j], Block ? 0.0 : t[2][j],
+          Block ? 1.0 : grow[2][j], clip2, capped, released, a[2], g[2]);
+    }
     rel[j] = released;
     bad[j] = 0.0;
     ok[j] = direction;
     if constexpr (Consistent)
 #pragma GCC unroll 6
-      for (int m = 0; m < 3; ++m)
+      for (int m = 0; m < N; ++m)
 #pragma GCC unroll 6
         for (int k = 0; k < 6; ++k)
           if (!Skip || !out_of_plane(k)) { // (the others are +-0: see below)
@@ -192,7 +204,7 @@ template <bool Rotated, bool Block, GrowthK Kind>
     for (int col = 0; col < 6; ++col) {
       a0[col] = q.C0g(r, col);
 #pragma GCC unroll 6
-      for (int m = 0; m < 3; ++m)
+      for (int m = 0; m < N; ++m)
         d[m][col] = q.dC1g[static_cast<std::size_t>(m)](r, col);
     }
     double(*__restrict kg)[kChunk] = c.Kg + 6 * r; // entries (r, 0..5)
@@ -203,7 +215,7 @@ template <bool Rotated, bool Block, GrowthK Kind>
       for (int col = 0; col < 6; ++col) {
         double x = a0[col];
 #pragma GCC unroll 3
-        for (int m = 0; m < 3; ++m) {
+        for (int m = 0; m < N; ++m) {
           const double y = x + D[m][j] * d[m][col];
           x = D[m][j] != 0.0 ? y : x;
         }
@@ -216,7 +228,7 @@ template <bool Rotated, bool Block, GrowthK Kind>
         if constexpr (Consistent)
           if (!Skip || !(out_of_plane(r) || out_of_plane(col)))
 #pragma GCC unroll 3
-            for (int m = 0; m < 3; ++m) {
+            for (int m = 0; m < N; ++m) {
               const double y = x + A[m][r][j] * G[m][col][j];
               x = act[m][j] != 0.0 ? y : x;
             }

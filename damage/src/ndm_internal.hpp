@@ -38,6 +38,19 @@ enum PncIdx {
   iAlphaPnc
 };
 
+/// Indices of the pp law's constants in NdmParameters::k (the order of constant_names()).
+enum PpIdx { jC11, jC12, jC44, jB1, jB2, jB4, jAlphaPp };
+
+/// v = dC1/dD e of the pp law (its one mode; engineering Voigt strain e), as every route forms
+/// it (the single-point kernel's c1_times() and the batched damage-growth pass, D419).
+template <class K, class E, class V> inline void pp_c1_times(const K& k, const E& e, V& v) {
+  const double s = e[0] + e[1] + e[2];
+  for (int i = 0; i < 3; ++i) {
+    v[i] = 2 * k[jB1] * e[i] + k[jB2] * (s - e[i]);
+    v[3 + i] = k[jB4] * e[3 + i];
+  }
+}
+
 /// v = dC1/dD_m e of the pnc law (mode m = 0, 1, 2; platelet-frame engineering Voigt strain e),
 /// by the sparsity of dC1/dD_m, as every route forms it (the single-point kernel's c1_times()
 /// and the batched damage-growth pass, D399). k: NdmParameters::k.

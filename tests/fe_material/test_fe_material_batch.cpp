@@ -31,20 +31,14 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryOnEveryPathModelFrameAndRequest) 
       for (std::size_t i = 0; i < b.n; ++i)
         expect_point_equal(m.get(), pts, b, i, request, what);
       if (request == PNC_MATERIAL_TANGENT_NONE) {
-        // every path is exercised: fast elastic and unloading points, and damage growth: in
-        // the growth pass for the pnc law, plane and general strains alike (D399, D403; a
-        // stress-only request needs no principal direction, so none goes to the kernel), in
-        // the kernel for pp
+        // every path is exercised: fast elastic and unloading points, and damage growth in
+        // the growth pass, pnc and pp, plane and general strains alike (D399, D403, D419; a
+        // stress-only request needs no principal direction, so none goes to the kernel)
         const auto st = paths_of(p, b);
         EXPECT_GT(st.elastic, 100u) << what;
         EXPECT_GT(st.unloading, 10u) << what;
-        if (c.model == Model::pnc) {
-          EXPECT_GT(st.growth, 30u) << what;
-          EXPECT_EQ(st.kernel, 0u) << what;
-        } else {
-          EXPECT_GT(st.kernel, 30u) << what;
-          EXPECT_EQ(st.growth, 0u) << what;
-        }
+        EXPECT_GT(st.growth, 30u) << what;
+        EXPECT_EQ(st.kernel, 0u) << what;
         EXPECT_EQ(st.elastic + st.unloading + st.growth + st.kernel, b.n) << what;
       }
     }
@@ -80,16 +74,11 @@ TEST(FeMaterialBatch, EqualsTheSinglePointEntryWhenAChunkIsAllPlaneOrAllGeneral)
                                  " request " + std::to_string(request);
         for (std::size_t i = 0; i < b.n; ++i)
           expect_point_equal(m.get(), pts, b, i, request, what);
-        // the damage growth of pnc points takes the growth pass, block-diagonal (plane strains
-        // aligned or rotated about x3) and general strains alike (D399, D403); pp's the kernel
+        // the damage growth takes the growth pass, block-diagonal (plane strains aligned or
+        // rotated about x3) and general strains alike, pnc (D399, D403) and pp (D419) points
         const auto st = paths_of(p, b);
-        if (model == Model::pnc) {
-          EXPECT_GT(st.growth, 15u) << what;
-          EXPECT_EQ(st.kernel, 0u) << what;
-        } else {
-          EXPECT_EQ(st.growth, 0u) << what;
-          EXPECT_GT(st.kernel, 15u) << what;
-        }
+        EXPECT_GT(st.growth, 15u) << what;
+        EXPECT_EQ(st.kernel, 0u) << what;
       }
     }
 }
@@ -181,32 +170,37 @@ TEST(FeMaterialBatch, AGrowingThirdModeOfAGeneralStrainTakesTheGrowthPassWithThe
 }
 
 TEST(FeMaterialBatch, ACappedModeGrowingAtARepeatedLargestStretchGoesToTheKernel) {
-  const NdmParameters p = params(Model::pnc, false);
-  auto m = make(p);
-  std::vector<Point> pts;
-  for (const double g12 : {0.02, 0.04, -0.03}) {
-    const double e11 = 0.005, e22 = 0.12;
-    const double a = 1 + e11, b = 1 + e22;
-    const double smax =
-        0.5 * (std::sqrt((a + b) * (a + b) + g12 * g12) + std::sqrt((a - b) * (a - b) + g12 * g12));
-    Vec6 e;
-    e << e11, e22, smax - 1.0, 0.0, 0.0, g12;
-    // mode 2 (x2) is capped here: its uncapped stretch e22 + t + sqrt(1 + t^2) exceeds smax
-    ASSERT_GT(e22 + 0.5 * std::abs(g12) + std::sqrt(1 + 0.25 * g12 * g12), smax);
-    Point pt;
-    pt.s0 = state_after(m.get(), Vec6(0.98 * e));
-    pt.e0 = 0.98 * e;
-    pt.de = e - pt.e0;
-    pts.push_back(pt);
+  // pnc: mode 2 is capped at lambda_max; pp: its one mode is lambda_max (D419)
+  for (const Model model : {Model::pnc, Model::pp}) {
+    const NdmParameters p = params(model, false);
+    const std::string what = std::string("repeated, ") + pnc::damage::model_name(model);
+    auto m = make(p);
+    std::vector<Point> pts;
+    for (const double g12 : {0.02, 0.04, -0.03}) {
+      // (pp's damage onset is at a larger stretch: a larger e22 loads it into damage)
+      const double e11 = 0.005, e22 = model == Model::pnc ? 0.12 : 0.4;
+      const double a = 1 + e11, b = 1 + e22;
+      const double smax = 0.5 * (std::sqrt((a + b) * (a + b) + g12 * g12) +
+                                 std::sqrt((a - b) * (a - b) + g12 * g12));
+      Vec6 e;
+      e << e11, e22, smax - 1.0, 0.0, 0.0, g12;
+      // mode 2 (x2) is capped here: its uncapped stretch e22 + t + sqrt(1 + t^2) exceeds smax
+      ASSERT_GT(e22 + 0.5 * std::abs(g12) + std::sqrt(1 + 0.25 * g12 * g12), smax);
+      Point pt;
+      pt.s0 = state_after(m.get(), Vec6(0.98 * e));
+      pt.e0 = 0.98 * e;
+      pt.de = e - pt.e0;
+      pts.push_back(pt);
+    }
+    expect_batch_equals_single(m.get(), pts, PNC_MATERIAL_TANGENT_CONSISTENT, what);
+    Blocks again(pts, pnc_material_n_state(m.get()));
+    const auto st = paths_of(p, again); // stress only: no direction needed, the growth pass
+    EXPECT_EQ(st.growth, pts.size()) << what;
+    const auto sk = pnc::damage::integrate_batch(
+        pnc::damage::prepare(p), batch_view(again, pnc::damage::TangentKind::consistent));
+    EXPECT_EQ(sk.kernel, pts.size()) << what; // the consistent tangent needs the direction
+    EXPECT_EQ(sk.growth, 0u) << what;
   }
-  expect_batch_equals_single(m.get(), pts, PNC_MATERIAL_TANGENT_CONSISTENT, "repeated");
-  Blocks again(pts, pnc_material_n_state(m.get()));
-  const auto st = paths_of(p, again); // stress only: no direction needed, the growth pass
-  EXPECT_EQ(st.growth, pts.size());
-  const auto sk = pnc::damage::integrate_batch(
-      pnc::damage::prepare(p), batch_view(again, pnc::damage::TangentKind::consistent));
-  EXPECT_EQ(sk.kernel, pts.size()); // the consistent tangent needs the direction: the kernel
-  EXPECT_EQ(sk.growth, 0u);
 }
 
 TEST(FeMaterialBatch, SizesZeroOneOddAndLargeWithPaddedBlocksAndInPlaceState) {

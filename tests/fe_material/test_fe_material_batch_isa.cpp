@@ -71,7 +71,8 @@ using pnc::damage::BatchIsa;
           EXPECT_EQ(st[1].failed, 1u) << what;
           EXPECT_EQ(st[1].first_failed, 33u) << what;
           EXPECT_GT(st[1].elastic, 50u) << what; // the fast paths are exercised
-          EXPECT_GT(st[1].kernel + st[1].growth, 10u) << what;
+          // damage growth in the growth pass, whose copies are compared: pnc and pp (D419)
+          EXPECT_GT(st[1].growth, 10u) << what;
           // every damage growth of an aligned pnc plane strain takes the growth pass (D399)
           if (model == Model::pnc && plane_every == 1 && !rotated) {
             EXPECT_EQ(st[1].kernel, 0u) << what;
