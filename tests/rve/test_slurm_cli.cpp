@@ -12,7 +12,8 @@
 //     in the queue;
 //  4. a case unit that LAMMPS stops inside its job is reported with LAMMPS's own ERROR line
 //     and its job id, the other units finish, the fit names the missing unit;
-//  5. `pnc thermo ti` through Slurm gives the numbers of a local run.
+//  5. `pnc thermo ti` through Slurm gives the numbers of a local run;
+//  6. --resume --replicas 3 on the run of 2 submits only the third replica's units (D418).
 // Without the cluster the tests fail, naming the reason (start_cluster.sh's output).
 #include "pnc/campaign/campaign.hpp"
 #include "pnc/core/hdf5_io.hpp"
@@ -186,6 +187,22 @@ TEST(RveSlurm, SameCasesAndCardAsALocalRun) {
     if (u["unit"] == "fit") continue;
     EXPECT_GE(unit_of(st, "fit")["started_s"].get<double>(), u["ended_s"].get<double>())
         << u["unit"];
+  }
+
+  // a third replica added (D418): only its units (and the fit) are submitted; the jobs of
+  // replicas 1 and 2 stay those of the first run
+  const auto more = run_command(base + " --out " + sdir + " --executor slurm --wait --resume " +
+                                "--replicas 3 2>" + (d / "more.err").string());
+  ASSERT_TRUE(more.code == 0 || more.code == 3 || more.code == 4) << slurp(d / "more.err");
+  EXPECT_EQ(nlohmann::json::parse(more.out)["statistics"]["replicas"], 3);
+  const auto st3 = status_json(sdir);
+  ASSERT_EQ(st3["units"].size(), 11u);
+  for (const char* u :
+       {"replica_1/equilibrate", "replica_2/equilibrate", "replica_1/case_2", "replica_2/case_6"})
+    EXPECT_EQ(unit_of(st3, u)["job_id"], unit_of(st, u)["job_id"]) << u;
+  for (const char* u : {"replica_3/equilibrate", "replica_3/case_2", "replica_3/case_6"}) {
+    EXPECT_EQ(unit_of(st3, u)["state"], "done") << u;
+    EXPECT_FALSE(unit_of(st3, u)["job_id"].get<std::string>().empty()) << u;
   }
   fs::remove_all(d);
 }
