@@ -49,6 +49,8 @@ void test_coefficients(const std::array<std::vector<double>, 4>& coef, int repli
   constexpr int kGrid = 201;
   std::vector<double> r(coef[0].size());
   tc.amplitude = tc.bound = 0;
+  tc.grid_mean.assign(kGrid, 0.0);
+  tc.grid_se.assign(kGrid, 0.0);
   for (int g = 0; g < kGrid; ++g) {
     const double x = -1.0 + 2.0 * g / (kGrid - 1);
     for (std::size_t i = 0; i < r.size(); ++i) {
@@ -59,6 +61,8 @@ void test_coefficients(const std::array<std::vector<double>, 4>& coef, int repli
     const md::ReplicaEstimate e = md::replica_mean_se(r);
     tc.amplitude = std::max(tc.amplitude, std::fabs(e.mean));
     tc.bound = std::max(tc.bound, std::fabs(e.mean) + k * e.se);
+    tc.grid_mean[static_cast<std::size_t>(g)] = std::fabs(e.mean);
+    tc.grid_se[static_cast<std::size_t>(g)] = e.se;
   }
 }
 
@@ -73,6 +77,22 @@ std::string role_of(const CombinedCase& c, int component) {
 
 double TrendCurve::relative_bound() const {
   return scale > 0 ? bound / scale : INFINITY; // a curve of zero stress: no share holds (D417)
+}
+
+int TrendCurve::replicas_for(double tolerance, int replicas, int max_replicas) const {
+  // decision D420: the bound projected to N' replicas, the mean and the per-replica scatter
+  // (se sqrt(N)) held at what N replicas measured
+  const double limit = tolerance * scale;
+  if (!(scale > 0) || grid_mean.empty() || replicas < 2) return 0;
+  for (int n = replicas + 1; n <= max_replicas; ++n) {
+    const double k = md::coverage_factor(n - 1, 0.99);
+    const double shrink = std::sqrt(static_cast<double>(replicas) / n);
+    double b = 0;
+    for (std::size_t g = 0; g < grid_mean.size(); ++g)
+      b = std::max(b, grid_mean[g] + k * grid_se[g] * shrink);
+    if (b <= limit) return n;
+  }
+  return 0;
 }
 
 const TrendCurve* ReplicaTrend::largest_shape() const {
@@ -193,6 +213,32 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
   return out;
 }
 
+namespace {
+// What more replicas would do for the shape error (decision D420): the count that brings every
+// unit under the tolerance if the trends and the scatter stay as measured, or why none does.
+std::string more_replicas(const ReplicaTrend& t, double max_shape_error) {
+  int need = t.replicas;
+  for (const auto* list : {&t.curves, &t.roles})
+    for (const auto& c : *list) {
+      if (c.pooled || !(c.relative_bound() > max_shape_error)) continue;
+      const int n = c.replicas_for(max_shape_error, t.replicas);
+      if (n == 0) {
+        if (c.amplitude >= max_shape_error * c.scale)
+          return fmt::format("more replicas narrow the bound as 1/sqrt(N), but the mean trend "
+                             "measured so far is {:.3g} % of the stress itself (D420)",
+                             100 * c.amplitude / c.scale);
+        return "more replicas narrow the bound as 1/sqrt(N), but more than 64 would be needed "
+               "if the trend and the scatter stay as measured (D420)";
+      }
+      need = std::max(need, n);
+    }
+  return fmt::format("about {} replicas would bring it under {:.3g} % if the trend and the "
+                     "scatter between replicas stay as measured (an estimate; add them to this "
+                     "run with --resume --replicas {}, D418, D420)",
+                     need, 100 * max_shape_error, need);
+}
+} // namespace
+
 void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shape_error,
                          damage::Verdict& v) {
   const TrendCurve* big = t.applicable ? t.largest_shape() : nullptr;
@@ -216,8 +262,9 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
   else
     v.warn(fmt::format("the law's shape is not resolved to {:.3g} % of the stress with {} "
                        "replicas: in {} no trend is resolved (p = {:.2g}), but one of {} cannot "
-                       "be excluded (D417); more replicas narrow the bound as 1/sqrt(N)",
-                       100 * max_shape_error, t.replicas, where, p, size));
+                       "be excluded (D417); {}",
+                       100 * max_shape_error, t.replicas, where, p, size,
+                       more_replicas(t, max_shape_error)));
 }
 
 std::string replica_trend_markdown(const ReplicaTrend& t, double max_shape_error) {

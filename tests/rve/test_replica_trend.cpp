@@ -281,6 +281,8 @@ TEST(ReplicaTrend, TheShapeIsAWarningWhenItsBoundExceedsTheTolerance) {
   EXPECT_NE(v.reasons[0].find("shape is not resolved to 10 % of the stress with 3 replicas"),
             std::string::npos)
       << v.reasons[0];
+  // and what more replicas would do: a count, or why none would (D420)
+  EXPECT_NE(v.reasons[0].find("D420)"), std::string::npos) << v.reasons[0];
 }
 
 // A unit of zero stress cannot bound its trend by a share of it: its relative bound is +inf
@@ -305,4 +307,34 @@ TEST(ReplicaTrend, AZeroStressUnitHasAnInfiniteShareAndTheTableQuotesTheToleranc
   rve::judge_replica_trend(t, 1e-3, 0.25, v);
   ASSERT_EQ(v.reasons.size(), 1u);
   EXPECT_NE(v.reasons[0].find("case 4 sigma23"), std::string::npos) << v.reasons[0];
+}
+
+// The replica count the verdict proposes for the shape error (D420): the smallest N' whose
+// projected bound, max |rbar| + k(N' - 1) se sqrt(N / N') with the mean and the per-replica
+// scatter held, is within the tolerance (checked at N' and N' - 1 with the Student factor of
+// md::coverage_factor); none when the mean trend alone reaches the tolerance or N' > 64.
+TEST(ReplicaTrend, TheProposedReplicaCountIsTheSmallestWhoseProjectedBoundMeetsTheTolerance) {
+  const auto projected = [](const rve::TrendCurve& c, int n, int n_new) {
+    double b = 0;
+    for (std::size_t g = 0; g < c.grid_mean.size(); ++g)
+      b = std::max(b, c.grid_mean[g] + md::coverage_factor(n_new - 1, 0.99) * c.grid_se[g] *
+                                           std::sqrt(static_cast<double>(n) / n_new));
+    return b;
+  };
+  rve::TrendCurve c;
+  c.scale = 30e6;
+  c.grid_mean = {0.2e6, 1.39e6, 0.5e6}; // Pa: the shape of card_glass's shear role, 24 replicas
+  c.grid_se = {0.9e6, 0.684e6, 0.3e6};
+  const int n = c.replicas_for(0.10, 24);
+  ASSERT_GT(n, 24);
+  EXPECT_LE(projected(c, 24, n), 0.10 * c.scale);
+  if (n > 25) EXPECT_GT(projected(c, 24, n - 1), 0.10 * c.scale);
+  EXPECT_EQ(c.replicas_for(0.50, 24), 25) << "a bound already well within: the next count";
+  c.grid_mean[1] = 3.1e6; // the mean trend alone above 10 % of 30 MPa: no count helps
+  EXPECT_EQ(c.replicas_for(0.10, 24), 0);
+  c.grid_mean[1] = 2.2e6; // under it, but ~120 replicas needed: more than 64
+  EXPECT_EQ(c.replicas_for(0.10, 24), 0);
+  const int far = c.replicas_for(0.10, 24, 200);
+  EXPECT_GT(far, 64) << "the cap of 64, not the mean trend";
+  EXPECT_LE(projected(c, 24, far), 0.10 * c.scale);
 }

@@ -50,8 +50,16 @@ struct TrendCurve {
   /// Pa: the stress the trend is measured against, max |replica-mean stress| of the curve over
   /// the fitted rows (a pooled role: the mean of its curves' scales)
   double scale = 0;
+  /// Pa, on the grid of x the bound is taken on: |rbar(x)| and se(x) (decision D420)
+  std::vector<double> grid_mean, grid_se;
   /// bound / scale (dimensionless; +inf for a zero scale: no share of it holds the bound)
   double relative_bound() const;
+  /// The replica count that would bring relative_bound() to at most `tolerance` (dimensionless)
+  /// if the mean trend and the scatter between the `replicas` replicas stayed as measured
+  /// (decision D420): the smallest N' > replicas, up to `max_replicas`, with max over the grid
+  /// of |rbar(x)| + k(N' - 1) se(x) sqrt(replicas / N') <= tolerance scale; 0 when none is
+  /// (the mean trend alone at the tolerance, or more than max_replicas needed).
+  int replicas_for(double tolerance, int replicas, int max_replicas = 64) const;
   /// a curve of a pooled role (D397): judged through its role for the shape error (D417)
   bool pooled = false;
 };
