@@ -362,6 +362,7 @@ void check_replica_extension(const Recipe& r, const std::string& recipe_path,
   for (nlohmann::json* j : {&stored, &now})
     if (j->contains("run") && (*j)["run"].is_object()) (*j)["run"].erase("replicas");
   require_same_input(recipe_path, stored, now, recipe_path, "run.replicas, to add replicas (D418)");
+  if (is == was) return; // the same recipe, written otherwise (compared as JSON values)
   if (is < was)
     fail(recipe_path, "run.replicas", std::to_string(is),
          fmt::format("is fewer than the {} replicas this run was started with: --resume keeps "
@@ -373,7 +374,6 @@ void check_replica_extension(const Recipe& r, const std::string& recipe_path,
          "differs from the 1 replica this run was started with: a run of one replica keeps its "
          "files in the run folder itself, not in replica_<k> folders, and cannot be extended "
          "(D418); start the run of several replicas in a new --out directory");
-  if (is == was) return;
   std::cerr << fmt::format("pnc characterize: --resume adds replicas {}..{} to the {} of this run "
                            "(their own seeds; the {} done are kept; D418)\n",
                            was + 1, is, was, was);
