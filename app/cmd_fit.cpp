@@ -14,8 +14,33 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 namespace pnc::app {
+
+namespace {
+// FitOptions::validate names its fields (one rule each, in the library); on the command line
+// the user typed the flags, so the error names the flag.
+void validate_on_command_line(const damage::FitOptions& o) {
+  static const std::map<std::string, std::string> flag = {
+      {"loss", "--loss"},
+      {"loss_scale", "--loss-scale"},
+      {"max_iterations", "--max-iterations"},
+      {"alpha", "--alpha"},
+      {"strain_max", "--strain-max"},
+      {"stretch_max", "--stretch-max"},
+      {"prior", "--prior"},
+      {"isotropic", "--isotropic"}};
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    const ErrorContext& c = e.context();
+    const auto it = flag.find(c.field);
+    if (it == flag.end()) throw;
+    fail("<command line>", it->second, c.value, c.rule);
+  }
+}
+} // namespace
 
 int run_fit(const FitArgs& a) {
   using namespace pnc::damage;
@@ -35,16 +60,12 @@ int run_fit(const FitArgs& a) {
   o.strain_max = a.strain_max;
   o.stretch_max = a.stretch_max;
   o.isotropic = a.isotropic;
-  if (a.isotropic && o.model != Model::pp) // decision D396
-    fail("<command line>", "--isotropic", "--model " + a.model,
-         "the isotropy ties (C44 = (C11 - C12)/2, B4 = B1 - B2/2) are of the pure polymer "
-         "law: use it with --model pp");
   o.max_iterations = a.max_iterations;
   if (!a.prior.empty()) {
     o.prior = read_card(a.prior).params;
     o.prior_source = a.prior;
   }
-  o.validate();
+  validate_on_command_line(o);
   const StressStrainData data = read_stress_strain(a.data);
   for (const auto& w : data.warnings) // legacy CSV column names (D342)
     std::cerr << "pnc: warning: " << w << "\n";

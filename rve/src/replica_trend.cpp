@@ -45,10 +45,9 @@ void test_coefficients(const std::array<std::vector<double>, 4>& coef, int repli
   // decision D417: the size of the trend, on a fine grid of x; bound = |mean| + k se, k the
   // two-sided 99 % factor (one-sided 99.5 % at each x; the joint fit's own scatter takes part
   // of it: the bound covers the true size in >= 97.5 % of Monte-Carlo trials)
-  const double k = md::coverage_factor(replicas - 1, 0.99);
+  tc.coverage = md::coverage_factor(replicas - 1, 0.99);
   constexpr int kGrid = 201;
   std::vector<double> r(coef[0].size());
-  tc.amplitude = tc.bound = 0;
   tc.grid_mean.assign(kGrid, 0.0);
   tc.grid_se.assign(kGrid, 0.0);
   for (int g = 0; g < kGrid; ++g) {
@@ -59,8 +58,6 @@ void test_coefficients(const std::array<std::vector<double>, 4>& coef, int repli
         r[i] += coef[m][i] * legendre(m, x);
     }
     const md::ReplicaEstimate e = md::replica_mean_se(r);
-    tc.amplitude = std::max(tc.amplitude, std::fabs(e.mean));
-    tc.bound = std::max(tc.bound, std::fabs(e.mean) + k * e.se);
     tc.grid_mean[static_cast<std::size_t>(g)] = std::fabs(e.mean);
     tc.grid_se[static_cast<std::size_t>(g)] = e.se;
   }
@@ -73,10 +70,48 @@ std::string role_of(const CombinedCase& c, int component) {
   return component < 3 ? "lateral extension" : "";
 }
 
+// The two-sided 99 % Student factor of n - 1 dof; the factors up to 64 replicas are computed
+// once (each takes milliseconds and D420's projection asks for dozens per unit).
+double coverage_of_replicas(int n) {
+  constexpr int kTable = 64;
+  static const std::array<double, kTable + 1> table = [] {
+    std::array<double, kTable + 1> t{};
+    for (int i = 2; i <= kTable; ++i)
+      t[static_cast<std::size_t>(i)] = md::coverage_factor(i - 1, 0.99);
+    return t;
+  }();
+  return n >= 2 && n <= kTable ? table[static_cast<std::size_t>(n)]
+                               : md::coverage_factor(n - 1, 0.99);
+}
+
+const char* stress_name(int component) {
+  static const char* names[6] = {"sigma11", "sigma22", "sigma33", "sigma23", "sigma13", "sigma12"};
+  return names[((component % 6) + 6) % 6];
+}
+
 } // namespace
 
+double TrendCurve::amplitude() const {
+  double a = 0;
+  for (double m : grid_mean)
+    a = std::max(a, m);
+  return a;
+}
+
+double TrendCurve::bound() const {
+  double b = 0;
+  for (std::size_t g = 0; g < grid_mean.size() && g < grid_se.size(); ++g)
+    b = std::max(b, grid_mean[g] + coverage * grid_se[g]);
+  return b;
+}
+
+std::string TrendCurve::label() const {
+  if (role.empty()) return fmt::format("case {} {}", case_id, stress_name(component));
+  return fmt::format("{} ({} curves of cases {})", role, role_curves, fmt::join(role_cases, ", "));
+}
+
 double TrendCurve::relative_bound() const {
-  return scale > 0 ? bound / scale : INFINITY; // a curve of zero stress: no share holds (D417)
+  return scale > 0 ? bound() / scale : INFINITY; // a curve of zero stress: no share holds (D417)
 }
 
 int TrendCurve::replicas_for(double tolerance, int replicas, int max_replicas) const {
@@ -85,7 +120,7 @@ int TrendCurve::replicas_for(double tolerance, int replicas, int max_replicas) c
   const double limit = tolerance * scale;
   if (!(scale > 0) || grid_mean.empty() || replicas < 2) return 0;
   for (int n = replicas + 1; n <= max_replicas; ++n) {
-    const double k = md::coverage_factor(n - 1, 0.99);
+    const double k = coverage_of_replicas(n);
     const double shrink = std::sqrt(static_cast<double>(replicas) / n);
     double b = 0;
     for (std::size_t g = 0; g < grid_mean.size(); ++g)
@@ -196,8 +231,9 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
   for (auto& [role, pool] : pools) {
     if (pool.curves < 2) continue;
     TrendCurve tc;
-    tc.role =
-        fmt::format("{} ({} curves of cases {})", role, pool.curves, fmt::join(pool.cases, ", "));
+    tc.role = role;
+    tc.role_cases = pool.cases;
+    tc.role_curves = pool.curves;
     tc.points = pool.points;
     for (auto& v : pool.sum)
       for (double& x : v)
@@ -223,10 +259,10 @@ std::string more_replicas(const ReplicaTrend& t, double max_shape_error) {
       if (c.pooled || !(c.relative_bound() > max_shape_error)) continue;
       const int n = c.replicas_for(max_shape_error, t.replicas);
       if (n == 0) {
-        if (c.amplitude >= max_shape_error * c.scale)
+        if (c.amplitude() >= max_shape_error * c.scale)
           return fmt::format("more replicas narrow the bound as 1/sqrt(N), but the mean trend "
                              "measured so far is {:.3g} % of the stress itself (D420)",
-                             100 * c.amplitude / c.scale);
+                             100 * c.amplitude() / c.scale);
         return "more replicas narrow the bound as 1/sqrt(N), but more than 64 would be needed "
                "if the trend and the scatter stay as measured (D420)";
       }
@@ -245,14 +281,15 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
   if (!big) return;
   const double rel = big->relative_bound(); // the shape error (D417)
   if (!(rel > max_shape_error)) return;     // the law's shape within the tolerance (D417)
-  static const char* kVoigt[6] = {"11", "22", "33", "23", "13", "12"};
   const double tests = static_cast<double>(t.tests());
   const double p = std::min(1.0, big->p * tests); // family-wise (D12k)
-  const std::string where =
-      big->role.empty() ? fmt::format("case {} sigma{}", big->case_id, kVoigt[big->component % 6])
-                        : "pooled " + big->role.substr(0, big->role.size() - 1) + "; D397)";
-  const std::string size = fmt::format(
-      "up to {:.3g} MPa, {:.3g} % of its stress at the 97.5 % bound", big->bound * 1e-6, 100 * rel);
+  const std::string where = big->role.empty()
+                                ? big->label()
+                                : fmt::format("pooled {} ({} curves of cases {}; D397)", big->role,
+                                              big->role_curves, fmt::join(big->role_cases, ", "));
+  const std::string size =
+      fmt::format("up to {:.3g} MPa, {:.3g} % of its stress at the 97.5 % bound",
+                  big->bound() * 1e-6, 100 * rel);
   if (p < p_misfit)
     v.warn(fmt::format("the model misses a trend common to the {} replicas ({}: Legendre "
                        "coefficients of the residuals against their between-replica errors, p = "
@@ -269,7 +306,6 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
 
 std::string replica_trend_markdown(const ReplicaTrend& t, double max_shape_error) {
   if (!t.applicable) return "";
-  static const char* comp[6] = {"sigma11", "sigma22", "sigma33", "sigma23", "sigma13", "sigma12"};
   std::string s = fmt::format(
       "### Misfit test across replicas (D12k)\n\nEach replica's residual curve about the joint "
       "fit projected on the Legendre polynomials P0..P3 of the driven strain over the fitted "
@@ -286,14 +322,11 @@ std::string replica_trend_markdown(const ReplicaTrend& t, double max_shape_error
       t.replicas, t.replicas - 1);
   for (const auto* list : {&t.curves, &t.roles})
     for (const auto& c : *list) {
-      if (c.role.empty())
-        s += fmt::format("| case {} {} | {} |", c.case_id, comp[c.component % 6], c.points);
-      else
-        s += fmt::format("| pooled: {} | {} |", c.role, c.points);
+      s += fmt::format("| {}{} | {} |", c.role.empty() ? "" : "pooled: ", c.label(), c.points);
       for (int m = 0; m < 4; ++m)
         s += fmt::format(" {:+.3g} +- {:.2g} MPa |", c.mean[m] * 1e-6, c.se[m] * 1e-6);
-      s += fmt::format(" {:.2g} | {:.3g} MPa | {:.3g} MPa ({:.3g} %) |\n", c.p, c.amplitude * 1e-6,
-                       c.bound * 1e-6, 100 * c.relative_bound());
+      s += fmt::format(" {:.2g} | {:.3g} MPa | {:.3g} MPa ({:.3g} %) |\n", c.p,
+                       c.amplitude() * 1e-6, c.bound() * 1e-6, 100 * c.relative_bound());
     }
   if (!t.roles.empty())
     s += "\nThe pure polymer's law is isotropic: the curves of one role (the driven or the "

@@ -24,6 +24,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using pnc::test::slurp;
 
 namespace {
 
@@ -31,13 +32,6 @@ struct PncRun {
   int code = -1; ///< exit status (-1: killed by a signal)
   std::string out, err;
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 int lines(const std::string& s) {
   int n = 0;

@@ -4,6 +4,8 @@
 // rotation of strain and stress for a turned platelet frame.
 #include "material_cli.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include "pnc/core/hdf5_io.hpp"
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/reference.hpp"
@@ -15,15 +17,8 @@
 #include <cmath>
 
 using pnc::test::CliResult;
+using pnc::test::slurp;
 
-namespace {
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-} // namespace
 using pnc::test::Mat6;
 using pnc::test::MaterialCli;
 using pnc::test::Vec6;

@@ -4,6 +4,8 @@
 // Link the test with ZLIB::ZLIB (the screenshot's PNG is decoded here).
 #include "common/run_command.hpp"
 
+#include "common/temp_dir.hpp" // slurp
+
 #include <zlib.h>
 
 #include <cctype>
@@ -17,9 +19,9 @@
 
 namespace pnc::test {
 
+/// The whole file as bytes ("" when it cannot be read).
 inline std::string read_file(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), {});
+  return slurp(path);
 }
 
 /// What keeps a page from being self-contained: a network URL, an external src/href, a script

@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/temp_dir.hpp" // slurp
+
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -49,13 +51,6 @@ inline Ended wait_for(pid_t pid, double seconds) {
   if (WIFEXITED(st)) e.code = WEXITSTATUS(st);
   if (WIFSIGNALED(st)) e.signal = WTERMSIG(st);
   return e;
-}
-
-inline std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
 }
 
 /// Waits up to `seconds` until file `path` contains `text`; false if it never did.

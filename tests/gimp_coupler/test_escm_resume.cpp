@@ -28,15 +28,9 @@ namespace fs = std::filesystem;
 using pnc::gimp::escm::CoupleOptions;
 using pnc::gimp::escm::CoupleSummary;
 using pnc::gimp::escm::run_couple;
+using pnc::test::slurp;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 /// The example input with `checkpoint_every_ps` set, written into dir/in.json.
 std::string input(const fs::path& dir, const std::string& example, double every_ps) {

@@ -25,6 +25,7 @@
 
 using namespace pnc::md;
 namespace fs = std::filesystem;
+using pnc::test::slurp;
 
 namespace {
 
@@ -65,11 +66,6 @@ std::vector<double> read_numbers(const std::string& path) {
   while (f >> x)
     v.push_back(x);
   return v;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  return {std::istreambuf_iterator<char>(f), {}};
 }
 
 int count_servers(const std::string& tag) {

@@ -25,15 +25,10 @@ using namespace pnc::md;
 namespace fs = std::filesystem;
 
 namespace {
-std::string slurp_text(const std::string& path) {
-  std::ifstream f(path);
-  return {std::istreambuf_iterator<char>(f), {}};
-}
-
 /// The thermo lines ("step pe ke press" rows) of a LAMMPS log, as printed.
 std::vector<std::string> thermo_rows(const std::string& log) {
   std::vector<std::string> rows;
-  std::istringstream in(slurp_text(log));
+  std::istringstream in(pnc::test::slurp(log));
   bool table = false;
   for (std::string l; std::getline(in, l);) {
     if (l.find("Step") != std::string::npos && l.find("PotEng") != std::string::npos) {
@@ -69,7 +64,7 @@ TEST(MdRunner, BadLammpsCommandIsReportedWithLammpsErrorAndParentSurvives) {
   std::string text((std::istreambuf_iterator<char>(f)), {});
   EXPECT_NE(text.find("no_such_pair_style"), std::string::npos);
   // the stage's input ends with the command that stopped LAMMPS (in.<stage>, D247)
-  const std::string input = slurp_text(stage_input_path(s));
+  const std::string input = pnc::test::slurp(stage_input_path(s));
   EXPECT_EQ(fs::path(stage_input_path(s)).filename(), "in.bad_stage");
   EXPECT_EQ(input.substr(input.rfind('\n', input.size() - 2) + 1),
             "pair_style no_such_pair_style 2.5\n")
@@ -239,7 +234,7 @@ TEST(MdRunner, EveryStageLeavesAnInputThatPlainLmpRerunsToTheSameNumbers) {
   ASSERT_TRUE(out.ok) << out.error;
   const std::string in = stage_input_path(s);
   ASSERT_EQ(fs::path(in).filename(), "in.md_run_1");
-  const std::string text = slurp_text(in);
+  const std::string text = pnc::test::slurp(in);
   EXPECT_NE(text.find("# Rerun from " + fs::current_path().string()), std::string::npos) << text;
   EXPECT_NE(text.find("\nrun 100\n"), std::string::npos) << text;
   const std::string rerun_log = (d / "rerun.log").string();

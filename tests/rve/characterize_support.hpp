@@ -3,6 +3,7 @@
 #pragma once
 
 #include "common/run_command.hpp"
+#include "common/temp_dir.hpp" // slurp
 
 #include <fstream>
 #include <iterator>
@@ -13,12 +14,6 @@ namespace pnc::test {
 /// pnc (PNC_EXE) with `args` through the shell; its stdout and exit code.
 inline CommandResult run_pnc(const std::string& args) {
   return run_command(std::string(PNC_EXE) + " " + args);
-}
-
-/// The whole file, "" when it cannot be read.
-inline std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 /// A pure-polymer recipe small enough for a test: 8 chains, two cases (2: extension, 6: shear)

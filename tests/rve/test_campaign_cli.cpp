@@ -8,6 +8,7 @@
 
 #include "common/run_command.hpp"
 #include "common/slurm_stand_ins.hpp"
+#include "common/temp_dir.hpp"
 #include "common/toy_plan.hpp"
 
 #include <gtest/gtest.h>
@@ -24,6 +25,7 @@
 #include <thread>
 
 namespace fs = std::filesystem;
+using pnc::test::slurp;
 using namespace pnc::campaign;
 using namespace pnc::md;
 using namespace pnc::rve;
@@ -72,13 +74,6 @@ TEST(RveCampaign, RunUnitAndStatusCommandsOnAPlanWithoutWork) {
   EXPECT_EQ(r.out.find("report (stopped early)"), std::string::npos) << r.out;
   fs::remove_all(d);
 }
-
-namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-} // namespace
 
 // D300: `pnc status` on a Slurm plan whose jobs ended without its final unit (a unit cancelled,
 // the join unit failed naming what it missed) writes the stopped report: the units done, failed

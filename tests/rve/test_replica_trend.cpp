@@ -153,10 +153,10 @@ TEST(ReplicaTrend, APooledRoleGainsTheSquareRootOfItsCurvesInT) {
     const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, joint_fit(t), 0.0);
     ASSERT_EQ(r.curves.size(), 9u);
     ASSERT_EQ(r.roles.size(), 2u); // driven and lateral extension
-    const auto driven = std::find_if(r.roles.begin(), r.roles.end(), [](const auto& x) {
-      return x.role.rfind("driven extension", 0) == 0;
-    });
+    const auto driven = std::find_if(r.roles.begin(), r.roles.end(),
+                                     [](const auto& x) { return x.role == "driven extension"; });
     ASSERT_NE(driven, r.roles.end());
+    EXPECT_EQ(driven->label(), "driven extension (3 curves of cases 1, 2, 3)");
     double t_curves = 0;
     for (const auto& c : r.curves)
       if (c.component == c.case_id - 1) t_curves += c.t[3] / 3;
@@ -215,16 +215,16 @@ TEST(ReplicaTrend, TheBoundOfACommonTrendCoversItsTrueSize) {
     ADD_FAILURE() << "no case 2 sigma22 curve";
     return rve::TrendCurve{};
   };
-  const double size = driven(truth).amplitude;
-  EXPECT_DOUBLE_EQ(driven(truth).bound, size);
+  const double size = driven(truth).amplitude();
+  EXPECT_DOUBLE_EQ(driven(truth).bound(), size);
   ASSERT_GT(size, 1e6) << "the law absorbs no more than part of a 4 MPa bump";
   const int trials = 400;
   int covered = 0;
   for (int i = 0; i < trials; ++i) {
     const Trial t = make_trial(8, rng, 4e6);
     const rve::TrendCurve c = driven(rve::replica_trend_test(t.cases, joint_fit(t), 0.0));
-    EXPECT_GE(c.bound, c.amplitude);
-    if (c.bound >= size) ++covered;
+    EXPECT_GE(c.bound(), c.amplitude());
+    if (c.bound() >= size) ++covered;
   }
   EXPECT_GE(covered, 381) << covered << " of " << trials;
 }
@@ -283,6 +283,10 @@ TEST(ReplicaTrend, TheShapeIsAWarningWhenItsBoundExceedsTheTolerance) {
       << v.reasons[0];
   // and what more replicas would do: a count, or why none would (D420)
   EXPECT_NE(v.reasons[0].find("D420)"), std::string::npos) << v.reasons[0];
+  // the unit named is a pooled role of cases 1-3 (D397), its name and cases whole
+  EXPECT_NE(v.reasons[0].find(" extension ("), std::string::npos) << v.reasons[0];
+  EXPECT_NE(v.reasons[0].find(" curves of cases 1, 2, 3; D397)"), std::string::npos)
+      << v.reasons[0];
 }
 
 // A unit of zero stress cannot bound its trend by a share of it: its relative bound is +inf
@@ -293,10 +297,14 @@ TEST(ReplicaTrend, AZeroStressUnitHasAnInfiniteShareAndTheTableQuotesTheToleranc
   t.applicable = true;
   t.replicas = 4;
   rve::TrendCurve a, b;
-  a.case_id = 1, a.component = 0, a.bound = 1e6, a.scale = 50e6;
-  b.case_id = 4, b.component = 3, b.bound = 1e5, b.scale = 0;
+  a.case_id = 1, a.component = 0, a.scale = 50e6;
+  a.grid_mean = {0.2e6, 0.5e6}, a.grid_se = {0.2e6, 0.1e6}, a.coverage = 5; // bound 1.2 MPa
+  b.case_id = 4, b.component = 3, b.scale = 0;
+  b.grid_mean = {1e5}, b.grid_se = {0}, b.coverage = 5;
   t.curves = {a, b};
-  EXPECT_DOUBLE_EQ(t.curves[0].relative_bound(), 0.02);
+  EXPECT_DOUBLE_EQ(t.curves[0].amplitude(), 0.5e6);
+  EXPECT_DOUBLE_EQ(t.curves[0].bound(), 1.2e6); // max(0.2 + 5 x 0.2, 0.5 + 5 x 0.1) MPa
+  EXPECT_DOUBLE_EQ(t.curves[0].relative_bound(), 0.024);
   EXPECT_TRUE(std::isinf(t.curves[1].relative_bound()));
   EXPECT_EQ(t.largest_shape(), &t.curves[1]);
   EXPECT_TRUE(std::isinf(t.shape_error()));

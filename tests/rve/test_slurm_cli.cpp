@@ -39,13 +39,9 @@
 
 namespace fs = std::filesystem;
 using pnc::test::run_command;
+using pnc::test::slurp;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
 
 /// Points SLURM_CONF at the fixture's cluster; "" when it runs, else why not.
 std::string use_cluster() {

@@ -23,17 +23,13 @@
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using pnc::test::slurp;
 using namespace pnc::rve;
 using namespace pnc::md;
 
 namespace {
 
 const fs::path kExamples = fs::path(PNC_SOURCE_DIR) / "examples" / "rve";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
 
 fs::path scratch(const std::string& name) {
   return pnc::test::fresh_dir(name);

@@ -22,16 +22,12 @@
 
 using namespace pnc::thermo;
 namespace fs = std::filesystem;
+using pnc::test::slurp;
 
 namespace {
 
 fs::path tmpdir(const std::string& tag) {
   return pnc::test::fresh_dir("test_thermo_mpi_" + tag);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return {std::istreambuf_iterator<char>(f), {}};
 }
 
 /// Runs one lambda point of `sys` on `ranks` ranks into dir/<tag>.h5 and reads it back.

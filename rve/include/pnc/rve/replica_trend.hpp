@@ -35,23 +35,30 @@ namespace pnc::rve {
 struct TrendCurve {
   /// a curve: its case and Voigt component; a pooled role (D397): case_id 0 and `role`
   int case_id = 0, component = 0, points = 0;
-  std::string role; ///< e.g. "driven extension (cases 1, 2, 3)"; empty for one curve
+  std::string role;                   ///< e.g. "driven extension"; empty for one curve
+  std::vector<int> role_cases;        ///< a pooled role: the cases of its curves
+  int role_curves = 0;                ///< a pooled role: its number of curves
   std::array<double, 4> mean{}, se{}; ///< Pa: coefficients of P0..P3 over the replicas
   std::array<double, 4> t{};          ///< mean / se
   double p = 1; ///< smallest two-sided p of the four coefficients, times 4 (Bonferroni)
-  /// Pa: the size of the trend (decision D417). With r_i(x) = sum_m c_mi P_m(x) the trend of
-  /// replica i, its mean over the replicas rbar(x) and that mean's between-replica standard
-  /// error se(x), on x in [-1, 1]: `amplitude` = max |rbar(x)|, `bound` = max (|rbar(x)| +
-  /// k se(x)) with k the two-sided 99 % Student factor (N - 1 dof). The bound is at least the
-  /// true trend's largest |r(x)| in >= 97.5 % of the cases: at the x where the true trend is
-  /// largest the one-sided level is 99.5 %, less what the joint fit's own scatter takes
-  /// (measured by Monte Carlo, docs/decisions/damage.md D417).
-  double amplitude = 0, bound = 0;
+  /// The trend on a grid of x in [-1, 1] (decisions D417, D420). With r_i(x) = sum_m c_mi P_m(x)
+  /// the trend of replica i: `grid_mean` = |rbar(x)|, its mean over the replicas, and `grid_se`
+  /// = se(x), that mean's between-replica standard error, both Pa; `coverage` = k, the
+  /// two-sided 99 % Student factor of N - 1 dof (dimensionless).
+  std::vector<double> grid_mean, grid_se;
+  double coverage = 0;
+  /// Pa: the size of the trend, max over the grid of |rbar(x)| (decision D417)
+  double amplitude() const;
+  /// Pa: its 97.5 % upper bound, max over the grid of |rbar(x)| + k se(x) (decision D417). It is
+  /// at least the true trend's largest |r(x)| in >= 97.5 % of the cases: at the x where the
+  /// true trend is largest the one-sided level is 99.5 %, less what the joint fit's own scatter
+  /// takes (measured by Monte Carlo, docs/decisions/damage.md D417).
+  double bound() const;
   /// Pa: the stress the trend is measured against, max |replica-mean stress| of the curve over
   /// the fitted rows (a pooled role: the mean of its curves' scales)
   double scale = 0;
-  /// Pa, on the grid of x the bound is taken on: |rbar(x)| and se(x) (decision D420)
-  std::vector<double> grid_mean, grid_se;
+  /// "case 4 sigma12", or for a pooled role "driven extension (3 curves of cases 1, 2, 3)"
+  std::string label() const;
   /// bound / scale (dimensionless; +inf for a zero scale: no share of it holds the bound)
   double relative_bound() const;
   /// The replica count that would bring relative_bound() to at most `tolerance` (dimensionless)
