@@ -52,7 +52,8 @@ TEST(RvePresets, EveryPresetEqualsItsLiteralBeforeThePatches) {
 }
 
 // card_glass is demo_glass with the protocol of the measured 24-replica run of docs/rve.md
-// ("24 replicas") and nothing else changed: the expanded recipes differ in exactly these keys.
+// ("24 replicas"), fitted over a stretch of 0.03 with 48 replicas (D421), and nothing else
+// changed: the expanded recipes differ in exactly these keys.
 TEST(RvePresets, CardGlassIsDemoGlassWithTheMeasuredProtocolAndNothingElse) {
   const auto expanded = [](const std::string& n) {
     return pnc::rve::expanded_json(pnc::rve::parse_recipe(pnc::rve::preset_json(n), n));
@@ -65,8 +66,8 @@ TEST(RvePresets, CardGlassIsDemoGlassWithTheMeasuredProtocolAndNothingElse) {
   want["deform"]["steps"] = 72;
   want["deform"]["hold_steps"] = 600;
   want["fit"].erase("strain_max");
-  want["fit"]["stretch_max"] = 0.05;
-  want["run"]["replicas"] = 24;
+  want["fit"]["stretch_max"] = 0.03;
+  want["run"]["replicas"] = 48;
   EXPECT_EQ(expanded("card_glass"), want);
 }
 
