@@ -11,33 +11,26 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <map>
+#include <set>
 
 namespace pnc::app {
 
 namespace {
 // FitOptions::validate names its fields (one rule each, in the library); on the command line
 // the user typed the flags, so the error names the flag.
-void validate_on_command_line(const damage::FitOptions& o) {
-  static const std::map<std::string, std::string> flag = {
-      {"loss", "--loss"},
-      {"loss_scale", "--loss-scale"},
-      {"max_iterations", "--max-iterations"},
-      {"alpha", "--alpha"},
-      {"strain_max", "--strain-max"},
-      {"stretch_max", "--stretch-max"},
-      {"prior", "--prior"},
-      {"isotropic", "--isotropic"}};
+void validate_on_command_line(const damage::FitOptions& o, const std::set<std::string>& flags) {
   try {
     o.validate();
   } catch (const InputError& e) {
     const ErrorContext& c = e.context();
-    const auto it = flag.find(c.field);
-    if (it == flag.end()) throw;
-    fail("<command line>", it->second, c.value, c.rule);
+    std::string flag = "--" + c.field;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    if (flags.count(flag) == 0) throw; // not a field the command line sets
+    fail("<command line>", flag, c.value, c.rule);
   }
 }
 } // namespace
@@ -65,7 +58,7 @@ int run_fit(const FitArgs& a) {
     o.prior = read_card(a.prior).params;
     o.prior_source = a.prior;
   }
-  validate_on_command_line(o);
+  validate_on_command_line(o, a.flags);
   const StressStrainData data = read_stress_strain(a.data);
   for (const auto& w : data.warnings) // legacy CSV column names (D342)
     std::cerr << "pnc: warning: " << w << "\n";

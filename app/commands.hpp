@@ -3,6 +3,7 @@
 // main.cpp. Each run_* returns the process exit code, prints its human-readable report on
 // stderr and, with json = true, one JSON object on stdout.
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct FitArgs {
   double stretch_max = 0; ///< fit range by lambda_max - 1 (D12m), 0 = every row
   bool isotropic = false; ///< pp: C44 and B4 derived by isotropy (D396)
   std::string command_line;
+  /// the long flags `pnc fit` declares (filled from its CLI11 command): a FitOptions rule on
+  /// field f is reported on the flag "--" + f with '_' -> '-' when that flag is one of them
+  std::set<std::string> flags;
 };
 int run_fit(const FitArgs& a);
 

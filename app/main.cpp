@@ -80,6 +80,9 @@ CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
   fit->add_option("--plots", fa.plots, "Directory for the PNG plots (default: <card>_plots)");
   fit->add_flag("--no-plots", fa.no_plots, "Do not draw plots");
   fit->add_flag("--json", fa.json, "Print one JSON object with the key numbers on stdout");
+  for (const CLI::Option* o : fit->get_options())
+    for (const std::string& name : o->get_lnames())
+      fa.flags.insert("--" + name);
   return fit;
 }
 

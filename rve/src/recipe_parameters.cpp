@@ -259,7 +259,7 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
       .omit_when_default();
   p.section("run", "how the cases run");
   p.integer("jobs", r.jobs, 1, 64, "", "cases at a time (pnc characterize --jobs overrides)");
-  p.integer("replicas", r.replicas, 1, 64, "",
+  p.integer("replicas", r.replicas, 1, kMaxReplicas, "",
             "independent replicas: own build seed, own equilibration, every case (D130)");
 }
 

@@ -70,10 +70,10 @@ std::string role_of(const CombinedCase& c, int component) {
   return component < 3 ? "lateral extension" : "";
 }
 
-// The two-sided 99 % Student factor of n - 1 dof; the factors up to 64 replicas are computed
-// once (each takes milliseconds and D420's projection asks for dozens per unit).
+// The two-sided 99 % Student factor of n - 1 dof; the factors up to kMaxReplicas replicas are
+// computed once (each takes milliseconds and D420's projection asks for dozens per unit).
 double coverage_of_replicas(int n) {
-  constexpr int kTable = 64;
+  constexpr int kTable = kMaxReplicas;
   static const std::array<double, kTable + 1> table = [] {
     std::array<double, kTable + 1> t{};
     for (int i = 2; i <= kTable; ++i)
@@ -107,7 +107,8 @@ double TrendCurve::bound() const {
 
 std::string TrendCurve::label() const {
   if (role.empty()) return fmt::format("case {} {}", case_id, stress_name(component));
-  return fmt::format("{} ({} curves of cases {})", role, role_curves, fmt::join(role_cases, ", "));
+  return fmt::format("{} ({} curves of cases {}; D397)", role, role_curves,
+                     fmt::join(role_cases, ", "));
 }
 
 double TrendCurve::relative_bound() const {
@@ -263,8 +264,9 @@ std::string more_replicas(const ReplicaTrend& t, double max_shape_error) {
           return fmt::format("more replicas narrow the bound as 1/sqrt(N), but the mean trend "
                              "measured so far is {:.3g} % of the stress itself (D420)",
                              100 * c.amplitude() / c.scale);
-        return "more replicas narrow the bound as 1/sqrt(N), but more than 64 would be needed "
-               "if the trend and the scatter stay as measured (D420)";
+        return fmt::format("more replicas narrow the bound as 1/sqrt(N), but more than {} "
+                           "would be needed if the trend and the scatter stay as measured (D420)",
+                           kMaxReplicas);
       }
       need = std::max(need, n);
     }
@@ -283,10 +285,7 @@ void judge_replica_trend(const ReplicaTrend& t, double p_misfit, double max_shap
   if (!(rel > max_shape_error)) return;     // the law's shape within the tolerance (D417)
   const double tests = static_cast<double>(t.tests());
   const double p = std::min(1.0, big->p * tests); // family-wise (D12k)
-  const std::string where = big->role.empty()
-                                ? big->label()
-                                : fmt::format("pooled {} ({} curves of cases {}; D397)", big->role,
-                                              big->role_curves, fmt::join(big->role_cases, ", "));
+  const std::string where = (big->role.empty() ? "" : "pooled ") + big->label();
   const std::string size =
       fmt::format("up to {:.3g} MPa, {:.3g} % of its stress at the 97.5 % bound",
                   big->bound() * 1e-6, 100 * rel);

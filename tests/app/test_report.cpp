@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 namespace fs = std::filesystem;
-using pnc::test::read_file;
+using pnc::test::slurp;
 
 namespace {
 
@@ -61,10 +61,10 @@ TEST_F(Report, FitPageIsSelfContainedWithVerdictEveryConstantAndTheFigure) {
   // a data file name with HTML specials: the page must show it escaped, never as markup
   ASSERT_EQ(pnc("synth --model pnc --points 60 --noise-mpa 2 --seed 4 --out 'a<b&c.h5'").code, 0);
   const auto f = pnc("fit --data 'a<b&c.h5' --model pnc --out card.h5 --json");
-  ASSERT_TRUE(f.code == 0 || f.code == 4) << read_file(p("err.txt"));
+  ASSERT_TRUE(f.code == 0 || f.code == 4) << slurp(p("err.txt"));
   const auto j = nlohmann::json::parse(f.out);
   EXPECT_EQ(j["report"], "card_report.html");
-  const std::string html = read_file(p("card_report.html")), md = read_file(p("card_report.md"));
+  const std::string html = slurp(p("card_report.html")), md = slurp(p("card_report.md"));
   ASSERT_FALSE(html.empty());
   ASSERT_FALSE(md.empty());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
@@ -99,7 +99,7 @@ TEST_F(Report, FitPageIsSelfContainedWithVerdictEveryConstantAndTheFigure) {
   EXPECT_EQ(html.find(img, html.find(img) + 1), std::string::npos) << "one figure: all cases";
   EXPECT_NE(md.find("](card_plots/fit.png)"), std::string::npos);
   EXPECT_TRUE(fs::exists(p("card_plots/fit.png")));
-  EXPECT_NE(read_file(p("err.txt")).find("plotting 1 figure ..."), std::string::npos);
+  EXPECT_NE(slurp(p("err.txt")).find("plotting 1 figure ..."), std::string::npos);
 }
 
 TEST_F(Report, MissingMatplotlibIsAWarningAndTheExitCodeStays) {
@@ -111,15 +111,15 @@ TEST_F(Report, MissingMatplotlibIsAWarningAndTheExitCodeStays) {
       << "raise ModuleNotFoundError(\"No module named 'matplotlib'\")\n";
   const auto f =
       pnc("fit --data d.h5 --model pp --out card.h5 --json", "PYTHONPATH='" + p("nompl") + "'");
-  EXPECT_EQ(f.code, plain.code) << read_file(p("err.txt"));
-  const std::string err = read_file(p("err.txt"));
+  EXPECT_EQ(f.code, plain.code) << slurp(p("err.txt"));
+  const std::string err = slurp(p("err.txt"));
   EXPECT_NE(err.find("warning: figures not drawn"), std::string::npos) << err;
   EXPECT_NE(err.find("matplotlib"), std::string::npos) << err;
   const auto j = nlohmann::json::parse(f.out);
   EXPECT_TRUE(j["plots"].empty());
   EXPECT_NE(j["plot_warning"].get<std::string>().find("matplotlib"), std::string::npos);
   EXPECT_TRUE(fs::exists(p("card.h5")));
-  const std::string html = read_file(p("card_report.html"));
+  const std::string html = slurp(p("card_report.html"));
   EXPECT_NE(html.find("Figures not drawn"), std::string::npos);
   EXPECT_EQ(html.find("data:image/png"), std::string::npos);
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
@@ -127,7 +127,7 @@ TEST_F(Report, MissingMatplotlibIsAWarningAndTheExitCodeStays) {
 
 TEST_F(Report, FitPageRendersInHeadlessChromium) {
   ASSERT_EQ(pnc("synth --model pp --points 60 --max-extension 0.3 --out d.h5").code, 0);
-  ASSERT_EQ(pnc("fit --data d.h5 --model pp --out card.h5").code, 0) << read_file(p("err.txt"));
+  ASSERT_EQ(pnc("fit --data d.h5 --model pp --out card.h5").code, 0) << slurp(p("err.txt"));
   const auto r = pnc::test::render_in_chromium(p("card_report.html"), dir_.string());
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.images, std::vector<std::string>{"ok"}) << "the embedded figure decodes";
@@ -144,8 +144,7 @@ TEST_F(Report, FitPageRendersInHeadlessChromium) {
 TEST_F(Report, MaterialDrivePageRendersInHeadlessChromium) {
   ASSERT_EQ(pnc("card tables --model pnc --out t.h5").code, 0);
   std::ofstream(p("p.toml")) << "[[segment]]\nsteps = 8\ne11 = 0.1\n";
-  ASSERT_EQ(pnc("material drive t.h5 --path p.toml --out r.csv").code, 0)
-      << read_file(p("err.txt"));
+  ASSERT_EQ(pnc("material drive t.h5 --path p.toml --out r.csv").code, 0) << slurp(p("err.txt"));
   const auto r = pnc::test::render_in_chromium(p("r_report.html"), dir_.string());
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.images, std::vector<std::string>{"ok"}) << "the embedded r.png decodes";
@@ -162,10 +161,10 @@ TEST_F(Report, MaterialDriveWritesItsPageAndFlagsAReferenceMismatchInRed) {
   ASSERT_EQ(pnc("card tables --model pnc --out t.h5").code, 0);
   std::ofstream(p("p.toml")) << "[[segment]]\nsteps = 8\ne11 = 0.1\n";
   const auto d = pnc("material drive t.h5 --path p.toml --out r.csv --json");
-  ASSERT_EQ(d.code, 0) << read_file(p("err.txt"));
+  ASSERT_EQ(d.code, 0) << slurp(p("err.txt"));
   const auto j = nlohmann::json::parse(d.out);
   EXPECT_EQ(j["report"], "r_report.html");
-  const std::string html = read_file(p("r_report.html"));
+  const std::string html = slurp(p("r_report.html"));
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   EXPECT_NE(html.find("box verdict tone-good\"><div class=\"level\">Completed: 8 of 8 steps"),
             std::string::npos);
@@ -173,7 +172,7 @@ TEST_F(Report, MaterialDriveWritesItsPageAndFlagsAReferenceMismatchInRed) {
   // the end stress in MPa, 6 significant digits, as the JSON summary has it in Pa
   const double s11 = j["final"]["stress_Pa"][0].get<double>() / 1e6;
   EXPECT_NEAR(cell_after(html, "σ11 / ε11", 1), s11, 1e-5 * s11);
-  EXPECT_NE(read_file(p("r_report.md")).find("](r.png)"), std::string::npos);
+  EXPECT_NE(slurp(p("r_report.md")).find("](r.png)"), std::string::npos);
   // a reference whose s11 is 1 % + 1 kPa off in every row (steps 0..8: 9 values beyond the
   // default tolerance 1 Pa + 1e-6 |reference|): exit 5 and a red box naming the mismatch
   std::ifstream in(p("r.csv"));
@@ -204,8 +203,8 @@ TEST_F(Report, MaterialDriveWritesItsPageAndFlagsAReferenceMismatchInRed) {
   }
   ref.close();
   const auto bad = pnc("material drive t.h5 --path p.toml --out r2.csv --reference ref.csv");
-  EXPECT_EQ(bad.code, 5) << read_file(p("err.txt"));
-  const std::string red = read_file(p("r2_report.html"));
+  EXPECT_EQ(bad.code, 5) << slurp(p("err.txt"));
+  const std::string red = slurp(p("r2_report.html"));
   EXPECT_NE(red.find("box verdict tone-bad\"><div class=\"level\">Outside the reference "
                      "tolerances: 9 value(s)"),
             std::string::npos)

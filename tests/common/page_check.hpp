@@ -13,16 +13,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 namespace pnc::test {
-
-/// The whole file as bytes ("" when it cannot be read).
-inline std::string read_file(const std::string& path) {
-  return slurp(path);
-}
 
 /// What keeps a page from being self-contained: a network URL, an external src/href, a script
 /// or stylesheet reference. Empty when the page stands alone.
@@ -50,7 +44,7 @@ inline std::vector<std::string> self_contained_problems(const std::string& html)
 /// Fraction of pixels of an 8-bit RGB or RGBA PNG (no interlace) that are not near-white;
 /// -1 with `err` set when the file is no such PNG.
 inline double ink_fraction(const std::string& png_path, std::string& err) {
-  const std::string d = read_file(png_path);
+  const std::string d = slurp(png_path);
   auto be32 = [&](std::size_t i) {
     return (std::uint32_t(std::uint8_t(d[i])) << 24) |
            (std::uint32_t(std::uint8_t(d[i + 1])) << 16) |
@@ -125,7 +119,7 @@ inline BrowserResult render_in_chromium(const std::string& html, const std::stri
     r.error = "chromium is not installed (scripts/common.sh installs it: apt-get install chromium)";
     return r;
   }
-  const std::string page = read_file(html);
+  const std::string page = slurp(html);
   const std::string probe_path = (fs::path(work_dir) / "probe.html").string();
   std::string probed = page;
   const auto body = probed.rfind("</body>");
@@ -147,7 +141,7 @@ inline BrowserResult render_in_chromium(const std::string& html, const std::stri
   const CommandResult dom = run_command(chrome + "--dump-dom --virtual-time-budget=10000 'file://" +
                                         probe_path + "' 2>'" + log + "'");
   if (dom.code != 0) {
-    r.error = "chromium --dump-dom failed (" + std::to_string(dom.code) + "): " + read_file(log);
+    r.error = "chromium --dump-dom failed (" + std::to_string(dom.code) + "): " + slurp(log);
     return r;
   }
   const std::string key = "data-pnc-images=\"";
@@ -175,7 +169,7 @@ inline BrowserResult render_in_chromium(const std::string& html, const std::stri
       run_command(chrome + "--screenshot='" + shot + "' --window-size=1200,3000 'file://" + html +
                   "' 2>>'" + log + "'");
   if (sc.code != 0) {
-    r.error = "chromium --screenshot failed: " + read_file(log);
+    r.error = "chromium --screenshot failed: " + slurp(log);
     return r;
   }
   std::string err;

@@ -5,6 +5,8 @@
 // iterative linear solver give the same load path (D252).
 #include "dealii_test.h"
 
+#include "common/temp_dir.hpp" // slurp
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -13,21 +15,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 namespace pncdemo::test {
-namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-} // namespace
 
 TEST(DealiiFracture, ParameterFiles) {
   std::vector<std::string> files;
@@ -55,7 +46,7 @@ TEST(DealiiFracture, ParameterFiles) {
   const auto at = expected.find("set Plugin         = " + build_path);
   ASSERT_NE(at, std::string::npos) << "no 'Plugin' entry with the build's default";
   expected.replace(at, 21 + build_path.size(), "set Plugin         = libpnc_material.so.1");
-  EXPECT_EQ(read_file(example_file("parameters.prm")), expected)
+  EXPECT_EQ(pnc::test::slurp(example_file("parameters.prm")), expected)
       << "examples/dealii_fracture/parameters.prm is stale: regenerate it with "
          "`dealii_fracture --print-parameters > parameters.prm` and name the plugin "
          "by its soname (set Plugin = libpnc_material.so.1)";

@@ -85,7 +85,7 @@ protected:
 TEST_F(DemoReport, PageStandsAloneWithThePeakOfTheCsv) {
   ASSERT_TRUE(fs::exists(p("report.html"))) << "the demo writes report.html in " << g_dir;
   ASSERT_TRUE(fs::exists(p("report.md"))) << "and its twin report.md";
-  const std::string html = pnc::test::read_file(p("report.html"));
+  const std::string html = pnc::test::slurp(p("report.html"));
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   // the peak force and its displacement, as the CSV has them (SI, 10 digits); the page shows
   // the demo's units (D307): 1 N/m = 1e-3 N/mm (2-D), N (3-D), 1 m = 1e3 mm. It prints 6
@@ -112,7 +112,7 @@ TEST_F(DemoReport, PageStandsAloneWithThePeakOfTheCsv) {
       << "a verdict in words";
   // the force-displacement figure (and the damage map) embedded; linked in the Markdown twin
   EXPECT_NE(html.find("src=\"data:image/png;base64,iVBORw0KGgo"), std::string::npos);
-  const std::string md = pnc::test::read_file(p("report.md"));
+  const std::string md = pnc::test::slurp(p("report.md"));
   EXPECT_NE(md.find("](force_displacement.png)"), std::string::npos);
 }
 

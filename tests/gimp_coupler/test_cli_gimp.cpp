@@ -55,7 +55,7 @@ TEST(GimpCli, RunsExampleWithJsonAndResumes) {
   EXPECT_GT(j["energy_J"]["balance"].get<double>(), -0.05 * e0);
   // the run report of the resumed part: stopped by --max-steps, 3-D energies in J
   EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
-  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  const std::string html = pnc::test::slurp((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   // the "stopped early" banner comes first: why, where, and how to continue (with --resume)
   const auto banner = html.find("Did not finish: --max-steps (20) reached");
@@ -111,7 +111,7 @@ TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
        e["kinetic"].get<double>() + e["strain"].get<double>()});
   const double rel = e["max_abs_balance"].get<double>() / scale;
   EXPECT_NEAR(j["relative_energy_error"].get<double>(), rel, 1e-12 * rel);
-  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  const std::string html = pnc::test::slurp((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   EXPECT_NE(html.find("pnc gimp run: crack.json"), std::string::npos);
   EXPECT_NE(html.find("max_increments (2) reached"), std::string::npos);
@@ -120,7 +120,7 @@ TEST(GimpCli, CrackRunReportShowsTheStopReasonAndRendersInABrowser) {
   EXPECT_NE(html.find("Energies at the end (J/m)"), std::string::npos);
   EXPECT_NE(html.find("Reactions at the last step (N/m"), std::string::npos);
   ASSERT_TRUE(fs::exists(d / "out" / "G.png")) << "python3-matplotlib is a test dependency";
-  EXPECT_NE(pnc::test::read_file((d / "out" / "report.md").string()).find("](G.png)"),
+  EXPECT_NE(pnc::test::slurp((d / "out" / "report.md").string()).find("](G.png)"),
             std::string::npos);
   const auto b = pnc::test::render_in_chromium((d / "out" / "report.html").string(), d.string());
   ASSERT_EQ(b.error, "");
@@ -177,7 +177,7 @@ TEST(GimpCli, SimulationFailureLeavesAReportSayingWhyAndWhere) {
   EXPECT_NE(r.out.find("det F"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("report (failed): " + (out / "report.html").string()), std::string::npos)
       << r.out;
-  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const std::string md = pnc::test::slurp((out / "report.md").string());
   const auto banner = md.find("## Did not finish: gimp: particle ");
   ASSERT_NE(banner, std::string::npos) << md;
   EXPECT_LT(banner, md.find("What was run")) << md;
@@ -186,7 +186,7 @@ TEST(GimpCli, SimulationFailureLeavesAReportSayingWhyAndWhere) {
   EXPECT_NE(md.find(", t = "), std::string::npos) << md;
   EXPECT_NE(md.find("Resuming would meet the same failure"), std::string::npos) << md;
   EXPECT_EQ(md.find("--resume"), std::string::npos) << "no resume offered\n" << md;
-  const std::string html = pnc::test::read_file((out / "report.html").string());
+  const std::string html = pnc::test::slurp((out / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
   ASSERT_EQ(b.error, "");

@@ -85,7 +85,7 @@ TEST(EscmCli, ShortCaseOneRunsWithJson) {
                      std::max(std::fabs(e["work_boundary"].get<double>()), std::fabs(created));
   EXPECT_NEAR(j["relative_energy_error"].get<double>(), rel, 1e-12 * rel);
   EXPECT_EQ(j["report"], (d / "out" / "report.html").string());
-  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  const std::string html = pnc::test::slurp((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   EXPECT_TRUE(fs::exists(d / "out" / "report.md"));
   EXPECT_NE(html.find("pnc gimp couple: case1_lj_tension.json"), std::string::npos);
@@ -111,7 +111,7 @@ TEST(EscmCli, MaxStepsStopLeavesAReportWithTheResumeCommand) {
   EXPECT_NE(r.out.find("report (stopped early): " + (d / "out" / "report.html").string()),
             std::string::npos)
       << r.out;
-  const std::string md = pnc::test::read_file((d / "out" / "report.md").string());
+  const std::string md = pnc::test::slurp((d / "out" / "report.md").string());
   const auto banner = md.find("## Did not finish: --max-steps (20) reached");
   ASSERT_NE(banner, std::string::npos) << md;
   EXPECT_LT(banner, md.find("What was run")) << md;
@@ -120,7 +120,7 @@ TEST(EscmCli, MaxStepsStopLeavesAReportWithTheResumeCommand) {
   EXPECT_NE(md.find("`checkpoint.h5`: the whole state after step 20"), std::string::npos) << md;
   EXPECT_NE(md.find("`energy.csv`"), std::string::npos) << md;
   EXPECT_NE(md.find(cmd + " --resume`"), std::string::npos) << md;
-  const std::string html = pnc::test::read_file((d / "out" / "report.html").string());
+  const std::string html = pnc::test::slurp((d / "out" / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   if (!::testing::Test::HasFailure()) fs::remove_all(d);
 }

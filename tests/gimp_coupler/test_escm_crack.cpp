@@ -110,7 +110,7 @@ TEST(EscmCrack, ShortCaseTwoCrackStopsAtHandshakeThenMdSeparates) {
   // (5) The run report: why growth stopped (the max_increments stop before the block, D81) and
   //     the three figures embedded — crack.png with the J panel, Gc and the stop marker (D272)
   ASSERT_EQ(j["plots"].size(), 3u) << "python3-matplotlib is a test dependency";
-  const std::string html = pnc::test::read_file(j["report"].get<std::string>());
+  const std::string html = pnc::test::slurp(j["report"].get<std::string>());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   EXPECT_NE(html.find("max_increments (" + std::to_string(nmax) + ") reached at"),
             std::string::npos);

@@ -5,8 +5,6 @@
 #include "common/run_command.hpp"
 #include "common/temp_dir.hpp" // slurp
 
-#include <fstream>
-#include <iterator>
 #include <string>
 
 namespace pnc::test {

@@ -156,7 +156,7 @@ TEST(ReplicaTrend, APooledRoleGainsTheSquareRootOfItsCurvesInT) {
     const auto driven = std::find_if(r.roles.begin(), r.roles.end(),
                                      [](const auto& x) { return x.role == "driven extension"; });
     ASSERT_NE(driven, r.roles.end());
-    EXPECT_EQ(driven->label(), "driven extension (3 curves of cases 1, 2, 3)");
+    EXPECT_EQ(driven->label(), "driven extension (3 curves of cases 1, 2, 3; D397)");
     double t_curves = 0;
     for (const auto& c : r.curves)
       if (c.component == c.case_id - 1) t_curves += c.t[3] / 3;

@@ -59,7 +59,7 @@ fs::path tmp(const std::string& tag) {
 /// The page `pnc thermo ...` wrote into `out`: report.html, checked self-contained.
 std::string report_page(const fs::path& out) {
   EXPECT_TRUE(fs::exists(out / "report.md"));
-  const std::string html = pnc::test::read_file((out / "report.html").string());
+  const std::string html = pnc::test::slurp((out / "report.html").string());
   EXPECT_EQ(pnc::test::self_contained_problems(html), std::vector<std::string>{});
   return html;
 }
@@ -199,7 +199,7 @@ TEST(ThermoCli, PersistenceStoppedBySigintLeavesAReport) {
   ASSERT_TRUE(e.ended) << "still running 60 s after SIGINT";
   const std::string msg = pnc::test::slurp(err);
   EXPECT_EQ(e.code, 128 + SIGINT) << msg;
-  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const std::string md = pnc::test::slurp((out / "report.md").string());
   const auto banner = md.find("## Did not finish: interrupted by SIGINT");
   ASSERT_NE(banner, std::string::npos) << md << msg;
   EXPECT_LT(banner, md.find("What was run")) << md;
@@ -275,7 +275,7 @@ TEST(ThermoCli, TiReportHoldsTheKeyNumbersAndRendersInABrowser) {
   const auto first = html.find(img);
   ASSERT_NE(first, std::string::npos);
   EXPECT_NE(html.find(img, first + 1), std::string::npos) << "both figures";
-  EXPECT_NE(pnc::test::read_file((out / "report.md").string()).find("](plots/dA_vs_strain.png)"),
+  EXPECT_NE(pnc::test::slurp((out / "report.md").string()).find("](plots/dA_vs_strain.png)"),
             std::string::npos);
   const auto b = pnc::test::render_in_chromium((out / "report.html").string(), d.string());
   ASSERT_EQ(b.error, "");

@@ -78,7 +78,7 @@ TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
                            "--sample-every 10 --blocks 3 --no-plots --jobs 2 --out " +
                            out.string();
   const auto r1 = pnc_run(args, d / "run1.err");
-  ASSERT_EQ(r1.code, 0) << pnc::test::read_file((d / "run1.err").string());
+  ASSERT_EQ(r1.code, 0) << pnc::test::slurp((d / "run1.err").string());
   const auto n1 = ti_numbers(out / "ti.h5");
 
   pnc::thermo::TiSpec spec;
@@ -130,7 +130,7 @@ TEST(ThermoTiPlan, LocalPlanEqualsRunTiAndResumeRerunsOnlyTheMissingNode) {
 
   // --resume: that point runs again, the other three are reused; same numbers
   const auto r2 = pnc_run(args + " --resume", d / "run2.err");
-  ASSERT_EQ(r2.code, 0) << pnc::test::read_file((d / "run2.err").string());
+  ASSERT_EQ(r2.code, 0) << pnc::test::slurp((d / "run2.err").string());
   auto u2 = units_by_id(status_of(out));
   for (const auto& id : ids) {
     EXPECT_EQ(u2[id]["state"], "done") << u2[id].dump();
@@ -169,7 +169,7 @@ TEST(ThermoTiPlan, SigintLeavesAReportSayingWhatIsDoneAndHowToResume) {
   EXPECT_NE(msg.find("report (stopped early): " + (out / "report.html").string()),
             std::string::npos)
       << msg;
-  const std::string md = pnc::test::read_file((out / "report.md").string());
+  const std::string md = pnc::test::slurp((out / "report.md").string());
   const auto banner = md.find("## Did not finish: interrupted by SIGINT");
   ASSERT_NE(banner, std::string::npos) << md;
   EXPECT_LT(banner, md.find("What was run")) << md;

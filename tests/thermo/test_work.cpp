@@ -387,7 +387,7 @@ TEST(ThermoWork, CliTwoRunsJsonH5CsvAndReport) {
   // any-correlation bound, for the total and, with two runs, for one of the split parts), each
   // case's da is on the page as printed, work.png is embedded and the page renders in Chromium
   ASSERT_EQ(j.at("report"), (out / "report.html").string());
-  const std::string html = pnc::test::read_file((out / "report.html").string());
+  const std::string html = pnc::test::slurp((out / "report.html").string());
   const auto resolved = [](const nlohmann::json& w) {
     return std::fabs(w.at("da_J_per_m3").get<double>()) >
            2 * w.at("da_stderr_bound_J_per_m3").get<double>();

@@ -32,6 +32,10 @@
 
 namespace pnc::rve {
 
+/// The most independent replicas a run may have (run.replicas, --replicas); the Student factors
+/// of the replica statistics are tabulated up to it (replica_trend.cpp).
+inline constexpr int kMaxReplicas = 64;
+
 struct Recipe {
   std::string name = "custom";
   std::uint64_t seed = 1;
@@ -79,7 +83,8 @@ struct Recipe {
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"
   /// holds the user's stages.
   UserSystem system;
-  /// independent replicas: own build seed, own equilibration, every case (decision D130)
+  /// independent replicas: own build seed, own equilibration, every case (decision D130); 1 to
+  /// kMaxReplicas
   int replicas = 1;
   /// "slurm": where and how the Slurm executor runs the units (pnc/campaign/slurm.hpp, D245); in
   /// the expanded recipe only when given

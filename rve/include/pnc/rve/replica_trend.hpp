@@ -57,7 +57,7 @@ struct TrendCurve {
   /// Pa: the stress the trend is measured against, max |replica-mean stress| of the curve over
   /// the fitted rows (a pooled role: the mean of its curves' scales)
   double scale = 0;
-  /// "case 4 sigma12", or for a pooled role "driven extension (3 curves of cases 1, 2, 3)"
+  /// "case 4 sigma12", or for a pooled role "driven extension (3 curves of cases 1, 2, 3; D397)"
   std::string label() const;
   /// bound / scale (dimensionless; +inf for a zero scale: no share of it holds the bound)
   double relative_bound() const;
@@ -66,7 +66,7 @@ struct TrendCurve {
   /// (decision D420): the smallest N' > replicas, up to `max_replicas`, with max over the grid
   /// of |rbar(x)| + k(N' - 1) se(x) sqrt(replicas / N') <= tolerance scale; 0 when none is
   /// (the mean trend alone at the tolerance, or more than max_replicas needed).
-  int replicas_for(double tolerance, int replicas, int max_replicas = 64) const;
+  int replicas_for(double tolerance, int replicas, int max_replicas = kMaxReplicas) const;
   /// a curve of a pooled role (D397): judged through its role for the shape error (D417)
   bool pooled = false;
 };
