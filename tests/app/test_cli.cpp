@@ -118,6 +118,12 @@ TEST_F(Cli, FitIsotropicDerivesC44AndB4AndIsRefusedForTheComposite) {
   EXPECT_NE(bad.err.find("--isotropic"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("model pp, not of pnc"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(p("c2.h5")));
+  // the library's rule on FitOptions::prior, reported on the flag that set it
+  const Result other = run("fit --data d.csv --model pnc --prior card.h5 --out c3.h5 --no-plots");
+  EXPECT_NE(other.code, 0);
+  EXPECT_NE(other.err.find("--prior"), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("another model than pnc"), std::string::npos) << other.err;
+  EXPECT_FALSE(fs::exists(p("c3.h5")));
 }
 
 TEST_F(Cli, FitDrawsOneFigureOfEveryCase) {
