@@ -263,8 +263,10 @@ template <int D> void Solver<D>::update_stress(double dt) {
   auto& P = particles;
   const std::size_t n = P.size();
   const int T = threads;
+  std::vector<double> part(static_cast<std::size_t>(T), 0.0); // strain energy per thread, J
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
+    double se = 0.0;
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
     // (this pass writes the nodes of scatter()'s pass, same particles and weights: D410)
     if (T > 1)
@@ -372,9 +374,15 @@ template <int D> void Solver<D>::update_stress(double dt) {
         const Mat Fnew = F1[p - c0].template topLeftCorner<D, D>();
         P.F[p] = Fnew;
         P.V[p] = P.V0[p] * Fnew.determinant();
+        se += P.V0[p] * P.W[p]; // while V0 and W are in the cache (g2p read them again before)
       }
     }
+    part[static_cast<std::size_t>(th)] = se;
   });
+  double se = 0.0; // the threads' sums in thread order, as g2p summed them before
+  for (double q : part)
+    se += q;
+  energy.strain = se;
 }
 
 // Step 4: the f^int,* sums of the thread copies, v^t+dt at the nodes; returns the work of the
@@ -456,12 +464,12 @@ template <int D> void Solver<D>::g2p(double dt) {
   auto& P = particles;
   const std::size_t n = P.size();
   const int T = threads;
-  std::vector<std::array<double, 3>> part(static_cast<std::size_t>(T), {0.0, 0.0, 0.0});
+  std::vector<std::array<double, 2>> part(static_cast<std::size_t>(T), {0.0, 0.0});
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
     Stencil<D> st;
     const detail::RowKernels<D>& rk = detail::row_kernels<D>();
-    double wext = 0.0, ke = 0.0, se = 0.0;
+    double wext = 0.0, ke = 0.0;
     for (std::size_t p = b; p < e; ++p) {
       double ddx[D], ddv[D];
       if (nfields_ == 1 || !fmask_[p]) { // by rows (D404)
@@ -485,7 +493,7 @@ template <int D> void Solver<D>::g2p(double dt) {
       double wx = 0.0, v2 = 0.0;
       for (int a = 0; a < D; ++a) {
         const double dx = dt * ddx[a];
-        wx += P.fext[p][a] * dx;
+        if (has_fext_) wx += P.fext[p][a] * dx; // (else f^ext = 0: not read, less traffic)
         P.x[p][a] += dx;
         const double v = P.v[p][a] + ddv[a];
         P.v[p][a] = v;
@@ -493,19 +501,16 @@ template <int D> void Solver<D>::g2p(double dt) {
       }
       wext += wx;
       ke += 0.5 * P.m[p] * v2;
-      se += P.V0[p] * P.W[p];
     }
-    part[static_cast<std::size_t>(th)] = {wext, ke, se};
+    part[static_cast<std::size_t>(th)] = {wext, ke};
   });
-  double wext = 0.0, ke = 0.0, se = 0.0;
+  double wext = 0.0, ke = 0.0; // (the strain energy: update_stress)
   for (const auto& q : part) {
     wext += q[0];
     ke += q[1];
-    se += q[2];
   }
   energy.external_work += wext;
   energy.kinetic = ke;
-  energy.strain = se;
 }
 
 template void Solver<2>::scatter();

@@ -73,15 +73,14 @@ std::string role_of(const CombinedCase& c, int component) {
 // The two-sided 99 % Student factor of n - 1 dof; the factors up to kMaxReplicas replicas are
 // computed once (each takes milliseconds and D420's projection asks for dozens per unit).
 double coverage_of_replicas(int n) {
-  constexpr int kTable = kMaxReplicas;
-  static const std::array<double, kTable + 1> table = [] {
-    std::array<double, kTable + 1> t{};
-    for (int i = 2; i <= kTable; ++i)
+  static const std::array<double, kMaxReplicas + 1> table = [] {
+    std::array<double, kMaxReplicas + 1> t{};
+    for (int i = 2; i <= kMaxReplicas; ++i)
       t[static_cast<std::size_t>(i)] = md::coverage_factor(i - 1, 0.99);
     return t;
   }();
-  return n >= 2 && n <= kTable ? table[static_cast<std::size_t>(n)]
-                               : md::coverage_factor(n - 1, 0.99);
+  return n >= 2 && n <= kMaxReplicas ? table[static_cast<std::size_t>(n)]
+                                     : md::coverage_factor(n - 1, 0.99);
 }
 
 const char* stress_name(int component) {

@@ -252,8 +252,9 @@ private:
     std::vector<Mat3> F0, F1;
   };
   // The parts of step() (solver_step.cpp): P2G, the nodal velocities v^t and v* (1), the
-  // stress update with the internal forces (2, 3), v^t+dt with the damping work (4), the
-  // reactions and their work, G2P with the energies (5).
+  // stress update with the internal forces and the strain energy (2, 3), v^t+dt with the
+  // damping work (4), the reactions and their work, G2P with the kinetic energy and the
+  // external work (5).
   void external_forces(double t);
   void scatter();
   void grid_velocities(double dt);
