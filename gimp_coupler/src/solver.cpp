@@ -140,7 +140,8 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
   gvs_.assign(nn, Vec::Zero());
   gvn_.assign(nn, Vec::Zero());
   active_.assign(nn, 0);
-  wcache_.resize(n);
+  wval_.resize(n);
+  wder_.resize(n);
   law_scratch_stride_ = 0;
   for (const auto& mt : materials)
     law_scratch_stride_ =

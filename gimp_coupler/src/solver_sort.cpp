@@ -80,7 +80,8 @@ template <int D> void Solver<D>::sort_particles() {
   permute_blocks(P.state, perm, static_cast<std::size_t>(P.state_stride));
   // The next P2G recomputes these for every particle; permuted anyway so that nothing read
   // between steps sees another particle's weights or crack fields.
-  if (wcache_.size() == n) permute(wcache_, perm);
+  if (wval_.size() == n) permute(wval_, perm);
+  if (wder_.size() == n) permute(wder_, perm);
   permute_blocks(law_scratch_, perm, law_scratch_stride_); // the laws' scratch (D416)
   if (fmask_.size() == n) permute(fmask_, perm);
   std::vector<std::size_t> where(n); // old index -> new index

@@ -82,12 +82,12 @@ template <int D> void Solver<D>::scatter() {
     for (std::size_t p = b; p < e; ++p) {
       if ((p - b) % kWeightChunk == 0) { // the weights of the next chunk, SIMD (D376)
         const std::size_t n = std::min(kWeightChunk, e - p);
-        const std::size_t ok =
-            compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p, wcache_.data() + p);
+        const std::size_t ok = compute_axis_weights_many(grid, n, P.x.data() + p, P.l.data() + p,
+                                                         wval_.data() + p, wder_.data() + p);
         if (ok < n) left_grid(p + ok);
         if (nfields_ == 1)
           for (std::size_t q = p; q < p + n; ++q) {
-            const std::int64_t i = grid.index(wcache_[q].i0);
+            const std::int64_t i = grid.index(wval_[q].i0);
             first_lo = std::min(first_lo, i);
             first_hi = std::max(first_hi, i);
           }
@@ -96,7 +96,7 @@ template <int D> void Solver<D>::scatter() {
         if (nfields_ > 1) fmask_[p] = 0;
         const detail::P2GParticle<D> in{P.m[p], P.V[p], P.v[p].data(), P.sigma[p].data(),
                                         P.fext[p].data()};
-        rk.scatter(grid, wcache_[p], in, has_fext_, nodes);
+        rk.scatter(grid, wval_[p], wder_[p], in, has_fext_, nodes);
         continue;
       }
       // Scalar loops: Eigen temporaries of small fixed-size products spilled to the stack and
@@ -108,7 +108,7 @@ template <int D> void Solver<D>::scatter() {
           sV[a][c] = P.sigma[p](a, c) * P.V[p];
       }
       const double mp = P.m[p];
-      assemble_stencil(grid, wcache_[p], st);
+      assemble_stencil(grid, split_view(wval_[p], wder_[p]), st);
       std::uint32_t mask = 0;
       for (int k = 0; k < Stencil<D>::size; ++k)
         if (st.S[k] > 0.0 && crosses(P.x[p], grid.position(st.node[k]))) mask |= 1u << k;
@@ -146,13 +146,13 @@ template <int D> void Solver<D>::scatter() {
   });
   node_pass_range(last_lo, last_hi);
   // The per-thread copies are summed by grid_velocities (D355); the displacement scatter
-  // below reads only wcache_, the particles and gu_.
+  // below reads only wval_, the particles and gu_.
   if (nfields_ > 1) { // nodal displacements per field for the contact gap test (serial)
     std::fill(gu_.begin(), gu_.end(), Vec::Zero());
     Stencil<D> st;
     for (std::size_t p = 0; p < P.size(); ++p) {
       if (!near_crack(P.x[p])) continue; // only nodes near the crack are tested for contact
-      assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
+      assemble_stencil_weights(grid, wval_[p], st); // S only (D378)
       apply_fields(p, st);
       const Vec mu = P.m[p] * (P.x[p] - P.x0[p]);
       for (int k = 0; k < Stencil<D>::size; ++k)
@@ -294,10 +294,10 @@ template <int D> void Solver<D>::update_stress(double dt) {
         // temporary here caused store-forwarding stalls that cost half of the 3-D step).
         double g[D][D];
         if (nfields_ == 1 || !fmask_[p]) { // weights at x^t from the P2G pass, by rows (D404)
-          rk.gradient(grid, wcache_[p], lanes(gvs_.data()), g);
+          rk.gradient(grid, wval_[p], wder_[p], lanes(gvs_.data()), g);
         } else {
           Stencil<D>& st = sts[p - c0];
-          assemble_stencil(grid, wcache_[p], st);
+          assemble_stencil(grid, split_view(wval_[p], wder_[p]), st);
           apply_fields(p, st);
           for (int a = 0; a < D; ++a)
             for (int c = 0; c < D; ++c)
@@ -353,7 +353,7 @@ template <int D> void Solver<D>::update_stress(double dt) {
       }
       for (std::size_t p = c0; p < c1; ++p) {
         if (nfields_ == 1 || !fmask_[p]) { // V^t
-          rk.scatter_force(grid, wcache_[p], P.sigma[p].data(), P.V[p], lanes(fi));
+          rk.scatter_force(grid, wval_[p], wder_[p], P.sigma[p].data(), P.V[p], lanes(fi));
         } else {
           double sV[D][D]; // V^t
           for (int a = 0; a < D; ++a)
@@ -473,10 +473,10 @@ template <int D> void Solver<D>::g2p(double dt) {
     for (std::size_t p = b; p < e; ++p) {
       double ddx[D], ddv[D];
       if (nfields_ == 1 || !fmask_[p]) { // by rows (D404)
-        rk.velocities(grid, wcache_[p], lanes(gvs_.data()), lanes(gvn_.data()), lanes(gp_.data()),
+        rk.velocities(grid, wval_[p], lanes(gvs_.data()), lanes(gvn_.data()), lanes(gp_.data()),
                       ddx, ddv);
       } else {
-        assemble_stencil_weights(grid, wcache_[p], st); // S only (D378)
+        assemble_stencil_weights(grid, wval_[p], st); // S only (D378)
         apply_fields(p, st);
         for (int a = 0; a < D; ++a)
           ddx[a] = ddv[a] = 0.0;

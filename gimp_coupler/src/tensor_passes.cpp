@@ -14,24 +14,26 @@ namespace {
 /// (s = j in 2-D, 3 k + j in 3-D). Scalars computed where they are used: an array of rows
 /// filled first and read back made the compiler reload pairs of scalar stores as vectors
 /// (store-forwarding stalls).
-template <int D> struct Row {
+/// Without kDer, rd is left unset and aw's derivatives are not read (G2P: AxisValues, D422).
+template <int D, bool kDer = true> struct Row {
   static constexpr int n = D == 2 ? 3 : 9;
   std::int64_t node;
   double r, rd[D - 1];
-  [[gnu::always_inline]] inline Row(const Grid<D>& g, const AxisWeights<D>& aw, int s) {
+  template <class AW> [[gnu::always_inline]] inline Row(const Grid<D>& g, const AW& aw, int s) {
     const auto& w = aw.w;
-    const auto& dw = aw.dw;
     if constexpr (D == 2) {
       node = static_cast<std::int64_t>(aw.i0[1] + s) * g.n[0] + aw.i0[0];
       r = w[1][s];
-      rd[0] = dw[1][s];
+      if constexpr (kDer) rd[0] = aw.dw[1][s];
     } else {
       const int j = s % 3, k = s / 3;
       node =
           (static_cast<std::int64_t>(aw.i0[2] + k) * g.n[1] + (aw.i0[1] + j)) * g.n[0] + aw.i0[0];
       r = w[1][j] * w[2][k];
-      rd[0] = dw[1][j] * w[2][k];
-      rd[1] = w[1][j] * dw[2][k];
+      if constexpr (kDer) {
+        rd[0] = aw.dw[1][j] * w[2][k];
+        rd[1] = w[1][j] * aw.dw[2][k];
+      }
     }
   }
 };
@@ -109,8 +111,8 @@ template <int D, class F> [[gnu::always_inline]] inline Lanes<3 * D> lanes_of(F 
   return x;
 }
 
-template <int D>
-[[gnu::always_inline]] inline void scatter_body(const Grid<D>& g, const AxisWeights<D>& aw,
+template <int D, class AW>
+[[gnu::always_inline]] inline void scatter_body(const Grid<D>& g, const AW& aw,
                                                 const P2GParticle<D>& in, bool external,
                                                 const NodeArrays& out) {
   using Ln = Lanes<3 * D>;
@@ -154,8 +156,8 @@ template <int D>
   }
 }
 
-template <int D>
-[[gnu::always_inline]] inline void scatter_force_body(const Grid<D>& g, const AxisWeights<D>& aw,
+template <int D, class AW>
+[[gnu::always_inline]] inline void scatter_force_body(const Grid<D>& g, const AW& aw,
                                                       const double* sigma, double V, double* fi) {
   using Ln = Lanes<3 * D>;
   const auto& w0 = aw.w[0];
@@ -179,9 +181,9 @@ template <int D>
   }
 }
 
-template <int D>
-[[gnu::always_inline]] inline void gradient_body(const Grid<D>& g, const AxisWeights<D>& aw,
-                                                 const double* v, double (&grad)[D][D]) {
+template <int D, class AW>
+[[gnu::always_inline]] inline void gradient_body(const Grid<D>& g, const AW& aw, const double* v,
+                                                 double (&grad)[D][D]) {
   using Ln = Lanes<3 * D>;
   Ln acc[D]; // acc[0]: sum r v; acc[c]: sum rd[c-1] v
   for (int c = 0; c < D; ++c)
@@ -205,13 +207,13 @@ template <int D>
 
 template <int D>
 [[gnu::always_inline]] inline void
-velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, const double* vn,
+velocities_body(const Grid<D>& g, const AxisValues<D>& aw, const double* vs, const double* vn,
                 const double* v0, double (&vs_p)[D], double (&dv_p)[D]) {
   using Ln = Lanes<3 * D>;
   Ln ax = Ln::zero(), av = Ln::zero();
 #pragma GCC unroll 9
   for (int s = 0; s < Row<D>::n; ++s) {
-    const Row<D> rw(g, aw, s);
+    const Row<D, false> rw(g, aw, s);
     const std::int64_t q = D * rw.node;
     const double r = rw.r;
     ax += r * Ln::load(vs + q);
@@ -228,24 +230,24 @@ velocities_body(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, co
 #define PNC_ROW_COPY(NS, ATTR)                                                                     \
   namespace NS {                                                                                   \
   template <int D>                                                                                 \
-  ATTR void scatter(const Grid<D>& g, const AxisWeights<D>& aw, const P2GParticle<D>& in,          \
-                    bool external, const NodeArrays& out) {                                        \
-    scatter_body(g, aw, in, external, out);                                                        \
+  ATTR void scatter(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,            \
+                    const P2GParticle<D>& in, bool external, const NodeArrays& out) {              \
+    scatter_body(g, split_view(av, ad), in, external, out);                                        \
   }                                                                                                \
   template <int D>                                                                                 \
-  ATTR void scatter_force(const Grid<D>& g, const AxisWeights<D>& aw, const double* sigma,         \
-                          double V, double* fi) {                                                  \
-    scatter_force_body(g, aw, sigma, V, fi);                                                       \
+  ATTR void scatter_force(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,      \
+                          const double* sigma, double V, double* fi) {                             \
+    scatter_force_body(g, split_view(av, ad), sigma, V, fi);                                       \
   }                                                                                                \
   template <int D>                                                                                 \
-  ATTR void gradient(const Grid<D>& g, const AxisWeights<D>& aw, const double* v,                  \
-                     double (&grad)[D][D]) {                                                       \
-    gradient_body(g, aw, v, grad);                                                                 \
+  ATTR void gradient(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,           \
+                     const double* v, double (&grad)[D][D]) {                                      \
+    gradient_body(g, split_view(av, ad), v, grad);                                                 \
   }                                                                                                \
   template <int D>                                                                                 \
-  ATTR void velocities(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs,               \
+  ATTR void velocities(const Grid<D>& g, const AxisValues<D>& av, const double* vs,                \
                        const double* vn, const double* v0, double (&vs_p)[D], double (&dv_p)[D]) { \
-    velocities_body(g, aw, vs, vn, v0, vs_p, dv_p);                                                \
+    velocities_body(g, av, vs, vn, v0, vs_p, dv_p);                                                \
   }                                                                                                \
   template <int D>                                                                                 \
   const RowKernels<D> kernels{scatter<D>, scatter_force<D>, gradient<D>, velocities<D>};           \

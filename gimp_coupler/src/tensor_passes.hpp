@@ -46,17 +46,19 @@ struct NodeArrays {
 /// The row kernels of one compiled copy (see row_kernels()).
 template <int D> struct RowKernels {
   /// P2G of one particle: m += S m_p, p += S (m v)_p, fi -= (sigma V) grad S (row a of sigma:
-  /// force component a), and with `external` fe += S fext.
-  void (*scatter)(const Grid<D>& g, const AxisWeights<D>& aw, const P2GParticle<D>& in,
-                  bool external, const NodeArrays& out);
+  /// force component a), and with `external` fe += S fext. The weights as the solver caches
+  /// them, values and derivatives apart (D422).
+  void (*scatter)(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,
+                  const P2GParticle<D>& in, bool external, const NodeArrays& out);
   /// fi -= (sigma V) grad S over the stencil (N; sigma as in P2GParticle, Pa; V in m^3).
-  void (*scatter_force)(const Grid<D>& g, const AxisWeights<D>& aw, const double* sigma, double V,
-                        double* fi);
+  void (*scatter_force)(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,
+                        const double* sigma, double V, double* fi);
   /// grad[a][c] = sum_n v_n[a] (grad S_n)_c (v in m/s: 1/s).
-  void (*gradient)(const Grid<D>& g, const AxisWeights<D>& aw, const double* v,
-                   double (&grad)[D][D]);
-  /// G2P sums: vs_p[a] = sum_n S_n vs_n[a], dv_p[a] = sum_n S_n (vn_n[a] - v0_n[a]) (m/s).
-  void (*velocities)(const Grid<D>& g, const AxisWeights<D>& aw, const double* vs, const double* vn,
+  void (*gradient)(const Grid<D>& g, const AxisValues<D>& av, const AxisSlopes<D>& ad,
+                   const double* v, double (&grad)[D][D]);
+  /// G2P sums: vs_p[a] = sum_n S_n vs_n[a], dv_p[a] = sum_n S_n (vn_n[a] - v0_n[a]) (m/s);
+  /// the values of the weights only.
+  void (*velocities)(const Grid<D>& g, const AxisValues<D>& av, const double* vs, const double* vn,
                      const double* v0, double (&vs_p)[D], double (&dv_p)[D]);
 };
 

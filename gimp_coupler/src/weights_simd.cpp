@@ -104,47 +104,57 @@ void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, d
 namespace {
 
 /// The body of compute_axis_weights_many (weights.hpp), inlined into each compiled copy.
-template <int D>
+/// (`out` is AxisWeights<D>* or, for the split records, a pair of AxisValues<D>* and
+/// AxisSlopes<D>*: V and G below pick the record of the values and of the derivatives.)
+template <int D, class V, class G>
 [[gnu::always_inline]] inline std::size_t
 axis_weights_many_body(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
-                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
+                       const Eigen::Matrix<double, D, 1>* l, V* val, G* der) {
   constexpr std::size_t kChunk = 64, m = 3 * D;
   double xi[kChunk * m], hl[kChunk * m], S[kChunk * m], dS[kChunk * m];
   for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
     const std::size_t c1 = std::min(n, c0 + kChunk);
     for (std::size_t p = c0; p < c1; ++p)
-      if (!axis_offsets(g, x[p], l[p], aw[p], xi + (p - c0) * m, hl + (p - c0) * m)) return p;
+      if (!axis_offsets(g, x[p], l[p], val[p].i0, xi + (p - c0) * m, hl + (p - c0) * m)) return p;
     weights_body((c1 - c0) * m, xi, hl, g.h, S, dS);
     for (std::size_t p = c0; p < c1; ++p) {
-      std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &aw[p].w[0][0]);
-      std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &aw[p].dw[0][0]);
+      std::copy(S + (p - c0) * m, S + (p - c0 + 1) * m, &val[p].w[0][0]);
+      std::copy(dS + (p - c0) * m, dS + (p - c0 + 1) * m, &der[p].dw[0][0]);
     }
   }
   return n;
 }
 
-template <int D>
+template <int D, class V, class G>
 std::size_t axis_weights_many_default(const Grid<D>& g, std::size_t n,
                                       const Eigen::Matrix<double, D, 1>* x,
-                                      const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  return axis_weights_many_body(g, n, x, l, aw);
+                                      const Eigen::Matrix<double, D, 1>* l, V* val, G* der) {
+  return axis_weights_many_body(g, n, x, l, val, der);
 }
 
 // The offsets (floor, conversions) and the copies compiled for AVX2 and AVX-512 too (D407,
 // D414): floor is one rounding instruction there (SSE4.1), a longer sequence in the baseline;
 // the same values.
-template <int D>
+template <int D, class V, class G>
 PNC_TARGET_AVX2 std::size_t
 axis_weights_many_avx2(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
-                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  return axis_weights_many_body(g, n, x, l, aw);
+                       const Eigen::Matrix<double, D, 1>* l, V* val, G* der) {
+  return axis_weights_many_body(g, n, x, l, val, der);
 }
 
-template <int D>
+template <int D, class V, class G>
 PNC_TARGET_AVX512 std::size_t
 axis_weights_many_avx512(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
-                         const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  return axis_weights_many_body(g, n, x, l, aw);
+                         const Eigen::Matrix<double, D, 1>* l, V* val, G* der) {
+  return axis_weights_many_body(g, n, x, l, val, der);
+}
+
+template <int D, class V, class G>
+std::size_t axis_weights_many(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,
+                              const Eigen::Matrix<double, D, 1>* l, V* val, G* der) {
+  if (pnc::cpu_has_avx512()) return axis_weights_many_avx512(g, n, x, l, val, der);
+  return pnc::cpu_has_avx2() ? axis_weights_many_avx2(g, n, x, l, val, der)
+                             : axis_weights_many_default(g, n, x, l, val, der);
 }
 
 } // namespace
@@ -153,9 +163,15 @@ template <int D>
 std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
                                       const Eigen::Matrix<double, D, 1>* x,
                                       const Eigen::Matrix<double, D, 1>* l, AxisWeights<D>* aw) {
-  if (pnc::cpu_has_avx512()) return axis_weights_many_avx512(g, n, x, l, aw);
-  return pnc::cpu_has_avx2() ? axis_weights_many_avx2(g, n, x, l, aw)
-                             : axis_weights_many_default(g, n, x, l, aw);
+  return axis_weights_many(g, n, x, l, aw, aw);
+}
+
+template <int D>
+std::size_t compute_axis_weights_many(const Grid<D>& g, std::size_t n,
+                                      const Eigen::Matrix<double, D, 1>* x,
+                                      const Eigen::Matrix<double, D, 1>* l, AxisValues<D>* values,
+                                      AxisSlopes<D>* slopes) {
+  return axis_weights_many(g, n, x, l, values, slopes);
 }
 
 template std::size_t compute_axis_weights_many<2>(const Grid<2>&, std::size_t,
@@ -166,5 +182,14 @@ template std::size_t compute_axis_weights_many<3>(const Grid<3>&, std::size_t,
                                                   const Eigen::Matrix<double, 3, 1>*,
                                                   const Eigen::Matrix<double, 3, 1>*,
                                                   AxisWeights<3>*);
+
+template std::size_t compute_axis_weights_many<2>(const Grid<2>&, std::size_t,
+                                                  const Eigen::Matrix<double, 2, 1>*,
+                                                  const Eigen::Matrix<double, 2, 1>*,
+                                                  AxisValues<2>*, AxisSlopes<2>*);
+template std::size_t compute_axis_weights_many<3>(const Grid<3>&, std::size_t,
+                                                  const Eigen::Matrix<double, 3, 1>*,
+                                                  const Eigen::Matrix<double, 3, 1>*,
+                                                  AxisValues<3>*, AxisSlopes<3>*);
 
 } // namespace pnc::gimp

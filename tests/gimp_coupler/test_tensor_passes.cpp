@@ -34,6 +34,8 @@ template <int D> struct Setup {
   using Vec = Eigen::Matrix<double, D, 1>;
   Grid<D> g;
   AxisWeights<D> aw;
+  AxisValues<D> av; // aw as the solver caches it (D422)
+  AxisSlopes<D> ad;
   std::vector<double> m, v, vn, v0, p, fi, fe; // D doubles per node except m
   double mp = 0, V = 0, sigma[9] = {}, vel[D] = {}, fext[D] = {};
 
@@ -50,6 +52,9 @@ template <int D> struct Setup {
       x[a] = g.origin[a] + g.h * (2.0 + 4.0 * pos(rng));
     }
     EXPECT_TRUE(compute_axis_weights(g, x, l, aw));
+    av.i0 = aw.i0;
+    av.w = aw.w;
+    ad.dw = aw.dw;
     const auto nn = static_cast<std::size_t>(g.nodes());
     auto fill = [&](std::vector<double>& f, std::size_t n, double scale) {
       f.resize(n);
@@ -115,8 +120,8 @@ template <int D> void check_copy(const detail::RowKernels<D>& rk, int seed) {
     // gather: grad v and the G2P sums (products of up to D + 1 rounded factors and a
     // difference: n = N + D + 3)
     double grad[D][D], vs_p[D], dv_p[D];
-    rk.gradient(s.g, s.aw, s.v.data(), grad);
-    rk.velocities(s.g, s.aw, s.v.data(), s.vn.data(), s.v0.data(), vs_p, dv_p);
+    rk.gradient(s.g, s.av, s.ad, s.v.data(), grad);
+    rk.velocities(s.g, s.av, s.v.data(), s.vn.data(), s.v0.data(), vs_p, dv_p);
     for (int a = 0; a < D; ++a) {
       long double xs = 0, xa = 0, ds = 0, da = 0;
       for (int k = 0; k < N; ++k) {
@@ -144,10 +149,10 @@ template <int D> void check_copy(const detail::RowKernels<D>& rk, int seed) {
     for (bool external : {false, true}) {
       std::vector<double> m = s.m, p = s.p, fi = s.fi, fe = s.fe;
       const detail::P2GParticle<D> in{s.mp, s.V, s.vel, s.sigma, s.fext};
-      rk.scatter(s.g, s.aw, in, external,
+      rk.scatter(s.g, s.av, s.ad, in, external,
                  detail::NodeArrays{m.data(), p.data(), fi.data(), fe.data()});
       std::vector<double> fi2 = s.fi;
-      rk.scatter_force(s.g, s.aw, s.sigma, s.V, fi2.data());
+      rk.scatter_force(s.g, s.av, s.ad, s.sigma, s.V, fi2.data());
       for (int k = 0; k < N; ++k) {
         const auto n = static_cast<std::size_t>(ex.node[k]);
         const long double mS = ex.S[k] * s.mp;
@@ -221,10 +226,10 @@ template <int D> void check_copies_agree(int seed, int copy) {
   for (int trial = 0; trial < 100; ++trial) {
     Setup<D> s(rng);
     double g0[D][D], g1[D][D], x0[D], x1[D], d0[D], d1[D];
-    k0.gradient(s.g, s.aw, s.v.data(), g0);
-    k1.gradient(s.g, s.aw, s.v.data(), g1);
-    k0.velocities(s.g, s.aw, s.v.data(), s.vn.data(), s.v0.data(), x0, d0);
-    k1.velocities(s.g, s.aw, s.v.data(), s.vn.data(), s.v0.data(), x1, d1);
+    k0.gradient(s.g, s.av, s.ad, s.v.data(), g0);
+    k1.gradient(s.g, s.av, s.ad, s.v.data(), g1);
+    k0.velocities(s.g, s.av, s.v.data(), s.vn.data(), s.v0.data(), x0, d0);
+    k1.velocities(s.g, s.av, s.v.data(), s.vn.data(), s.v0.data(), x1, d1);
     for (int a = 0; a < D; ++a) {
       EXPECT_TRUE(same_bits(x0[a], x1[a]));
       EXPECT_TRUE(same_bits(d0[a], d1[a]));
@@ -234,10 +239,12 @@ template <int D> void check_copies_agree(int seed, int copy) {
     std::vector<double> m0 = s.m, p0 = s.p, f0 = s.fi, e0 = s.fe;
     std::vector<double> m1 = s.m, p1 = s.p, f1 = s.fi, e1 = s.fe;
     const detail::P2GParticle<D> in{s.mp, s.V, s.vel, s.sigma, s.fext};
-    k0.scatter(s.g, s.aw, in, true, detail::NodeArrays{m0.data(), p0.data(), f0.data(), e0.data()});
-    k1.scatter(s.g, s.aw, in, true, detail::NodeArrays{m1.data(), p1.data(), f1.data(), e1.data()});
-    k0.scatter_force(s.g, s.aw, s.sigma, s.V, f0.data());
-    k1.scatter_force(s.g, s.aw, s.sigma, s.V, f1.data());
+    k0.scatter(s.g, s.av, s.ad, in, true,
+               detail::NodeArrays{m0.data(), p0.data(), f0.data(), e0.data()});
+    k1.scatter(s.g, s.av, s.ad, in, true,
+               detail::NodeArrays{m1.data(), p1.data(), f1.data(), e1.data()});
+    k0.scatter_force(s.g, s.av, s.ad, s.sigma, s.V, f0.data());
+    k1.scatter_force(s.g, s.av, s.ad, s.sigma, s.V, f1.data());
     EXPECT_EQ(std::memcmp(m0.data(), m1.data(), m0.size() * sizeof(double)), 0);
     EXPECT_EQ(std::memcmp(p0.data(), p1.data(), p0.size() * sizeof(double)), 0);
     EXPECT_EQ(std::memcmp(f0.data(), f1.data(), f0.size() * sizeof(double)), 0);

@@ -127,8 +127,21 @@ TEST(GimpWeightsSimd, ManyParticlesEqualPerNodeTable) {
         ASSERT_TRUE(same_bits(aw[p].w[a][k], r.S) && same_bits(aw[p].dw[a][k], r.dS))
             << "particle " << p << " axis " << a << " node " << k;
       }
+  // the split records the solver caches (D422): the same bits
+  std::vector<AxisValues<3>> av(n);
+  std::vector<AxisSlopes<3>> ad(n);
+  ASSERT_EQ(compute_axis_weights_many(g, n, x.data(), l.data(), av.data(), ad.data()), n);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(av[p].i0[a], aw[p].i0[a]) << "particle " << p;
+      for (int k = 0; k < 3; ++k)
+        ASSERT_TRUE(same_bits(av[p].w[a][k], aw[p].w[a][k]) &&
+                    same_bits(ad[p].dw[a][k], aw[p].dw[a][k]))
+            << "split records, particle " << p << " axis " << a << " node " << k;
+    }
   x[130][2] = g.origin[2] + g.h * (g.n[2] - 1); // support beyond the last node
   EXPECT_EQ(compute_axis_weights_many(g, n, x.data(), l.data(), aw.data()), 130u);
+  EXPECT_EQ(compute_axis_weights_many(g, n, x.data(), l.data(), av.data(), ad.data()), 130u);
 }
 
 // The S-only stencil of G2P (D378) equals the full stencil's nodes and weights bit for bit.
@@ -150,12 +163,25 @@ template <int D> void expect_weights_only_equal_full() {
     }
     AxisWeights<D> aw;
     ASSERT_TRUE(compute_axis_weights(g, x, l, aw));
-    Stencil<D> full, only;
+    Stencil<D> full, only, split, values;
     assemble_stencil(g, aw, full);
     assemble_stencil_weights(g, aw, only);
-    for (int k = 0; k < Stencil<D>::size; ++k)
+    // from the split records the solver caches (D422)
+    AxisValues<D> av;
+    AxisSlopes<D> ad;
+    av.i0 = aw.i0;
+    av.w = aw.w;
+    ad.dw = aw.dw;
+    assemble_stencil(g, split_view(av, ad), split);
+    assemble_stencil_weights(g, av, values);
+    for (int k = 0; k < Stencil<D>::size; ++k) {
       ASSERT_TRUE(full.node[k] == only.node[k] && same_bits(full.S[k], only.S[k]))
           << D << "-D particle " << q << " node " << k;
+      ASSERT_TRUE(full.node[k] == values.node[k] && same_bits(full.S[k], values.S[k]));
+      ASSERT_TRUE(full.node[k] == split.node[k] && same_bits(full.S[k], split.S[k]));
+      for (int c = 0; c < D; ++c)
+        ASSERT_TRUE(same_bits(full.dS[k][c], split.dS[k][c])) << D << "-D node " << k;
+    }
   }
 }
 

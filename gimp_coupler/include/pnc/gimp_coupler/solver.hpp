@@ -298,8 +298,11 @@ private:
       if (x[a] < crack_lo_[a] || x[a] > crack_hi_[a]) return false;
     return true;
   }
-  std::vector<std::size_t> order_;     // initial index of each particle (sort_particles)
-  std::vector<AxisWeights<D>> wcache_; // per-particle weights at x^t, reused within a step
+  std::vector<std::size_t> order_; // initial index of each particle (sort_particles)
+  // per-particle weights at x^t, reused within a step: values with the first node indices,
+  // and the derivatives, in two arrays (G2P reads the first only; D422)
+  std::vector<AxisValues<D>> wval_;
+  std::vector<AxisSlopes<D>> wder_;
   // per-particle scratch of the laws between steps (Material::n_scratch, D416), zero at
   // initialize(); law_scratch_stride_ doubles per particle (the largest n_scratch; 0: none)
   std::vector<double> law_scratch_;

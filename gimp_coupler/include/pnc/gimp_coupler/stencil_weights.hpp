@@ -7,9 +7,10 @@
 
 namespace pnc::gimp {
 
-/// st.node and st.S of the stencil of `aw` (st.dS is left as it was).
-template <int D>
-inline void assemble_stencil_weights(const Grid<D>& g, const AxisWeights<D>& aw, Stencil<D>& st) {
+/// st.node and st.S of the stencil of `aw` (st.dS is left as it was; `aw`: AxisWeights<D>, or
+/// AxisValues<D> since the derivatives are not read).
+template <int D, template <int> class AW>
+inline void assemble_stencil_weights(const Grid<D>& g, const AW<D>& aw, Stencil<D>& st) {
   assemble_stencil_parts<false>(g, aw, st);
 }
 
