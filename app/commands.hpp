@@ -20,8 +20,8 @@ struct FitArgs {
   double stretch_max = 0; ///< fit range by lambda_max - 1 (D12m), 0 = every row
   bool isotropic = false; ///< pp: C44 and B4 derived by isotropy (D396)
   std::string command_line;
-  /// the long flags `pnc fit` declares (filled from its CLI11 command): a FitOptions rule on
-  /// field f is reported on the flag "--" + f with '_' -> '-' when that flag is one of them
+  /// the long flags `pnc fit` declares (main.cpp: long_flags of its CLI11 command): a FitOptions
+  /// rule on field f is reported on the flag "--" + f with '_' -> '-' when that flag is one of them
   std::set<std::string> flags;
 };
 int run_fit(const FitArgs& a);

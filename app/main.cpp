@@ -25,6 +25,7 @@
 
 #include <functional>
 #include <iostream>
+#include <set>
 
 namespace {
 constexpr const char* kInternalError =
@@ -80,10 +81,16 @@ CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
   fit->add_option("--plots", fa.plots, "Directory for the PNG plots (default: <card>_plots)");
   fit->add_flag("--no-plots", fa.no_plots, "Do not draw plots");
   fit->add_flag("--json", fa.json, "Print one JSON object with the key numbers on stdout");
-  for (const CLI::Option* o : fit->get_options())
-    for (const std::string& name : o->get_lnames())
-      fa.flags.insert("--" + name);
   return fit;
+}
+
+// The long flags a command declares, "--name" each (FitArgs::flags).
+std::set<std::string> long_flags(const CLI::App& cmd) {
+  std::set<std::string> flags;
+  for (const CLI::Option* o : cmd.get_options())
+    for (const std::string& name : o->get_lnames())
+      flags.insert("--" + name);
+  return flags;
 }
 
 // The subcommands of `pnc card` the user chose from.
@@ -190,6 +197,7 @@ int main(int argc, char** argv) {
   FitArgs fa;
   fa.command_line = cmdline;
   CLI::App* fit = add_fit_command(app, fa);
+  fa.flags = long_flags(*fit);
   CardShowArgs cs;
   CardTablesArgs ct;
   ct.command_line = cmdline;

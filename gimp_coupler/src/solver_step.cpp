@@ -263,10 +263,9 @@ template <int D> void Solver<D>::update_stress(double dt) {
   auto& P = particles;
   const std::size_t n = P.size();
   const int T = threads;
-  std::vector<double> part(static_cast<std::size_t>(T), 0.0); // strain energy per thread, J
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
-    double se = 0.0;
+    double se = 0.0; // this thread's strain energy, J
     Vec* fi = T > 1 ? buf_[th].fi.data() : gfi_.data();
     // (this pass writes the nodes of scatter()'s pass, same particles and weights: D410)
     if (T > 1)
@@ -374,14 +373,14 @@ template <int D> void Solver<D>::update_stress(double dt) {
         const Mat Fnew = F1[p - c0].template topLeftCorner<D, D>();
         P.F[p] = Fnew;
         P.V[p] = P.V0[p] * Fnew.determinant();
-        se += P.V0[p] * P.W[p]; // while V0 and W are in the cache (g2p read them again before)
+        se += P.V0[p] * P.W[p]; // while V0 and W are in the cache
       }
     }
-    part[static_cast<std::size_t>(th)] = se;
+    sc.sums[0] = se;
   });
-  double se = 0.0; // the threads' sums in thread order, as g2p summed them before
-  for (double q : part)
-    se += q;
+  double se = 0.0; // the threads' sums in thread order
+  for (int th = 0; th < T; ++th)
+    se += scratch_[static_cast<std::size_t>(th)].sums[0];
   energy.strain = se;
 }
 
@@ -464,7 +463,6 @@ template <int D> void Solver<D>::g2p(double dt) {
   auto& P = particles;
   const std::size_t n = P.size();
   const int T = threads;
-  std::vector<std::array<double, 2>> part(static_cast<std::size_t>(T), {0.0, 0.0});
   par(pool_.get(), [&](int th) {
     const auto [b, e] = block(th, T, n);
     Stencil<D> st;
@@ -502,12 +500,12 @@ template <int D> void Solver<D>::g2p(double dt) {
       wext += wx;
       ke += 0.5 * P.m[p] * v2;
     }
-    part[static_cast<std::size_t>(th)] = {wext, ke};
+    scratch_[static_cast<std::size_t>(th)].sums = {wext, ke};
   });
-  double wext = 0.0, ke = 0.0; // (the strain energy: update_stress)
-  for (const auto& q : part) {
-    wext += q[0];
-    ke += q[1];
+  double wext = 0.0, ke = 0.0; // in thread order (the strain energy: update_stress)
+  for (int th = 0; th < T; ++th) {
+    wext += scratch_[static_cast<std::size_t>(th)].sums[0];
+    ke += scratch_[static_cast<std::size_t>(th)].sums[1];
   }
   energy.external_work += wext;
   energy.kinetic = ke;

@@ -104,8 +104,8 @@ void ugimp_weights(std::size_t n, const double* xi, const double* l, double L, d
 namespace {
 
 /// The body of compute_axis_weights_many (weights.hpp), inlined into each compiled copy.
-/// (`out` is AxisWeights<D>* or, for the split records, a pair of AxisValues<D>* and
-/// AxisSlopes<D>*: V and G below pick the record of the values and of the derivatives.)
+/// `val` receives i0 and the values, `der` the derivatives: both AxisWeights<D>* (one record)
+/// or AxisValues<D>* and AxisSlopes<D>* (the solver's split records, D422).
 template <int D, class V, class G>
 [[gnu::always_inline]] inline std::size_t
 axis_weights_many_body(const Grid<D>& g, std::size_t n, const Eigen::Matrix<double, D, 1>* x,

@@ -52,9 +52,9 @@ template <int D> struct Setup {
       x[a] = g.origin[a] + g.h * (2.0 + 4.0 * pos(rng));
     }
     EXPECT_TRUE(compute_axis_weights(g, x, l, aw));
-    av.i0 = aw.i0;
-    av.w = aw.w;
-    ad.dw = aw.dw;
+    const SplitRecords<D> rec = split(aw);
+    av = rec.values;
+    ad = rec.slopes;
     const auto nn = static_cast<std::size_t>(g.nodes());
     auto fill = [&](std::vector<double>& f, std::size_t n, double scale) {
       f.resize(n);

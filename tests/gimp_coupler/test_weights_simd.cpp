@@ -167,13 +167,9 @@ template <int D> void expect_weights_only_equal_full() {
     assemble_stencil(g, aw, full);
     assemble_stencil_weights(g, aw, only);
     // from the split records the solver caches (D422)
-    AxisValues<D> av;
-    AxisSlopes<D> ad;
-    av.i0 = aw.i0;
-    av.w = aw.w;
-    ad.dw = aw.dw;
-    assemble_stencil(g, split_view(av, ad), split);
-    assemble_stencil_weights(g, av, values);
+    const SplitRecords<D> rec = pnc::gimp::split(aw);
+    assemble_stencil(g, split_view(rec.values, rec.slopes), split);
+    assemble_stencil_weights(g, rec.values, values);
     for (int k = 0; k < Stencil<D>::size; ++k) {
       ASSERT_TRUE(full.node[k] == only.node[k] && same_bits(full.S[k], only.S[k]))
           << D << "-D particle " << q << " node " << k;

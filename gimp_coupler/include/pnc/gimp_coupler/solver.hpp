@@ -250,6 +250,7 @@ private:
     static constexpr std::size_t kChunk = 64;
     std::vector<Stencil<D>> sts;
     std::vector<Mat3> F0, F1;
+    std::array<double, 2> sums{}; // this thread's energy sums of a pass, J (summed in order)
   };
   // The parts of step() (solver_step.cpp): P2G, the nodal velocities v^t and v* (1), the
   // stress update with the internal forces and the strain energy (2, 3), v^t+dt with the

@@ -119,6 +119,18 @@ template <int D> struct SplitWeights {
 template <int D> SplitWeights<D> split_view(const AxisValues<D>& v, const AxisSlopes<D>& d) {
   return {v.i0, v.w, d.dw};
 }
+/// AxisWeights copied into the two records of the cache (D422), as a pair {values, slopes}.
+template <int D> struct SplitRecords {
+  AxisValues<D> values;
+  AxisSlopes<D> slopes;
+};
+template <int D> SplitRecords<D> split(const AxisWeights<D>& aw) {
+  SplitRecords<D> r;
+  r.values.i0 = aw.i0;
+  r.values.w = aw.w;
+  r.slopes.dw = aw.dw;
+  return r;
+}
 
 /// First node index per axis (`first`) and, for the three nodes k of each axis a, the offset
 /// xi[3a + k] = x_a - X_k (m) and the half-length hl[3a + k] = l_a (m) that ugimp_weight takes.
