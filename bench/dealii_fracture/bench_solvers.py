@@ -76,8 +76,10 @@ def run_once(exe, prm, card, case, solver, timeout, workdir):
         "Output/Directory": workdir,
         "Newton/Tolerance": "1e-8",
         "Newton/Max iterations": "30",
-        "Solver/Type": solver,
+        "Solver/Type": "iterative" if solver.startswith("iterative") else solver,
     }
+    if solver == "iterative-rebuild":  # a new AMG hierarchy at every Newton iteration (D423)
+        sets["Solver/AMG reuse"] = "never"
     if case["thickness"]:
         sets["Geometry/Thickness"] = case["thickness"]
     cmd = [exe, prm, "--json"]
@@ -106,6 +108,8 @@ def run_once(exe, prm, card, case, solver, timeout, workdir):
         "cg_solves": ls["cg_solves"],
         "solves": ls["solves"],
         "fallbacks": ls["fallbacks"],
+        "amg_setups": ls.get("amg_setups", 0),
+        "amg_reuses": ls.get("amg_reuses", 0),
         # SI keys (D299): N per metre of thickness in 2-D, N in 3-D
         "peak_load": j["peak_load_N_per_m" if j["dimension"] == 2 else "peak_load_N"],
         "final_load": j["final_load_N_per_m" if j["dimension"] == 2 else "final_load_N"],
@@ -120,7 +124,10 @@ def main():
     ap.add_argument("card")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--cases", default=DEFAULT_CASES)
-    ap.add_argument("--solvers", default="direct,iterative")
+    ap.add_argument("--solvers", default="direct,iterative",
+                    help="any of direct, iterative (the AMG hierarchy kept over a load step's "
+                    "Newton iterations, the default since D423), iterative-rebuild (a new one "
+                    "at every iteration)")
     ap.add_argument("--timeout", type=float, default=1800)
     ap.add_argument("--out", default=None, help="CSV of every run")
     a = ap.parse_args()

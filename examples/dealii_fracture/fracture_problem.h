@@ -97,6 +97,7 @@ struct Params {
   unsigned gmres_restart = 100;
   unsigned amg_sweeps = 2;
   double amg_threshold = 1e-4;
+  std::string amg_reuse = "step"; // "step": one AMG hierarchy per load step; "never" (D423)
   bool solver_fallback = true;
   // Fracture closure (D54)
   std::string fracture = "none"; // | stability-limit
@@ -185,6 +186,9 @@ struct Timing {
   // `solve`), systems solved, Krylov iterations, CG/GMRES choices, fallbacks to UMFPACK.
   double solver_setup = 0;
   unsigned linear_solves = 0, krylov_iterations = 0, cg_solves = 0, fallbacks = 0;
+  // AMG hierarchies built, Newton iterations that reused the step's hierarchy, and rebuilds
+  // after a Krylov solve with a reused one did not converge (D423).
+  unsigned amg_setups = 0, amg_reuses = 0, amg_rebuilds = 0;
   // Calls of the plugin's batched entry in the assembly ('Material/Entry = batched', D311).
   unsigned batched_calls = 0;
 };
@@ -199,15 +203,24 @@ public:
   void set_rigid_body_modes(unsigned dim, const std::vector<std::array<double, 3>>& x,
                             const std::vector<unsigned>& comp);
   /// Prepares the solves with `matrix` (factorisation or AMG hierarchy); `symmetric` selects
-  /// CG under 'Krylov method = auto'.
-  void initialize(const SparseMatrix<double>& matrix, bool symmetric, Timing& t);
+  /// CG under 'Krylov method = auto'. `same_step`: a later Newton iteration of the load step
+  /// whose first iteration called initialize (same sparsity); with 'AMG reuse = step' the
+  /// hierarchy built then preconditions this matrix too (D423), unless it was built on a
+  /// non-symmetric matrix and CG needs a symmetric preconditioner now.
+  void initialize(const SparseMatrix<double>& matrix, bool symmetric, Timing& t,
+                  bool same_step = false);
   /// x = K^-1 b. Throws if the system could not be solved.
   void solve(const Vector<double>& b, Vector<double>& x, Timing& t);
 
 private:
+  void build_amg(const SparseMatrix<double>& matrix, Timing& t);
+  /// One Krylov solve with the current hierarchy; false if it did not converge.
+  bool krylov(const Vector<double>& b, Vector<double>& x, Timing& t);
   const Params& prm_;
   const SparseMatrix<double>* matrix_ = nullptr;
   bool symmetric_ = false, direct_ready_ = false;
+  bool amg_ready_ = false, amg_symmetric_ = false, amg_reused_ = false;
+  std::size_t amg_n_ = 0; // rows of the matrix the hierarchy was built on
   SparseDirectUMFPACK direct_;
   TrilinosWrappers::SparseMatrix trilinos_matrix_;
   TrilinosWrappers::PreconditionAMG amg_;

@@ -80,9 +80,12 @@ TEST(DealiiFracture, SolverAgreement) {
   std::map<std::string, nlohmann::json> sum;
   std::size_t n = 0, n_top = 0;
   double tau = 0;
-  for (const std::string solver : {"direct", "iterative"}) {
+  // "iterative": the AMG hierarchy kept over a load step's Newton iterations (the default,
+  // D423); "iterative_never": rebuilt at every iteration
+  for (const std::string solver : {"direct", "iterative", "iterative_never"}) {
     Params p = shipped("single_edge_notch.prm");
-    p.solver = solver;
+    p.solver = solver == "direct" ? "direct" : "iterative";
+    p.amg_reuse = solver == "iterative_never" ? "never" : "step";
     p.stop_fraction = 0.5;
     tau = p.tolerance;
     auto m = make_material(context().plugin, context().card, "", p.platelet_angle);
@@ -100,37 +103,51 @@ TEST(DealiiFracture, SolverAgreement) {
     n_top = bv.size();
   }
   const auto& d = rec["direct"];
-  const auto& it = rec["iterative"];
   ASSERT_TRUE(sum["direct"]["finished"].get<bool>());
-  ASSERT_TRUE(sum["iterative"]["finished"].get<bool>());
-  ASSERT_EQ(d.size(), it.size()) << "the two runs took different steps";
-  const double per_step = 2 * tau * std::sqrt(2.0 * n / n_top);
-  const double tol = per_step * (d.size() - 1);
-  const double Fp = std::abs(d[peak_record(d)].force), Dend = d.back().dissipated;
-  double dF = 0, du = 0, dD = 0;
-  for (std::size_t i = 0; i < d.size(); ++i) {
-    EXPECT_EQ(d[i].dissipation_control, it[i].dissipation_control) << "step " << i;
-    dF = std::max(dF, std::abs(d[i].force - it[i].force) / Fp);
-    du = std::max(du, std::abs(d[i].load - it[i].load) / std::abs(d[peak_record(d)].load));
-    dD = std::max(dD, std::abs(d[i].dissipated - it[i].dissipated) / Dend);
+  for (const std::string name : {"iterative", "iterative_never"}) {
+    const auto& it = rec[name];
+    ASSERT_TRUE(sum[name]["finished"].get<bool>()) << name;
+    ASSERT_EQ(d.size(), it.size()) << name << ": the two runs took different steps";
+    const double per_step = 2 * tau * std::sqrt(2.0 * n / n_top);
+    const double tol = per_step * (d.size() - 1);
+    const double Fp = std::abs(d[peak_record(d)].force), Dend = d.back().dissipated;
+    double dF = 0, du = 0, dD = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      EXPECT_EQ(d[i].dissipation_control, it[i].dissipation_control) << name << " step " << i;
+      dF = std::max(dF, std::abs(d[i].force - it[i].force) / Fp);
+      du = std::max(du, std::abs(d[i].load - it[i].load) / std::abs(d[peak_record(d)].load));
+      dD = std::max(dD, std::abs(d[i].dissipated - it[i].dissipated) / Dend);
+    }
+    std::ostringstream s;
+    s << d.size() - 1 << " steps, " << n << " dofs (" << n_top << " pulled), Newton tolerance "
+      << tau << ": largest differences direct - " << name << ": force " << dF << " of the peak ("
+      << Fp << " N/mm), displacement " << du << " of the peak's, dissipation " << dD
+      << " of the final (" << Dend << " mJ/mm); bound " << tol << " (" << per_step
+      << " per step); linear solver " << sum[name]["timing"]["linear_solver"]
+      << ", Newton iterations " << sum["direct"]["timing"]["newton_iterations"] << " / "
+      << sum[name]["timing"]["newton_iterations"];
+    report("solver_agreement", s.str());
+    EXPECT_LT(dF, tol) << s.str();
+    EXPECT_LT(du, tol) << s.str();
+    EXPECT_LT(dD, 2 * tol) << s.str();
+    // The iterative runs used both Krylov methods and no fallback to UMFPACK.
+    const auto& ls = sum[name]["timing"]["linear_solver"];
+    EXPECT_GT(ls["cg_solves"].get<unsigned>(), 0u);
+    EXPECT_LT(ls["cg_solves"].get<unsigned>(), ls["solves"].get<unsigned>());
+    EXPECT_EQ(ls["fallbacks"].get<unsigned>(), 0u);
   }
-  std::ostringstream s;
-  s << d.size() - 1 << " steps, " << n << " dofs (" << n_top << " pulled), Newton tolerance " << tau
-    << ": largest differences direct - iterative: force " << dF << " of the peak (" << Fp
-    << " N/mm), displacement " << du << " of the peak's, dissipation " << dD << " of the final ("
-    << Dend << " mJ/mm); bound " << tol << " (" << per_step << " per step); Krylov iterations "
-    << sum["iterative"]["timing"]["linear_solver"] << ", Newton iterations "
-    << sum["direct"]["timing"]["newton_iterations"] << " / "
-    << sum["iterative"]["timing"]["newton_iterations"];
-  report("solver_agreement", s.str());
-  EXPECT_LT(dF, tol) << s.str();
-  EXPECT_LT(du, tol) << s.str();
-  EXPECT_LT(dD, 2 * tol) << s.str();
-  // The iterative run used both Krylov methods and no fallback to UMFPACK.
-  const auto& ls = sum["iterative"]["timing"]["linear_solver"];
-  EXPECT_GT(ls["cg_solves"].get<unsigned>(), 0u);
-  EXPECT_LT(ls["cg_solves"].get<unsigned>(), ls["solves"].get<unsigned>());
-  EXPECT_EQ(ls["fallbacks"].get<unsigned>(), 0u);
+  // D423: one hierarchy per Newton iteration without reuse; with it, one per load step (plus
+  // any rebuild) and the rest reused: every iteration either built or reused one.
+  const auto& never = sum["iterative_never"]["timing"]["linear_solver"];
+  const auto& step = sum["iterative"]["timing"]["linear_solver"];
+  const unsigned its_never = sum["iterative_never"]["timing"]["newton_iterations"].get<unsigned>();
+  const unsigned its_step = sum["iterative"]["timing"]["newton_iterations"].get<unsigned>();
+  EXPECT_EQ(never["amg_reuses"].get<unsigned>(), 0u);
+  EXPECT_EQ(never["amg_setups"].get<unsigned>(), its_never);
+  EXPECT_GT(step["amg_reuses"].get<unsigned>(), 0u);
+  EXPECT_EQ(step["amg_setups"].get<unsigned>() + step["amg_reuses"].get<unsigned>(),
+            its_step + step["amg_rebuilds"].get<unsigned>());
+  EXPECT_LT(step["amg_setups"].get<unsigned>(), its_step);
 }
 
 } // namespace pncdemo::test
