@@ -142,6 +142,9 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
       fmt::format("pnc characterize {} --out {}{}", a.recipe, a.out,
                   a.replicas > 0 ? fmt::format(" --replicas {}", a.replicas) : std::string());
   write_card(card_path, f.card, command);
+  // decision D130: every replica's own fit, for checks of the error bars across runs
+  if (const std::string csv = rve::replica_fits_csv(f.replica_fits); !csv.empty())
+    write_text_atomically((fs::path(a.out) / "replica_fits.csv").string(), csv);
   // every figure of the run in one plotting process, after the card is written (a plotting
   // failure is a warning: the run and its report are complete without figures)
   CharacterizeRun run{r,         md,

@@ -88,4 +88,19 @@ std::string replica_fits_markdown(const ReplicaFits& f, const damage::FitReport&
   return s + "\n";
 }
 
+std::string replica_fits_csv(const ReplicaFits& f) {
+  if (f.replicas < 2 || f.names.empty()) return "";
+  std::string s = "replica";
+  for (const auto& n : f.names)
+    s += "," + n + (n == "alpha" ? "_1" : "_Pa");
+  s += "\n";
+  for (std::size_t r = 0; r < f.values.size(); ++r) {
+    s += std::to_string(r + 1);
+    for (const double v : f.values[r])
+      s += std::isfinite(v) ? fmt::format(",{:.17g}", v) : std::string(",");
+    s += "\n";
+  }
+  return s;
+}
+
 } // namespace pnc::rve

@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -319,6 +320,39 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
   EXPECT_NE(slurp((fs::path(out) / "report.md").string())
                 .find("Between-replica errors of the fitted constants"),
             std::string::npos);
+  // every replica's own fit (replica_fits.csv): two rows; the card's standard error of a fitted
+  // constant is at least t x sd/sqrt(2) of the two (D130, t = 1.84 for 1 degree of freedom)
+  {
+    std::istringstream csv(slurp((fs::path(out) / "replica_fits.csv").string()));
+    std::string header, row;
+    std::getline(csv, header);
+    EXPECT_EQ(header.rfind("replica,C11_Pa,", 0), 0u) << header;
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(csv, row)) {
+      std::vector<std::string> f;
+      std::stringstream ss(row);
+      for (std::string x; std::getline(ss, x, ',');)
+        f.push_back(x);
+      rows.push_back(f);
+    }
+    ASSERT_EQ(rows.size(), 2u);
+    std::vector<std::string> names;
+    std::stringstream hs(header);
+    for (std::string x; std::getline(hs, x, ',');)
+      names.push_back(x);
+    int checked = 0;
+    for (std::size_t i = 1; i < names.size(); ++i) {
+      const std::string n = names[i].substr(0, names[i].rfind('_'));
+      if (!js["constants"].contains(n) || !js["constants"][n]["fitted"].get<bool>()) continue;
+      if (rows[0].size() <= i || rows[1].size() <= i || rows[0][i].empty() || rows[1][i].empty())
+        continue;
+      const double a = std::stod(rows[0][i]), b = std::stod(rows[1][i]);
+      const double between = 1.8373 * std::fabs(a - b) / 2; // sd of two / sqrt(2) = |a - b| / 2
+      EXPECT_GE(js["constants"][n]["std_error"].get<double>(), between * (1 - 1e-4)) << n;
+      ++checked;
+    }
+    EXPECT_GT(checked, 0);
+  }
   // --resume after the finished run recomputes nothing
   std::vector<fs::file_time_type> times;
   for (const auto& p : ckpts)

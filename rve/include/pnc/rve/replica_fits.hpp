@@ -35,4 +35,10 @@ ReplicaFits fit_replicas(const CombinedCases& c, const damage::FitOptions& optio
 /// and standard error, 68 % interval.
 std::string replica_fits_markdown(const ReplicaFits& f, const damage::FitReport& joint);
 
+/// The replicas' own fits as CSV (the run's `replica_fits.csv`, docs/formats.md): a header
+/// `replica,<constant>_<unit>...` (constants in Pa as `C11_Pa`, alpha as `alpha_1`), then one
+/// row per replica (1-based) with every constant to 17 significant digits, empty where that
+/// replica's fit failed. Empty string with fewer than 2 replicas.
+std::string replica_fits_csv(const ReplicaFits& f);
+
 } // namespace pnc::rve
