@@ -14,9 +14,6 @@ namespace pnc::damage {
 namespace {
 constexpr int kCardVersion = 2; // 2: /verdict, per-constant status, fit statistics
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-std::string units_of(const std::string& name) {
-  return name == "alpha" ? "1" : "Pa";
-}
 
 // A count or id stored as a double: converting NaN or a value beyond int is undefined
 // behaviour, so it is checked first.
@@ -110,7 +107,7 @@ void write_card(const std::string& path, Card card, const std::string& command) 
     for (std::size_t i = 0; i < names.size(); ++i) {
       const std::string ds = "/constants/" + names[i];
       f.write_scalar(ds, card.params.k[i]);
-      f.set_attr(ds, "units", units_of(names[i]));
+      f.set_attr(ds, "units", constant_unit(names[i]));
       f.set_attr(ds, "std_error", i < card.std_error.size() ? card.std_error[i] : kNaN);
       f.set_attr(ds, "fitted", i < card.fitted.size() && card.fitted[i] ? "yes" : "no");
       f.set_attr(ds, "status", i < card.status.size() ? card.status[i] : "given");
@@ -196,8 +193,8 @@ Card read_card(const std::string& path) {
     const std::string ds = "/constants/" + names[i];
     c.params.k[i] = f.read_scalar(ds);
     const auto units = f.attr_string(ds, "units");
-    if (units && *units != units_of(names[i]))
-      fail(path, ds + "@units", *units, "must be " + units_of(names[i]) + " (SI)");
+    if (units && *units != constant_unit(names[i]))
+      fail(path, ds + "@units", *units, "must be " + constant_unit(names[i]) + " (SI)");
     c.std_error.push_back(f.attr_double(ds, "std_error").value_or(kNaN));
     c.fitted.push_back(f.attr_string(ds, "fitted").value_or("no") == "yes");
     c.status.push_back(f.attr_string(ds, "status").value_or(c.fitted.back() ? "fitted" : "held"));

@@ -30,6 +30,10 @@ const std::vector<std::string>& constant_names(Model m) {
   return m == Model::pnc ? pnc : pp;
 }
 
+std::string constant_unit(const std::string& name) {
+  return name == "alpha" ? "1" : "Pa";
+}
+
 int constant_index(Model m, const std::string& name) {
   const auto& n = constant_names(m);
   for (std::size_t i = 0; i < n.size(); ++i)

@@ -623,7 +623,6 @@ void LinearSolver::build_amg(const SparseMatrix<double>& matrix, Timing& t) {
     list.set("null space: vectors", modes_.data());
   }
   amg_.initialize(trilinos_matrix_, list);
-  amg_ready_ = true;
   amg_symmetric_ = symmetric_;
   amg_reused_ = false;
   amg_n_ = matrix.m();
@@ -653,7 +652,7 @@ void LinearSolver::initialize(const SparseMatrix<double>& matrix, bool symmetric
   }
   // CG needs a symmetric preconditioner: a hierarchy built on a non-symmetric tangent is not
   // one (a symmetric one serves GMRES as well)
-  const bool reuse = prm_.amg_reuse == "step" && same_step && amg_ready_ && amg_n_ == matrix.m() &&
+  const bool reuse = prm_.amg_reuse == "step" && same_step && amg_n_ > 0 && amg_n_ == matrix.m() &&
                      (amg_symmetric_ || !symmetric);
   if (reuse) {
     amg_reused_ = true;
@@ -692,8 +691,7 @@ bool LinearSolver::krylov(const Vector<double>& b, Vector<double>& x, Timing& t)
 
 void LinearSolver::solve(const Vector<double>& b, Vector<double>& x, Timing& t) {
   ++t.linear_solves;
-  x = 0;
-  if (prm_.solver == "direct") {
+  if (prm_.solver == "direct") { // (vmult overwrites x; krylov() starts from x = 0)
     direct_.vmult(x, b);
     return;
   }

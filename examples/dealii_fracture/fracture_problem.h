@@ -219,8 +219,8 @@ private:
   const Params& prm_;
   const SparseMatrix<double>* matrix_ = nullptr;
   bool symmetric_ = false, direct_ready_ = false;
-  bool amg_ready_ = false, amg_symmetric_ = false, amg_reused_ = false;
-  std::size_t amg_n_ = 0; // rows of the matrix the hierarchy was built on
+  bool amg_symmetric_ = false, amg_reused_ = false;
+  std::size_t amg_n_ = 0; // rows of the matrix the hierarchy was built on; 0: none built yet
   SparseDirectUMFPACK direct_;
   TrilinosWrappers::SparseMatrix trilinos_matrix_;
   TrilinosWrappers::PreconditionAMG amg_;

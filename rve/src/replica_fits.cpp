@@ -92,7 +92,7 @@ std::string replica_fits_csv(const ReplicaFits& f) {
   if (f.replicas < 2 || f.names.empty()) return "";
   std::string s = "replica";
   for (const auto& n : f.names)
-    s += "," + n + (n == "alpha" ? "_1" : "_Pa");
+    s += "," + n + "_" + damage::constant_unit(n);
   s += "\n";
   for (std::size_t r = 0; r < f.values.size(); ++r) {
     s += std::to_string(r + 1);

@@ -51,6 +51,8 @@ Model parse_model(const std::string& name, const std::string& source = "<model>"
 const std::vector<std::string>& constant_names(Model m);
 /// Index of a constant by name, or -1.
 int constant_index(Model m, const std::string& name);
+/// SI unit of a constant in cards and files: "1" for alpha, "Pa" for every other one.
+std::string constant_unit(const std::string& name);
 
 constexpr int kMaxConstants = 22;
 
