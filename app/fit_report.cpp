@@ -76,7 +76,8 @@ Figure fit_figure(const damage::StressStrainData& data, const damage::Card& card
     const int driven = damage::single_driven(dc, "the fit report"); // D360
     const auto at_data = damage::stress_path(card.params, c.strain);
     const int n = 200;
-    const double top = c.strain.col(driven).maxCoeff();
+    // the load t of the last point: the model line runs along the case, also a negative one (D424)
+    const double top = (damage::driven_sense(dc) * c.strain.col(driven)).maxCoeff();
     damage::PathMatrix path(n + 1, 6);
     for (int i = 0; i <= n; ++i)
       path.row(i) = damage::case_strain(c.id, top * i / n).transpose();

@@ -41,7 +41,7 @@ CLI::App* add_fit_command(CLI::App& app, pnc::app::FitArgs& fa) {
                   "s11.. of older files, MPa, too) or cases.h5")
       ->required();
   fit->add_option("--model", fa.model,
-                  "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-6 "
+                  "pnc (nanocomposite, cases 1-3 required) or pp (pure polymer: any of cases 1-9 "
                   "with an extension case)")
       ->check(CLI::IsMember({"pnc", "pp"}));
   fit->add_option("--out", fa.out, "Material card to write (HDF5)")->required();

@@ -26,6 +26,11 @@ const std::vector<DeformationCase>& deformation_cases() {
       {4, "simple shear 2-3", {3}, {3}, 1, unit(1, 2)},
       {5, "simple shear 1-3", {4}, {4}, 2, unit(0, 2)},
       {6, "simple shear 1-2", {5}, {5}, 1, unit(0, 1)},
+      // the same shears in the negative sense (gamma = -t): one run can hold both senses of a
+      // shear, whose softening differs between the two on one replica (D424)
+      {7, "negative simple shear 2-3", {3}, {3}, 1, -unit(1, 2)},
+      {8, "negative simple shear 1-3", {4}, {4}, 2, -unit(0, 2)},
+      {9, "negative simple shear 1-2", {5}, {5}, 1, -unit(0, 1)},
   };
   return cases;
 }
@@ -66,6 +71,16 @@ Voigt case_strain(const DeformationCase& c, double amount) {
 
 Voigt case_strain(int id, double amount) {
   return case_strain(deformation_case(id), amount);
+}
+
+double driven_sense(const DeformationCase& c) {
+  const Voigt e = case_strain(c, 1.0);
+  const double sense = e[c.driven.front()] > 0 ? 1.0 : -1.0;
+  for (int v : c.driven)
+    if (e[v] * sense <= 0)
+      fail("<case " + std::to_string(c.id) + " " + c.name + ">", "driven components", "",
+           "a case drives all its components in one sense (D424)");
+  return sense;
 }
 
 bool is_extension(const DeformationCase& c) {

@@ -219,7 +219,7 @@ std::vector<PointTerm> build_terms(const StressStrainData& data, Model m, double
 }
 
 void check_cases(const StressStrainData& data, Model m) {
-  // Both models take any of cases 1-6 (D12l: the pure polymer's isotropy pools them); a
+  // Both models take any of cases 1-9 (D12l: the pure polymer's isotropy pools them); a
   // case driving several components (an equibiaxial one) is refused by name (D360).
   for (const auto& c : data.cases) {
     single_driven(deformation_case(c.id, data.source), "the NDM fit");

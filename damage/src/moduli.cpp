@@ -28,7 +28,9 @@ DerivedModuli derive_moduli(const NdmParameters& p) {
 }
 
 CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strain, int points) {
-  const int driven = single_driven(deformation_case(case_id), "the case strength"); // D360
+  const DeformationCase& dc = deformation_case(case_id);
+  const int driven = single_driven(dc, "the case strength"); // D360
+  const double sense = driven_sense(dc); // a negative shear peaks at its most negative (D424)
   CaseStrength out{case_id, driven, std::nullopt, 0.0, max_strain};
   Eigen::Matrix<double, Eigen::Dynamic, 6> path(points + 1, 6);
   for (int i = 0; i <= points; ++i)
@@ -39,7 +41,8 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   // once damage saturates and C0 + C1(1) > 0, is not a strength). Decision D5.
   Eigen::Index imax = 0;
   for (Eigen::Index i = 1; i < points; ++i) {
-    if (s(i, driven) > s(i - 1, driven) && s(i, driven) >= s(i + 1, driven)) {
+    if (sense * s(i, driven) > sense * s(i - 1, driven) &&
+        sense * s(i, driven) >= sense * s(i + 1, driven)) {
       imax = i;
       break;
     }
@@ -50,7 +53,7 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
   // function of that strain alone).
   auto f = [&](double t) {
     Eigen::Matrix<double, 1, 6> row = case_strain(case_id, t).transpose();
-    return stress_path(p, row)(0, driven);
+    return sense * stress_path(p, row)(0, driven);
   };
   const double im = static_cast<double>(imax);
   double a = max_strain * (im - 1) / points, b = max_strain * (im + 1) / points;
@@ -65,7 +68,7 @@ CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strai
     x2 = a + g * (b - a);
   }
   out.strain_at_peak = 0.5 * (a + b);
-  out.peak = f(out.strain_at_peak);
+  out.peak = sense * f(out.strain_at_peak);
   return out;
 }
 

@@ -99,7 +99,7 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
           fmt::format("a Poisson ratio is negative ({:.3g}): auxetic, unusual for a polymer", nu));
       break;
     }
-  // Tensile (or positive shear) stress before the damage onset in every driven case.
+  // Stress of the sign of the driven strain before the damage onset in every driven case.
   const double onset = p.alpha() * critical_stretch() - 1.0;
   // decision D12i: an onset below zero strain damages the virgin material
   if (onset < -1e-9)
@@ -109,13 +109,15 @@ void judge_physics(const NdmParameters& p, const std::vector<ComponentFit>& curv
                        "alpha: a fitted one is bounded below by 1/lambda_c)",
                        p.alpha(), p.alpha() * critical_stretch(), 1.0 / critical_stretch()));
   for (const auto& c : curves) {
-    const int driven = single_driven(deformation_case(c.case_id), "the card verdict"); // D360
+    const DeformationCase& dc = deformation_case(c.case_id);
+    const int driven = single_driven(dc, "the card verdict"); // D360
     if (c.component != driven || !(onset > 0)) continue;
     Eigen::Matrix<double, 1, 6> row = case_strain(c.case_id, 0.5 * onset).transpose();
     const double s = stress_path(p, row)(0, driven);
-    if (!(s > 0))
+    // along the case: a negative shear's stress is negative before damage (D424)
+    if (!(driven_sense(dc) * s > 0))
       v.refuse(fmt::format("case {}: the stress {} at half the onset strain ({:.3g}) is {:.3g} "
-                           "Pa, not positive",
+                           "Pa, not of the sign of its strain",
                            c.case_id, component_name(driven), 0.5 * onset, s));
   }
 }

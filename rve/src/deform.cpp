@@ -297,6 +297,16 @@ void check_lammps_version(const std::string& path, const std::string& stored,
                      stored, running));
 }
 
+/// A static (0 K) start state is often a perfect lattice with atoms exactly on the box's lower
+/// faces, which a restart of a tilted box can lose by round-off (LAMMPS 2021 does not remap the
+/// atoms of a one-file restart): a rigid translation by 1e-6 of the box keeps them inside in
+/// every row, whose affine remaps keep fractional coordinates (decision D425).
+void off_the_faces(md::Lammps& l) {
+  const md::LmpBox b = l.box();
+  l.cmd(fmt::format("displace_atoms all move {:.17g} {:.17g} {:.17g} units box",
+                    1e-6 * b.length(0), 1e-6 * b.length(1), 1e-6 * b.length(2)));
+}
+
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {
   const damage::DeformationCase& dc = damage::deformation_case(spec.case_id); // D316
   // the stress is read in the box frame: a case must not rotate the box (upper triangular G)
@@ -326,6 +336,7 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
       // triclinic one (LAMMPS refuses to run otherwise): the force field once more
       l.cmds(spec.force_field);
     }
+    if (spec.temperature == 0) off_the_faces(l); // D425
     c.ref_box = l.box().to_vector();
     l.cmd("write_restart " + md::lammps_path(prev_state(dir, 0), "--out"));
     c.r.strain.resize(0, 6);

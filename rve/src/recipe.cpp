@@ -132,7 +132,7 @@ Recipe parse_recipe(const nlohmann::json& j, const std::string& source) {
       std::none_of(r.cases.begin(), r.cases.end(), [](int c) { return c >= 1 && c <= 3; }))
     fail(source, "deform.cases", fmt::format("{}", fmt::join(r.cases, ",")),
          "the pure polymer (models pp and kg) needs at least one extension case (1-3); its "
-         "isotropic law pools any of cases 1-6 (decision D12l)");
+         "isotropic law pools any of cases 1-9 (decision D12l)");
   r.equilibrate.seed = r.seed;
   r.build.seed = r.seed;
   r.build.validate(source);

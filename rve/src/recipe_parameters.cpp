@@ -172,7 +172,8 @@ void declare_deform(Parameters& p, Recipe& r) {
   p.section("deform", "the deformation cases (docs/theory.md section 2.1)");
   p.integers("cases", r.cases, 1, static_cast<int>(damage::deformation_cases().size()), 1,
              std::numeric_limits<std::size_t>::max(), "",
-             "case ids: 1-3 extension along x1..x3, 4-6 shear 2-3, 1-3, 1-2")
+             "case ids: 1-3 extension along x1..x3, 4-6 shear 2-3, 1-3, 1-2, 7-9 the same "
+             "shears in the negative sense (D424)")
       .remark("models pnc and kg_platelet default to [1, 2, 3, 4, 5, 6]; models pp and kg "
               "need an extension case (D12l)");
   p.real("strain_max", d.strain_max, RealRange::closed(-0.5, 0.5), "1",
@@ -183,7 +184,8 @@ void declare_deform(Parameters& p, Recipe& r) {
                 fail(source, field, "0", "must be non-zero with |strain_max| <= 0.5");
             });
   p.real("shear_strain_max", d.shear_strain_max, RealRange::closed(-0.5, 0.5), "1",
-         "final gamma of the shear cases 4-6; 0 = they use strain_max (D12m)")
+         "final |gamma| of the shear cases 4-9 (7-9 shear the other way); 0 = they use "
+         "strain_max (D12m)")
       .omit_when_default(); // in the expanded recipe only when set
   p.integer("steps", d.steps, 1, 100000, "", "strain steps");
   p.real("timestep_fs", d.timestep_fs, RealRange::open_closed(0, 50), "fs", "MD time step");

@@ -1,6 +1,7 @@
 // The replica trend test (replica_trend.hpp, decisions D12k, D397).
 #include "pnc/rve/replica_trend.hpp"
 
+#include "pnc/damage/cases.hpp"
 #include "pnc/damage/ndm.hpp"
 #include "pnc/md/statistics.hpp"
 
@@ -184,8 +185,12 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
     if (n < 5) continue; // four coefficients need more rows than that
     const Eigen::Matrix<double, Eigen::Dynamic, 6> e = it->strain.topRows(n);
     const auto model = damage::stress_path(joint.params, e);
-    // x in [-1, 1] from the driven strain of the case over the fitted rows
-    const double e0 = e.col(it->voigt).minCoeff(), e1 = e.col(it->voigt).maxCoeff();
+    // x in [-1, 1] from the driven strain of the case over the fitted rows, and the residual,
+    // both read along the case (times its sense, D424): a negative shear's coefficients are its
+    // positive one's for a glass without a preferred sense, so a role pools them
+    const double sense = damage::driven_sense(damage::deformation_case(fc.case_id));
+    const Eigen::VectorXd along = sense * e.col(it->voigt);
+    const double e0 = along.minCoeff(), e1 = along.maxCoeff();
     TrendCurve tc;
     tc.case_id = fc.case_id;
     tc.component = fc.component;
@@ -202,9 +207,9 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
       for (int m = 0; m < 4; ++m) {
         double num = 0, den = 0;
         for (Eigen::Index k = 0; k < n; ++k) {
-          const double x = e1 > e0 ? 2 * (e(k, it->voigt) - e0) / (e1 - e0) - 1 : 0.0;
+          const double x = e1 > e0 ? 2 * (along[k] - e0) / (e1 - e0) - 1 : 0.0;
           const double pm = legendre(m, x);
-          num += (ys(k, fc.component) - model(k, fc.component)) * pm;
+          num += sense * (ys(k, fc.component) - model(k, fc.component)) * pm;
           den += pm * pm;
         }
         coef[m].push_back(den > 0 ? num / den : 0.0);

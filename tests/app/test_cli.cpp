@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -142,6 +143,30 @@ TEST_F(Cli, FitDrawsOneFigureOfEveryCase) {
   }
 }
 
+// A negative shear (case 9, D424) in the fit's figure: the model line runs along the case, from
+// zero to the data's last (most negative) shear, in the panel of sigma12 of case 9.
+TEST_F(Cli, FitFigureOfANegativeShearRunsAlongTheCase) {
+  ASSERT_EQ(run("synth --model pp --cases 2,9 --points 30 --out d.csv").code, 0);
+  const Result f = run("fit --data d.csv --model pp --out pp.h5 --json");
+  ASSERT_EQ(f.code, 0) << f.err;
+  const auto jobs = nlohmann::json::parse(pnc::test::slurp(p("pp_plots/figures.json")));
+  const nlohmann::json* panel = nullptr;
+  for (const auto& pn : jobs["figures"][0]["panels"])
+    if (pn["title"].get<std::string>().rfind("case 9 (negative simple shear 1-2): σ12", 0) == 0)
+      panel = &pn;
+  ASSERT_NE(panel, nullptr) << jobs.dump();
+  std::vector<double> data_x, line_x;
+  for (const auto& s : (*panel)["series"])
+    for (const auto& x : s["x"])
+      (s["label"] == "NDM fit" ? line_x : data_x).push_back(x.get<double>());
+  ASSERT_FALSE(data_x.empty());
+  ASSERT_FALSE(line_x.empty());
+  const double last = *std::min_element(data_x.begin(), data_x.end());
+  EXPECT_LT(last, 0.0);
+  EXPECT_EQ(*std::max_element(line_x.begin(), line_x.end()), 0.0);
+  EXPECT_NEAR(*std::min_element(line_x.begin(), line_x.end()), last, 1e-12);
+}
+
 TEST_F(Cli, BadCsvGivesOneLineErrorAndNoCard) {
   std::ofstream(p("bad.csv"))
       << "case,e11,e22,e33,g23,g13,g12,s11_MPa,s22_MPa,s33_MPa,s23_MPa,s13_MPa,s12_MPa\n"
@@ -162,9 +187,9 @@ TEST_F(Cli, BadCardAndBadOptionsAreRefused) {
   r = run("fit --data x.csv --out c.h5 --loss l1");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("--loss"), std::string::npos) << r.err;
-  r = run("synth --model pnc --cases 1,9 --out d.csv");
+  r = run("synth --model pnc --cases 1,10 --out d.csv"); // 1..9 are registered (D424)
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("'9'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'10'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(p("d.csv")));
 }
 

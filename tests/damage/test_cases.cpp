@@ -22,12 +22,16 @@ Voigt engineering(const Eigen::Matrix3d& e) {
   v << e(0, 0), e(1, 1), e(2, 2), 2 * e(1, 2), 2 * e(0, 2), 2 * e(0, 1);
   return v;
 }
+/// The first id after the registered rows.
+int unregistered_id() {
+  return static_cast<int>(deformation_cases().size()) + 1;
+}
 /// A mixed case as one row (D360), test-only: equibiaxial extension in the 1-2 plane,
 /// G = e_1 e_1 + e_2 e_2, x3 held. Not registered: no MD data or NDM damage mode exists for it.
 DeformationCase equibiaxial() {
   Eigen::Matrix3d g = Eigen::Matrix3d::Zero();
   g(0, 0) = g(1, 1) = 1.0;
-  return {7, "equibiaxial extension x1-x2 (x3 held)", {0, 1}, {0, 1, 2}, 0, g};
+  return {unregistered_id(), "equibiaxial extension x1-x2 (x3 held)", {0, 1}, {0, 1, 2}, 0, g};
 }
 /// Green-Lagrange strain E = (F^T F - I) / 2.
 Eigen::Matrix3d green(const Eigen::Matrix3d& F) {
@@ -48,13 +52,14 @@ TEST(DeformationCases, IdsAreContiguousAndTheRuleNamesEveryCase) {
   }
   EXPECT_FALSE(is_deformation_case(0));
   EXPECT_FALSE(is_deformation_case(static_cast<int>(all.size()) + 1));
+  const int bad = unregistered_id();
   try {
-    deformation_case(7, "cases.csv");
-    ADD_FAILURE() << "case 7 accepted";
+    deformation_case(bad, "cases.csv");
+    ADD_FAILURE() << "case " << bad << " accepted";
   } catch (const pnc::InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("cases.csv"), std::string::npos) << m;
-    EXPECT_NE(m.find("7"), std::string::npos) << m;
+    EXPECT_NE(m.find(std::to_string(bad)), std::string::npos) << m;
     EXPECT_NE(m.find("simple shear 1-2"), std::string::npos) << m;
   }
 }
@@ -62,7 +67,8 @@ TEST(DeformationCases, IdsAreContiguousAndTheRuleNamesEveryCase) {
 // The small strain of F(t) is the linearised Green-Lagrange strain: dE/dt at t = 0 (central
 // difference; E is quadratic in t, so the difference is exact up to round-off) must equal
 // case_strain(c, 1), and its non-zero entries must be exactly the row's `driven` set, each
-// 1 (D360). The registered rows drive one component each; the test-only equibiaxial row two.
+// the row's sense: +1, or -1 for the negative shears (D360, D424). The registered rows drive
+// one component each; the test-only equibiaxial row two.
 TEST(DeformationCases, StrainIsTheLinearisedGreenStrainOfTheGradient) {
   const double h = 1e-3;
   std::vector<DeformationCase> rows = deformation_cases();
@@ -73,12 +79,15 @@ TEST(DeformationCases, StrainIsTheLinearisedGreenStrainOfTheGradient) {
         (2 * h);
     const Voigt e = case_strain(c, 1.0);
     EXPECT_LT((lin - e).cwiseAbs().maxCoeff(), 1e-12) << "case " << c.id;
+    // the sense from the gradient alone: the sign of its one non-zero entry per driven component
+    const double sense = c.gradient.sum() > 0 ? 1.0 : -1.0;
+    EXPECT_EQ(driven_sense(c), sense) << "case " << c.id;
     Voigt expect = Voigt::Zero();
     for (int v : c.driven)
-      expect[v] = 1.0;
+      expect[v] = sense;
     EXPECT_EQ(e, expect) << "case " << c.id;
     EXPECT_TRUE(c.gradient.isUpperTriangular()) << "case " << c.id << ": LAMMPS box form";
-    if (c.id <= 6) {
+    if (c.id < unregistered_id()) {
       EXPECT_EQ(case_strain(c.id, 0.37), case_strain(c, 0.37)) << "the id overload";
       ASSERT_EQ(c.driven.size(), 1u) << "case " << c.id;
       EXPECT_EQ(single_driven(c, "test"), c.driven[0]);
@@ -94,7 +103,8 @@ TEST(DeformationCases, SingleDrivenRefusesAMixedCaseByName) {
     ADD_FAILURE() << "an equibiaxial case passed as one driven component";
   } catch (const pnc::InputError& e) {
     const std::string m = e.what();
-    for (const char* want : {"case 7", "equibiaxial", "e11, e22", "the NDM fit", "one driven"})
+    const std::string id = "case " + std::to_string(unregistered_id());
+    for (const char* want : {id.c_str(), "equibiaxial", "e11, e22", "the NDM fit", "one driven"})
       EXPECT_NE(m.find(want), std::string::npos) << want << " not in: " << m;
   }
 }
@@ -156,5 +166,37 @@ TEST(DeformationCases, RegressionLabelsFollowTheGradientOfEachRow) {
       EXPECT_EQ(std::string(fitmodel::regression_labels(Model::pp, c.id, comp).lin), pp_label)
           << c.name << " component " << comp;
     }
+  }
+}
+
+// Rows 7-9 are rows 4-6 sheared the other way (D424): the opposite gradient, the same driven and
+// active components and damage mode, a name saying so. Along each, the law is odd in the load
+// (docs/theory.md section 2.1): the published pnc law (damaging past its onset) gives at every
+// load the negated stress of the positive row and the same damage, integrated along the path.
+TEST(DeformationCases, NegativeShearsAreThePositiveOnesReversed) {
+  const NdmParameters p = dissertation_parameters(Model::pnc);
+  for (int id = 7; id <= 9; ++id) {
+    const DeformationCase& n = deformation_case(id);
+    const DeformationCase& q = deformation_case(id - 3);
+    EXPECT_EQ(n.gradient, -q.gradient) << n.name;
+    EXPECT_EQ(n.driven, q.driven) << n.name;
+    EXPECT_EQ(n.active, q.active) << n.name;
+    EXPECT_EQ(n.damage_mode, q.damage_mode) << n.name;
+    EXPECT_EQ(std::string(n.name), std::string("negative ") + q.name);
+    const int points = 60;
+    // past the onset: the principal stretch of a 0.3 shear exceeds alpha lambda_c
+    ASSERT_GT(0.15 + std::sqrt(1 + 0.15 * 0.15), p.alpha() * critical_stretch());
+    Eigen::Matrix<double, Eigen::Dynamic, 6> pn(points + 1, 6), pq(points + 1, 6);
+    for (int i = 0; i <= points; ++i) { // to a shear of 0.3, past the onset (alpha lambda_c - 1)
+      pn.row(i) = case_strain(n, 0.3 * i / points).transpose();
+      pq.row(i) = case_strain(q, 0.3 * i / points).transpose();
+    }
+    const auto sn = stress_path(p, pn), sq = stress_path(p, pq);
+    // FtF sees gamma^2 only; what may differ is the round-off of the stretch's eigen-solve
+    const double scale = sq.cwiseAbs().maxCoeff();
+    for (int i = 0; i <= points; ++i)
+      for (int c = 0; c < 6; ++c)
+        EXPECT_NEAR(sn(i, c), -sq(i, c), 1e-12 * scale)
+            << n.name << " point " << i << " component " << c;
   }
 }

@@ -104,3 +104,32 @@ TEST(FitPooled, AnyExtensionCaseIsEnoughAndItsComponentsAreLabelledIsotropically
   }
   EXPECT_EQ(seen, 3);
 }
+
+TEST(FitPooled, ANegativeShearInformsWhatItsPositiveOneDoes) {
+  // Case 9 is case 6 sheared the other way (D424); along one shear the law is odd
+  // (docs/theory.md section 2.1), so every residual's Jacobian row is the positive case's with
+  // the sign flipped: J^T J, hence the constants and their errors, are those of case 6 alone.
+  // Both senses together: the information I_2 + 2 I_6 lies between I_2 + I_6 and twice it, so
+  // every standard error lies between the one-sense error / sqrt(2) and the one-sense error.
+  const NdmParameters truth = dissertation_parameters(Model::pp);
+  const FitReport pos = fit_ndm(exact_curves({2, 6}, 2e6), pp_options());
+  const FitReport neg = fit_ndm(exact_curves({2, 9}, 2e6), pp_options());
+  const FitReport both = fit_ndm(exact_curves({2, 6, 9}, 2e6), pp_options());
+  ASSERT_TRUE(pos.converged) << pos.message;
+  ASSERT_TRUE(neg.converged) << neg.message;
+  ASSERT_TRUE(both.converged) << both.message;
+  const Verdict v = judge_fit(neg, VerdictLimits{});
+  for (const std::string& why : v.reasons) // the sign rule of the verdict reads the case's sense
+    EXPECT_EQ(why.find("not of the sign of its strain"), std::string::npos) << why;
+  EXPECT_NE(v.level, VerdictLevel::not_usable);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const std::string name = constant_names(Model::pp)[i];
+    EXPECT_NEAR(neg.params.k[i], truth.k[i], 1e-6 * std::max(1e9 * (i + 1 < truth.size()), 1.0))
+        << name;
+    // as in the six-case test: Jacobians at constants equal to the truth to ~1e-8
+    EXPECT_NEAR(neg.std_error[i] / pos.std_error[i], 1.0, 1e-5) << name;
+    const double r = both.std_error[i] / pos.std_error[i];
+    EXPECT_LE(r, 1 + 1e-5) << name;
+    EXPECT_GE(r, 1 / std::sqrt(2.0) - 1e-5) << name;
+  }
+}

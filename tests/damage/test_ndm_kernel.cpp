@@ -259,17 +259,19 @@ TEST(Dissertation, Table612FromTheTabulatedConstants) {
 
 // The driven stress of a case in closed form, written out here independently of the kernel:
 // sigma = (c0 + c1 D(lambda / alpha)) t with D of docs/theory.md §1.2 (D4) and the case's stretch
-// lambda(t). Returns the first local maximum on a fine grid refined by bisection on the
-// slope, or a negative strain when the stress rises monotonically up to t_max.
-double first_peak_strain(double c0, double c1, double alpha, bool shear, double t_max) {
+// lambda(t). first_peak_strain returns the first local maximum on a fine grid refined by
+// bisection on the slope, or a negative strain when the stress rises monotonically up to t_max.
+double closed_form_stress(double c0, double c1, double alpha, bool shear, double t) {
   const double lc = std::pow(26.0 / 7.0, 1.0 / 6.0);
   const double k = 1.0 / std::abs(2 * std::pow(lc, -13) - std::pow(lc, -7));
-  auto sigma = [&](double t) {
-    const double lam = shear ? t / 2 + std::sqrt(1 + t * t / 4) : 1 + t;
-    const double x = lam / alpha;
-    const double D = x > lc ? 1 + k * (2 * std::pow(x, -13) - std::pow(x, -7)) : 0.0;
-    return (c0 + c1 * D) * t;
-  };
+  const double lam = shear ? t / 2 + std::sqrt(1 + t * t / 4) : 1 + t;
+  const double x = lam / alpha;
+  const double D = x > lc ? 1 + k * (2 * std::pow(x, -13) - std::pow(x, -7)) : 0.0;
+  return (c0 + c1 * D) * t;
+}
+
+double first_peak_strain(double c0, double c1, double alpha, bool shear, double t_max) {
+  auto sigma = [&](double t) { return closed_form_stress(c0, c1, alpha, shear, t); };
   const int n = 100000;
   for (int i = 1; i < n; ++i) {
     const double t0 = t_max * (i - 1) / n, t1 = t_max * i / n, t2 = t_max * (i + 1) / n;
@@ -296,6 +298,15 @@ TEST(Dissertation, PurePolymerShearFailureStrain) {
   const double ref = first_peak_strain(p["C44"], p["B4"], p.alpha(), true, 1.0);
   EXPECT_NEAR(s.strain_at_peak, ref, 1e-5);
   EXPECT_LT(s.strain_at_peak, 0.37); // earlier than the printed value (finite stretch)
+  // the same shear in the negative sense (case 9, D424) peaks at the same load with the stress
+  // of the other sign: along one shear the law is odd (docs/theory.md section 2.1)
+  const CaseStrength n = case_strength(p, 9, 1.0);
+  ASSERT_TRUE(n.peak.has_value());
+  EXPECT_NEAR(n.strain_at_peak, ref, 1e-5);
+  // at the peak the stress is stationary: a load error of 1e-5 moves it by O(1e-10) relative
+  const double peak = closed_form_stress(p["C44"], p["B4"], p.alpha(), true, ref);
+  EXPECT_NEAR(*s.peak, peak, 1e-8 * peak);
+  EXPECT_NEAR(*n.peak, -peak, 1e-8 * peak);
 }
 
 TEST(Dissertation, NanocompositeStrengthIsTheFirstStressPeak) {

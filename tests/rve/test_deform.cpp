@@ -245,7 +245,9 @@ TEST(RveDeform, MovingAverageAndBlockErrors) {
   EXPECT_DOUBLE_EQ(a(0, 0), 0.5);
   EXPECT_DOUBLE_EQ(a(2, 0), 2.0);
   EXPECT_DOUBLE_EQ(a(4, 0), 3.5);
-  EXPECT_THROW(pnc::damage::deformation_case(7), pnc::InputError);
+  EXPECT_THROW(
+      pnc::damage::deformation_case(static_cast<int>(pnc::damage::deformation_cases().size()) + 1),
+      pnc::InputError);
 }
 
 namespace {

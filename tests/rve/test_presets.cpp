@@ -52,15 +52,15 @@ TEST(RvePresets, EveryPresetEqualsItsLiteralBeforeThePatches) {
 }
 
 // card_glass is demo_glass with the protocol of the measured 24-replica run of docs/rve.md
-// ("24 replicas"), fitted over a stretch of 0.03 with 48 replicas (D421), and nothing else
-// changed: the expanded recipes differ in exactly these keys.
+// ("24 replicas"), its shears in both senses (D424), fitted over a stretch of 0.03 with 48
+// replicas (D421), and nothing else changed: the expanded recipes differ in exactly these keys.
 TEST(RvePresets, CardGlassIsDemoGlassWithTheMeasuredProtocolAndNothingElse) {
   const auto expanded = [](const std::string& n) {
     return pnc::rve::expanded_json(pnc::rve::parse_recipe(pnc::rve::preset_json(n), n));
   };
   json want = expanded("demo_glass");
   want["name"] = "card_glass";
-  want["deform"]["cases"] = {1, 2, 3, 4, 5, 6};
+  want["deform"]["cases"] = {1, 2, 3, 4, 5, 6, 7, 8, 9};
   want["deform"]["strain_max"] = 0.05;
   want["deform"]["shear_strain_max"] = 0.10;
   want["deform"]["steps"] = 72;

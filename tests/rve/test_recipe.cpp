@@ -62,9 +62,9 @@ TEST(RveRecipe, InvalidRecipesNameFieldValueRule) {
   EXPECT_EQ(e.field, "build.density");
   EXPECT_EQ(e.value, "-1");
   EXPECT_FALSE(e.rule.empty());
-  e = error_of(json{{"deform", {{"cases", {2, 9}}}}});
+  e = error_of(json{{"deform", {{"cases", {2, 10}}}}}); // ids 1..9 (D424)
   EXPECT_EQ(e.field, "deform.cases");
-  EXPECT_EQ(e.value, "9");
+  EXPECT_EQ(e.value, "10");
   e = error_of(json{{"deform", {{"strain_max", "0.1"}}}});
   EXPECT_EQ(e.field, "deform.strain_max");
   EXPECT_EQ(e.rule, "must be a number");

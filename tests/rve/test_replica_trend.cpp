@@ -346,3 +346,56 @@ TEST(ReplicaTrend, TheProposedReplicaCountIsTheSmallestWhoseProjectedBoundMeetsT
   EXPECT_GT(far, 64) << "the cap of 64, not the mean trend";
   EXPECT_LE(projected(c, 24, far), 0.10 * c.scale);
 }
+
+// A negative shear (case 9, D424) pools with its positive one along the case: with case 9 made
+// the exact mirror of case 6 (strain and every replica's stress negated), the residuals of the
+// joint fit are mirrored too, so read along the case the two curves have the same Legendre
+// coefficients, and the "shear" role of the two equals each curve. The shape added here has an
+// even part (P2-like) and an odd part (make_trial's P3-like bump): reading the negative curve
+// against its strain instead would flip one of the two parts and cancel it in the role.
+TEST(ReplicaTrend, ANegativeShearPoolsWithItsPositiveOneAlongTheCase) {
+  std::mt19937_64 rng(5);
+  Trial t = make_trial(8, rng, 4e6, {2, 6}, 0.01); // point noise 20 kPa: the shapes stand out
+  rve::CombinedCase& six = t.cases.cases[1];
+  damage::CaseCurve& six_mean = t.mean.cases[1];
+  const Eigen::Index n = six.strain.rows();
+  for (auto& y : six.replica_stress)
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double x = 2.0 * static_cast<double>(k) / static_cast<double>(n - 1) - 1;
+      y(k, 5) += 3e6 * (1.5 * x * x - 0.5);
+    }
+  six_mean.stress = rve::PathM::Zero(n, 6);
+  for (const auto& y : six.replica_stress)
+    six_mean.stress += y / 8.0;
+  rve::CombinedCase nine = six;
+  nine.id = 9;
+  nine.strain = -six.strain;
+  for (auto& y : nine.replica_stress)
+    y = -y;
+  damage::CaseCurve nine_mean = six_mean;
+  nine_mean.id = 9;
+  nine_mean.strain = -six_mean.strain;
+  nine_mean.stress = -six_mean.stress;
+  t.cases.cases.push_back(nine);
+  t.mean.cases.push_back(nine_mean);
+  const rve::ReplicaTrend r = rve::replica_trend_test(t.cases, joint_fit(t), 0.0);
+  const auto curve = [&](int id) {
+    return std::find_if(r.curves.begin(), r.curves.end(),
+                        [&](const auto& c) { return c.case_id == id && c.component == 5; });
+  };
+  ASSERT_NE(curve(6), r.curves.end());
+  ASSERT_NE(curve(9), r.curves.end());
+  const auto shear =
+      std::find_if(r.roles.begin(), r.roles.end(), [](const auto& x) { return x.role == "shear"; });
+  ASSERT_NE(shear, r.roles.end());
+  EXPECT_EQ(shear->role_cases, (std::vector<int>{6, 9}));
+  double scale = 0; // Pa; mirrored residuals: the coefficients agree to the fit's round-off
+  for (int m = 0; m < 4; ++m)
+    scale = std::max(scale, std::fabs(curve(6)->mean[m]));
+  for (int m = 0; m < 4; ++m) {
+    EXPECT_NEAR(curve(9)->mean[m], curve(6)->mean[m], 1e-6 * scale) << "P" << m;
+    EXPECT_NEAR(shear->mean[m], curve(6)->mean[m], 1e-6 * scale) << "P" << m;
+  }
+  EXPECT_GT(std::fabs(curve(6)->mean[2]), 10 * curve(6)->se[2]) << "the even part is resolved";
+  EXPECT_NEAR(shear->bound(), curve(6)->bound(), 1e-6 * curve(6)->bound());
+}

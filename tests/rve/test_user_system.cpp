@@ -235,11 +235,13 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
   EXPECT_NE(slurp(fs::path(out) / "report.md").find("User system: data file"), std::string::npos);
 
   // the same crystal from a restart file (the measured start state of the run above), without
-  // the per-row minimisation (the affine positions of a Bravais lattice are already relaxed)
+  // the per-row minimisation (the affine positions of a Bravais lattice are already relaxed),
+  // sheared in the negative sense (case 9, D424): the box tilts the other way, the same C44
   fs::copy(fs::path(out) / "equilibrate" / "final.restart", d / "fcc.restart");
   std::string toml = slurp(d / "recipe.toml");
   toml.replace(toml.find("data_file = \"fcc.data\""), 22, "restart_file = \"fcc.restart\"");
   toml.replace(toml.find("minimize = true"), 15, "minimize = false");
+  toml.replace(toml.find("cases = [2, 6]"), 14, "cases = [2, 9]");
   std::ofstream(d / "restart.toml") << toml;
   const std::string out2 = (d / "out2").string();
   const auto r2 = pnc::test::run_command(std::string(PNC_EXE) + " characterize " +
@@ -249,6 +251,10 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
   const auto j2 = json::parse(r2.out);
   for (const auto& [k, ref] : {std::pair{"C11", C11}, {"C12", C12}, {"C44", C44}})
     EXPECT_NEAR(j2["constants"][k]["value"].get<double>(), ref, 0.01 * ref) << k;
+  const auto neg = pnc::damage::read_stress_strain_h5((fs::path(out2) / "cases.h5").string());
+  ASSERT_NE(neg.find(9), nullptr);
+  EXPECT_LE(neg.find(9)->strain.col(5).maxCoeff(), 0.0); // gamma12 <= 0 on every row
+  EXPECT_LT(neg.find(9)->strain.col(5).minCoeff(), 0.0);
   EXPECT_TRUE(fs::exists(fs::path(out2) / "build" / "system.restart"));
 
   // --resume of the finished run with the same input: accepted, nothing recomputed

@@ -8,7 +8,7 @@
 //    strain dimensionless, shear as engineering gamma; a stress column's name ends with its
 //    unit (D342): `_Pa` (written), `_MPa` or `_GPa` (read too); the bare `s11`, `sd11` of
 //    files written before the rule are read as MPa with a warning (StressStrainData::warnings);
-//    two spellings of one column or another suffix are refused. `case` 1..6 as in
+//    two spellings of one column or another suffix are refused. `case` 1..9 as in
 //    docs/theory.md §2.1. Rows of one case must be in loading order.
 //  * HDF5 `cases.h5` (written by rve/ and by `pnc synth`): /case_<n>/strain (k x 6, 1),
 //    /case_<n>/stress (k x 6, Pa), optional /case_<n>/stress_stderr (k x 6, Pa); each

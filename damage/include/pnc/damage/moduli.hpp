@@ -25,15 +25,17 @@ DerivedModuli derive_moduli(const NdmParameters& p);
 
 struct CaseStrength {
   int case_id;
-  int component;               ///< Voigt index of the stress reported
-  std::optional<double> peak;  ///< first local maximum of the stress along the path, if any
-  double strain_at_peak = 0.0; ///< imposed strain at the peak
-  double max_strain_searched;  ///< the path was followed up to this strain
+  int component; ///< Voigt index of the stress reported
+  /// the driven stress (units of the constants) at the first local maximum of its magnitude along
+  /// the path, if any: negative for the negative shears 7-9 (D424)
+  std::optional<double> peak;
+  double strain_at_peak = 0.0; ///< load t of the case at the peak (dimensionless; t >= 0)
+  double max_strain_searched;  ///< the path was followed up to this load t
 };
 /// Strength of the NDM in one deformation case: the first local maximum of the driven stress
-/// component along the monotonic case path (decision D5), searched up to `max_strain` with
-/// `points` steps and then refined. No peak (monotonic stress) is reported as such, never
-/// invented.
+/// component (times the case's `driven_sense`) along the monotonic case path (decision D5),
+/// searched up to `max_strain` with `points` steps and then refined. No peak (monotonic stress) is
+/// reported as such, never invented.
 CaseStrength case_strength(const NdmParameters& p, int case_id, double max_strain = 1.0,
                            int points = 4000);
 

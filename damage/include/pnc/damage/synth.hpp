@@ -12,7 +12,7 @@
 namespace pnc::damage {
 
 struct SynthOptions {
-  std::vector<int> cases;      ///< case ids 1..6; empty = the model's cases
+  std::vector<int> cases;      ///< case ids 1..9 (D424); empty = the model's cases
   int points = 200;            ///< points per case, >= 3
   double max_extension = 0.20; ///< largest imposed normal strain, > 0
   double max_shear = 0.40;     ///< largest imposed engineering shear strain, > 0

@@ -18,7 +18,9 @@
 // is then common to the curves of one role (the driven stress of an extension case, its
 // lateral stresses, the stress of a shear), and one replica's coefficients averaged over the
 // curves of a role are again one independent sample (decision D397): the pooled roles are
-// tested as well, and the family-wise p runs over curves and roles.
+// tested as well, and the family-wise p runs over curves and roles. A curve is read along its
+// case (strain and residual times the case's sense, D424), so a negative shear (cases 7-9)
+// pools with the positive ones instead of cancelling their even Legendre terms.
 //
 // A resolved trend is also measured (decision D417): its size and an upper bound on it, as a
 // share of the curve's stress; a card may miss up to MdCardGates::max_shape_error of it.
