@@ -8,6 +8,7 @@
 // carries no shear stress at the end of the hold.
 // `pnc recipe show demo_glass` (JSON and TOML) reads back as the preset.
 #include "pnc/core/hdf5_io.hpp"
+#include "pnc/damage/data.hpp"
 #include "pnc/md/lammps_path.hpp"
 #include "pnc/md/runner.hpp"
 #include "pnc/rve/bead_spring.hpp"
@@ -43,7 +44,7 @@ const char* tiny_glass = R"({
                    "damp_fs": 2000.0, "pushoff_steps": 1000, "hot_steps": 2000,
                    "cool_steps": 10000, "pdamp_fs": 20000.0, "npt_steps": 3000,
                    "final_steps": 1000 },
-  "deform": { "cases": [2, 6], "strain_max": 0.03, "steps": 3, "timestep_fs": 20.0,
+  "deform": { "cases": [2, 6, 9], "strain_max": 0.03, "steps": 3, "timestep_fs": 20.0,
               "hold_steps": 1000, "sample_every": 10, "blocks": 5, "temperature": 80.0,
               "damp_fs": 2000.0 },
   "analysis": { "stress": "total", "moving_average": 1 },
@@ -124,6 +125,19 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
         "equilibrate/quench.h5", "equilibrate/final.h5", "cases/case_2/checkpoint.h5",
         "cases/case_6/checkpoint.h5", "cases.h5", "card.h5", "report.md"})
     EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  // the shear both ways (case 9, D424): the same structure sheared to -gamma answers with a
+  // stress of the other sign, each resolved (a solid: about G gamma = 15 MPa against a few MPa)
+  const auto cases = pnc::damage::read_stress_strain_h5((fs::path(out) / "cases.h5").string());
+  ASSERT_NE(cases.find(6), nullptr);
+  ASSERT_NE(cases.find(9), nullptr);
+  for (int id : {6, 9}) {
+    const auto& c = *cases.find(id);
+    const Eigen::Index k = c.strain.rows() - 1;
+    const double sense = id == 6 ? 1.0 : -1.0;
+    EXPECT_DOUBLE_EQ(c.strain(k, 5), sense * 0.03) << "case " << id;
+    EXPECT_GT(sense * c.stress(k, 5), 3 * c.stress_stderr(k, 5))
+        << "case " << id << ": sigma12 " << c.stress(k, 5) << " +- " << c.stress_stderr(k, 5);
+  }
   // resume of the finished run re-runs no stage of the glass protocol and no case
   std::vector<fs::file_time_type> stamps;
   const char* stages[] = {"equilibrate/pushoff.h5", "equilibrate/melt.h5", "equilibrate/quench.h5",
