@@ -9,6 +9,7 @@
 #include "pnc/damage/moduli.hpp"
 #include "pnc/damage/reference.hpp"
 #include "pnc/rve/phase_check.hpp"
+#include "pnc/rve/sense_pairs.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <fmt/format.h>
@@ -66,6 +67,46 @@ Panel components_panel(const std::string& title, const std::string& xlabel) {
 void drop_empty_errors(Panel& p) {
   for (auto& s : p.series)
     if (!all_positive(s.yerr)) s.yerr.clear();
+}
+
+/// senses.png (D428): per shear run both ways, the two senses along the case and their paired
+/// difference, over the fitted rows; no panel when the run has no such pair.
+Figure senses_figure(const rve::Recipe& r, const rve::MdOutcome& md, const std::string& plots_dir) {
+  Figure f;
+  f.png = (fs::path(plots_dir) / "senses.png").string();
+  f.title = fmt::format("Both senses of each shear ({}, {} replica{})", r.name,
+                        md.statistics.replicas, md.statistics.replicas == 1 ? "" : "s");
+  for (const auto& s : rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max)) {
+    Panel p;
+    p.title = fmt::format("{} and case {}", case_label(s.positive_id), s.negative_id);
+    p.xlabel = std::string("|γ") + kComp[s.voigt] + "|";
+    p.ylabel = std::string("σ") + kComp[s.voigt] + " along the case (MPa)";
+    Series pos{
+        Series::Style::line_points, fmt::format("+γ (case {})", s.positive_id), {}, {}, {}, 0, 0.8};
+    Series neg{Series::Style::line_points,
+               fmt::format("−γ (case {}), sign turned", s.negative_id),
+               {},
+               {},
+               {},
+               1,
+               0.8};
+    Series diff{Series::Style::line_points, "difference (+γ − −γ)", {}, {}, {}, 2, 1.5};
+    for (std::size_t k = 0; k < s.t.size(); ++k) {
+      for (Series* x : {&pos, &neg, &diff})
+        x->x.push_back(s.t[k]);
+      pos.y.push_back(s.positive[k] / 1e6);
+      pos.yerr.push_back(s.positive_se[k] / 1e6);
+      neg.y.push_back(s.negative[k] / 1e6);
+      neg.yerr.push_back(s.negative_se[k] / 1e6);
+      diff.y.push_back(s.difference[k] / 1e6);
+      diff.yerr.push_back(s.difference_se[k] / 1e6);
+    }
+    p.series = {pos, neg, diff};
+    drop_empty_errors(p);
+    f.panels.push_back(std::move(p));
+  }
+  f.columns = std::min<int>(3, static_cast<int>(f.panels.size()));
+  return f;
 }
 
 /// The report.md body as before the HTML page: RVE, equilibration, phase check, deformation,
@@ -150,6 +191,8 @@ std::string details_markdown(const CharacterizeRun& c) {
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += rve::replica_fits_markdown(replica_fits, rep);
   rep_md += rve::replica_trend_markdown(trend, c.max_shape_error);
+  rep_md += rve::sense_pairs_markdown(
+      rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max)); // D428
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, c.model));
   rep_md +=
@@ -240,6 +283,8 @@ std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutc
     if (subtract) f.panels.push_back(std::move(rel));
   }
   if (!f.panels.empty()) figs.push_back(std::move(f));
+  if (Figure both = senses_figure(r, md, plots_dir); !both.panels.empty())
+    figs.push_back(std::move(both));
   return figs;
 }
 
@@ -384,6 +429,9 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
   if (!md.replica_history.empty()) j["statistics"]["replica_history"] = md.replica_history; // D418
+  if (const auto pairs = rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max);
+      !pairs.empty())
+    j["statistics"]["sense_pairs"] = rve::sense_pairs_json(pairs); // D428
   j["moduli"] = {{"E_isotropic_formula_Pa", num(dm.E_isotropic_formula)},
                  {"E1_Pa", num(dm.E1)},
                  {"G12_Pa", num(dm.G12)}};

@@ -4,7 +4,7 @@
 Runs `pnc synth`, `pnc fit`, `pnc card show`, `pnc card export --format json`, `pnc material
 drive`, `pnc card tables`, `pnc gimp run` (a 1-s bar impact in 3-D, 5 steps of the 2-D plate)
 and `pnc status` (a plan written here), and in builds with LAMMPS `pnc rve build`, `pnc characterize` (8 chains, short
-stages, one case), `pnc thermo ti` (a 12-chain melt, 2 lambda points), `pnc thermo
+stages, an extension and a shear both ways), `pnc thermo ti` (a 12-chain melt, 2 lambda points), `pnc thermo
 persistence` (a 4-bead harmonic chain), `pnc thermo work` (with python3-h5py) and `pnc gimp
 couple` (the short Case I run) in a fresh temporary directory and validates each printed
 object against its schema (python3-jsonschema, Draft 2020-12; the schemas forbid keys they do
@@ -121,7 +121,7 @@ TINY_RECIPE = {
     "equilibrate": {"pushoff_steps": 200, "hot_steps": 300, "cool_steps": 200,
                     "langevin_chunk_steps": 100, "langevin_max_chunks": 2, "npt_steps": 300,
                     "final_steps": 100},
-    "deform": {"cases": [2], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
+    "deform": {"cases": [2, 6, 9], "strain_max": 0.03, "steps": 3, "timestep_fs": 1.0,
                "hold_steps": 100, "sample_every": 10, "blocks": 4},
     "phase_check": {"enabled": True, "steps": 1000, "sample_every": 5, "cavitation_steps": 100},
     "analysis": {"moving_average": 1}}
@@ -140,6 +140,10 @@ def characterize_output(pnc, d, failures):
         failures.append(f"characterize: density_kg_per_m3 {rho} is not a melt's in kg/m^3")
     if not 1e-10 < ch["equilibrated"]["min_distance_m"] < 1e-9:
         failures.append("characterize: min_distance_m is not Angstroms in m")
+    # cases 6 and 9 shear the 1-2 plane both ways: compared side by side (D428)
+    pairs = ch["statistics"].get("sense_pairs", [])
+    if [p["cases"] for p in pairs] != [[6, 9]]:
+        failures.append(f"characterize: statistics.sense_pairs {pairs} is not the pair [6, 9]")
     return ch
 
 

@@ -117,7 +117,7 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
   std::ofstream(d / "tiny.json") << tiny_glass;
   const std::string out = (d / "out").string();
   const auto r = run("characterize " + (d / "tiny.json").string() + " --out " + out +
-                     " --equilibrate-ranks 1 --json --no-plots 2>" + (d / "err.txt").string());
+                     " --equilibrate-ranks 1 --json 2>" + (d / "err.txt").string());
   // 3 strain points a case: the fit may be "not usable" (4) or not converge (3)
   ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4) << r.code << " " << r.out;
   for (const char* f :
@@ -138,6 +138,21 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
     EXPECT_GT(sense * c.stress(k, 5), 3 * c.stress_stderr(k, 5))
         << "case " << id << ": sigma12 " << c.stress(k, 5) << " +- " << c.stress_stderr(k, 5);
   }
+  // ... and the report sets them side by side (D428): a table row and a figure of the pair
+  EXPECT_NE(pnc::test::slurp(fs::path(out) / "report.md").find("| 1-2 | 6, 9 | 1 |"),
+            std::string::npos);
+  const auto jobs = nlohmann::json::parse(pnc::test::slurp(fs::path(out) / "plots/figures.json"));
+  const nlohmann::json* senses = nullptr;
+  for (const auto& f : jobs["figures"])
+    if (f["png"].get<std::string>().find("senses.png") != std::string::npos) senses = &f;
+  ASSERT_NE(senses, nullptr) << jobs.dump();
+  ASSERT_EQ((*senses)["panels"].size(), 1u);
+  const auto& series = (*senses)["panels"][0]["series"];
+  ASSERT_EQ(series.size(), 3u);
+  const auto& neg = *cases.find(9);
+  for (std::size_t k = 0; k < 3; ++k) // the negative sense with its sign turned, in MPa
+    EXPECT_NEAR(series[1]["y"][k].get<double>(),
+                -neg.stress(static_cast<Eigen::Index>(k), 5) / 1e6, 1e-9);
   // resume of the finished run re-runs no stage of the glass protocol and no case
   std::vector<fs::file_time_type> stamps;
   const char* stages[] = {"equilibrate/pushoff.h5", "equilibrate/melt.h5", "equilibrate/quench.h5",
