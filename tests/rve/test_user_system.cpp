@@ -10,6 +10,7 @@
 #include "common/run_command.hpp"
 #include "common/temp_dir.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -87,6 +88,38 @@ Eigen::Matrix<double, 6, 1> lattice_stress(double a, const Eigen::Matrix3d& F) {
   Eigen::Matrix<double, 6, 1> v;
   v << s(0, 0), s(1, 1), s(2, 2), s(1, 2), s(0, 2), s(0, 1);
   return v * kPaPerKcalMolA3;
+}
+
+/// The edge of the shipped cubic box (4 x 4 x 4 FCC cells), Angstrom.
+double shipped_box_length() {
+  std::istringstream data(slurp(kExamples / "lj_fcc" / "fcc.data"));
+  std::string line;
+  double L = 0;
+  while (std::getline(data, line))
+    if (line.find("xlo xhi") != std::string::npos) {
+      std::istringstream(line) >> L >> L;
+      break;
+    }
+  return L;
+}
+
+struct LatticeSums {
+  double p0, C11, C12, C44; ///< Pa: sigma11 of the undeformed lattice, the cubic constants
+};
+/// The cubic constants of the lattice in the shipped box of edge L (a = L / 4), by central
+/// differences of lattice_stress at +-1e-6.
+LatticeSums lattice_sums(double L) {
+  const double a0 = L / 4;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double h = 1e-6;
+  auto at = [&](int i, int j, double e) {
+    Eigen::Matrix3d F = I;
+    F(i, j) += e;
+    return lattice_stress(a0, F);
+  };
+  return {lattice_stress(a0, I)[0], (at(1, 1, h)[1] - at(1, 1, -h)[1]) / (2 * h),
+          (at(1, 1, h)[0] - at(1, 1, -h)[0]) / (2 * h),
+          (at(0, 1, h)[5] - at(0, 1, -h)[5]) / (2 * h)};
 }
 
 } // namespace
@@ -184,27 +217,9 @@ TEST(RveUserSystem, LjCrystalStaticElasticConstantsMatchLatticeSums) {
   fs::copy(kExamples / "lj_fcc" / "recipe.toml", d / "recipe.toml");
   fs::copy(kExamples / "lj_fcc" / "fcc.data", d / "fcc.data");
   // the shipped data file is at the zero-pressure lattice constant: its virial vanishes
-  std::istringstream data(slurp(d / "fcc.data"));
-  std::string line;
-  double L = 0;
-  while (std::getline(data, line))
-    if (line.find("xlo xhi") != std::string::npos) {
-      std::istringstream(line) >> L >> L;
-      break;
-    }
-  const double a0 = L / 4;
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const double p0 = lattice_stress(a0, I)[0];
-  const double h = 1e-6;
-  auto at = [&](int i, int j, double e) {
-    Eigen::Matrix3d F = I;
-    F(i, j) += e;
-    return lattice_stress(a0, F);
-  };
-  const double C11 = (at(1, 1, h)[1] - at(1, 1, -h)[1]) / (2 * h);
-  const double C12 = (at(1, 1, h)[0] - at(1, 1, -h)[0]) / (2 * h);
-  const double C44 = (at(0, 1, h)[5] - at(0, 1, -h)[5]) / (2 * h);
-  EXPECT_LT(std::fabs(p0), 1e-9 * C11) << "data file not at zero pressure: " << p0 << " Pa";
+  const LatticeSums sums = lattice_sums(shipped_box_length());
+  const double C11 = sums.C11, C12 = sums.C12, C44 = sums.C44;
+  EXPECT_LT(std::fabs(sums.p0), 1e-9 * C11) << "data file not at zero pressure: " << sums.p0;
   EXPECT_GT(C11, 1e9); // a few GPa for argon-like LJ
   EXPECT_GT(C44, 1e9);
 
@@ -376,5 +391,48 @@ TEST(RveUserSystem, BeadSpringShortRunThroughCli) {
   ASSERT_EQ(cases.cases.size(), 2u);
   EXPECT_EQ(cases.cases[0].stress_stderr.rows(), 3);
   EXPECT_GT(cases.cases[0].stress_stderr(0, 1), 0.0);
+  fs::remove_all(d);
+}
+
+// The same crystal in a user's tilted cell (xy = a, a lattice vector, so the crystal is
+// unchanged) with atoms on the cell's faces, at 0 K, sheared both ways (cases 6 and 9, D424;
+// the start state off the faces, D425): C11, C12, C44 match the lattice sums within the 1 % of
+// the test above (the cell's shape does not enter the constants of the crystal in the x frame).
+TEST(RveUserSystem, LjCrystalInATiltedCellShearedBothWaysMatchesLatticeSums) {
+  const auto d = scratch("test_user_sys_lj_tilted");
+  const double L = shipped_box_length(), a = L / 4;
+  std::istringstream in(slurp(kExamples / "lj_fcc" / "fcc.data"));
+  std::ostringstream out;
+  std::string line;
+  bool atoms = false;
+  while (std::getline(in, line)) {
+    if (line.find("zlo zhi") != std::string::npos) {
+      out << line << "\n" << fmt::format("{:.17g} 0 0 xy xz yz\n", a);
+      continue;
+    }
+    if (line.rfind("Atoms", 0) == 0) atoms = true;
+    std::istringstream f(line);
+    int id = 0, type = 0;
+    double x = 0, y = 0, z = 0;
+    if (atoms && (f >> id >> type >> x >> y >> z)) { // wrap into the tilted cell: x - y a / L
+      double lam = (x - a * y / L) / L;
+      lam -= std::floor(lam);
+      out << fmt::format("{} {} {:.17g} {:.17g} {:.17g}\n", id, type, lam * L + a * y / L, y, z);
+      continue;
+    }
+    out << line << "\n";
+  }
+  std::ofstream(d / "fcc.data") << out.str();
+  std::string toml = slurp(kExamples / "lj_fcc" / "recipe.toml");
+  toml.replace(toml.find("cases = [2, 6]"), 14, "cases = [2, 6, 9]");
+  std::ofstream(d / "recipe.toml") << toml;
+  const auto r = pnc::test::run_command(
+      std::string(PNC_EXE) + " characterize " + (d / "recipe.toml").string() + " --out " +
+      (d / "out").string() + " --json --no-plots 2>" + (d / "err.txt").string());
+  ASSERT_TRUE(r.code == 0 || r.code == 3 || r.code == 4) << r.code << slurp(d / "err.txt");
+  const auto j = json::parse(r.out);
+  const LatticeSums sums = lattice_sums(L);
+  for (const auto& [k, ref] : {std::pair{"C11", sums.C11}, {"C12", sums.C12}, {"C44", sums.C44}})
+    EXPECT_NEAR(j["constants"][k]["value"].get<double>(), ref, 0.01 * ref) << k;
   fs::remove_all(d);
 }
