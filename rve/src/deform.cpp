@@ -443,11 +443,13 @@ void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, b
     std::error_code ec;
     fs::remove(prev_state(dir, k), ec);
     const std::string stress = driven_stresses(dc, spec.temperature == 0, st, stse, sv, it);
+    // the driven strain itself, so that a negative shear (D424) shows its sign
+    const double e = strain[dc.driven.front()];
     if (spec.temperature == 0)
       bar.set(k + 1,
-              fmt::format("step {}/{} strain {:+.6f}  {} (static)", k, spec.steps, t, stress));
+              fmt::format("step {}/{} strain {:+.6f}  {} (static)", k, spec.steps, e, stress));
     else
-      bar.set(k + 1, fmt::format("step {}/{} strain {:+.5f}  {}  T = {:.1f} K", k, spec.steps, t,
+      bar.set(k + 1, fmt::format("step {}/{} strain {:+.5f}  {}  T = {:.1f} K", k, spec.steps, e,
                                  stress, th[0]));
     if (spec.abort_after_step == k) std::raise(SIGKILL);
   }
