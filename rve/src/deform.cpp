@@ -303,8 +303,8 @@ void check_lammps_version(const std::string& path, const std::string& stored,
 /// every row, whose affine remaps keep fractional coordinates (decision D425).
 void off_the_faces(md::Lammps& l) {
   const md::LmpBox b = l.box();
-  l.cmd(fmt::format("displace_atoms all move {:.17g} {:.17g} {:.17g} units box",
-                    1e-6 * b.length(0), 1e-6 * b.length(1), 1e-6 * b.length(2)));
+  l.cmd(fmt::format("displace_atoms all move {:.17g} {:.17g} {:.17g} units box", 1e-6 * b.length(0),
+                    1e-6 * b.length(1), 1e-6 * b.length(2)));
 }
 
 void case_child(md::Lammps& l, const DeformSpec& spec, const std::string& dir, bool resume) {

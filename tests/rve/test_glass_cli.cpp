@@ -151,8 +151,8 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
   ASSERT_EQ(series.size(), 3u);
   const auto& neg = *cases.find(9);
   for (std::size_t k = 0; k < 3; ++k) // the negative sense with its sign turned, in MPa
-    EXPECT_NEAR(series[1]["y"][k].get<double>(),
-                -neg.stress(static_cast<Eigen::Index>(k), 5) / 1e6, 1e-9);
+    EXPECT_NEAR(series[1]["y"][k].get<double>(), -neg.stress(static_cast<Eigen::Index>(k), 5) / 1e6,
+                1e-9);
   // resume of the finished run re-runs no stage of the glass protocol and no case
   std::vector<fs::file_time_type> stamps;
   const char* stages[] = {"equilibrate/pushoff.h5", "equilibrate/melt.h5", "equilibrate/quench.h5",
