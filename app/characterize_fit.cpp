@@ -37,7 +37,8 @@ struct MdFit {
   rve::ReplicaFits replica_fits;
   damage::Card card;
   rve::ReplicaTrend trend;
-  double max_shape_error = 0; ///< the tolerance the verdict judged the shape by (D417)
+  std::vector<rve::SensePair> senses; ///< the shears run both ways, side by side (D428)
+  double max_shape_error = 0;         ///< the tolerance the verdict judged the shape by (D417)
 };
 
 /// The joint NDM fit of cases.h5 with the replicas' honest errors and the MD verdict gates.
@@ -106,6 +107,7 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
   // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
   f.trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
+  f.senses = rve::sense_pairs(md.statistics, o.strain_max, o.stretch_max); // D428
   const rve::ReplicaTrend& trend = f.trend;
   MdCardGates gates;
   f.max_shape_error = gates.max_shape_error;
@@ -147,18 +149,26 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
     write_text_atomically((fs::path(a.out) / "replica_fits.csv").string(), csv);
   // every figure of the run in one plotting process, after the card is written (a plotting
   // failure is a warning: the run and its report are complete without figures)
-  CharacterizeRun run{r,         md,
-                      f.data,    f.rep,
-                      f.card,    f.replica_fits,
-                      f.trend,   f.max_shape_error,
-                      f.o.model, a.out,
-                      command,   read_clay_info(r, md),
-                      0.0,       !a.no_plots,
+  CharacterizeRun run{r,
+                      md,
+                      f.data,
+                      f.rep,
+                      f.card,
+                      f.replica_fits,
+                      f.trend,
+                      f.senses,
+                      f.max_shape_error,
+                      f.o.model,
+                      a.out,
+                      command,
+                      read_clay_info(r, md),
+                      0.0,
+                      !a.no_plots,
                       {}};
   if (!a.no_plots) {
     const std::string plots = (fs::path(a.out) / "plots").string();
     make_output_directory(plots, "--out");
-    run.plots = draw_figures(characterize_figures(r, md, f.data, f.card, plots),
+    run.plots = draw_figures(characterize_figures(r, md, f.data, f.card, f.senses, plots),
                              (fs::path(plots) / "figures.json").string(), "pnc characterize");
   }
   // the campaign's wall time: from the first unit's start to now (every unit of this run)

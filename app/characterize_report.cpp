@@ -9,7 +9,6 @@
 #include "pnc/damage/moduli.hpp"
 #include "pnc/damage/reference.hpp"
 #include "pnc/rve/phase_check.hpp"
-#include "pnc/rve/sense_pairs.hpp"
 #include "pnc/rve/user_system.hpp"
 
 #include <fmt/format.h>
@@ -71,12 +70,13 @@ void drop_empty_errors(Panel& p) {
 
 /// senses.png (D428): per shear run both ways, the two senses along the case and their paired
 /// difference, over the fitted rows; no panel when the run has no such pair.
-Figure senses_figure(const rve::Recipe& r, const rve::MdOutcome& md, const std::string& plots_dir) {
+Figure senses_figure(const rve::Recipe& r, const rve::MdOutcome& md,
+                     const std::vector<rve::SensePair>& senses, const std::string& plots_dir) {
   Figure f;
   f.png = (fs::path(plots_dir) / "senses.png").string();
   f.title = fmt::format("Both senses of each shear ({}, {} replica{})", r.name,
                         md.statistics.replicas, md.statistics.replicas == 1 ? "" : "s");
-  for (const auto& s : rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max)) {
+  for (const auto& s : senses) {
     Panel p;
     p.title = fmt::format("{} and case {}", case_label(s.positive_id), s.negative_id);
     p.xlabel = std::string("|γ") + kComp[s.voigt] + "|";
@@ -191,8 +191,7 @@ std::string details_markdown(const CharacterizeRun& c) {
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += rve::replica_fits_markdown(replica_fits, rep);
   rep_md += rve::replica_trend_markdown(trend, c.max_shape_error);
-  rep_md += rve::sense_pairs_markdown(
-      rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max)); // D428
+  rep_md += rve::sense_pairs_markdown(c.senses); // D428
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
             code_block(fit_tables(card.fit, c.model));
   rep_md +=
@@ -223,7 +222,9 @@ nlohmann::json read_clay_info(const rve::Recipe& r, const rve::MdOutcome& md) {
 
 std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutcome& md,
                                          const damage::StressStrainData& data,
-                                         const damage::Card& card, const std::string& plots_dir) {
+                                         const damage::Card& card,
+                                         const std::vector<rve::SensePair>& senses,
+                                         const std::string& plots_dir) {
   std::vector<Figure> figs;
   figs.push_back(fit_figure(data, card, (fs::path(plots_dir) / "fit.png").string(),
                             fmt::format("MD data ({}) and the fitted NDM: card {}", r.name,
@@ -283,7 +284,7 @@ std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutc
     if (subtract) f.panels.push_back(std::move(rel));
   }
   if (!f.panels.empty()) figs.push_back(std::move(f));
-  if (Figure both = senses_figure(r, md, plots_dir); !both.panels.empty())
+  if (Figure both = senses_figure(r, md, senses, plots_dir); !both.panels.empty())
     figs.push_back(std::move(both));
   return figs;
 }
@@ -429,9 +430,7 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
   if (!md.replica_history.empty()) j["statistics"]["replica_history"] = md.replica_history; // D418
-  if (const auto pairs = rve::sense_pairs(md.statistics, r.fit_strain_max, r.fit_stretch_max);
-      !pairs.empty())
-    j["statistics"]["sense_pairs"] = rve::sense_pairs_json(pairs); // D428
+  if (!c.senses.empty()) j["statistics"]["sense_pairs"] = rve::sense_pairs_json(c.senses);  // D428
   j["moduli"] = {{"E_isotropic_formula_Pa", num(dm.E_isotropic_formula)},
                  {"E1_Pa", num(dm.E1)},
                  {"G12_Pa", num(dm.G12)}};

@@ -12,6 +12,7 @@
 #include "pnc/rve/recipe.hpp"
 #include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replica_trend.hpp"
+#include "pnc/rve/sense_pairs.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,7 @@ struct CharacterizeRun {
   const damage::Card& card;             ///< as written (errors and verdict of the MD gates)
   const rve::ReplicaFits& replica_fits;
   const rve::ReplicaTrend& trend;
+  const std::vector<rve::SensePair>& senses; ///< shears run both ways (D428); empty: none
   double max_shape_error; ///< the tolerance of the shape error the verdict used (D417)
   damage::Model model;
   std::string out, command;
@@ -45,7 +47,9 @@ nlohmann::json read_clay_info(const rve::Recipe& r, const rve::MdOutcome& md);
 /// the reference, as fitted; every component, so the normal stresses of the shear cases too).
 std::vector<Figure> characterize_figures(const rve::Recipe& r, const rve::MdOutcome& md,
                                          const damage::StressStrainData& data,
-                                         const damage::Card& card, const std::string& plots_dir);
+                                         const damage::Card& card,
+                                         const std::vector<rve::SensePair>& senses,
+                                         const std::string& plots_dir);
 
 /// Writes report.md and report.html in the run folder; returns the path of report.md.
 std::string write_characterize_report(const CharacterizeRun& c);

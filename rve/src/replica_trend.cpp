@@ -178,9 +178,8 @@ ReplicaTrend replica_trend_test(const CombinedCases& c, const damage::FitReport&
   std::map<std::string, Pool> pools;   // decision D397: the pure polymer's roles
   std::vector<std::string> curve_role; // per curve of out.curves: its role, "" for none
   for (const auto& fc : joint.components) {
-    const auto it = std::find_if(c.cases.begin(), c.cases.end(),
-                                 [&](const CombinedCase& cc) { return cc.id == fc.case_id; });
-    if (it == c.cases.end()) continue;
+    const CombinedCase* it = c.find(fc.case_id);
+    if (!it) continue;
     const Eigen::Index n = damage::rows_in_fit_range(it->strain, strain_max, stretch_max);
     if (n < 5) continue; // four coefficients need more rows than that
     const Eigen::Matrix<double, Eigen::Dynamic, 6> e = it->strain.topRows(n);

@@ -120,6 +120,12 @@ std::string describe(const Recipe& r, const CombinedCases& out, std::size_t ncas
 
 } // namespace
 
+const CombinedCase* CombinedCases::find(int id) const {
+  for (const auto& cc : cases)
+    if (cc.id == id) return &cc;
+  return nullptr;
+}
+
 CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseResult>>& results) {
   CombinedCases out;
   out.replicas = static_cast<int>(results.size());

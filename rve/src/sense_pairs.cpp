@@ -18,16 +18,10 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kPlane[6] = {"", "", "", "2-3", "1-3", "1-2"};
 
-const CombinedCase* find_case(const CombinedCases& c, int id) {
-  for (const auto& cc : c.cases)
-    if (cc.id == id) return &cc;
-  return nullptr;
-}
-
 /// The run's case that shears the plane of `pos` the other way, if any.
 const CombinedCase* negative_of(const CombinedCases& c, const damage::DeformationCase& pos) {
   for (const auto& row : damage::deformation_cases())
-    if (row.gradient == -pos.gradient && damage::driven_sense(row) < 0) return find_case(c, row.id);
+    if (row.gradient == -pos.gradient && damage::driven_sense(row) < 0) return c.find(row.id);
   return nullptr;
 }
 

@@ -60,6 +60,8 @@ struct CombinedCases {
   std::string stress_definition;             ///< what cases.h5 holds, in words
   int holds_checked = 0, holds_inflated = 0; ///< driven component, every replica and row
   std::vector<Eigen::RowVectorXd> reference, reference_se; ///< per replica, Pa (1 x 6)
+  /// The case with this id, or nullptr.
+  const CombinedCase* find(int id) const;
 };
 
 /// Combines `results[replica][case]` (cases in the same order in every replica). Throws
