@@ -457,6 +457,7 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
     std::cerr << "pnc characterize: phase check: " << md.phase.phase
               << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
               << "\n";
+  std::cerr << rve::sense_pairs_summary(c.senses); // D428
   std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
             << "\n  report: " << html_path << " (and " << report_path << ")\n";
   for (const auto& p : c.plots.pngs)

@@ -77,9 +77,13 @@ double driven_sense(const DeformationCase& c) {
   const Voigt e = case_strain(c, 1.0);
   const double sense = e[c.driven.front()] > 0 ? 1.0 : -1.0;
   for (int v : c.driven)
-    if (e[v] * sense <= 0)
-      fail("<case " + std::to_string(c.id) + " " + c.name + ">", "driven components", "",
+    if (e[v] * sense <= 0) {
+      std::string signs; // the strain of each driven component at load 1, e.g. "+1 -1"
+      for (int w : c.driven)
+        signs += fmt::format("{}{:+g}", signs.empty() ? "" : " ", e[w]);
+      fail("<case " + std::to_string(c.id) + " " + c.name + ">", "driven components", signs,
            "a case drives all its components in one sense (D424)");
+    }
   return sense;
 }
 

@@ -147,4 +147,19 @@ std::string sense_pairs_markdown(const std::vector<SensePair>& pairs) {
   return md + "\n";
 }
 
+std::string sense_pairs_summary(const std::vector<SensePair>& pairs) {
+  std::string out;
+  for (const auto& s : pairs) {
+    const bool judged = std::isfinite(s.p);
+    out += fmt::format("pnc characterize: shear {} both ways (cases {}, {}; {} replica{}): "
+                       "positive minus negative sense {} MPa over the fitted rows ({} of the "
+                       "stress){}\n",
+                       kPlane[s.voigt], s.positive_id, s.negative_id, s.replicas,
+                       s.replicas == 1 ? "" : "s", mpa(s.mean_difference, s.mean_difference_se),
+                       pct(s.mean_difference, s.scale),
+                       judged ? fmt::format(", p = {:.2g}", s.p) : std::string(", not judged"));
+  }
+  return out;
+}
+
 } // namespace pnc::rve

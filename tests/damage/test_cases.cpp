@@ -109,6 +109,22 @@ TEST(DeformationCases, SingleDrivenRefusesAMixedCaseByName) {
   }
 }
 
+// A row whose driven components grow in opposite senses has no one sense to read "along" it:
+// driven_sense refuses it, naming the case and each driven strain at load 1 (D424).
+TEST(DeformationCases, DrivenSenseRefusesARowDrivenBothWaysNamingItsStrains) {
+  DeformationCase c = equibiaxial();
+  c.name = "extension x1, compression x2";
+  c.gradient(1, 1) = -1.0;
+  try {
+    driven_sense(c);
+    ADD_FAILURE() << "a row driven both ways was given one sense";
+  } catch (const pnc::InputError& e) {
+    const std::string m = e.what();
+    for (const char* want : {"compression x2", "driven components", "+1 -1", "one sense"})
+      EXPECT_NE(m.find(want), std::string::npos) << want << " not in: " << m;
+  }
+}
+
 // Which rows are extensions is read from the gradient, not from ids: an extension is a
 // gradient with only diagonal entries (a uniaxial one has one), a shear has an off-diagonal one.
 TEST(DeformationCases, ExtensionPredicatesFollowTheGradient) {

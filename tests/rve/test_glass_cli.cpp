@@ -141,6 +141,8 @@ TEST(RveGlassCli, TinyGlassIsASolidOnTheHoldTimeScaleAndItsMeltIsNot) {
   // ... and the report sets them side by side (D428): a table row and a figure of the pair
   EXPECT_NE(pnc::test::slurp(fs::path(out) / "report.md").find("| 1-2 | 6, 9 | 1 |"),
             std::string::npos);
+  const std::string err = pnc::test::slurp(d / "err.txt"); // and the summary on stderr
+  EXPECT_NE(err.find("shear 1-2 both ways (cases 6, 9; 1 replica)"), std::string::npos) << err;
   const auto jobs = nlohmann::json::parse(pnc::test::slurp(fs::path(out) / "plots/figures.json"));
   const nlohmann::json* senses = nullptr;
   for (const auto& f : jobs["figures"])

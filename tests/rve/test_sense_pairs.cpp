@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -75,6 +76,13 @@ TEST(SensePairs, ThePairedDifferenceIsTheSenseBiasWhateverEachReplicasOffset) {
   EXPECT_LT(s.p, 1e-6);
   EXPECT_NE(rve::sense_pairs_markdown(pairs).find("| 1-2 | 6, 9 | 6 |"), std::string::npos)
       << rve::sense_pairs_markdown(pairs);
+  // the line of the stderr summary: the pair, its replicas and the injected mean bias in MPa
+  const std::string line = rve::sense_pairs_summary(pairs);
+  for (const char* want :
+       {"shear 1-2 both ways (cases 6, 9; 6 replicas)", "+1.20 ± 0.00 MPa", "p = "})
+    EXPECT_NE(line.find(want), std::string::npos) << want << " not in: " << line;
+  EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << "one line per pair";
+  EXPECT_EQ(rve::sense_pairs_summary({}), "");
 
   // no bias: every difference zero; a fit range of gamma <= 0.03 compares three rows
   c.cases[2] = shear_case(9, nrep, offset, 0);

@@ -55,4 +55,9 @@ std::string sense_pairs_markdown(const std::vector<SensePair>& pairs);
 /// replica) is null.
 nlohmann::json sense_pairs_json(const std::vector<SensePair>& pairs);
 
+/// One line per pair for the summary `pnc characterize` prints on stderr: the shear, its cases,
+/// the replicas, the mean difference over the fitted rows (MPa, with its standard error), its
+/// share of the stress and p ("not judged" with one replica); empty when the run has no pair.
+std::string sense_pairs_summary(const std::vector<SensePair>& pairs);
+
 } // namespace pnc::rve
