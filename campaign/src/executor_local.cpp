@@ -2,6 +2,7 @@
 #include "pnc/campaign/executor.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/stop.hpp"
 
 #include <fmt/format.h>
@@ -10,8 +11,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -46,6 +49,30 @@ pid_t start_unit(const Unit& u, const UnitMain& unit_main) {
 
 } // namespace
 
+double remaining_seconds(const std::vector<UnitSeconds>& finished,
+                         const std::vector<UnitSeconds>& left, int jobs) {
+  if (left.empty()) return 0.0;
+  if (finished.empty()) return std::nan("");
+  std::map<std::string, std::pair<double, int>> by_kind; // sum of seconds, count
+  double all = 0;
+  for (const auto& f : finished) {
+    auto& k = by_kind[f.kind];
+    k.first += f.seconds;
+    ++k.second;
+    all += f.seconds;
+  }
+  const double mean_all = all / static_cast<double>(finished.size());
+  double work = 0;
+  for (const auto& u : left) {
+    const auto it = by_kind.find(u.kind);
+    const double mean = it == by_kind.end() ? mean_all : it->second.first / it->second.second;
+    work += std::max(mean - u.seconds, 0.0);
+  }
+  const auto lanes =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(jobs, 1)), left.size());
+  return work / static_cast<double>(lanes);
+}
+
 LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMain& unit_main) {
   LocalRun out;
   const double t0 = now();
@@ -56,6 +83,30 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
     st[u.id] = read_status(dir, u.id).state == UnitState::done ? S::done : S::waiting;
   std::map<pid_t, std::pair<const Unit*, double>> running;
   pnc::StopToken& stop = pnc::process_stop();
+  // the run's progress line (D344) with an ETA by the units' kinds (D429)
+  std::vector<UnitSeconds> finished;
+  const auto ended = [&] {
+    return std::count_if(st.begin(), st.end(), [](const auto& kv) {
+      return kv.second != S::waiting && kv.second != S::running;
+    });
+  };
+  const auto report = [&](const std::string& detail) {
+    std::vector<UnitSeconds> left;
+    const double t = now();
+    for (const auto& u : p.units)
+      if (st[u.id] == S::waiting) left.push_back({u.kind, 0.0});
+    for (const auto& [pid, r] : running)
+      left.push_back({r.first->kind, t - r.second});
+    ProgressState s;
+    s.what = "pnc " + (p.command.empty() ? std::string("run") : p.command);
+    s.unit = "units";
+    s.done = static_cast<double>(ended());
+    s.total = static_cast<double>(p.units.size());
+    s.elapsed_s = t - t0;
+    s.eta_s = remaining_seconds(finished, left, jobs);
+    s.detail = detail;
+    print_progress(s);
+  };
   for (;;) {
     // start what is ready, in plan order (equilibrations first, then the phase check, ...)
     bool progress = true;
@@ -102,7 +153,8 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
     const bool exited = WIFEXITED(status);
     if (s.state == UnitState::done) {
       st[u.id] = S::done;
-      std::cerr << fmt::format("pnc: unit {} done ({:.1f} s)\n", u.id, secs);
+      finished.push_back({u.kind, secs});
+      report(fmt::format("unit {} done in {}", u.id, format_duration(secs)));
       continue;
     }
     if (stop.requested()) { // stopped: pending again, continued by --resume
@@ -130,6 +182,7 @@ LocalRun run_local(const std::string& dir, const Plan& p, int jobs, const UnitMa
     const std::string line = u.id + ": " + with_log(s.message, s.log_path);
     out.failed.push_back(line);
     std::cerr << "pnc: unit " << line << " -- FAILED; the other units keep going\n";
+    report(fmt::format("unit {} failed", u.id));
   }
   out.seconds = now() - t0;
   pnc::throw_if_stopped("the running units stopped at their last checkpoint; finished units "

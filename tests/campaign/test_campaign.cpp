@@ -12,12 +12,16 @@
 
 #include "common/toy_plan.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -169,6 +173,48 @@ TEST(Campaign, LocalExecutorRunsIndependentUnitsAtOnceAndNeedsInOrder) {
     EXPECT_TRUE(run_toy(d, jobs, 0.0, false).ran.empty());
     fs::remove_all(d);
   }
+}
+
+// The ETA of a run (D429): every unit left takes the mean of the finished units of its kind (of
+// all finished ones for a kind not yet seen), less what it has run; jobs share the sum.
+TEST(Campaign, RemainingSecondsTakesEachKindsMeanOverTheJobs) {
+  const std::vector<UnitSeconds> done = {{"case", 30}, {"case", 40}, {"equilibrate", 100}};
+  // two cases (35 s each), an equilibration that has run 40 of its 100 s, a fit (mean of all: 56.67
+  // s)
+  const std::vector<UnitSeconds> left = {{"case", 0}, {"case", 0}, {"equilibrate", 40}, {"fit", 0}};
+  EXPECT_NEAR(remaining_seconds(done, left, 1), 35 + 35 + 60 + 170.0 / 3, 1e-12);
+  EXPECT_NEAR(remaining_seconds(done, left, 2), (35 + 35 + 60 + 170.0 / 3) / 2, 1e-12);
+  // more jobs than units left: the units left run at once
+  EXPECT_NEAR(remaining_seconds(done, {{"case", 0}}, 8), 35.0, 1e-12);
+  EXPECT_EQ(remaining_seconds(done, {{"case", 50}}, 1), 0.0) << "a unit past its mean: 0, not < 0";
+  EXPECT_EQ(remaining_seconds(done, {}, 2), 0.0);
+  EXPECT_TRUE(std::isnan(remaining_seconds({}, left, 2))) << "no unit finished: unknown";
+}
+
+// One progress line of the whole run per unit that ends (D344, D429), in the order they end,
+// its ETA from the first unit's time: the three left are each expected to take as long.
+TEST(Campaign, LocalExecutorPrintsTheRunsProgressWithItsEta) {
+  const auto d = plan_dir("test_campaign_progress").string();
+  testing::internal::CaptureStderr();
+  run_toy(d, 1, 0.5, false);
+  const std::string err = testing::internal::GetCapturedStderr();
+  std::vector<std::string> lines;
+  std::istringstream in(err);
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind("pnc toy: ", 0) == 0) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 4u) << err;
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_EQ(lines[k].rfind(fmt::format("pnc toy: {}/4 units", k + 1), 0), 0u) << lines[k];
+  EXPECT_NE(lines[0].find("; unit a/u_1 done in "), std::string::npos) << lines[0];
+  EXPECT_NE(lines[3].find("ETA 0"), std::string::npos) << lines[3];
+  // "ETA 1.6 s; unit a/u_1 done in 0.5 s": ETA = 3 x the first unit's time, each rounded to 0.05 s
+  double eta = 0, first = 0;
+  ASSERT_EQ(std::sscanf(lines[0].c_str() + lines[0].find("ETA "), "ETA %lf s", &eta), 1)
+      << lines[0];
+  ASSERT_EQ(std::sscanf(lines[0].c_str() + lines[0].find("done in "), "done in %lf s", &first), 1);
+  EXPECT_GE(first, 0.5);
+  EXPECT_NEAR(eta, 3 * first, 3 * 0.05 + 0.05) << lines[0];
+  fs::remove_all(d);
 }
 
 TEST(Campaign, AFailedUnitStopsItsDependentsButNotTheOthers) {
