@@ -12,6 +12,7 @@
 #include "pnc/campaign/slurm.hpp"
 #include "pnc/core/error.hpp"
 #include "pnc/core/error_record.hpp"
+#include "pnc/core/progress.hpp"
 #include "pnc/core/run_dir.hpp"
 #include "pnc/core/run_log.hpp"
 #include "pnc/core/stop.hpp"
@@ -24,12 +25,15 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -214,6 +218,10 @@ int run_status(const std::string& dir, bool json) {
                                   "seconds", "queue / message / log");
   const std::string me = campaign::host_name();
   UnitStates states;
+  std::vector<std::pair<double, campaign::UnitSeconds>> done_at; // for the ETA (D429): ended
+  std::vector<campaign::UnitSeconds> left;
+  const double now = campaign::epoch_seconds();
+  int running = 0;
   for (const auto& u : p.units) {
     campaign::UnitStatus s = campaign::effective_status(dir, u.id, have_queue ? &q : nullptr);
     states[u.id] = s;
@@ -224,6 +232,13 @@ int run_status(const std::string& dir, bool json) {
       s.message = fmt::format("process {} ended without a report", s.pid);
     }
     ++count[campaign::state_name(s.state)];
+    if (s.state == campaign::UnitState::done && s.started_s > 0 && s.ended_s >= s.started_s)
+      done_at.push_back({s.ended_s, {u.kind, s.ended_s - s.started_s}});
+    else if (s.state == campaign::UnitState::running) {
+      ++running;
+      left.push_back({u.kind, s.started_s > 0 ? std::max(now - s.started_s, 0.0) : 0.0});
+    } else if (s.state != campaign::UnitState::done && s.state != campaign::UnitState::failed)
+      left.push_back({u.kind, 0.0});
     const double secs = s.detail.value("seconds", 0.0);
     std::string note = s.message;
     if (have_queue && q.count(s.job_id)) note = q[s.job_id] + (note.empty() ? "" : "; " + note);
@@ -243,11 +258,29 @@ int run_status(const std::string& dir, bool json) {
   std::string sum;
   for (const char* k : {"done", "running", "queued", "pending", "failed"})
     if (count[k]) sum += fmt::format("{}{} {}", sum.empty() ? "" : ", ", count[k], k);
+  // the time left if the units that run now keep running this many at a time (D429), from the
+  // finished units in the order they ended
+  std::stable_sort(done_at.begin(), done_at.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<campaign::UnitSeconds> finished;
+  for (const auto& d : done_at)
+    finished.push_back(d.second);
+  const double eta = running > 0 ? campaign::remaining_seconds(finished, left, running)
+                                 : std::numeric_limits<double>::quiet_NaN();
+  if (running > 0 && std::isfinite(eta))
+    sum += fmt::format("; about {} left at {} at a time (each unit left at the mean time of "
+                       "the finished units of its kind)",
+                       pnc::format_duration(eta), running);
   std::cerr << table << fmt::format("pnc status {}: {} unit(s): {}\n", dir, p.units.size(), sum);
   // a Slurm plan whose jobs all ended without its final unit: the run's page says so (D300)
   if (slurm && !p.units.empty()) ended_slurm_plan_report(dir, p, states, p.units.back().id);
   if (json)
-    std::cout << nlohmann::json{{"command", "status"}, {"dir", dir}, {"units", units}}.dump()
+    std::cout << nlohmann::json{{"command", "status"},
+                                {"dir", dir},
+                                {"units", units},
+                                {"eta_s",
+                                 std::isfinite(eta) ? nlohmann::json(eta) : nlohmann::json()}}
+                     .dump()
               << std::endl;
   return count["failed"] > 0 ? 1 : 0;
 }

@@ -53,15 +53,20 @@ double remaining_seconds(const std::vector<UnitSeconds>& finished,
                          const std::vector<UnitSeconds>& left, int jobs) {
   if (left.empty()) return 0.0;
   if (finished.empty()) return std::nan("");
+  // the last kRecent of each kind, newest first: they follow a change of the machine's load
+  constexpr int kRecent = 8;
   std::map<std::string, std::pair<double, int>> by_kind; // sum of seconds, count
   double all = 0;
-  for (const auto& f : finished) {
-    auto& k = by_kind[f.kind];
-    k.first += f.seconds;
+  int n_all = 0;
+  for (auto f = finished.rbegin(); f != finished.rend(); ++f) {
+    auto& k = by_kind[f->kind];
+    if (k.second == kRecent) continue;
+    k.first += f->seconds;
     ++k.second;
-    all += f.seconds;
+    all += f->seconds;
+    ++n_all;
   }
-  const double mean_all = all / static_cast<double>(finished.size());
+  const double mean_all = all / n_all;
   double work = 0;
   for (const auto& u : left) {
     const auto it = by_kind.find(u.kind);

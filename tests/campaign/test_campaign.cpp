@@ -189,6 +189,12 @@ TEST(Campaign, RemainingSecondsTakesEachKindsMeanOverTheJobs) {
   EXPECT_EQ(remaining_seconds(done, {{"case", 50}}, 1), 0.0) << "a unit past its mean: 0, not < 0";
   EXPECT_EQ(remaining_seconds(done, {}, 2), 0.0);
   EXPECT_TRUE(std::isnan(remaining_seconds({}, left, 2))) << "no unit finished: unknown";
+  // the last 8 of a kind: ten cases of 100 s on a busy machine, then eight of 30 s
+  std::vector<UnitSeconds> busy_then_idle(10, {"case", 100});
+  busy_then_idle.insert(busy_then_idle.end(), 8, {"case", 30});
+  EXPECT_NEAR(remaining_seconds(busy_then_idle, {{"case", 0}}, 1), 30.0, 1e-12);
+  busy_then_idle.push_back({"case", 110}); // one slow one among the last eight: 7 x 30 + 110
+  EXPECT_NEAR(remaining_seconds(busy_then_idle, {{"case", 0}}, 1), (7 * 30 + 110) / 8.0, 1e-12);
 }
 
 // One progress line of the whole run per unit that ends (D344, D429), in the order they end,

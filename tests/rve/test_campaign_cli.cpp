@@ -75,6 +75,40 @@ TEST(RveCampaign, RunUnitAndStatusCommandsOnAPlanWithoutWork) {
   fs::remove_all(d);
 }
 
+// D429: pnc status says how long the rest takes if the units running now keep running this
+// many at a time. a/u_1 done in 100 s; a/u_2 running for 40 s in this (live) process, b and the
+// fit pending: a/u_2 has 60 s left (its kind's mean), b and the fit 100 s each (the mean of
+// every finished unit, none of their kind having finished), one at a time: 260 s.
+TEST(RveCampaign, StatusGivesTheTimeLeftFromTheFinishedUnitsOfEachKind) {
+  const auto d = plan_dir("test_campaign_eta");
+  write_plan(d.string(), toy_plan());
+  const std::string pnc = PNC_EXE;
+  auto r = pnc::test::run_command(pnc + " status " + d.string() + " --json 2>/dev/null");
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["eta_s"].is_null()) << "nothing runs: no ETA";
+  const double now = epoch_seconds();
+  UnitStatus done;
+  done.state = UnitState::done;
+  done.started_s = now - 200;
+  done.ended_s = now - 100;
+  write_status(d.string(), "a/u_1", done);
+  UnitStatus run;
+  run.state = UnitState::running;
+  run.host = host_name();
+  run.pid = ::getpid();
+  run.started_s = now - 40;
+  write_status(d.string(), "a/u_2", run);
+  r = pnc::test::run_command(pnc + " status " + d.string() + " --json 2>/dev/null");
+  ASSERT_EQ(r.code, 0) << r.out;
+  // the 40 s of a/u_2 are counted from when pnc status ran, up to a few seconds after `now`
+  const double eta = nlohmann::json::parse(r.out)["eta_s"].get<double>();
+  EXPECT_LE(eta, 260.0);
+  EXPECT_GT(eta, 250.0);
+  r = pnc::test::run_command(pnc + " status " + d.string() + " 2>&1");
+  EXPECT_NE(r.out.find("1 done, 1 running, 2 pending; about 4 min "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("left at 1 at a time"), std::string::npos) << r.out;
+  fs::remove_all(d);
+}
+
 // D300: `pnc status` on a Slurm plan whose jobs ended without its final unit (a unit cancelled,
 // the join unit failed naming what it missed) writes the stopped report: the units done, failed
 // (job id, message) and not finished, the plan's command with --resume; while a unit is still

@@ -39,10 +39,11 @@ struct UnitSeconds {
   double seconds = 0;
 };
 
-/// Wall time left of a run (s; D429): each unit `left` is expected to take the mean of the
-/// `finished` units of its kind (of all finished units when none of its kind has finished),
-/// less what it has run (never below 0), and `jobs` (>= 1) run at a time, so the sum is divided
-/// by min(jobs, left.size()). 0 when nothing is left; NaN when no unit has finished yet.
+/// Wall time left of a run (s; D429): each unit `left` is expected to take the mean of the last
+/// (up to) 8 `finished` units of its kind, `finished` in the order they ended (of those of
+/// every kind when none of its kind has finished), less what it has run (never below 0), and
+/// `jobs` (>= 1) run at a time, so the sum is divided by min(jobs, left.size()). 0 when nothing
+/// is left; NaN when no unit has finished yet.
 double remaining_seconds(const std::vector<UnitSeconds>& finished,
                          const std::vector<UnitSeconds>& left, int jobs);
 
