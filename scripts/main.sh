@@ -29,13 +29,14 @@ echo "== 3. The cards: constants, derived moduli (Table 6.12), strengths"
 
 echo "== 4a. MD characterisation of a glassy bead-spring polymer (demo_glass: 4 replicas, a few minutes)"
 rc=0
-"$pnc" characterize demo_glass --out md_glass --json > md_glass.json || rc=$?
+# --resume: a second run of the main job continues (or reuses) the run in md_glass
+"$pnc" characterize demo_glass --out md_glass --resume --json > md_glass.json || rc=$?
 if [ "$rc" -ne 0 ] && [ "$rc" -ne 4 ] && [ "$rc" -ne 3 ]; then exit "$rc"; fi
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); v=j["verdict"]; print("   verdict:", v["level"]); [print("    -", r) for r in v["reasons"]]' md_glass.json || true
 
 echo "== 4b. MD characterisation of the dissertation's polypropylene (demo preset, phase check first)"
 rc=0
-"$pnc" characterize demo --out md_demo --json > md_demo.json || rc=$?
+"$pnc" characterize demo --out md_demo --resume --json > md_demo.json || rc=$?
 if [ "$rc" -eq 4 ]; then
   echo "   (verdict NOT USABLE, as expected: the phase check finds that this polypropylene relaxes"
   echo "    within a hold; the card is written and marked, md_demo/report.md lists the reasons; docs/rve.md)"
