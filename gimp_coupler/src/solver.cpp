@@ -166,6 +166,7 @@ template <int D> void Solver<D>::initialize(bool fresh_state) {
     b.fe.assign(nn, Vec::Zero());
   }
   touched_.assign(static_cast<std::size_t>(threads), {0, nn}); // (the first P2G zeroes it all)
+  advise_huge_pages();                                         // D430
   touch_lo_ = 0; // the first step's node passes: every node (D411)
   touch_hi_ = nn;
   update_energies();

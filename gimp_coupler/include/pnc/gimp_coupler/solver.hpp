@@ -272,6 +272,8 @@ private:
   /// Unit normal of the crack nearest to node position X, pointing from X's side across it.
   Vec crack_normal(const Vec& X) const;
   [[noreturn]] void left_grid(std::size_t p) const;
+  /// The particle, weight and grid arrays backed by huge pages (D430; solver_sort.cpp).
+  void advise_huge_pages() const;
 
   std::vector<Buffer> buf_; // per-thread grid copies
   // D411: the nodes the particles touched in this step's P2G (all threads) and in the last
