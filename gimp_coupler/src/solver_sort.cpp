@@ -16,22 +16,32 @@
 namespace pnc::gimp {
 
 namespace {
+/// An empty vector with room for n elements; when `huge`, its memory is advised as huge pages
+/// before it is first written, so that it is backed by them from its first touch (D430).
+template <class T> std::vector<T> fresh(std::size_t n, bool huge) {
+  std::vector<T> v;
+  v.reserve(n);
+  if (huge) prefer_huge_pages(v.data(), n * sizeof(T));
+  return v;
+}
+
 /// a <- a[perm] (new position q holds the old element perm[q]).
-template <class T> void permute(std::vector<T>& a, const std::vector<std::size_t>& perm) {
-  std::vector<T> tmp(a.size());
+template <class T>
+void permute(std::vector<T>& a, const std::vector<std::size_t>& perm, bool huge) {
+  std::vector<T> tmp = fresh<T>(a.size(), huge);
   for (std::size_t q = 0; q < perm.size(); ++q)
-    tmp[q] = a[perm[q]];
+    tmp.push_back(a[perm[q]]);
   a.swap(tmp);
 }
 
 /// Blocks of `stride` values, one per particle: block q <- old block perm[q]. A vector whose
 /// size is not n * stride (not allocated yet) is left alone.
 void permute_blocks(std::vector<double>& a, const std::vector<std::size_t>& perm,
-                    std::size_t stride) {
+                    std::size_t stride, bool huge) {
   if (stride == 0 || a.size() != perm.size() * stride) return;
-  std::vector<double> tmp(a.size());
+  std::vector<double> tmp = fresh<double>(a.size(), huge);
   for (std::size_t q = 0; q < perm.size(); ++q)
-    std::copy_n(a.data() + perm[q] * stride, stride, tmp.data() + q * stride);
+    tmp.insert(tmp.end(), a.data() + perm[q] * stride, a.data() + (perm[q] + 1) * stride);
   a.swap(tmp);
 }
 } // namespace
@@ -68,42 +78,42 @@ template <int D> void Solver<D>::sort_particles() {
   for (std::size_t q = 0; q < n && identity; ++q)
     identity = perm[q] == q;
   if (identity) return;
+  const bool huge = huge_pages_wanted(); // the new arrays in huge pages from the start (D430)
 
-  permute(P.x, perm);
-  permute(P.x0, perm);
-  permute(P.v, perm);
-  permute(P.l, perm);
-  permute(P.fext, perm);
-  permute(P.m, perm);
-  permute(P.V0, perm);
-  permute(P.V, perm);
-  permute(P.F, perm);
-  permute(P.sigma, perm);
-  permute(P.W, perm);
-  permute(P.mat, perm);
-  if (order_.size() == n) permute(order_, perm);
-  permute_blocks(P.state, perm, static_cast<std::size_t>(P.state_stride));
+  permute(P.x, perm, huge);
+  permute(P.x0, perm, huge);
+  permute(P.v, perm, huge);
+  permute(P.l, perm, huge);
+  permute(P.fext, perm, huge);
+  permute(P.m, perm, huge);
+  permute(P.V0, perm, huge);
+  permute(P.V, perm, huge);
+  permute(P.F, perm, huge);
+  permute(P.sigma, perm, huge);
+  permute(P.W, perm, huge);
+  permute(P.mat, perm, huge);
+  if (order_.size() == n) permute(order_, perm, huge);
+  permute_blocks(P.state, perm, static_cast<std::size_t>(P.state_stride), huge);
   // The next P2G recomputes these for every particle; permuted anyway so that nothing read
   // between steps sees another particle's weights or crack fields.
-  if (wval_.size() == n) permute(wval_, perm);
-  if (wder_.size() == n) permute(wder_, perm);
-  permute_blocks(law_scratch_, perm, law_scratch_stride_); // the laws' scratch (D416)
-  if (fmask_.size() == n) permute(fmask_, perm);
+  if (wval_.size() == n) permute(wval_, perm, huge);
+  if (wder_.size() == n) permute(wder_, perm, huge);
+  permute_blocks(law_scratch_, perm, law_scratch_stride_, huge); // the laws' scratch (D416)
+  if (fmask_.size() == n) permute(fmask_, perm, huge);
   std::vector<std::size_t> where(n); // old index -> new index
   for (std::size_t q = 0; q < n; ++q)
     where[perm[q]] = q;
   for (auto& tr : tractions)
     for (auto& p : tr.particles)
       p = where[p];
-  advise_huge_pages(); // the permuted arrays are new allocations
+  advise_huge_pages(); // (what the advice before the first write did not get)
 }
 
 // D430: every array a step streams, once it has its size, when together they exceed what the
 // caches hold (16 MiB; below, no page walk to save and up to 2 MiB of memory per array to lose);
 // arrays under 64 KiB are skipped by prefer_huge_pages itself. Advice only: the data do not
 // change.
-template <int D> void Solver<D>::advise_huge_pages() const {
-  constexpr std::size_t kMinTotal = std::size_t{16} << 20;
+template <int D> std::vector<std::pair<const void*, std::size_t>> Solver<D>::array_spans() const {
   std::vector<std::pair<const void*, std::size_t>> spans;
   const auto add = [&](const auto& v) { spans.push_back({v.data(), v.size() * sizeof(v[0])}); };
   const auto& P = particles;
@@ -122,11 +132,20 @@ template <int D> void Solver<D>::advise_huge_pages() const {
     add(b.fi);
     add(b.fe);
   }
+  return spans;
+}
+
+template <int D> bool Solver<D>::huge_pages_wanted() const {
+  constexpr std::size_t kMinTotal = std::size_t{16} << 20;
   std::size_t total = 0;
-  for (const auto& s : spans)
+  for (const auto& s : array_spans())
     total += s.second;
-  if (total < kMinTotal) return;
-  for (const auto& s : spans)
+  return total >= kMinTotal && huge_pages_enabled();
+}
+
+template <int D> void Solver<D>::advise_huge_pages() const {
+  if (!huge_pages_wanted()) return;
+  for (const auto& s : array_spans())
     prefer_huge_pages(s.first, s.second);
 }
 
@@ -134,5 +153,9 @@ template void Solver<2>::sort_particles();
 template void Solver<3>::sort_particles();
 template void Solver<2>::advise_huge_pages() const;
 template void Solver<3>::advise_huge_pages() const;
+template bool Solver<2>::huge_pages_wanted() const;
+template bool Solver<3>::huge_pages_wanted() const;
+template std::vector<std::pair<const void*, std::size_t>> Solver<2>::array_spans() const;
+template std::vector<std::pair<const void*, std::size_t>> Solver<3>::array_spans() const;
 
 } // namespace pnc::gimp

@@ -26,6 +26,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pnc::gimp {
@@ -272,7 +273,10 @@ private:
   /// Unit normal of the crack nearest to node position X, pointing from X's side across it.
   Vec crack_normal(const Vec& X) const;
   [[noreturn]] void left_grid(std::size_t p) const;
-  /// The particle, weight and grid arrays backed by huge pages (D430; solver_sort.cpp).
+  /// The particle, weight and grid arrays backed by huge pages when together they exceed
+  /// 16 MiB (D430; solver_sort.cpp): their spans (address, bytes), the rule, the advice.
+  std::vector<std::pair<const void*, std::size_t>> array_spans() const;
+  bool huge_pages_wanted() const;
   void advise_huge_pages() const;
 
   std::vector<Buffer> buf_; // per-thread grid copies
