@@ -80,18 +80,8 @@ template <int D> void Solver<D>::sort_particles() {
   if (identity) return;
   const bool huge = huge_pages_wanted(); // the new arrays in huge pages from the start (D430)
 
-  permute(P.x, perm, huge);
-  permute(P.x0, perm, huge);
-  permute(P.v, perm, huge);
-  permute(P.l, perm, huge);
-  permute(P.fext, perm, huge);
-  permute(P.m, perm, huge);
-  permute(P.V0, perm, huge);
-  permute(P.V, perm, huge);
-  permute(P.F, perm, huge);
-  permute(P.sigma, perm, huge);
-  permute(P.W, perm, huge);
-  permute(P.mat, perm, huge);
+  const auto each = [&](auto&... a) { (permute(a, perm, huge), ...); };
+  each(P.x, P.x0, P.v, P.l, P.fext, P.m, P.V0, P.V, P.F, P.sigma, P.W, P.mat);
   if (order_.size() == n) permute(order_, perm, huge);
   permute_blocks(P.state, perm, static_cast<std::size_t>(P.state_stride), huge);
   // The next P2G recomputes these for every particle; permuted anyway so that nothing read
