@@ -12,6 +12,7 @@
 #include "pnc/damage/card.hpp"
 #include "pnc/damage/fit.hpp"
 #include "pnc/damage/moduli.hpp"
+#include "pnc/rve/replica_bootstrap.hpp"
 #include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replica_trend.hpp"
 
@@ -35,6 +36,7 @@ struct MdFit {
   damage::StressStrainData data;
   damage::FitReport rep;
   rve::ReplicaFits replica_fits;
+  rve::ReplicaBootstrap bootstrap; ///< the calibration check of the card's errors (D431)
   damage::Card card;
   rve::ReplicaTrend trend;
   std::vector<rve::SensePair> senses; ///< the shears run both ways, side by side (D428)
@@ -104,6 +106,18 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
         "separate replica fits (Student t factor {:.3g}; D130): {} constant(s) raised",
         replica_fits.replicas, replica_fits.coverage_factor, raised);
   }
+  // decision D431: the joint fit bootstrapped over the replicas checks those errors against its
+  // own sampling spread and raises any that is smaller (never lowers one)
+  f.bootstrap =
+      rve::bootstrap_joint_fit(md.statistics, o, rep, card.std_error, r.fit_bootstrap, r.seed);
+  if (f.bootstrap.applicable) {
+    const int raised = rve::apply_bootstrap(f.bootstrap, card.std_error);
+    honest.std_error = card.std_error;
+    card.fit.error_model += fmt::format(
+        "; checked by a bootstrap of the joint fit over the replicas ({} resamples, D431): {} "
+        "constant(s) raised to its spread",
+        f.bootstrap.resamples, raised);
+  }
   // decision D12k: with >= 3 replicas the residuals of the mean curves are correlated along
   // the curves; misfit is tested across replicas instead of by the runs test and chi^2 p
   f.trend = rve::replica_trend_test(md.statistics, rep, o.strain_max, o.stretch_max);
@@ -149,21 +163,14 @@ int run_fit_unit(const rve::Recipe& r, const rve::MdOutcome& md, const FitUnitAr
     write_text_atomically((fs::path(a.out) / "replica_fits.csv").string(), csv);
   // every figure of the run in one plotting process, after the card is written (a plotting
   // failure is a warning: the run and its report are complete without figures)
-  CharacterizeRun run{r,
-                      md,
-                      f.data,
-                      f.rep,
-                      f.card,
-                      f.replica_fits,
-                      f.trend,
-                      f.senses,
-                      f.max_shape_error,
-                      f.o.model,
-                      a.out,
-                      command,
-                      read_clay_info(r, md),
-                      0.0,
-                      !a.no_plots,
+  CharacterizeRun run{r,           md,
+                      f.data,      f.rep,
+                      f.card,      f.replica_fits,
+                      f.bootstrap, f.trend,
+                      f.senses,    f.max_shape_error,
+                      f.o.model,   a.out,
+                      command,     read_clay_info(r, md),
+                      0.0,         !a.no_plots,
                       {}};
   if (!a.no_plots) {
     const std::string plots = (fs::path(a.out) / "plots").string();

@@ -10,6 +10,7 @@
 #include "pnc/damage/fit.hpp"
 #include "pnc/rve/characterize.hpp"
 #include "pnc/rve/recipe.hpp"
+#include "pnc/rve/replica_bootstrap.hpp"
 #include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replica_trend.hpp"
 #include "pnc/rve/sense_pairs.hpp"
@@ -28,6 +29,7 @@ struct CharacterizeRun {
   const damage::FitReport& rep;         ///< the joint fit
   const damage::Card& card;             ///< as written (errors and verdict of the MD gates)
   const rve::ReplicaFits& replica_fits;
+  const rve::ReplicaBootstrap& bootstrap; ///< calibration check of the card's errors (D431)
   const rve::ReplicaTrend& trend;
   const std::vector<rve::SensePair>& senses; ///< shears run both ways (D428); empty: none
   double max_shape_error; ///< the tolerance of the shape error the verdict used (D417)

@@ -18,8 +18,6 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr std::size_t kAnySize = std::numeric_limits<std::size_t>::max();
-
 // ---- entries not bound to a variable: read() returns their values ----
 
 using declare::integer;

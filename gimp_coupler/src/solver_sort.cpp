@@ -125,17 +125,24 @@ template <int D> std::vector<std::pair<const void*, std::size_t>> Solver<D>::arr
   return spans;
 }
 
-template <int D> bool Solver<D>::huge_pages_wanted() const {
+namespace {
+bool spans_want_huge_pages(const std::vector<std::pair<const void*, std::size_t>>& spans) {
   constexpr std::size_t kMinTotal = std::size_t{16} << 20;
   std::size_t total = 0;
-  for (const auto& s : array_spans())
+  for (const auto& s : spans)
     total += s.second;
   return total >= kMinTotal && huge_pages_enabled();
 }
+} // namespace
+
+template <int D> bool Solver<D>::huge_pages_wanted() const {
+  return spans_want_huge_pages(array_spans());
+}
 
 template <int D> void Solver<D>::advise_huge_pages() const {
-  if (!huge_pages_wanted()) return;
-  for (const auto& s : array_spans())
+  const auto spans = array_spans(); // listed once for the rule and the advice
+  if (!spans_want_huge_pages(spans)) return;
+  for (const auto& s : spans)
     prefer_huge_pages(s.first, s.second);
 }
 

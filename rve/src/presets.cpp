@@ -118,7 +118,7 @@ const char* paper_glass_patch = R"({
 // and each shear in the negative sense too (cases 7-9, D424, D426: the two senses of one
 // replica soften differently, their mean scatters less between replicas); fitted over a stretch of
 // 0.03, where the law follows the glass's shear on independent replicas, with 48 replicas
-// (decision D421). About 3 h on 2 cores.
+// (decision D421). About 2 h on 2 cores (docs/rve.md, "Both senses in one run").
 const char* card_glass_patch = R"({
   "name": "card_glass",
   "deform": { "cases": [1, 2, 3, 4, 5, 6, 7, 8, 9], "strain_max": 0.05, "shear_strain_max": 0.10,

@@ -259,6 +259,11 @@ void declare_analysis_fit_run(Parameters& p, Recipe& r) {
             "derived, not fitted (D396)")
       .remark("models pp and kg")
       .omit_when_default();
+  p.integer("bootstrap", r.fit_bootstrap, 0, 100000, "",
+            "resamples of the bootstrap of the joint fit over replicas that checks the card's "
+            "error bars and raises any below the joint fit's spread (>= 8 replicas; below 20 = "
+            "off; D431)")
+      .omit_when_default();
   p.section("run", "how the cases run");
   p.integer("jobs", r.jobs, 1, 64, "", "cases at a time (pnc characterize --jobs overrides)");
   p.integer("replicas", r.replicas, 1, kMaxReplicas, "",

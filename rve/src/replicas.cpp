@@ -126,6 +126,33 @@ const CombinedCase* CombinedCases::find(int id) const {
   return nullptr;
 }
 
+void replica_mean_curve(const CombinedCase& cc, const std::vector<int>& pick, PathM& mean,
+                        PathM& stderr_out) {
+  const auto nrep = static_cast<int>(pick.size());
+  const Eigen::Index n = cc.strain.rows();
+  mean.resize(n, 6);
+  stderr_out.resize(n, 6);
+  PathM var(n, 6);
+  std::vector<double> v(pick.size());
+  for (Eigen::Index k = 0; k < n; ++k)
+    for (int j = 0; j < 6; ++j) {
+      for (std::size_t i = 0; i < pick.size(); ++i)
+        v[i] = cc.replica_stress[static_cast<std::size_t>(pick[i])](k, j);
+      const md::ReplicaEstimate e = md::replica_mean_se(v);
+      mean(k, j) = e.mean;
+      var(k, j) = e.sd * e.sd;
+    }
+  // a point's variance from N < kPointVarianceReplicas replicas has few degrees of freedom
+  // (N = 2: one) and can be near zero by chance, an infinite fit weight: it is not used
+  // below the variance pooled over the rows of the curve (per component), D130
+  const Eigen::RowVectorXd pooled = var.colwise().mean();
+  for (Eigen::Index k = 0; k < n; ++k)
+    for (int j = 0; j < 6; ++j) {
+      const double vk = nrep < kPointVarianceReplicas ? std::max(var(k, j), pooled[j]) : var(k, j);
+      stderr_out(k, j) = std::sqrt(vk / nrep);
+    }
+}
+
 CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseResult>>& results) {
   CombinedCases out;
   out.replicas = static_cast<int>(results.size());
@@ -197,28 +224,10 @@ CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseR
       }
     } else {
       // decision D130: between-replica mean and standard error sd / sqrt(N)
-      cc.stress.resize(n, 6);
-      cc.stress_stderr.resize(n, 6);
-      PathM var(n, 6);
-      for (Eigen::Index k = 0; k < n; ++k)
-        for (int j = 0; j < 6; ++j) {
-          std::vector<double> v;
-          for (int rep = 0; rep < nrep; ++rep)
-            v.push_back(cc.replica_stress[rep](k, j));
-          const md::ReplicaEstimate e = md::replica_mean_se(v);
-          cc.stress(k, j) = e.mean;
-          var(k, j) = e.sd * e.sd;
-        }
-      // a point's variance from N < kPointVarianceReplicas replicas has few degrees of freedom
-      // (N = 2: one) and can be near zero by chance, an infinite fit weight: it is not used
-      // below the variance pooled over the rows of the curve (per component), D130
-      const Eigen::RowVectorXd pooled = var.colwise().mean();
-      for (Eigen::Index k = 0; k < n; ++k)
-        for (int j = 0; j < 6; ++j) {
-          const double v =
-              nrep < kPointVarianceReplicas ? std::max(var(k, j), pooled[j]) : var(k, j);
-          cc.stress_stderr(k, j) = std::sqrt(v / nrep);
-        }
+      std::vector<int> all(static_cast<std::size_t>(nrep));
+      for (int rep = 0; rep < nrep; ++rep)
+        all[static_cast<std::size_t>(rep)] = rep;
+      replica_mean_curve(cc, all, cc.stress, cc.stress_stderr);
       cc.reference_stderr = Eigen::RowVectorXd::Zero(6);
       if (subtract)
         for (int j = 0; j < 6; ++j) {

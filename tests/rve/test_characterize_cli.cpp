@@ -274,6 +274,10 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
   const auto js = nlohmann::json::parse(r.out);
   EXPECT_EQ(js["statistics"]["error_method"], "replicas");
   EXPECT_EQ(js["statistics"]["cases"][0]["replica_slopes_Pa"].size(), 2u);
+  // two replicas are too few for the bootstrap check of the error bars (D431): it says so
+  EXPECT_EQ(js["statistics"]["bootstrap"]["applicable"], false);
+  EXPECT_NE(js["statistics"]["bootstrap"]["why_not"].get<std::string>().find("this run: 2"),
+            std::string::npos);
   std::vector<fs::path> ckpts;
   for (const char* rep : {"replica_1", "replica_2"}) {
     for (const char* f : {"build/rve.data", "build/build.h5", "equilibrate/final.h5"})
@@ -319,6 +323,9 @@ TEST(RveCharacterizeCli, TwoReplicasGiveBetweenReplicaErrorsAndResumeDoesNothing
             std::string::npos);
   EXPECT_NE(slurp((fs::path(out) / "report.md").string())
                 .find("Between-replica errors of the fitted constants"),
+            std::string::npos);
+  EXPECT_NE(slurp((fs::path(out) / "report.md").string())
+                .find("bootstrap of the joint fit\n\nNot run: needs >= 8 replicas"),
             std::string::npos);
   // every replica's own fit (replica_fits.csv): two rows; the card's standard error of a fitted
   // constant is at least t x sd/sqrt(2) of the two (D130, t = 1.84 for 1 degree of freedom)

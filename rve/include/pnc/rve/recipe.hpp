@@ -78,6 +78,9 @@ struct Recipe {
   /// fit.isotropic: the pure polymer's C44 and B4 derived by isotropy, C44 = (C11 - C12)/2,
   /// B4 = B1 - B2/2 (decision D396); models pp and kg only
   bool fit_isotropic = false;
+  /// fit.bootstrap: resamples of the bootstrap of the joint fit over replicas, the calibration
+  /// check of the card's error bars (decision D431); runs with >= 8 replicas; < 20 = off
+  int fit_bootstrap = 200;
   int jobs = 1;
   /// "system": the user's own data/restart file and force field instead of the builder
   /// (user_system.hpp); then "build", "clay" and "forcefield" are refused and "equilibrate"

@@ -64,6 +64,13 @@ struct CombinedCases {
   const CombinedCase* find(int id) const;
 };
 
+/// Mean over the replicas `pick` (indices into cc.replica_stress, repeats allowed; N =
+/// pick.size() >= 2) and its between-replica standard error sd/sqrt(N) per point, with the
+/// pooled floor of D130 below kPointVarianceReplicas (8) replicas: what combine_cases stores,
+/// and what the bootstrap of D431 recomputes for each resample. Pa.
+void replica_mean_curve(const CombinedCase& cc, const std::vector<int>& pick, PathM& mean,
+                        PathM& stderr_out);
+
 /// Combines `results[replica][case]` (cases in the same order in every replica). Throws
 /// pnc::InputError when a case has no strain step or replicas disagree in their strains.
 CombinedCases combine_cases(const Recipe& r, const std::vector<std::vector<CaseResult>>& results);

@@ -1,0 +1,163 @@
+// The bootstrap of the joint fit over replicas (replica_bootstrap.hpp, decision D431).
+#include "pnc/rve/replica_bootstrap.hpp"
+
+#include "pnc/core/error.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <random>
+
+namespace pnc::rve {
+
+namespace {
+
+/// The joint-fit data of the replicas `pick` (D130 combination, as in cases.h5).
+damage::StressStrainData resample_data(const CombinedCases& c, const std::vector<int>& pick) {
+  damage::StressStrainData d;
+  d.source = "bootstrap resample";
+  d.stress_definition = c.stress_definition;
+  for (const auto& cc : c.cases) {
+    damage::CaseCurve cv;
+    cv.id = cc.id;
+    cv.strain = cc.strain;
+    replica_mean_curve(cc, pick, cv.stress, cv.stress_stderr);
+    d.cases.push_back(std::move(cv));
+  }
+  return d;
+}
+
+} // namespace
+
+ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOptions& options,
+                                     const damage::FitReport& joint,
+                                     const std::vector<double>& card_error, int resamples,
+                                     std::uint64_t seed) {
+  ReplicaBootstrap b;
+  b.replicas = c.replicas;
+  b.seed = seed;
+  b.names = damage::constant_names(options.model);
+  const std::size_t nk = b.names.size();
+  b.value.assign(nk, std::nan(""));
+  b.card_error.assign(nk, std::nan(""));
+  b.spread.assign(nk, std::nan(""));
+  b.ratio.assign(nk, std::nan(""));
+  b.ratio_stderr.assign(nk, std::nan(""));
+  b.raised.assign(nk, false);
+  for (std::size_t i = 0; i < nk && i < joint.params.k.size(); ++i) {
+    b.value[i] = joint.params.k[i];
+    if (i < joint.fitted.size() && joint.fitted[i] && i < card_error.size())
+      b.card_error[i] = card_error[i];
+  }
+  if (c.replicas < kBootstrapMinReplicas || c.cases.empty()) {
+    b.why_not = fmt::format("needs >= {} replicas (this run: {}): with fewer the resamples are "
+                            "too few and too alike",
+                            kBootstrapMinReplicas, c.replicas);
+    return b;
+  }
+  if (resamples < 20) {
+    b.why_not = fmt::format("fit.bootstrap = {} resamples (off below 20)", resamples);
+    return b;
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> draw(0, c.replicas - 1);
+  std::vector<double> sum(nk, 0.0), sum2(nk, 0.0);
+  std::vector<int> pick(static_cast<std::size_t>(c.replicas));
+  for (int s = 0; s < resamples; ++s) {
+    for (auto& p : pick)
+      p = draw(rng);
+    try {
+      const damage::FitReport f = damage::fit_ndm(resample_data(c, pick), options);
+      if (!f.converged) {
+        ++b.failed;
+        continue;
+      }
+      for (std::size_t i = 0; i < nk; ++i) {
+        // deviations from the card's value: no cancellation in the sums at GPa scale
+        const double d = f.params.k[i] - b.value[i];
+        sum[i] += d;
+        sum2[i] += d * d;
+      }
+      ++b.resamples;
+    } catch (const InputError&) {
+      ++b.failed;
+    }
+  }
+  if (b.resamples < 20) {
+    b.why_not = fmt::format("only {} of {} refits converged", b.resamples, resamples);
+    return b;
+  }
+  const double m = b.resamples;
+  for (std::size_t i = 0; i < nk; ++i) {
+    if (!std::isfinite(b.card_error[i])) continue;
+    const double mean = sum[i] / m;
+    b.spread[i] = std::sqrt(std::max(0.0, (sum2[i] - m * mean * mean) / (m - 1)));
+    b.ratio[i] = b.spread[i] / b.card_error[i];
+    b.ratio_stderr[i] = b.ratio[i] / std::sqrt(2.0 * (m - 1));
+  }
+  b.applicable = true;
+  return b;
+}
+
+int apply_bootstrap(ReplicaBootstrap& b, std::vector<double>& std_error) {
+  if (!b.applicable) return 0;
+  int raised = 0;
+  for (std::size_t i = 0; i < b.spread.size() && i < std_error.size(); ++i)
+    if (std::isfinite(b.ratio[i]) && b.spread[i] > std_error[i]) {
+      std_error[i] = b.spread[i];
+      b.raised[i] = true;
+      ++raised;
+    }
+  return raised;
+}
+
+std::string replica_bootstrap_markdown(const ReplicaBootstrap& b) {
+  std::string s = "### Calibration of the error bars: bootstrap of the joint fit\n\n";
+  if (!b.applicable) return s + "Not run: " + b.why_not + " (D431).\n\n";
+  s += fmt::format(
+      "The joint fit repeated on {} resamples of the {} replicas drawn with replacement (seed "
+      "{}; {} refit(s) failed and are left out). The spread of a constant over the resamples "
+      "is its sampling error as the joint fit gives it; the card's error (D130) should not be "
+      "smaller. Ratio = spread / card error, with its own sampling error: near 1 or below, "
+      "the card's error covers the spread; where the spread is larger the card's error was "
+      "raised to it (D431).\n\n| constant | value | card error (before) | bootstrap spread | "
+      "ratio | raised |\n|---|---|---|---|---|---|\n",
+      b.resamples, b.replicas, b.seed, b.failed);
+  for (std::size_t i = 0; i < b.names.size(); ++i) {
+    if (!std::isfinite(b.ratio[i])) continue;
+    const bool alpha = b.names[i] == "alpha";
+    const double u = alpha ? 1.0 : 1e-9;
+    const char* unit = alpha ? "" : " GPa";
+    s += fmt::format("| {} | {:.4g}{} | {:.3g}{} | {:.3g}{} | {:.2f} +- {:.2f} | {} |\n",
+                     b.names[i], b.value[i] * u, unit, b.card_error[i] * u, unit, b.spread[i] * u,
+                     unit, b.ratio[i], b.ratio_stderr[i], b.raised[i] ? "yes" : "no");
+  }
+  return s + "\n";
+}
+
+nlohmann::json replica_bootstrap_json(const ReplicaBootstrap& b) {
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json j = {{"applicable", b.applicable},
+                      {"replicas", b.replicas},
+                      {"resamples", b.resamples},
+                      {"failed", b.failed},
+                      {"seed", b.seed}};
+  if (!b.applicable) {
+    j["why_not"] = b.why_not;
+    return j;
+  }
+  nlohmann::json cs = nlohmann::json::object();
+  for (std::size_t i = 0; i < b.names.size(); ++i) {
+    if (!std::isfinite(b.ratio[i])) continue;
+    const std::string unit = b.names[i] == "alpha" ? "1" : "Pa";
+    cs[b.names[i]] = {{"card_error_before_" + unit, num(b.card_error[i])},
+                      {"spread_" + unit, num(b.spread[i])},
+                      {"ratio", num(b.ratio[i])},
+                      {"ratio_stderr", num(b.ratio_stderr[i])},
+                      {"raised", static_cast<bool>(b.raised[i])}};
+  }
+  j["constants"] = cs;
+  return j;
+}
+
+} // namespace pnc::rve
