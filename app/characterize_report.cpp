@@ -460,7 +460,8 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
     std::cerr << "pnc characterize: phase check: " << md.phase.phase
               << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
               << "\n";
-  std::cerr << rve::sense_pairs_summary(c.senses); // D428
+  if (md.statistics.replicas >= 2) std::cerr << rve::replica_bootstrap_summary(c.bootstrap); // D431
+  std::cerr << rve::sense_pairs_summary(c.senses);                                           // D428
   std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
             << "\n  report: " << html_path << " (and " << report_path << ")\n";
   for (const auto& p : c.plots.pngs)

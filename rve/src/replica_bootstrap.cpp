@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -133,6 +134,23 @@ std::string replica_bootstrap_markdown(const ReplicaBootstrap& b) {
                      unit, b.ratio[i], b.ratio_stderr[i], b.raised[i] ? "yes" : "no");
   }
   return s + "\n";
+}
+
+std::string replica_bootstrap_summary(const ReplicaBootstrap& b) {
+  if (!b.applicable)
+    return "pnc characterize: error bars not checked by a bootstrap (D431): " + b.why_not + "\n";
+  double lo = INFINITY, hi = -INFINITY;
+  std::string raised;
+  for (std::size_t i = 0; i < b.names.size(); ++i) {
+    if (!std::isfinite(b.ratio[i])) continue;
+    lo = std::min(lo, b.ratio[i]);
+    hi = std::max(hi, b.ratio[i]);
+    if (b.raised[i]) raised += (raised.empty() ? "" : ", ") + b.names[i];
+  }
+  return fmt::format("pnc characterize: error bars checked by a bootstrap over the {} replicas "
+                     "({} resamples, D431): spread / card error {:.2f}-{:.2f}; raised to the "
+                     "spread: {}\n",
+                     b.replicas, b.resamples, lo, hi, raised.empty() ? "none" : raised);
 }
 
 nlohmann::json replica_bootstrap_json(const ReplicaBootstrap& b) {

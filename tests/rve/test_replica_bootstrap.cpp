@@ -143,6 +143,10 @@ TEST(ReplicaBootstrap, RaisesAnErrorBelowTheSpreadAndNeverLowersOne) {
   const std::string md = rve::replica_bootstrap_markdown(up);
   EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
   EXPECT_EQ(rve::replica_bootstrap_json(up)["resamples"], 40);
+  const std::string line = rve::replica_bootstrap_summary(up);
+  EXPECT_NE(line.find("raised to the spread: C11, C12, C44, B1, B2"), std::string::npos) << line;
+  EXPECT_NE(rve::replica_bootstrap_summary(keep).find("raised to the spread: none"),
+            std::string::npos);
 }
 
 TEST(ReplicaBootstrap, RefusesFewReplicasAndFewResamplesWithTheReason) {
@@ -155,6 +159,7 @@ TEST(ReplicaBootstrap, RefusesFewReplicasAndFewResamplesWithTheReason) {
   EXPECT_NE(b.why_not.find(">= 8 replicas (this run: 7)"), std::string::npos) << b.why_not;
   EXPECT_EQ(rve::apply_bootstrap(b, errors), 0);
   EXPECT_NE(rve::replica_bootstrap_markdown(b).find("Not run"), std::string::npos);
+  EXPECT_NE(rve::replica_bootstrap_summary(b).find("not checked"), std::string::npos);
   const rve::CombinedCases enough = make_run(8, rng);
   rve::ReplicaBootstrap off =
       rve::bootstrap_joint_fit(enough, options(), joint_fit(enough), errors, 19, 1);

@@ -63,6 +63,9 @@ int apply_bootstrap(ReplicaBootstrap& b, std::vector<double>& std_error);
 /// Markdown section for report.md: per constant the card's error, the bootstrap spread, their
 /// ratio with its sampling error, and whether the error was raised; or why the check did not run.
 std::string replica_bootstrap_markdown(const ReplicaBootstrap& b);
+/// One line for the run's summary on stderr: the range of the ratios and which errors were
+/// raised, or why the check did not run.
+std::string replica_bootstrap_summary(const ReplicaBootstrap& b);
 /// The same as JSON (keys state units: _Pa; alpha's spread in "1").
 nlohmann::json replica_bootstrap_json(const ReplicaBootstrap& b);
 
