@@ -91,15 +91,10 @@ MdFit fit_md(const rve::Recipe& r, const rve::MdOutcome& md) {
   // independent RVEs says
   FitReport honest = rep;
   if (replica_fits.replicas >= 2) {
-    int raised = 0;
-    for (std::size_t j = 0; j < card.std_error.size() && j < replica_fits.se.size(); ++j) {
-      if (!card.fitted[j] || !std::isfinite(replica_fits.se[j])) continue;
-      const double between = replica_fits.coverage_factor * replica_fits.se[j];
-      if (!(between <= card.std_error[j])) {
-        card.std_error[j] = between;
-        ++raised;
-      }
-    }
+    std::vector<double> between(card.std_error.size(), std::nan(""));
+    for (std::size_t j = 0; j < between.size() && j < replica_fits.se.size(); ++j)
+      if (card.fitted[j]) between[j] = replica_fits.coverage_factor * replica_fits.se[j];
+    const int raised = rve::raise_errors(card.std_error, between);
     honest.std_error = card.std_error;
     card.fit.error_model += fmt::format(
         "; per constant the larger of that and the between-replica standard error of {} "

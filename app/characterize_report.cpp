@@ -190,7 +190,7 @@ std::string details_markdown(const CharacterizeRun& c) {
   rep_md += md.statistics_markdown; // error method, replicas, block check (D130-D134)
   rep_md += "## Fitted constants\n\n" + code_block(constants_table(card));
   rep_md += rve::replica_fits_markdown(replica_fits, rep);
-  if (md.statistics.replicas >= 2) rep_md += rve::replica_bootstrap_markdown(c.bootstrap); // D431
+  rep_md += rve::replica_bootstrap_markdown(c.bootstrap); // D431: empty with < 2 replicas
   rep_md += rve::replica_trend_markdown(trend, c.max_shape_error);
   rep_md += rve::sense_pairs_markdown(c.senses); // D428
   rep_md += "\n## Fit quality and the dissertation's tables\n\n" +
@@ -431,8 +431,7 @@ nlohmann::json characterize_json(const CharacterizeRun& c, const std::string& ca
   j["verdict"] = verdict_json(card.verdict);
   j["statistics"] = rve::statistics_json(md.statistics); // error model, D130-D134
   if (!md.replica_history.empty()) j["statistics"]["replica_history"] = md.replica_history; // D418
-  if (md.statistics.replicas >= 2)                                                          // D431
-    j["statistics"]["bootstrap"] = rve::replica_bootstrap_json(c.bootstrap);
+  if (c.bootstrap.shown()) j["statistics"]["bootstrap"] = rve::replica_bootstrap_json(c.bootstrap);
   if (!c.senses.empty()) j["statistics"]["sense_pairs"] = rve::sense_pairs_json(c.senses); // D428
   j["moduli"] = {{"E_isotropic_formula_Pa", num(dm.E_isotropic_formula)},
                  {"E1_Pa", num(dm.E1)},
@@ -460,8 +459,8 @@ void print_characterize_summary(const CharacterizeRun& c, const std::string& car
     std::cerr << "pnc characterize: phase check: " << md.phase.phase
               << (md.phase.solid ? "" : " -- shear and damage constants held as not identified")
               << "\n";
-  if (md.statistics.replicas >= 2) std::cerr << rve::replica_bootstrap_summary(c.bootstrap); // D431
-  std::cerr << rve::sense_pairs_summary(c.senses);                                           // D428
+  std::cerr << rve::replica_bootstrap_summary(c.bootstrap); // D431: empty with < 2 replicas
+  std::cerr << rve::sense_pairs_summary(c.senses);          // D428
   std::cerr << "  cases: " << md.cases_h5 << "\n  card: " << card_path
             << "\n  report: " << html_path << " (and " << report_path << ")\n";
   for (const auto& p : c.plots.pngs)

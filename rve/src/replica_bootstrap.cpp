@@ -2,6 +2,7 @@
 #include "pnc/rve/replica_bootstrap.hpp"
 
 #include "pnc/core/error.hpp"
+#include "pnc/rve/replica_fits.hpp"
 
 #include <fmt/format.h>
 
@@ -11,12 +12,14 @@
 
 namespace pnc::rve {
 
-namespace {
+double ReplicaBootstrap::ratio_stderr(std::size_t i) const {
+  return i < ratio.size() && resamples >= 2 ? ratio[i] / std::sqrt(2.0 * (resamples - 1))
+                                            : std::nan("");
+}
 
-/// The joint-fit data of the replicas `pick` (D130 combination, as in cases.h5).
-damage::StressStrainData resample_data(const CombinedCases& c, const std::vector<int>& pick) {
+damage::StressStrainData replica_mean_data(const CombinedCases& c, const std::vector<int>& pick) {
   damage::StressStrainData d;
-  d.source = "bootstrap resample";
+  d.source = "replica mean";
   d.stress_definition = c.stress_definition;
   for (const auto& cc : c.cases) {
     damage::CaseCurve cv;
@@ -27,8 +30,6 @@ damage::StressStrainData resample_data(const CombinedCases& c, const std::vector
   }
   return d;
 }
-
-} // namespace
 
 ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOptions& options,
                                      const damage::FitReport& joint,
@@ -43,7 +44,6 @@ ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOp
   b.card_error.assign(nk, std::nan(""));
   b.spread.assign(nk, std::nan(""));
   b.ratio.assign(nk, std::nan(""));
-  b.ratio_stderr.assign(nk, std::nan(""));
   b.raised.assign(nk, false);
   for (std::size_t i = 0; i < nk && i < joint.params.k.size(); ++i) {
     b.value[i] = joint.params.k[i];
@@ -68,7 +68,7 @@ ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOp
     for (auto& p : pick)
       p = draw(rng);
     try {
-      const damage::FitReport f = damage::fit_ndm(resample_data(c, pick), options);
+      const damage::FitReport f = damage::fit_ndm(replica_mean_data(c, pick), options);
       if (!f.converged) {
         ++b.failed;
         continue;
@@ -89,12 +89,14 @@ ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOp
     return b;
   }
   const double m = b.resamples;
+  // a resample's mean of N draws varies by sqrt((N-1)/N) x the sampling error of the run's
+  // mean: the spread is scaled back (D431), so that it estimates the spread over runs
+  const double bias = std::sqrt(static_cast<double>(c.replicas) / (c.replicas - 1));
   for (std::size_t i = 0; i < nk; ++i) {
     if (!std::isfinite(b.card_error[i])) continue;
     const double mean = sum[i] / m;
-    b.spread[i] = std::sqrt(std::max(0.0, (sum2[i] - m * mean * mean) / (m - 1)));
+    b.spread[i] = bias * std::sqrt(std::max(0.0, (sum2[i] - m * mean * mean) / (m - 1)));
     b.ratio[i] = b.spread[i] / b.card_error[i];
-    b.ratio_stderr[i] = b.ratio[i] / std::sqrt(2.0 * (m - 1));
   }
   b.applicable = true;
   return b;
@@ -102,24 +104,22 @@ ReplicaBootstrap bootstrap_joint_fit(const CombinedCases& c, const damage::FitOp
 
 int apply_bootstrap(ReplicaBootstrap& b, std::vector<double>& std_error) {
   if (!b.applicable) return 0;
-  int raised = 0;
-  for (std::size_t i = 0; i < b.spread.size() && i < std_error.size(); ++i)
-    if (std::isfinite(b.ratio[i]) && b.spread[i] > std_error[i]) {
-      std_error[i] = b.spread[i];
-      b.raised[i] = true;
-      ++raised;
-    }
-  return raised;
+  std::vector<double> floor(b.spread.size(), std::nan(""));
+  for (std::size_t i = 0; i < floor.size(); ++i)
+    if (std::isfinite(b.ratio[i])) floor[i] = b.spread[i];
+  return raise_errors(std_error, floor, &b.raised);
 }
 
 std::string replica_bootstrap_markdown(const ReplicaBootstrap& b) {
+  if (!b.shown()) return "";
   std::string s = "### Calibration of the error bars: bootstrap of the joint fit\n\n";
   if (!b.applicable) return s + "Not run: " + b.why_not + " (D431).\n\n";
   s += fmt::format(
       "The joint fit repeated on {} resamples of the {} replicas drawn with replacement (seed "
-      "{}; {} refit(s) failed and are left out). The spread of a constant over the resamples "
-      "is its sampling error as the joint fit gives it; the card's error (D130) should not be "
-      "smaller. Ratio = spread / card error, with its own sampling error: near 1 or below, "
+      "{}; {} refit(s) failed and are left out). The spread of a constant over the resamples, "
+      "times sqrt(N/(N-1)) for the bootstrap's bias, is its sampling error as the joint fit "
+      "gives it; the card's error (D130) should not be smaller. Ratio = spread / card error, with "
+      "its own sampling error: near 1 or below, "
       "the card's error covers the spread; where the spread is larger the card's error was "
       "raised to it (D431).\n\n| constant | value | card error (before) | bootstrap spread | "
       "ratio | raised |\n|---|---|---|---|---|---|\n",
@@ -131,12 +131,13 @@ std::string replica_bootstrap_markdown(const ReplicaBootstrap& b) {
     const char* unit = alpha ? "" : " GPa";
     s += fmt::format("| {} | {:.4g}{} | {:.3g}{} | {:.3g}{} | {:.2f} +- {:.2f} | {} |\n",
                      b.names[i], b.value[i] * u, unit, b.card_error[i] * u, unit, b.spread[i] * u,
-                     unit, b.ratio[i], b.ratio_stderr[i], b.raised[i] ? "yes" : "no");
+                     unit, b.ratio[i], b.ratio_stderr(i), b.raised[i] ? "yes" : "no");
   }
   return s + "\n";
 }
 
 std::string replica_bootstrap_summary(const ReplicaBootstrap& b) {
+  if (!b.shown()) return "";
   if (!b.applicable)
     return "pnc characterize: error bars not checked by a bootstrap (D431): " + b.why_not + "\n";
   double lo = INFINITY, hi = -INFINITY;
@@ -148,13 +149,16 @@ std::string replica_bootstrap_summary(const ReplicaBootstrap& b) {
     if (b.raised[i]) raised += (raised.empty() ? "" : ", ") + b.names[i];
   }
   return fmt::format("pnc characterize: error bars checked by a bootstrap over the {} replicas "
-                     "({} resamples, D431): spread / card error {:.2f}-{:.2f}; raised to the "
+                     "({} resamples{}, D431): spread / card error {:.2f}-{:.2f}; raised to the "
                      "spread: {}\n",
-                     b.replicas, b.resamples, lo, hi, raised.empty() ? "none" : raised);
+                     b.replicas, b.resamples,
+                     b.failed > 0 ? fmt::format(", {} refit(s) failed, left out", b.failed) : "",
+                     lo, hi, raised.empty() ? "none" : raised);
 }
 
 nlohmann::json replica_bootstrap_json(const ReplicaBootstrap& b) {
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  if (!b.shown()) return nullptr;
   nlohmann::json j = {{"applicable", b.applicable},
                       {"replicas", b.replicas},
                       {"resamples", b.resamples},
@@ -171,7 +175,7 @@ nlohmann::json replica_bootstrap_json(const ReplicaBootstrap& b) {
     cs[b.names[i]] = {{"card_error_before_" + unit, num(b.card_error[i])},
                       {"spread_" + unit, num(b.spread[i])},
                       {"ratio", num(b.ratio[i])},
-                      {"ratio_stderr", num(b.ratio_stderr[i])},
+                      {"ratio_stderr", num(b.ratio_stderr(i))},
                       {"raised", static_cast<bool>(b.raised[i])}};
   }
   j["constants"] = cs;

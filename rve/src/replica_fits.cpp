@@ -88,6 +88,18 @@ std::string replica_fits_markdown(const ReplicaFits& f, const damage::FitReport&
   return s + "\n";
 }
 
+int raise_errors(std::vector<double>& std_error, const std::vector<double>& floor,
+                 std::vector<bool>* raised) {
+  int n = 0;
+  for (std::size_t i = 0; i < std_error.size() && i < floor.size(); ++i) {
+    if (!std::isfinite(floor[i]) || floor[i] <= std_error[i]) continue;
+    std_error[i] = floor[i];
+    if (raised != nullptr && i < raised->size()) (*raised)[i] = true;
+    ++n;
+  }
+  return n;
+}
+
 std::string replica_fits_csv(const ReplicaFits& f) {
   if (f.replicas < 2 || f.names.empty()) return "";
   std::string s = "replica";

@@ -37,16 +37,7 @@ damage::FitReport joint_fit(const rve::CombinedCases& c) {
   std::vector<int> all;
   for (int r = 0; r < c.replicas; ++r)
     all.push_back(r);
-  damage::StressStrainData d;
-  d.stress_definition = c.stress_definition;
-  for (const auto& cc : c.cases) {
-    damage::CaseCurve cv;
-    cv.id = cc.id;
-    cv.strain = cc.strain;
-    rve::replica_mean_curve(cc, all, cv.stress, cv.stress_stderr);
-    d.cases.push_back(cv);
-  }
-  return damage::fit_ndm(d, options());
+  return damage::fit_ndm(rve::replica_mean_data(c, all), options());
 }
 
 } // namespace
@@ -88,8 +79,9 @@ TEST(ReplicaBootstrap, SpreadOfOneRunEstimatesTheSpreadOverIndependentRuns) {
   // Relative standard errors: true_sd from 200 runs 1/sqrt(2*199) = 0.050; one run's bootstrap
   // spread 1/sqrt(2*59) = 0.092 from 60 resamples and ~1/sqrt(2*15) = 0.18 from its 16
   // replicas, 0.20 together, 0.041 as the mean of 24 runs; the ratio 0.065. The bootstrap
-  // spread of a mean is low by sqrt((N-1)/N) = 0.968 (for the nonlinear damage constants either
-  // way). Band: 0.968 x (1 - 3 x 0.065) .. 1 + 3 x 0.065. B4 is left out: with these curves
+  // spread is corrected for its bias for a mean, sqrt((N-1)/N) = 0.968; for the nonlinear
+  // damage constants the bias may differ by a few % either way. Band: 1 -+ 3 x 0.065, widened
+  // by that 3.2 % on both sides. B4 is left out: with these curves
   // the shear case barely constrains it (some runs find it "not identified", held at the
   // prior), so its spread over runs is not a finite, normal-like number to estimate.
   const auto names = damage::constant_names(damage::Model::pp);
@@ -99,7 +91,8 @@ TEST(ReplicaBootstrap, SpreadOfOneRunEstimatesTheSpreadOverIndependentRuns) {
     ++checked;
     const double ratio = spread[i] / true_sd[i];
     EXPECT_GT(ratio, 0.968 * (1 - 3 * 0.065)) << names[i];
-    EXPECT_LT(ratio, 1 + 3 * 0.065) << names[i];
+    EXPECT_LT(ratio, (1 + 3 * 0.065) / 0.968) << names[i];
+    std::printf("%s: bootstrap spread / true spread %.3f\n", names[i].c_str(), ratio);
   }
   EXPECT_EQ(checked, 6); // C11, C12, C44, B1, B2, alpha
 }
@@ -139,7 +132,9 @@ TEST(ReplicaBootstrap, RaisesAnErrorBelowTheSpreadAndNeverLowersOne) {
   EXPECT_EQ(errors, large);
   // the same seed draws the same resamples: the check is reproducible
   for (std::size_t i = 0; i < nk; ++i)
-    if (std::isfinite(up.spread[i])) EXPECT_EQ(keep.spread[i], up.spread[i]);
+    if (std::isfinite(up.spread[i])) {
+      EXPECT_EQ(keep.spread[i], up.spread[i]);
+    }
   const std::string md = rve::replica_bootstrap_markdown(up);
   EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
   EXPECT_EQ(rve::replica_bootstrap_json(up)["resamples"], 40);

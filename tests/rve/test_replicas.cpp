@@ -5,6 +5,7 @@
 #include "common/synthetic_series.hpp"
 #include "pnc/damage/cases.hpp"
 #include "pnc/md/statistics.hpp"
+#include "pnc/rve/replica_fits.hpp"
 #include "pnc/rve/replicas.hpp"
 
 #include <gtest/gtest.h>
@@ -195,4 +196,20 @@ TEST(RveReplicas, FewReplicasNeverGiveAPointAZeroError) {
   EXPECT_NEAR(cc.stress_stderr(1, 1), std::sqrt(pooled / 2), 1e-6); // own 2e12 < pooled
   EXPECT_NEAR(cc.stress_stderr(3, 1), std::sqrt(8e12 / 2), 1e-6);   // own above pooled
   EXPECT_NEAR(cc.stress(3, 1), 6e6, 1e-6);
+}
+
+TEST(RveReplicas, ErrorsAreRaisedToTheLargerOfTwoAndNeverLowered) {
+  // the rule of D130 / D431 on constructed numbers: below the floor -> the floor; above it ->
+  // kept; NaN floor (not fitted) -> kept; NaN error with a finite floor -> the floor
+  const double nan = std::nan("");
+  std::vector<double> err = {1.0, 5.0, 2.0, nan, 3.0};
+  const std::vector<double> floor = {2.0, 4.0, nan, 7.0, 3.0};
+  std::vector<bool> raised(err.size(), false);
+  EXPECT_EQ(pnc::rve::raise_errors(err, floor, &raised), 2);
+  EXPECT_EQ(err[0], 2.0);
+  EXPECT_EQ(err[1], 5.0);
+  EXPECT_EQ(err[2], 2.0);
+  EXPECT_EQ(err[3], 7.0);
+  EXPECT_EQ(err[4], 3.0); // equal: not raised
+  EXPECT_EQ(raised, (std::vector<bool>{true, false, false, true, false}));
 }

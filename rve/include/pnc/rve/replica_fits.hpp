@@ -31,6 +31,13 @@ struct ReplicaFits {
 /// InputError is left out and named in `failures`.
 ReplicaFits fit_replicas(const CombinedCases& c, const damage::FitOptions& options);
 
+/// The "larger of" rule of the card's error bars (D130, D431): every std_error[i] below a finite
+/// floor[i] (or not a number itself) is raised to floor[i]; none is lowered; a NaN floor (a
+/// constant not fitted) leaves std_error[i] alone. Marks raised[i] when `raised` is given (sized
+/// to std_error). Returns how many were raised.
+int raise_errors(std::vector<double>& std_error, const std::vector<double>& floor,
+                 std::vector<bool>* raised = nullptr);
+
 /// Markdown table: constant, joint-fit value and its own standard error, between-replica mean
 /// and standard error, 68 % interval.
 std::string replica_fits_markdown(const ReplicaFits& f, const damage::FitReport& joint);
