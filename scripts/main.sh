@@ -2,10 +2,12 @@
 # The main job: install missing packages, build, then run the most complete pipelines that
 # exist today: (1-3) NDM fits of stress-strain curves generated from the dissertation's
 # tabulated constants (nanocomposite and pure polymer), giving material cards, plots and
-# JSON; (4) the MD characterisation of the pure polymer with LAMMPS (`demo` preset: build,
-# equilibrate, deformation cases 2 and 6, fit, card, plots, report); (5) the fitted card in
-# the deal.II notched-specimen demo through the plugin; (6) a GIMP plate with a growing
-# centre crack. Output in ${PNC_OUT:-out/}.
+# JSON; (4a) the MD characterisation of a glassy bead-spring polymer with LAMMPS whose card is
+# usable (`card_glass`: 48 replicas sheared both ways, about 2 h on 2 cores; D432) or, with
+# PNC_MAIN_QUICK=1, its few-minute version (`demo_glass`, 4 replicas, usable with warnings);
+# (4b) the dissertation's polypropylene (`demo` preset, phase check first); (5) the fitted card
+# in the deal.II notched-specimen demo through the plugin; (6) a GIMP plate with a growing
+# centre crack; (7) the MD glass card in a GIMP strip. Output in ${PNC_OUT:-out/}.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 pnc_install_missing
 pnc_configure_and_build
@@ -27,10 +29,18 @@ echo "== 3. The cards: constants, derived moduli (Table 6.12), strengths"
 "$pnc" card show pnc_card.h5 --json > pnc_card.json
 "$pnc" card show pp_card.h5 --json > pp_card.json
 
-echo "== 4a. MD characterisation of a glassy bead-spring polymer (demo_glass: 4 replicas, a few minutes)"
+# decision D432: the glass preset whose card is usable; PNC_MAIN_QUICK=1 the few-minute one
+glass=card_glass
+about="48 replicas sheared both ways, about 2 h on 2 cores; PNC_MAIN_QUICK=1 runs demo_glass in minutes"
+if [ "${PNC_MAIN_QUICK:-0}" = 1 ]; then
+  glass=demo_glass
+  about="PNC_MAIN_QUICK=1: 4 replicas, a few minutes, usable with warnings; without it card_glass"
+fi
+echo "== 4a. MD characterisation of a glassy bead-spring polymer ($glass: $about)"
 rc=0
-# --resume: a second run of the main job continues (or reuses) the run in md_glass
-"$pnc" characterize demo_glass --out md_glass --resume --json > md_glass.json || rc=$?
+# --resume: a second run of the main job continues (or reuses) the run in md_$glass, from the
+# units it finished (an interrupted card_glass loses at most the cases that were running)
+"$pnc" characterize "$glass" --out "md_$glass" --resume --json > md_glass.json || rc=$?
 if [ "$rc" -ne 0 ] && [ "$rc" -ne 4 ] && [ "$rc" -ne 3 ]; then exit "$rc"; fi
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); v=j["verdict"]; print("   verdict:", v["level"]); [print("    -", r) for r in v["reasons"]]' md_glass.json || true
 
@@ -68,12 +78,12 @@ echo "== 6. GIMP: plate with a centre crack growing under tension (J-integral, ~
   --json > gimp_crack.json
 
 echo "== 7. The MD glass card in the GIMP solver: a strip pulled past the damage onset (plugin law, ~1 s)"
-if [ -f md_glass/card.h5 ]; then
-  python3 - "$PNC_ROOT/examples/gimp/ndm_strip_tension.json" "$out/md_glass/card.h5" gimp_glass_strip.json <<'PY'
+if [ -f "md_$glass/card.h5" ]; then
+  python3 - "$PNC_ROOT/examples/gimp/ndm_strip_tension.json" "$out/md_$glass/card.h5" gimp_glass_strip.json "$glass" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
 j["materials"][0]["card"] = sys.argv[2]
-j["title"] = ("Strip of the MD glass (card from pnc characterize demo_glass) pulled at 2 m/s to "
+j["title"] = (f"Strip of the MD glass (card from pnc characterize {sys.argv[4]}) pulled at 2 m/s to "
               "3 % strain, past the glass's damage onset (2 %); later the softening localises "
               "and, without a crack model, the strip tears. SI units.")
 j["time"]["end"] = 3.0e-4
@@ -92,7 +102,7 @@ echo "  pnc_card.h5, pp_card.h5   material cards (HDF5, SI units) for the fe_mat
 echo "  pnc_plots/, pp_plots/     fitted NDM curves against the data (fit.png: every case)"
 echo "  pnc_card_report.html      the fit in one page (verdict, figures, constants); also pp_card_report.html"
 echo "  *_fit.json, *_card.json   key numbers for scripts"
-echo "  md_glass/                 LAMMPS glassy polymer, 4 replicas: cases.h5, card.h5, plots/, report.html"
+printf '  %-25s %s\n' "md_$glass/" "LAMMPS glassy polymer ($glass): cases.h5, card.h5, plots/, report.html"
 echo "  md_demo/                  LAMMPS RVE of the dissertation's polymer: phase check, card (not usable), report.md"
 echo "  gimp_glass_strip/         GIMP strip with the MD glass card through the plugin"
 echo "  dealii_sen/               deal.II demo: report.html, VTU per step, force_displacement.csv/.png"
